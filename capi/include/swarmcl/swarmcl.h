@@ -1,0 +1,197 @@
+/*
+ * swarmcl — swarm simulation on OpenCL devices.  The stable C API.
+ *
+ * Conventions (docs/c-api.md):
+ *  - every function that can fail returns a swcl_status; SWCL_OK is 0;
+ *  - on failure swcl_last_error() (thread-local) tells what went wrong and the
+ *    object involved is left as it was;
+ *  - handles are small value types carrying a never-reused id: a destroyed or
+ *    foreign handle gives SWCL_ERROR_INVALID_HANDLE, never a crash;
+ *  - descriptor structs carry struct_size and are obtained from *_default();
+ *  - units are SI (metres, seconds); vectors are packed float xyz triples;
+ *  - reads and writes of agent attributes are in agent-id order.
+ *
+ * The header is plain C99 without function-like macros in declarations, so
+ * FFI generators (cffi, bindgen, ClangSharp) read it as it is.
+ */
+#ifndef SWARMCL_SWARMCL_H
+#define SWARMCL_SWARMCL_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#if defined(_WIN32) && !defined(SWARMCL_STATIC)
+#  if defined(SWARMCL_BUILDING)
+#    define SWCL_API __declspec(dllexport)
+#  else
+#    define SWCL_API __declspec(dllimport)
+#  endif
+#elif defined(__GNUC__)
+#  define SWCL_API __attribute__((visibility("default")))
+#else
+#  define SWCL_API
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- version ------------------------------------------------------------ */
+
+#define SWCL_VERSION_MAJOR 0
+#define SWCL_VERSION_MINOR 1
+#define SWCL_VERSION_PATCH 0
+/* major * 10000 + minor * 100 + patch */
+#define SWCL_VERSION_NUMBER 100
+
+/* The version of the library actually loaded (compare with SWCL_VERSION_NUMBER). */
+SWCL_API uint32_t swcl_version(void);
+SWCL_API const char* swcl_version_string(void);
+
+/* ---- status codes (values never change) ---------------------------------- */
+
+typedef enum swcl_status {
+    SWCL_OK = 0,
+    SWCL_ERROR_INVALID_ARGUMENT = -1,
+    SWCL_ERROR_INVALID_HANDLE = -2,
+    SWCL_ERROR_NO_DEVICE = -3,
+    SWCL_ERROR_BUILD = -4,
+    SWCL_ERROR_OUT_OF_MEMORY = -5,
+    SWCL_ERROR_IO = -6,
+    SWCL_ERROR_PARSE = -7,
+    SWCL_ERROR_OPENCL = -8,
+    SWCL_ERROR_INTERNAL = -99
+} swcl_status;
+
+/* A static name for a status, e.g. "SWCL_ERROR_INVALID_HANDLE". */
+SWCL_API const char* swcl_status_string(swcl_status status);
+
+/* Detail of the last failure on this thread (argument name, OpenCL build log).
+ * Empty string after a success.  Valid until the next call on this thread. */
+SWCL_API const char* swcl_last_error(void);
+
+/* ---- handles ------------------------------------------------------------- */
+
+typedef struct swcl_context { uint64_t id; } swcl_context;
+typedef struct swcl_swarm { uint64_t id; } swcl_swarm;
+
+/* ---- devices ------------------------------------------------------------- */
+
+typedef enum swcl_device_type {
+    SWCL_DEVICE_TYPE_OTHER = 0,
+    SWCL_DEVICE_TYPE_CPU = 1,
+    SWCL_DEVICE_TYPE_GPU = 2,
+    SWCL_DEVICE_TYPE_ACCELERATOR = 3
+} swcl_device_type;
+
+typedef struct swcl_device_info {
+    uint32_t struct_size;
+    uint32_t index;              /* global index, usable as a device selector */
+    swcl_device_type type;
+    uint32_t compute_units;
+    uint64_t global_memory_bytes;
+    char platform_name[128];
+    char device_name[128];
+    char version[128];           /* the device's OpenCL version string */
+} swcl_device_info;
+
+/* Number of OpenCL devices over all platforms.  With no OpenCL platform this
+ * returns SWCL_ERROR_NO_DEVICE and swcl_last_error() names the fix. */
+SWCL_API swcl_status swcl_device_count(uint32_t* out_count);
+/* Fills *out for device `index`; out->struct_size must be set by the caller
+ * (sizeof(swcl_device_info)). */
+SWCL_API swcl_status swcl_device_get_info(uint32_t index, swcl_device_info* out);
+
+/* ---- context ------------------------------------------------------------- */
+
+typedef struct swcl_context_desc {
+    uint32_t struct_size;
+    /* Device selector: a global index ("0") or a case-insensitive substring of
+     * the platform or device name ("pthread", "nvidia").  NULL or "": use
+     * $SWARMCL_DEVICE if set, else the first GPU, else the first CPU. */
+    const char* device;
+    /* Extra OpenCL build options appended to swarmcl's own (NULL: none). */
+    const char* build_options;
+} swcl_context_desc;
+
+SWCL_API swcl_context_desc swcl_context_desc_default(void);
+SWCL_API swcl_status swcl_context_create(const swcl_context_desc* desc, swcl_context* out);
+/* Swarms created on the context stay valid after it is destroyed. */
+SWCL_API swcl_status swcl_context_destroy(swcl_context context);
+/* The device the context runs on. */
+SWCL_API swcl_status swcl_context_device_info(swcl_context context, swcl_device_info* out);
+
+/* ---- swarm --------------------------------------------------------------- */
+
+typedef enum swcl_attribute {
+    SWCL_ATTRIBUTE_POSITION = 0,   /* metres, float xyz */
+    SWCL_ATTRIBUTE_VELOCITY = 1    /* metres per second, float xyz */
+} swcl_attribute;
+
+typedef struct swcl_swarm_desc {
+    uint32_t struct_size;
+    uint32_t capacity;             /* maximum number of agents (> 0) */
+    uint32_t agent_count;          /* agents placed uniformly at random in the
+                                      domain at creation (<= capacity) */
+    uint64_t seed;                 /* seeds every random choice of the swarm */
+    float domain_min[3];           /* domain bounds in metres; agents may leave */
+    float domain_max[3];           /* them, the grid only covers them */
+    float interaction_radius;      /* neighbour-grid cell size, metres (> 0) */
+    float dt;                      /* time step, seconds (> 0) */
+} swcl_swarm_desc;
+
+SWCL_API swcl_swarm_desc swcl_swarm_desc_default(void);
+SWCL_API swcl_status swcl_swarm_create(swcl_context context, const swcl_swarm_desc* desc,
+                                       swcl_swarm* out);
+SWCL_API swcl_status swcl_swarm_destroy(swcl_swarm swarm);
+SWCL_API swcl_status swcl_swarm_agent_count(swcl_swarm swarm, uint32_t* out_count);
+/* Steps simulated so far. */
+SWCL_API swcl_status swcl_swarm_step_count(swcl_swarm swarm, uint64_t* out_steps);
+
+/* Writes `count` agents' attribute from `src` (3 * count floats, agent-id
+ * order).  Writing positions sets the agent count to `count` (<= capacity);
+ * agents beyond the previous count start with zero velocity.  Writing
+ * velocities needs count == the agent count.  NaN or Inf values are refused. */
+SWCL_API swcl_status swcl_swarm_write(swcl_swarm swarm, swcl_attribute attribute,
+                                      const float* src, size_t count);
+/* Reads the attribute into `dst` (3 * count floats); count must equal the
+ * agent count. */
+SWCL_API swcl_status swcl_swarm_read(swcl_swarm swarm, swcl_attribute attribute,
+                                     float* dst, size_t count);
+/* Advances the swarm by `steps` time steps of desc.dt.  Without a behaviour
+ * model agents move ballistically (p += v dt). */
+SWCL_API swcl_status swcl_swarm_step(swcl_swarm swarm, uint32_t steps);
+
+/* ---- neighbour search ----------------------------------------------------
+ * Queries run on the device over the swarm's uniform grid (cell size =
+ * interaction_radius) at the swarm's current positions.  Results are per agent
+ * in agent-id order; `count` must equal the agent count.  Any radius > 0 works
+ * (radii above the cell size search more cells).  An agent is never its own
+ * neighbour; agents at the same position are neighbours at distance 0. */
+
+/* Number of other agents within `radius` (distance <= radius) of each agent. */
+SWCL_API swcl_status swcl_swarm_neighbor_count(swcl_swarm swarm, float radius,
+                                               uint32_t* out_counts, size_t count);
+
+/* Distance to, and id of, each agent's nearest other agent (ties: lowest id).
+ * With a single agent the distance is +INFINITY and the id SWCL_NO_AGENT.
+ * out_ids may be NULL. */
+#define SWCL_NO_AGENT 0xFFFFFFFFu
+SWCL_API swcl_status swcl_swarm_nearest_neighbor(swcl_swarm swarm, float* out_distances,
+                                                 uint32_t* out_ids, size_t count);
+
+/* Up to `max_neighbors` neighbour ids within `radius` per agent, nearest
+ * first (ties: lowest id), into out_ids[agent * max_neighbors + k]; unused
+ * entries are SWCL_NO_AGENT.  out_counts[agent] receives the full number of
+ * neighbours, which exceeds max_neighbors where the list was truncated;
+ * *out_truncated (may be NULL) the number of truncated agents. */
+SWCL_API swcl_status swcl_swarm_neighbor_lists(swcl_swarm swarm, float radius,
+                                               uint32_t max_neighbors, uint32_t* out_ids,
+                                               uint32_t* out_counts, size_t count,
+                                               uint32_t* out_truncated);
+
+#ifdef __cplusplus
+} /* extern "C" */
+#endif
+
+#endif /* SWARMCL_SWARMCL_H */

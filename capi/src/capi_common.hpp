@@ -1,0 +1,65 @@
+// What every C entry point shares: the thread-local last error, the handle
+// tables, and guarded() which turns any C++ exception into a status so none
+// crosses the C boundary.
+#pragma once
+#include <new>
+#include <string>
+
+#include "core/error.hpp"
+#include "core/handle_registry.hpp"
+#include "device/context.hpp"
+#include "swarm/swarm.hpp"
+#include "swarmcl/swarmcl.h"
+
+namespace swarmcl::capi {
+
+void set_last_error(const std::string& message);
+void clear_last_error();
+const std::string& last_error();
+swcl_status status_from_opencl(int err);
+const char* opencl_error_name(int err);
+
+HandleRegistry<Context>& contexts();
+HandleRegistry<Swarm>& swarms();
+
+template <typename F>
+swcl_status guarded(const char* function, F&& body) noexcept {
+    try {
+        clear_last_error();
+        body();
+        return SWCL_OK;
+    } catch (const Error& e) {
+        set_last_error(std::string(function) + ": " + e.what());
+        return static_cast<swcl_status>(e.status());
+    } catch (const cl::Error& e) {
+        set_last_error(std::string(function) + ": OpenCL call " + e.what() + " failed with " +
+                       opencl_error_name(e.err()) + " (" + std::to_string(e.err()) + ")");
+        return status_from_opencl(e.err());
+    } catch (const std::bad_alloc&) {
+        set_last_error(std::string(function) + ": out of host memory");
+        return SWCL_ERROR_OUT_OF_MEMORY;
+    } catch (const std::exception& e) {
+        set_last_error(std::string(function) + ": internal error: " + e.what());
+        return SWCL_ERROR_INTERNAL;
+    } catch (...) {
+        set_last_error(std::string(function) + ": unknown internal error");
+        return SWCL_ERROR_INTERNAL;
+    }
+}
+
+// Checks a descriptor's struct_size: callers built against an older header
+// pass a smaller struct; anything smaller than the first version is refused.
+template <typename T>
+void check_struct_size(const T* desc, size_t first_version_size, const char* name) {
+    require(desc != nullptr, std::string(name) + " is NULL");
+    require(desc->struct_size >= first_version_size && desc->struct_size <= 65536,
+            std::string(name) + "->struct_size is " + std::to_string(desc->struct_size) +
+                " (set it with the *_default() function)");
+}
+
+template <typename T>
+void check_out(T* out, const char* name) {
+    require(out != nullptr, std::string(name) + " is NULL");
+}
+
+}  // namespace swarmcl::capi

@@ -1,0 +1,40 @@
+#include "device/context.hpp"
+
+#include "core/error.hpp"
+#include "device/kernel_sources.hpp"
+
+namespace swarmcl {
+
+Context::Context(const std::string& selector, const std::string& build_options)
+    : device_(select_device(selector)) {
+    context_ = cl::Context(device_.device);
+    queue_ = cl::CommandQueue(context_, device_.device);
+    // No -cl-fast-relaxed-math: results must match the C++ references and be
+    // the same on every run (DESIGN.md, Kernels).
+    options_ = "-cl-std=CL1.2";
+    if (!build_options.empty()) options_ += " " + build_options;
+}
+
+cl::Program Context::program(const std::string& file) {
+    std::lock_guard<std::mutex> lock(programs_mutex_);
+    if (auto it = programs_.find(file); it != programs_.end()) return it->second;
+    cl::Program program(context_, load_kernel_source(file));
+    try {
+        program.build({device_.device}, options_.c_str());
+    } catch (const cl::BuildError& e) {
+        std::string log;
+        for (const auto& entry : e.getBuildLog()) log += entry.second;
+        fail(Status::Build, "building kernels/" + file + " with '" + options_ + "' failed:\n" + log);
+    } catch (const cl::Error& e) {
+        std::string log = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device_.device);
+        fail(Status::Build, "building kernels/" + file + " failed (" + std::to_string(e.err()) + "):\n" + log);
+    }
+    programs_.emplace(file, program);
+    return program;
+}
+
+cl::Kernel Context::kernel(const std::string& file, const char* name) {
+    return cl::Kernel(program(file), name);
+}
+
+}  // namespace swarmcl

@@ -1,0 +1,41 @@
+// A device, its OpenCL context and in-order queue, and the programs built on
+// it (each built once, on first use, and kept).
+#pragma once
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include "device/device_list.hpp"
+#include "device/opencl.hpp"
+
+namespace swarmcl {
+
+class Context {
+public:
+    // selector as in select_device(); build_options appended to swarmcl's own.
+    Context(const std::string& selector, const std::string& build_options);
+
+    const DeviceEntry& device() const { return device_; }
+    cl::Context& cl_context() { return context_; }
+    cl::CommandQueue& queue() { return queue_; }
+
+    // The program compiled from kernels/<file> (includes expanded).  A build
+    // failure throws Error(Build) carrying the compiler log.
+    cl::Program program(const std::string& file);
+    // A fresh kernel object (kernels hold arguments, so callers keep their own).
+    cl::Kernel kernel(const std::string& file, const char* name);
+
+    // Largest single allocation the device allows, in bytes.
+    uint64_t max_allocation() const { return device_.max_allocation; }
+
+private:
+    DeviceEntry device_;
+    cl::Context context_;
+    cl::CommandQueue queue_;
+    std::string options_;
+    std::mutex programs_mutex_;
+    std::map<std::string, cl::Program> programs_;
+};
+
+}  // namespace swarmcl

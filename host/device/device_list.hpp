@@ -1,0 +1,35 @@
+// OpenCL platforms and devices, numbered globally (platform by platform), and
+// the choice of one device from a selector string.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "device/opencl.hpp"
+
+namespace swarmcl {
+
+struct DeviceEntry {
+    uint32_t index = 0;
+    cl::Platform platform;
+    cl::Device device;
+    std::string platform_name;
+    std::string device_name;
+    std::string version;
+    cl_device_type type = 0;
+    uint32_t compute_units = 0;
+    uint64_t global_memory = 0;
+    uint64_t max_allocation = 0;
+};
+
+// Every device of every platform.  Throws Error(NoDevice) naming the fix when
+// there is no OpenCL platform at all.
+std::vector<DeviceEntry> list_devices();
+
+// selector: an index ("1") or a case-insensitive substring of "platform
+// device"; empty means $SWARMCL_DEVICE, else the first GPU, else the first CPU,
+// else the first device.  Throws Error(NoDevice) listing the devices when
+// nothing matches.
+DeviceEntry select_device(const std::string& selector);
+
+}  // namespace swarmcl

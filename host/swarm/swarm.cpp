@@ -1,0 +1,246 @@
+#include "swarm/swarm.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/error.hpp"
+#include "core/philox.hpp"
+
+namespace swarmcl {
+namespace {
+
+bool finite(float x) { return std::isfinite(x); }
+
+void validate(const SwarmConfig& c) {
+    require(c.capacity > 0, "swarm capacity must be > 0");
+    require(c.agent_count <= c.capacity, "swarm agent_count " + std::to_string(c.agent_count) +
+                                             " exceeds capacity " + std::to_string(c.capacity));
+    for (int a = 0; a < 3; ++a) {
+        require(finite(c.domain_min[a]) && finite(c.domain_max[a]), "swarm domain bounds must be finite");
+        require(c.domain_min[a] < c.domain_max[a],
+                "swarm domain_min[" + std::to_string(a) + "] must be below domain_max[" + std::to_string(a) + "]");
+    }
+    require(finite(c.interaction_radius) && c.interaction_radius > 0.0f,
+            "swarm interaction_radius must be a finite number > 0");
+    require(finite(c.dt) && c.dt > 0.0f, "swarm dt must be a finite number > 0");
+}
+
+// Grid cells for a swarm: enough that cells stay small at any density the
+// capacity allows, bounded so memory stays proportional to the capacity.
+uint32_t max_cells_for(uint32_t capacity) {
+    return uint32_t(std::clamp<uint64_t>(uint64_t(capacity) * 4u, 1u << 12, 1u << 24));
+}
+
+const SwarmConfig& checked(const SwarmConfig& c, Context& ctx) {
+    validate(c);
+    // State, scratch and grid buffers per agent, and the grid's cells.
+    const double bytes = double(c.capacity) * (3 * 16 + 6 * 4 + 12) + double(max_cells_for(c.capacity)) * 8;
+    if (bytes > double(ctx.device().global_memory))
+        fail(Status::OutOfMemory, "a swarm of capacity " + std::to_string(c.capacity) + " needs about " +
+                                      std::to_string(uint64_t(bytes)) + " bytes; the device has " +
+                                      std::to_string(ctx.device().global_memory));
+    return c;
+}
+
+void check_finite(const float* src, size_t count, const char* what) {
+    for (size_t i = 0; i < 3 * count; ++i)
+        if (!std::isfinite(src[i]))
+            fail(Status::InvalidArgument, std::string(what) + ": value of agent " + std::to_string(i / 3) +
+                                              " is not finite (NaN or Inf); nothing was written");
+}
+
+}  // namespace
+
+Swarm::Swarm(std::shared_ptr<Context> ctx, const SwarmConfig& config)
+    : ctx_(std::move(ctx)),
+      config_(checked(config, *ctx_)),
+      grid_(*ctx_, GridGeometry::cover(config.domain_min.data(), config.domain_max.data(),
+                                       config.interaction_radius, max_cells_for(config.capacity)),
+            config.capacity) {
+    Context& c = *ctx_;
+    const uint32_t cap = config_.capacity;
+    pos_.allocate(c, cap, "positions");
+    vel_.allocate(c, cap, "velocities");
+    scratch_.allocate(c, cap, "reorder scratch");
+    ids_.allocate(c, cap, "agent ids");
+    ids_scratch_.allocate(c, cap, "agent ids scratch");
+    slot_of_.allocate(c, cap, "agent slots");
+    packed_.allocate(c, size_t(cap) * 3, "transfer buffer");
+    gather_ = c.kernel("swarm_state.cl", "gather_xyz");
+    scatter_ = c.kernel("swarm_state.cl", "scatter_xyz");
+    identity_ = c.kernel("swarm_state.cl", "identity_layout");
+    integrate_ = c.kernel("swarm_state.cl", "integrate_ballistic");
+    count_ = c.kernel("neighbors.cl", "neighbor_count");
+    nearest_ = c.kernel("neighbors.cl", "nearest_neighbor");
+    lists_ = c.kernel("neighbors.cl", "neighbor_lists");
+    place_uniformly(config_.agent_count);
+}
+
+void Swarm::place_uniformly(uint32_t count) {
+    // Philox keyed by (seed, agent id, step 0, stream 0): the same seed gives
+    // the same swarm on every device.
+    std::vector<float> xyz(size_t(count) * 3);
+    for (uint32_t id = 0; id < count; ++id) {
+        const auto r = philox_for(config_.seed, id, 0, 0);
+        for (int a = 0; a < 3; ++a) {
+            const float lo = config_.domain_min[a], hi = config_.domain_max[a];
+            xyz[size_t(id) * 3 + a] = std::min(lo + uniform01(r[a]) * (hi - lo), std::nextafter(hi, lo));
+        }
+    }
+    write(Attribute::Position, xyz.data(), count);
+}
+
+void Swarm::check_count(size_t count, const char* what) const {
+    if (count != n_)
+        fail(Status::InvalidArgument, std::string(what) + ": count is " + std::to_string(count) +
+                                          " but the swarm has " + std::to_string(n_) + " agents");
+}
+
+void Swarm::set_count(uint32_t n) {
+    if (n == n_) return;
+    Context& c = *ctx_;
+    // Velocities of the agents that stay are kept (gathered in id order), new
+    // agents start at rest; the layout restarts in id order.
+    const uint32_t keep = std::min(n, n_);
+    set_args(gather_, vel_.get(), slot_of_.get(), keep, packed_.get());
+    launch(c, gather_, keep);
+    if (n > keep) c.queue().enqueueFillBuffer(packed_.get(), 0.0f, size_t(keep) * 3 * sizeof(float),
+                                              size_t(n - keep) * 3 * sizeof(float));
+    set_args(identity_, n, ids_.get(), slot_of_.get());
+    launch(c, identity_, n);
+    set_args(scatter_, packed_.get(), slot_of_.get(), n, vel_.get());
+    launch(c, scatter_, n);
+    n_ = n;
+    grid_current_ = false;
+}
+
+void Swarm::write(Attribute attribute, const float* src, size_t count) {
+    const char* what = attribute == Attribute::Position ? "swcl_swarm_write(POSITION)" : "swcl_swarm_write(VELOCITY)";
+    require(src != nullptr || count == 0, std::string(what) + ": src is NULL");
+    if (attribute == Attribute::Position) {
+        if (count > config_.capacity)
+            fail(Status::InvalidArgument, std::string(what) + ": count " + std::to_string(count) +
+                                              " exceeds the swarm's capacity " + std::to_string(config_.capacity));
+    } else {
+        check_count(count, what);
+    }
+    check_finite(src, count, what);
+    if (attribute == Attribute::Position) set_count(uint32_t(count));
+    packed_.upload(*ctx_, src, count * 3);
+    set_args(scatter_, packed_.get(), slot_of_.get(), uint32_t(count),
+             attribute == Attribute::Position ? pos_.get() : vel_.get());
+    launch(*ctx_, scatter_, count);
+    if (attribute == Attribute::Position) grid_current_ = false;
+}
+
+void Swarm::read(Attribute attribute, float* dst, size_t count) {
+    const char* what = attribute == Attribute::Position ? "swcl_swarm_read(POSITION)" : "swcl_swarm_read(VELOCITY)";
+    require(dst != nullptr || count == 0, std::string(what) + ": dst is NULL");
+    check_count(count, what);
+    set_args(gather_, attribute == Attribute::Position ? pos_.get() : vel_.get(), slot_of_.get(), n_,
+             packed_.get());
+    launch(*ctx_, gather_, n_);
+    packed_.download(*ctx_, dst, size_t(n_) * 3);
+}
+
+void Swarm::step(uint32_t steps) {
+    for (uint32_t s = 0; s < steps; ++s) {
+        set_args(integrate_, pos_.get(), vel_.get(), n_, config_.dt);
+        launch(*ctx_, integrate_, n_);
+    }
+    if (steps) grid_current_ = false;
+    steps_ += steps;
+}
+
+void Swarm::ensure_grid() {
+    if (grid_current_) return;
+    grid_.build(pos_, ids_, n_);
+    grid_.permute(pos_, scratch_, n_);
+    std::swap(pos_, scratch_);
+    grid_.permute(vel_, scratch_, n_);
+    std::swap(vel_, scratch_);
+    grid_.permute_ids(ids_, ids_scratch_, slot_of_, n_);
+    std::swap(ids_, ids_scratch_);
+    grid_current_ = true;
+}
+
+namespace {
+void check_radius(float radius, const char* what) {
+    require(std::isfinite(radius) && radius > 0.0f, std::string(what) + ": radius must be a finite number > 0");
+}
+}  // namespace
+
+void Swarm::neighbor_count(float radius, uint32_t* out_counts, size_t count) {
+    const char* what = "swcl_swarm_neighbor_count";
+    check_radius(radius, what);
+    require(out_counts != nullptr || count == 0, std::string(what) + ": out_counts is NULL");
+    check_count(count, what);
+    ensure_grid();
+    query_u32_.reserve(*ctx_, n_, "query results");
+    cl_uint i = 0;
+    count_.setArg(i++, pos_.get());
+    count_.setArg(i++, ids_.get());
+    count_.setArg(i++, n_);
+    i = grid_.set_grid_args(count_, i);
+    count_.setArg(i++, radius);
+    count_.setArg(i++, query_u32_.get());
+    launch(*ctx_, count_, n_);
+    query_u32_.download(*ctx_, out_counts, n_);
+}
+
+void Swarm::nearest_neighbor(float* out_distances, uint32_t* out_ids, size_t count) {
+    const char* what = "swcl_swarm_nearest_neighbor";
+    require(out_distances != nullptr || count == 0, std::string(what) + ": out_distances is NULL");
+    check_count(count, what);
+    ensure_grid();
+    query_f32_.reserve(*ctx_, n_, "query results");
+    query_u32_.reserve(*ctx_, n_, "query results");
+    cl_uint i = 0;
+    nearest_.setArg(i++, pos_.get());
+    nearest_.setArg(i++, ids_.get());
+    nearest_.setArg(i++, n_);
+    i = grid_.set_grid_args(nearest_, i);
+    nearest_.setArg(i++, grid_.geometry().cell);
+    nearest_.setArg(i++, query_f32_.get());
+    nearest_.setArg(i++, query_u32_.get());
+    launch(*ctx_, nearest_, n_);
+    query_f32_.download(*ctx_, out_distances, n_);
+    if (out_ids) query_u32_.download(*ctx_, out_ids, n_);
+}
+
+uint32_t Swarm::neighbor_lists(float radius, uint32_t cap, uint32_t* out_ids, uint32_t* out_counts,
+                               size_t count) {
+    const char* what = "swcl_swarm_neighbor_lists";
+    check_radius(radius, what);
+    require(cap > 0, std::string(what) + ": max_neighbors must be > 0");
+    require(out_ids != nullptr || count == 0, std::string(what) + ": out_ids is NULL");
+    require(out_counts != nullptr || count == 0, std::string(what) + ": out_counts is NULL");
+    check_count(count, what);
+    const uint64_t entries = uint64_t(n_) * cap;
+    if (entries * sizeof(cl_uint) > ctx_->max_allocation())
+        fail(Status::OutOfMemory, std::string(what) + ": " + std::to_string(n_) + " agents x " +
+                                      std::to_string(cap) + " neighbours exceed the device's largest allocation");
+    ensure_grid();
+    DeviceBuffer<cl_uint> lists(*ctx_, size_t(entries), "neighbour lists");
+    query_u32_.reserve(*ctx_, n_, "query results");
+    cl_uint i = 0;
+    lists_.setArg(i++, pos_.get());
+    lists_.setArg(i++, ids_.get());
+    lists_.setArg(i++, n_);
+    i = grid_.set_grid_args(lists_, i);
+    lists_.setArg(i++, radius);
+    lists_.setArg(i++, cap);
+    lists_.setArg(i++, lists.get());
+    lists_.setArg(i++, query_u32_.get());
+    launch(*ctx_, lists_, n_);
+    lists.download(*ctx_, out_ids, size_t(entries));
+    query_u32_.download(*ctx_, out_counts, n_);
+    uint32_t truncated = 0;
+    for (uint32_t a = 0; a < n_; ++a) truncated += out_counts[a] > cap ? 1u : 0u;
+    return truncated;
+}
+
+}  // namespace swarmcl

@@ -1,0 +1,75 @@
+// A swarm: agent state on the device (structure of arrays, float4, kept in
+// grid-cell order with an id array mapping back), its neighbour grid, and the
+// step pipeline (DESIGN.md, "The step").
+#pragma once
+#include <array>
+#include <cstdint>
+#include <memory>
+
+#include "device/buffer.hpp"
+#include "device/context.hpp"
+#include "spatial/neighbor_grid.hpp"
+
+namespace swarmcl {
+
+struct SwarmConfig {
+    uint32_t capacity = 1024;
+    uint32_t agent_count = 0;
+    uint64_t seed = 0;
+    std::array<float, 3> domain_min{-1.0f, -1.0f, -1.0f};
+    std::array<float, 3> domain_max{1.0f, 1.0f, 1.0f};
+    float interaction_radius = 0.1f;
+    float dt = 1.0f / 60.0f;
+};
+
+enum class Attribute { Position, Velocity };
+
+class Swarm {
+public:
+    // Validates the configuration (Error(InvalidArgument) naming the field).
+    Swarm(std::shared_ptr<Context> ctx, const SwarmConfig& config);
+
+    uint32_t agent_count() const { return n_; }
+    uint64_t step_count() const { return steps_; }
+    const SwarmConfig& config() const { return config_; }
+    Context& context() { return *ctx_; }
+
+    // Packed xyz, agent-id order.  See swcl_swarm_write / swcl_swarm_read.
+    void write(Attribute attribute, const float* src, size_t count);
+    void read(Attribute attribute, float* dst, size_t count);
+    void step(uint32_t steps);
+
+    // Neighbour queries at the current positions, outputs in agent-id order.
+    void neighbor_count(float radius, uint32_t* out_counts, size_t count);
+    void nearest_neighbor(float* out_distances, uint32_t* out_ids, size_t count);
+    uint32_t neighbor_lists(float radius, uint32_t cap, uint32_t* out_ids, uint32_t* out_counts, size_t count);
+
+    // Sorts agents by cell (reordering the state) unless already current.
+    void ensure_grid();
+    NeighborGrid& grid() { return grid_; }
+    DeviceBuffer<cl_float4>& positions() { return pos_; }
+    DeviceBuffer<cl_float4>& velocities() { return vel_; }
+    DeviceBuffer<cl_uint>& ids() { return ids_; }
+    DeviceBuffer<cl_uint>& slot_of() { return slot_of_; }
+
+private:
+    void check_count(size_t count, const char* what) const;
+    void place_uniformly(uint32_t count);
+    void set_count(uint32_t n);
+
+    std::shared_ptr<Context> ctx_;
+    SwarmConfig config_;
+    NeighborGrid grid_;
+    uint32_t n_ = 0;
+    uint64_t steps_ = 0;
+    bool grid_current_ = false;
+    DeviceBuffer<cl_float4> pos_, vel_, scratch_;
+    DeviceBuffer<cl_uint> ids_, ids_scratch_, slot_of_;
+    DeviceBuffer<cl_float> packed_;  // 3 floats per agent: the caller's layout
+    DeviceBuffer<cl_uint> query_u32_;
+    DeviceBuffer<cl_float> query_f32_;
+    cl::Kernel gather_, scatter_, identity_, integrate_;
+    cl::Kernel count_, nearest_, lists_;
+};
+
+}  // namespace swarmcl

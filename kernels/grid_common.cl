@@ -1,0 +1,79 @@
+// Kernel-side helpers of the uniform neighbour grid, shared by every kernel
+// that iterates neighbours (queries here, the behaviour models later).
+//
+// The grid covers the swarm's domain with cubic cells of edge `cell`; cell
+// (x, y, z) has index x + dims.x * (y + dims.y * z), so the cells of one
+// x-row are contiguous and so are their agents after the sort: a search box
+// is walked row by row, one agent range per row.
+//
+// Agents outside the domain are clamped into the border cells.  Clamping is
+// monotone and 1-Lipschitz, so every agent within distance r of p still lies
+// in the clamped box [cell(p - r), cell(p + r)]: queries stay exact, only
+// slower when many agents are outside.
+
+typedef struct {
+    float4 origin;        // domain minimum corner (w unused)
+    float inv_cell;       // 1 / cell edge
+    int4 dims;            // cells per axis (w unused)
+    __global const uint* cell_start;  // agent range of cell c: [start[c], start[c+1])
+} Grid;
+
+#define GRID_PARAMS float4 grid_origin, float grid_inv_cell, int4 grid_dims, \
+                    __global const uint* grid_cell_start
+#define GRID_MAKE() grid_make(grid_origin, grid_inv_cell, grid_dims, grid_cell_start)
+
+inline Grid grid_make(float4 origin, float inv_cell, int4 dims, __global const uint* cell_start) {
+    Grid g;
+    g.origin = origin;
+    g.inv_cell = inv_cell;
+    g.dims = dims;
+    g.cell_start = cell_start;
+    return g;
+}
+
+// Cell coordinate of one axis, clamped to [0, n-1]; clamped in float first so
+// huge coordinates cannot overflow the int conversion.
+inline int grid_axis(float x, float origin, float inv_cell, int n) {
+    float c = floor((x - origin) * inv_cell);
+    c = clamp(c, 0.0f, (float)(n - 1));
+    return (int)c;
+}
+
+inline int4 grid_cell_of(const Grid* g, float4 p) {
+    return (int4)(grid_axis(p.x, g->origin.x, g->inv_cell, g->dims.x),
+                  grid_axis(p.y, g->origin.y, g->inv_cell, g->dims.y),
+                  grid_axis(p.z, g->origin.z, g->inv_cell, g->dims.z), 0);
+}
+
+inline uint grid_cell_index(const Grid* g, int4 c) {
+    return (uint)c.x + (uint)g->dims.x * ((uint)c.y + (uint)g->dims.y * (uint)c.z);
+}
+
+// The box of cells holding every agent within distance r of p.
+inline void grid_search_box(const Grid* g, float4 p, float r, int4* lo, int4* hi) {
+    *lo = grid_cell_of(g, p - (float4)(r, r, r, 0.0f));
+    *hi = grid_cell_of(g, p + (float4)(r, r, r, 0.0f));
+}
+
+// Agent slots of the cells x0..x1 of row (y, z): [range.x, range.y).
+inline uint2 grid_row_range(const Grid* g, int x0, int x1, int y, int z) {
+    const uint row = (uint)g->dims.x * ((uint)y + (uint)g->dims.y * (uint)z);
+    return (uint2)(g->cell_start[row + (uint)x0], g->cell_start[row + (uint)x1 + 1u]);
+}
+
+// Iterates the slots j of every agent that may lie within r of p:
+//   GRID_FOR_EACH_CANDIDATE(&g, p, r, j) { ... uses j ... } GRID_END_FOR
+#define GRID_FOR_EACH_CANDIDATE(gp, p, r, j)                                   \
+    {                                                                          \
+        int4 grid_lo_, grid_hi_;                                               \
+        grid_search_box((gp), (p), (r), &grid_lo_, &grid_hi_);                 \
+        for (int grid_z_ = grid_lo_.z; grid_z_ <= grid_hi_.z; ++grid_z_)       \
+            for (int grid_y_ = grid_lo_.y; grid_y_ <= grid_hi_.y; ++grid_y_) { \
+                const uint2 grid_rng_ = grid_row_range((gp), grid_lo_.x, grid_hi_.x, grid_y_, grid_z_); \
+                for (uint j = grid_rng_.x; j < grid_rng_.y; ++j)
+#define GRID_END_FOR }}
+
+inline float dist2(float4 a, float4 b) {
+    const float4 d = a - b;
+    return d.x * d.x + d.y * d.y + d.z * d.z;
+}

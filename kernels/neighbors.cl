@@ -1,0 +1,118 @@
+// Neighbour queries over the grid, one work-item per agent slot (cell order,
+// so neighbouring work-items read the same cells).  Results are written in
+// agent-id order through ids[].
+#include "grid_common.cl"
+
+#define NO_AGENT 0xFFFFFFFFu
+
+__kernel void neighbor_count(__global const float4* pos, __global const uint* ids, uint n,
+                             GRID_PARAMS, float radius, __global uint* out_counts) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    const Grid g = GRID_MAKE();
+    const float4 p = pos[i];
+    const float r2 = radius * radius;
+    uint count = 0;
+    GRID_FOR_EACH_CANDIDATE(&g, p, radius, j) {
+        count += (j != i && dist2(p, pos[j]) <= r2) ? 1u : 0u;
+    } GRID_END_FOR
+    out_counts[ids[i]] = count;
+}
+
+// (d2, id) lexicographic order: deterministic ties.
+inline bool closer(float d2a, uint ida, float d2b, uint idb) {
+    return d2a < d2b || (d2a == d2b && ida < idb);
+}
+
+inline void visit_nearest(__global const float4* pos, __global const uint* ids, uint i, float4 p,
+                          uint j0, uint j1, float* best_d2, uint* best_id) {
+    for (uint j = j0; j < j1; ++j) {
+        if (j == i) continue;
+        const float d2 = dist2(p, pos[j]);
+        const uint id = ids[j];
+        if (closer(d2, id, *best_d2, *best_id)) { *best_d2 = d2; *best_id = id; }
+    }
+}
+
+// Nearest other agent: search boxes of growing radius k * cell, each time only
+// the cells not seen before, until the best distance found is inside the
+// searched radius (then nothing closer can be outside) or the whole grid is done.
+__kernel void nearest_neighbor(__global const float4* pos, __global const uint* ids, uint n,
+                               GRID_PARAMS, float cell, __global float* out_dist,
+                               __global uint* out_ids) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    const Grid g = GRID_MAKE();
+    const float4 p = pos[i];
+    float best_d2 = INFINITY;
+    uint best_id = NO_AGENT;
+    int4 plo = (int4)(1, 1, 1, 0), phi = (int4)(0, 0, 0, 0);  // empty "previous" box
+    for (int k = 0;; ++k) {
+        const float r = (float)k * cell;
+        int4 lo, hi;
+        grid_search_box(&g, p, r, &lo, &hi);
+        for (int z = lo.z; z <= hi.z; ++z)
+            for (int y = lo.y; y <= hi.y; ++y) {
+                const bool inner = z >= plo.z && z <= phi.z && y >= plo.y && y <= phi.y;
+                if (!inner) {
+                    const uint2 rg = grid_row_range(&g, lo.x, hi.x, y, z);
+                    visit_nearest(pos, ids, i, p, rg.x, rg.y, &best_d2, &best_id);
+                } else {  // only the x-cells outside the previous box
+                    if (lo.x < plo.x) {
+                        const uint2 rg = grid_row_range(&g, lo.x, plo.x - 1, y, z);
+                        visit_nearest(pos, ids, i, p, rg.x, rg.y, &best_d2, &best_id);
+                    }
+                    if (hi.x > phi.x) {
+                        const uint2 rg = grid_row_range(&g, phi.x + 1, hi.x, y, z);
+                        visit_nearest(pos, ids, i, p, rg.x, rg.y, &best_d2, &best_id);
+                    }
+                }
+            }
+        const bool whole = lo.x == 0 && lo.y == 0 && lo.z == 0 && hi.x == g.dims.x - 1 &&
+                           hi.y == g.dims.y - 1 && hi.z == g.dims.z - 1;
+        if (whole || best_d2 <= r * r) break;
+        plo = lo;
+        phi = hi;
+    }
+    const uint id = ids[i];
+    out_dist[id] = best_id == NO_AGENT ? INFINITY : sqrt(best_d2);
+    out_ids[id] = best_id;
+}
+
+// Up to cap neighbours within radius, nearest first.  The list is kept sorted
+// in the caller's output slice while scanning (insertion), holding slots; at
+// the end slots become ids.
+__kernel void neighbor_lists(__global const float4* pos, __global const uint* ids, uint n,
+                             GRID_PARAMS, float radius, uint cap, __global uint* out_list,
+                             __global uint* out_counts) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    const Grid g = GRID_MAKE();
+    const float4 p = pos[i];
+    const float r2 = radius * radius;
+    const uint self = ids[i];
+    __global uint* list = out_list + (size_t)self * cap;
+    uint count = 0, kept = 0;
+    GRID_FOR_EACH_CANDIDATE(&g, p, radius, j) {
+        if (j == i) continue;
+        const float d2 = dist2(p, pos[j]);
+        if (d2 > r2) continue;
+        ++count;
+        const uint id = ids[j];
+        // Position in the sorted list; entries past `cap` fall off the end.
+        uint at = kept;
+        while (at > 0) {
+            const uint other = list[at - 1];
+            if (!closer(d2, id, dist2(p, pos[other]), ids[other])) break;
+            --at;
+        }
+        if (at >= cap) continue;
+        const uint last = kept < cap ? kept : cap - 1u;
+        for (uint m = last; m > at; --m) list[m] = list[m - 1];
+        list[at] = j;
+        if (kept < cap) ++kept;
+    } GRID_END_FOR
+    for (uint m = 0; m < kept; ++m) list[m] = ids[list[m]];
+    for (uint m = kept; m < cap; ++m) list[m] = NO_AGENT;
+    out_counts[self] = count;
+}

@@ -1,0 +1,37 @@
+// Moving agent attributes between the caller's packed xyz arrays (agent-id
+// order) and the device's float4 arrays (cell order), and the plain
+// integration step.
+
+// dst[3 id + k] = src[slot_of[id]].k
+__kernel void gather_xyz(__global const float4* src, __global const uint* slot_of, uint n,
+                         __global float* dst) {
+    const uint id = get_global_id(0);
+    if (id >= n) return;
+    const float4 v = src[slot_of[id]];
+    dst[3 * id + 0] = v.x;
+    dst[3 * id + 1] = v.y;
+    dst[3 * id + 2] = v.z;
+}
+
+// dst[slot_of[id]] = (src[3 id], src[3 id + 1], src[3 id + 2], 0)
+__kernel void scatter_xyz(__global const float* src, __global const uint* slot_of, uint n,
+                          __global float4* dst) {
+    const uint id = get_global_id(0);
+    if (id >= n) return;
+    dst[slot_of[id]] = (float4)(src[3 * id], src[3 * id + 1], src[3 * id + 2], 0.0f);
+}
+
+// Agent id order: slot s holds agent s.
+__kernel void identity_layout(uint n, __global uint* ids, __global uint* slot_of) {
+    const uint s = get_global_id(0);
+    if (s >= n) return;
+    ids[s] = s;
+    slot_of[s] = s;
+}
+
+// Ballistic step (no behaviour model): p += v dt.
+__kernel void integrate_ballistic(__global float4* pos, __global const float4* vel, uint n, float dt) {
+    const uint s = get_global_id(0);
+    if (s >= n) return;
+    pos[s] = pos[s] + vel[s] * dt;
+}
