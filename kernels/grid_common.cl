@@ -11,6 +11,10 @@
 // in the clamped box [cell(p - r), cell(p + r)]: queries stay exact, only
 // slower when many agents are outside.
 
+// No fused multiply-add: distances round as in the C++ references, so the
+// decision "within r" is the same on every device.
+#pragma OPENCL FP_CONTRACT OFF
+
 typedef struct {
     float4 origin;        // domain minimum corner (w unused)
     float inv_cell;       // 1 / cell edge

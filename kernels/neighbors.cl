@@ -34,23 +34,48 @@ inline void visit_nearest(__global const float4* pos, __global const uint* ids, 
     }
 }
 
-// Nearest other agent: search boxes of growing radius k * cell, each time only
-// the cells not seen before, until the best distance found is inside the
-// searched radius (then nothing closer can be outside) or the whole grid is done.
+// Lower bound of the distance from p to any agent outside the cell box
+// [lo, hi]: the distance to the nearest box face, where faces on the grid's
+// border are at infinity (border cells also hold the clamped agents beyond).
+// Shrunk slightly so float rounding of cell assignment cannot make it too big.
+inline float outside_bound(const Grid* g, float4 p, int4 lo, int4 hi) {
+    const float cell = 1.0f / g->inv_cell;
+    float bound = INFINITY;
+    const float pc[3] = {p.x, p.y, p.z};
+    const float oc[3] = {g->origin.x, g->origin.y, g->origin.z};
+    const int l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z};
+    const int d[3] = {g->dims.x, g->dims.y, g->dims.z};
+    for (int a = 0; a < 3; ++a) {
+        if (l[a] > 0) {
+            const float face = oc[a] + (float)l[a] * cell;
+            bound = fmin(bound, pc[a] - face - 1e-5f * (fabs(face) + cell));
+        }
+        if (h[a] < d[a] - 1) {
+            const float face = oc[a] + (float)(h[a] + 1) * cell;
+            bound = fmin(bound, face - pc[a] - 1e-5f * (fabs(face) + cell));
+        }
+    }
+    return bound;
+}
+
+// Nearest other agent: boxes of cells growing one cell per side around the
+// agent's cell, each time visiting only the cells not seen before, until the
+// best distance found is below the distance to anything outside the box, or
+// the box is the whole grid.
 __kernel void nearest_neighbor(__global const float4* pos, __global const uint* ids, uint n,
-                               GRID_PARAMS, float cell, __global float* out_dist,
-                               __global uint* out_ids) {
+                               GRID_PARAMS, __global float* out_dist, __global uint* out_ids) {
     const uint i = get_global_id(0);
     if (i >= n) return;
     const Grid g = GRID_MAKE();
     const float4 p = pos[i];
+    const int4 c = grid_cell_of(&g, p);
+    const int4 last = g.dims - (int4)(1, 1, 1, 1);
     float best_d2 = INFINITY;
     uint best_id = NO_AGENT;
     int4 plo = (int4)(1, 1, 1, 0), phi = (int4)(0, 0, 0, 0);  // empty "previous" box
     for (int k = 0;; ++k) {
-        const float r = (float)k * cell;
-        int4 lo, hi;
-        grid_search_box(&g, p, r, &lo, &hi);
+        const int4 lo = max(c - (int4)(k, k, k, 0), (int4)(0, 0, 0, 0));
+        const int4 hi = min(c + (int4)(k, k, k, 0), last);
         for (int z = lo.z; z <= hi.z; ++z)
             for (int y = lo.y; y <= hi.y; ++y) {
                 const bool inner = z >= plo.z && z <= phi.z && y >= plo.y && y <= phi.y;
@@ -68,9 +93,11 @@ __kernel void nearest_neighbor(__global const float4* pos, __global const uint* 
                     }
                 }
             }
-        const bool whole = lo.x == 0 && lo.y == 0 && lo.z == 0 && hi.x == g.dims.x - 1 &&
-                           hi.y == g.dims.y - 1 && hi.z == g.dims.z - 1;
-        if (whole || best_d2 <= r * r) break;
+        const bool whole = lo.x == 0 && lo.y == 0 && lo.z == 0 && hi.x == last.x && hi.y == last.y &&
+                           hi.z == last.z;
+        if (whole) break;
+        const float bound = outside_bound(&g, p, lo, hi);
+        if (bound > 0.0f && best_d2 <= bound * bound) break;
         plo = lo;
         phi = hi;
     }

@@ -203,7 +203,6 @@ void Swarm::nearest_neighbor(float* out_distances, uint32_t* out_ids, size_t cou
     nearest_.setArg(i++, ids_.get());
     nearest_.setArg(i++, n_);
     i = grid_.set_grid_args(nearest_, i);
-    nearest_.setArg(i++, grid_.geometry().cell);
     nearest_.setArg(i++, query_f32_.get());
     nearest_.setArg(i++, query_u32_.get());
     launch(*ctx_, nearest_, n_);

@@ -1,0 +1,145 @@
+// The device layer: listing, choice by selector and $SWARMCL_DEVICE, the
+// program cache, embedded versus $SWARMCL_KERNEL_DIR sources, and build
+// failures reported with the compiler log.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "core/error.hpp"
+#include "device/context.hpp"
+#include "device/device_list.hpp"
+#include "device/kernel_sources.hpp"
+#include "swarmcl/swarmcl.h"
+
+using namespace swarmcl;
+namespace fs = std::filesystem;
+
+namespace {
+
+// Sets an environment variable for one scope.
+class ScopedEnv {
+public:
+    ScopedEnv(const char* name, const std::string& value) : name_(name) {
+        if (const char* old = std::getenv(name)) old_ = old, had_ = true;
+        setenv(name, value.c_str(), 1);
+    }
+    ~ScopedEnv() { had_ ? setenv(name_, old_.c_str(), 1) : unsetenv(name_); }
+
+private:
+    const char* name_;
+    std::string old_;
+    bool had_ = false;
+};
+
+TEST(Devices, ListedWithNamesAndIndices) {
+    const auto devices = list_devices();
+    ASSERT_FALSE(devices.empty());
+    for (size_t i = 0; i < devices.size(); ++i) {
+        EXPECT_EQ(devices[i].index, i);
+        EXPECT_FALSE(devices[i].device_name.empty());
+        EXPECT_GT(devices[i].global_memory, 0u);
+    }
+}
+
+TEST(Devices, SelectorByIndexSubstringAndEnvironment) {
+    const auto devices = list_devices();
+    const auto& last = devices.back();
+    EXPECT_EQ(select_device(std::to_string(last.index)).index, last.index);
+    // Case-insensitive substring of the device name.
+    std::string upper = last.device_name.substr(0, 6);
+    for (auto& ch : upper) ch = char(std::toupper(static_cast<unsigned char>(ch)));
+    EXPECT_EQ(select_device(upper).device_name.substr(0, 6), last.device_name.substr(0, 6));
+    {
+        ScopedEnv env("SWARMCL_DEVICE", std::to_string(last.index));
+        EXPECT_EQ(select_device("").index, last.index);
+        // An explicit selector wins over the environment.
+        EXPECT_EQ(select_device("0").index, 0u);
+    }
+    {
+        ScopedEnv env("SWARMCL_DEVICE", "definitely-not-a-device");
+        try {
+            select_device("");
+            FAIL() << "expected NoDevice";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.status(), Status::NoDevice);
+            EXPECT_NE(std::string(e.what()).find("$SWARMCL_DEVICE"), std::string::npos);
+        }
+    }
+}
+
+TEST(Devices, DefaultPrefersGpuThenCpu) {
+    const auto devices = list_devices();
+    bool any_gpu = false;
+    for (const auto& d : devices) any_gpu |= (d.type & CL_DEVICE_TYPE_GPU) != 0;
+    const auto chosen = select_device("");
+    if (std::getenv("SWARMCL_DEVICE")) GTEST_SKIP() << "$SWARMCL_DEVICE overrides the default";
+    EXPECT_TRUE(any_gpu ? (chosen.type & CL_DEVICE_TYPE_GPU) : (chosen.type & CL_DEVICE_TYPE_CPU));
+}
+
+TEST(Kernels, EmbeddedSourcesExpandIncludesOnce) {
+    const std::string src = load_kernel_source("neighbors.cl");
+    EXPECT_NE(src.find("grid_search_box"), std::string::npos);  // from grid_common.cl
+    EXPECT_EQ(src.find("#include"), std::string::npos);
+    EXPECT_EQ(src.find("typedef struct"), src.rfind("typedef struct"));  // Grid defined once
+}
+
+TEST(Kernels, MissingEmbeddedFileIsAnError) {
+    EXPECT_THROW(load_kernel_source("no_such_kernel.cl"), Error);
+}
+
+TEST(Kernels, ProgramsAreBuiltOncePerContext) {
+    Context ctx("", "");
+    cl::Program a = ctx.program("grid.cl");
+    cl::Program b = ctx.program("grid.cl");
+    EXPECT_EQ(a(), b());
+}
+
+TEST(Kernels, KernelDirOverridesAndBuildErrorsCarryTheLog) {
+    const fs::path dir = fs::temp_directory_path() / "swarmcl_kernel_dir_test";
+    fs::create_directories(dir);
+    std::ofstream(dir / "grid.cl") << "__kernel void broken(__global float* x) { x[0] = undefined_name; }\n";
+    ScopedEnv env("SWARMCL_KERNEL_DIR", dir.string());
+    EXPECT_NE(load_kernel_source("grid.cl").find("undefined_name"), std::string::npos);
+    Context ctx("", "");
+    try {
+        ctx.program("grid.cl");
+        FAIL() << "expected a build error";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.status(), Status::Build);
+        EXPECT_NE(std::string(e.what()).find("undefined_name"), std::string::npos) << e.what();
+    }
+    // Through the C API: SWCL_ERROR_BUILD and the log in swcl_last_error().
+    swcl_context c;
+    swcl_context_desc d = swcl_context_desc_default();
+    ASSERT_EQ(swcl_context_create(&d, &c), SWCL_OK);
+    swcl_swarm_desc sd = swcl_swarm_desc_default();
+    swcl_swarm s;
+    EXPECT_EQ(swcl_swarm_create(c, &sd, &s), SWCL_ERROR_BUILD);
+    EXPECT_NE(std::string(swcl_last_error()).find("undefined_name"), std::string::npos);
+    EXPECT_EQ(swcl_context_destroy(c), SWCL_OK);
+    fs::remove_all(dir);
+}
+
+TEST(Kernels, KernelDirWithAMissingFileSaysWhere) {
+    const fs::path dir = fs::temp_directory_path() / "swarmcl_empty_kernel_dir";
+    fs::create_directories(dir);
+    ScopedEnv env("SWARMCL_KERNEL_DIR", dir.string());
+    try {
+        load_kernel_source("grid.cl");
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_EQ(e.status(), Status::Io);
+        EXPECT_NE(std::string(e.what()).find("SWARMCL_KERNEL_DIR"), std::string::npos);
+    }
+    fs::remove_all(dir);
+}
+
+TEST(Kernels, KernelDirMatchingTheEmbeddedSourcesWorks) {
+    ScopedEnv env("SWARMCL_KERNEL_DIR", std::string(SWARMCL_SOURCE_DIR) + "/kernels");
+    Context ctx("", "");
+    EXPECT_NO_THROW(ctx.program("neighbors.cl"));
+}
+
+}  // namespace

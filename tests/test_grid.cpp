@@ -1,0 +1,150 @@
+// The grid build (kernels/grid.cl) against a host counting sort: cell keys,
+// cell ranges, order by (cell, agent id), the id <-> slot maps, bitwise
+// determinism, and the awkward inputs (outside the domain, one crowded cell,
+// duplicates, N = 0 and N = 1).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "test_support.hpp"
+
+using namespace swarmcl;
+using namespace swarmcl::test;
+
+namespace {
+
+struct GridSnapshot {
+    std::vector<cl_float4> pos;
+    std::vector<cl_uint> ids, slot_of, start;
+};
+
+GridSnapshot build_and_read(Swarm& swarm) {
+    swarm.ensure_grid();
+    auto& ctx = swarm.context();
+    const uint32_t n = swarm.agent_count();
+    GridSnapshot s;
+    s.pos.resize(n);
+    s.ids.resize(n);
+    s.slot_of.resize(n);
+    s.start.resize(size_t(swarm.grid().geometry().cell_count()) + 1);
+    swarm.positions().download(ctx, s.pos.data(), n);
+    swarm.ids().download(ctx, s.ids.data(), n);
+    swarm.slot_of().download(ctx, s.slot_of.data(), n);
+    swarm.grid().cell_start().download(ctx, s.start.data(), s.start.size());
+    return s;
+}
+
+// Reference cell of a point: floor((x - origin) / cell), clamped per axis.
+uint32_t reference_cell(const GridGeometry& g, const float* p) {
+    uint32_t c[3];
+    for (int a = 0; a < 3; ++a) {
+        float f = std::floor((p[a] - g.origin[a]) * (1.0f / g.cell));
+        f = std::min(std::max(f, 0.0f), float(g.dims[a] - 1));
+        c[a] = uint32_t(f);
+    }
+    return c[0] + uint32_t(g.dims[0]) * (c[1] + uint32_t(g.dims[1]) * c[2]);
+}
+
+// Checks the device grid against a host counting sort of `xyz` by (cell, id).
+void expect_matches_reference(Swarm& swarm, const std::vector<float>& xyz) {
+    const uint32_t n = uint32_t(xyz.size() / 3);
+    const auto& g = swarm.grid().geometry();
+    const GridSnapshot s = build_and_read(swarm);
+    std::vector<uint32_t> order(n), cell(n);
+    for (uint32_t i = 0; i < n; ++i) cell[i] = reference_cell(g, &xyz[3 * i]);
+    std::iota(order.begin(), order.end(), 0u);
+    std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return cell[a] < cell[b]; });
+    ASSERT_EQ(s.ids.size(), n);
+    for (uint32_t slot = 0; slot < n; ++slot) {
+        ASSERT_EQ(s.ids[slot], order[slot]) << "slot " << slot;
+        ASSERT_EQ(s.slot_of[order[slot]], slot);
+        for (int a = 0; a < 3; ++a) ASSERT_EQ(s.pos[slot].s[a], xyz[3 * order[slot] + a]);
+    }
+    std::vector<uint32_t> start(g.cell_count() + 1, 0);
+    for (uint32_t i = 0; i < n; ++i) start[cell[i] + 1]++;
+    std::partial_sum(start.begin(), start.end(), start.begin());
+    ASSERT_EQ(s.start, start);
+}
+
+TEST(Grid, RandomPointsMatchHostCountingSort) {
+    auto ctx = shared_context();
+    const auto xyz = random_points(20000, -5.0f, 5.0f, 1);
+    Swarm swarm(ctx, cube_config(20000, -5.0f, 5.0f, 0.4f));
+    swarm.write(Attribute::Position, xyz.data(), 20000);
+    expect_matches_reference(swarm, xyz);
+}
+
+TEST(Grid, AgentsOutsideTheDomainAreClampedIntoBorderCells) {
+    auto ctx = shared_context();
+    auto xyz = random_points(3000, -20.0f, 20.0f, 2);
+    xyz[0] = 1e30f;  // far outside: clamping must not overflow
+    xyz[4] = -1e30f;
+    Swarm swarm(ctx, cube_config(3000, -1.0f, 1.0f, 0.25f));
+    swarm.write(Attribute::Position, xyz.data(), 3000);
+    expect_matches_reference(swarm, xyz);
+}
+
+TEST(Grid, AllAgentsInOneCellAndDuplicates) {
+    auto ctx = shared_context();
+    // 5000 agents in one cell (heap-sort path), half of them on one point.
+    auto xyz = random_points(5000, 0.01f, 0.09f, 3);
+    for (size_t i = 0; i < xyz.size() / 2; ++i) xyz[i] = 0.05f;
+    Swarm swarm(ctx, cube_config(5000, 0.0f, 1.0f, 0.1f));
+    swarm.write(Attribute::Position, xyz.data(), 5000);
+    expect_matches_reference(swarm, xyz);
+}
+
+TEST(Grid, EmptyAndSingleAgentSwarms) {
+    auto ctx = shared_context();
+    Swarm swarm(ctx, cube_config(4, 0.0f, 1.0f, 0.1f));
+    std::vector<float> none;
+    swarm.write(Attribute::Position, none.data(), 0);
+    expect_matches_reference(swarm, none);
+    const std::vector<float> one = {0.5f, 0.5f, 0.5f};
+    swarm.write(Attribute::Position, one.data(), 1);
+    expect_matches_reference(swarm, one);
+}
+
+TEST(Grid, OrderIsBitwiseTheSameOnEveryRunAndIndependentOfHistory) {
+    auto ctx = shared_context();
+    const auto xyz = random_points(50000, 0.0f, 4.0f, 4);
+    Swarm a(ctx, cube_config(50000, 0.0f, 4.0f, 0.2f));
+    Swarm b(ctx, cube_config(50000, 0.0f, 4.0f, 0.2f));
+    a.write(Attribute::Position, xyz.data(), 50000);
+    // b reaches the same positions by another history: shuffled first.
+    auto other = random_points(50000, 0.0f, 4.0f, 5);
+    b.write(Attribute::Position, other.data(), 50000);
+    b.ensure_grid();
+    b.write(Attribute::Position, xyz.data(), 50000);
+    const auto sa = build_and_read(a), sb = build_and_read(b);
+    EXPECT_EQ(sa.ids, sb.ids);
+    EXPECT_EQ(sa.start, sb.start);
+    EXPECT_EQ(0, std::memcmp(sa.pos.data(), sb.pos.data(), sa.pos.size() * sizeof(cl_float4)));
+}
+
+TEST(Grid, ReorderKeepsEachAgentsVelocityWithIt) {
+    auto ctx = shared_context();
+    const auto xyz = random_points(10000, 0.0f, 2.0f, 6);
+    const auto vel = random_points(10000, -1.0f, 1.0f, 7);
+    Swarm swarm(ctx, cube_config(10000, 0.0f, 2.0f, 0.1f));
+    swarm.write(Attribute::Position, xyz.data(), 10000);
+    swarm.write(Attribute::Velocity, vel.data(), 10000);
+    swarm.ensure_grid();
+    std::vector<float> p(xyz.size()), v(vel.size());
+    swarm.read(Attribute::Position, p.data(), 10000);
+    swarm.read(Attribute::Velocity, v.data(), 10000);
+    EXPECT_EQ(p, xyz);
+    EXPECT_EQ(v, vel);
+}
+
+TEST(GridGeometry, CellCountIsBoundedByGrowingTheCell) {
+    const float lo[3] = {0, 0, 0}, hi[3] = {1000, 1000, 1000};
+    const auto g = GridGeometry::cover(lo, hi, 0.01f, 1u << 16);
+    EXPECT_LE(g.cell_count(), 1u << 16);
+    EXPECT_GE(g.cell, 0.01f);
+    for (int a = 0; a < 3; ++a) EXPECT_GE(g.dims[a] * g.cell, 1000.0f * 0.999f);
+}
+
+}  // namespace

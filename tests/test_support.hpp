@@ -1,0 +1,44 @@
+// Shared test helpers: one context per test binary (kernels compile once),
+// random points, and plain brute-force references.
+#pragma once
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "device/context.hpp"
+#include "swarm/swarm.hpp"
+
+namespace swarmcl::test {
+
+inline std::shared_ptr<Context> shared_context() {
+    static std::shared_ptr<Context> ctx = std::make_shared<Context>("", "");
+    return ctx;
+}
+
+inline std::vector<float> random_points(size_t n, float lo, float hi, uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(lo, hi);
+    std::vector<float> xyz(3 * n);
+    for (auto& v : xyz) v = u(rng);
+    return xyz;
+}
+
+inline SwarmConfig cube_config(uint32_t capacity, float lo, float hi, float radius) {
+    SwarmConfig c;
+    c.capacity = capacity;
+    c.domain_min = {lo, lo, lo};
+    c.domain_max = {hi, hi, hi};
+    c.interaction_radius = radius;
+    return c;
+}
+
+// Squared distance in float, computed as the kernels do.
+inline float dist2(const float* a, const float* b) {
+    const float dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+    return dx * dx + dy * dy + dz * dz;
+}
+
+}  // namespace swarmcl::test
