@@ -9,14 +9,16 @@ void set_last_error(const std::string& message) { g_last_error = message; }
 void clear_last_error() { g_last_error.clear(); }
 const std::string& last_error() { return g_last_error; }
 
+// The tables are never destroyed: objects a program did not destroy must not
+// be released by static destructors after the OpenCL runtime has shut down.
 HandleRegistry<Context>& contexts() {
-    static HandleRegistry<Context> registry(0xC1, "context");
-    return registry;
+    static auto* registry = new HandleRegistry<Context>(0xC1, "context");
+    return *registry;
 }
 
 HandleRegistry<Swarm>& swarms() {
-    static HandleRegistry<Swarm> registry(0x5A, "swarm");
-    return registry;
+    static auto* registry = new HandleRegistry<Swarm>(0x5A, "swarm");
+    return *registry;
 }
 
 swcl_status status_from_opencl(int err) {

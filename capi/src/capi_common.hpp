@@ -2,6 +2,7 @@
 // tables, and guarded() which turns any C++ exception into a status so none
 // crosses the C boundary.
 #pragma once
+#include <mutex>
 #include <new>
 #include <string>
 
@@ -45,6 +46,17 @@ swcl_status guarded(const char* function, F&& body) noexcept {
         set_last_error(std::string(function) + ": unknown internal error");
         return SWCL_ERROR_INTERNAL;
     }
+}
+
+// Looks up a swarm and runs body(swarm) under the swarm's mutex: each
+// swarm's calls are serialised (the host objects are not thread-safe).
+template <typename F>
+swcl_status with_swarm(const char* function, swcl_swarm handle, F&& body) noexcept {
+    return guarded(function, [&] {
+        auto swarm = swarms().get(handle.id);
+        std::lock_guard<std::mutex> lock(swarm->mutex());
+        body(*swarm);
+    });
 }
 
 // Checks a descriptor's struct_size: callers built against an older header

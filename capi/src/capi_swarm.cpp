@@ -9,21 +9,6 @@ using namespace swarmcl::capi;
 
 namespace {
 
-// Each swarm's calls are serialised: the host objects are not thread-safe.
-std::mutex& swarm_mutex(const Swarm* s) {
-    static std::mutex mutexes[64];
-    return mutexes[(reinterpret_cast<uintptr_t>(s) >> 6) % 64];
-}
-
-template <typename F>
-swcl_status with_swarm(const char* function, swcl_swarm handle, F&& body) {
-    return guarded(function, [&] {
-        auto swarm = swarms().get(handle.id);
-        std::lock_guard<std::mutex> lock(swarm_mutex(swarm.get()));
-        body(*swarm);
-    });
-}
-
 Attribute attribute_of(swcl_attribute a) {
     switch (a) {
         case SWCL_ATTRIBUTE_POSITION: return Attribute::Position;

@@ -148,11 +148,20 @@ void Swarm::read(Attribute attribute, float* dst, size_t count) {
 
 void Swarm::step(uint32_t steps) {
     for (uint32_t s = 0; s < steps; ++s) {
-        set_args(integrate_, pos_.get(), vel_.get(), n_, config_.dt);
-        launch(*ctx_, integrate_, n_);
+        if (behavior_) {
+            behavior_->advance(*this, steps_);
+        } else {
+            set_args(integrate_, pos_.get(), vel_.get(), n_, config_.dt);
+            launch(*ctx_, integrate_, n_);
+        }
+        grid_current_ = false;
+        ++steps_;
     }
-    if (steps) grid_current_ = false;
-    steps_ += steps;
+}
+
+void Swarm::swap_positions_with_scratch() {
+    std::swap(pos_, scratch_);
+    grid_current_ = false;
 }
 
 void Swarm::ensure_grid() {

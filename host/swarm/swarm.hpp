@@ -5,10 +5,12 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 
 #include "device/buffer.hpp"
 #include "device/context.hpp"
 #include "spatial/neighbor_grid.hpp"
+#include "swarm/behavior.hpp"
 
 namespace swarmcl {
 
@@ -51,6 +53,19 @@ public:
     DeviceBuffer<cl_float4>& velocities() { return vel_; }
     DeviceBuffer<cl_uint>& ids() { return ids_; }
     DeviceBuffer<cl_uint>& slot_of() { return slot_of_; }
+    // A float4 array of the capacity that a stage may write new positions to,
+    // then swap in (the grid then needs a rebuild).
+    DeviceBuffer<cl_float4>& scratch() { return scratch_; }
+    void swap_positions_with_scratch();
+    // Marks positions changed by a stage: the grid is rebuilt when next needed.
+    void positions_changed() { grid_current_ = false; }
+
+    // The model that moves the agents (nullptr: ballistic motion).
+    void set_behavior(std::shared_ptr<Behavior> behavior) { behavior_ = std::move(behavior); }
+    Behavior* behavior() const { return behavior_.get(); }
+
+    // Held by the C API around every call on this swarm.
+    std::mutex& mutex() { return mutex_; }
 
 private:
     void check_count(size_t count, const char* what) const;
@@ -70,6 +85,8 @@ private:
     DeviceBuffer<cl_float> query_f32_;
     cl::Kernel gather_, scatter_, identity_, integrate_;
     cl::Kernel count_, nearest_, lists_;
+    std::shared_ptr<Behavior> behavior_;
+    std::mutex mutex_;
 };
 
 }  // namespace swarmcl

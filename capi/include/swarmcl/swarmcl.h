@@ -190,6 +190,106 @@ SWCL_API swcl_status swcl_swarm_neighbor_lists(swcl_swarm swarm, float radius,
                                                uint32_t* out_counts, size_t count,
                                                uint32_t* out_truncated);
 
+
+/* ---- noise fields ---------------------------------------------------------
+ * The four noise functions of the data-driven noise paper (§4.2.1) and the
+ * boundary-aware curl noise of the curl-noise paper (§4, Eq. 1-3):
+ *   CURL      V = scale * curl N(x),  N = Eq. 2 applied to gain * (P1,P2,P3)(x/scale)
+ *             (divergence-free; its normal part fades to 0 at boundaries)
+ *   PERLIN    V = gain * (P1,P2,P3)(x/scale)
+ *   WHITE     V = gain * U(-1, 1)^3, new for every agent and step
+ *   GAUSSIAN  V = gain * N(0, 1)^3 (Box-Muller), new for every agent and step
+ * Random draws are keyed by (seed, agent id, step) with Philox4x32-10, so they
+ * do not depend on agent order or device.  docs/noise.md has the details. */
+
+typedef enum swcl_noise_type {
+    SWCL_NOISE_CURL = 0,
+    SWCL_NOISE_PERLIN = 1,
+    SWCL_NOISE_WHITE = 2,
+    SWCL_NOISE_GAUSSIAN = 3
+} swcl_noise_type;
+
+typedef enum swcl_boundary_type {
+    SWCL_BOUNDARY_SPHERE = 0,  /* obstacle: center, radius */
+    SWCL_BOUNDARY_BOX = 1,     /* obstacle: center, half_extents, radius = edge rounding
+                                  (0: a small default; the field needs rounded edges) */
+    SWCL_BOUNDARY_PLANE = 2    /* half space dot(normal, x) >= offset is free */
+} swcl_boundary_type;
+
+typedef struct swcl_boundary {
+    swcl_boundary_type type;
+    float center[3];
+    float radius;
+    float half_extents[3];
+    float normal[3];
+    float offset;
+} swcl_boundary;
+
+typedef struct swcl_noise_desc {
+    uint32_t struct_size;
+    swcl_noise_type type;          /* default CURL */
+    float scale;                   /* feature size, m (default 0.4, curl-noise paper Table 1) */
+    float gain;                    /* speed, m/s (default 0.25, Table 1) */
+    uint64_t seed;                 /* seeds the three potentials and the random draws */
+    float time_scale;              /* > 0: the field varies in time (4D noise), seconds
+                                      per noise unit; 0: a static field (default) */
+    float boundary_distance;       /* d0 of Eq. 3, m (default 0.4 = scale) */
+    int32_t domain_walls;          /* 1: the region box keeps insects in ("extended
+                                      boundaries", §4); default 0 */
+    float region_min[3];           /* walls and bake region; all zero: the swarm's */
+    float region_max[3];           /* domain (required without a swarm) */
+    const swcl_boundary* boundaries;  /* obstacles, copied by the call */
+    uint32_t boundary_count;
+    int32_t baked;                 /* 1: bake onto a grid over the region, then
+                                      sample trilinearly (CURL and PERLIN, static) */
+    uint32_t bake_resolution[3];   /* grid nodes per axis (default 64) */
+    int32_t finite_difference;     /* 1: curl by central differences (for checking) */
+    float fd_step;                 /* m; 0: scale / 100 */
+} swcl_noise_desc;
+
+SWCL_API swcl_noise_desc swcl_noise_desc_default(void);
+
+/* Samples a noise field at `count` packed xyz points into out_xyz (3 * count
+ * floats) at time `time` (s) and step `step`; point i counts as agent i for
+ * WHITE and GAUSSIAN.  Bad parameters or a NaN point change nothing. */
+SWCL_API swcl_status swcl_noise_sample(swcl_context context, const swcl_noise_desc* desc,
+                                       const float* points, size_t count, float time,
+                                       uint32_t step, float* out_xyz);
+
+/* ---- the field model ------------------------------------------------------
+ * The local behaviour of the curl-noise paper (§4, §6): each step every agent
+ * takes the noise velocity at its position plus, outside the goal sphere, a
+ * pull to the goal at speed goal_speed (s0); moves by v dt; then pairs closer
+ * than min_distance are pushed apart (minimum distance enforcement, MDE). */
+
+typedef struct swcl_field_model_desc {
+    uint32_t struct_size;
+    swcl_noise_desc noise;
+    int32_t has_goal;              /* default 0 */
+    float goal[3];
+    float goal_radius;             /* no pull inside, m (default 0) */
+    float goal_speed;              /* s0, m/s (default 1.5, Table 1) */
+    float min_distance;            /* MDE threshold, m; 0: off (default 0) */
+} swcl_field_model_desc;
+
+SWCL_API swcl_field_model_desc swcl_field_model_desc_default(void);
+/* Makes the field model move the swarm from the next step on (a baked noise
+ * is baked here).  On failure the swarm keeps its previous model. */
+SWCL_API swcl_status swcl_swarm_set_field_model(swcl_swarm swarm, const swcl_field_model_desc* desc);
+/* Back to ballistic motion. */
+SWCL_API swcl_status swcl_swarm_clear_model(swcl_swarm swarm);
+
+typedef struct swcl_step_stats {
+    uint32_t struct_size;
+    uint32_t agents;
+    uint32_t mde_moved_last;       /* agents moved by MDE in the last step */
+    uint64_t mde_moved_total;      /* agents moved, summed over the steps since the last call */
+    uint64_t steps;                /* steps since the last call */
+} swcl_step_stats;
+
+/* Model statistics since the last call (waits for the device). */
+SWCL_API swcl_status swcl_swarm_take_step_stats(swcl_swarm swarm, swcl_step_stats* out);
+
 #ifdef __cplusplus
 } /* extern "C" */
 #endif

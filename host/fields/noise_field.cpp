@@ -1,0 +1,211 @@
+#include "fields/noise_field.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "core/error.hpp"
+#include "core/philox.hpp"
+
+namespace swarmcl {
+namespace {
+
+// Kernel-side primitive codes (curl_noise.cl, SWCL_PRIM_*) and flags
+// (noise_field.cl, NOISE_FLAG_*).
+constexpr float kPrimBoxInterior = 1, kPrimSphere = 2, kPrimBox = 3, kPrimPlane = 4;
+constexpr int kFlagTimed = 1, kFlagFiniteDifference = 2, kFlagBaked = 4;
+constexpr uint32_t kStreamPerlinOffset = 2;  // SWCL_STREAM_PERLIN_OFFSET
+constexpr uint64_t kMaxBakedNodes = uint64_t(1) << 27;
+
+bool finite3(const std::array<float, 3>& v) {
+    return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+}
+
+void check_positive(float v, const char* name) {
+    require(std::isfinite(v) && v > 0.0f, std::string("noise ") + name + " must be a finite number > 0");
+}
+
+void check_boundary(const Boundary& b, size_t i) {
+    const std::string where = "noise boundaries[" + std::to_string(i) + "]";
+    switch (b.kind) {
+        case Boundary::Kind::Sphere:
+            require(finite3(b.center), where + ".center must be finite");
+            require(std::isfinite(b.radius) && b.radius > 0.0f, where + ": sphere radius must be > 0");
+            break;
+        case Boundary::Kind::Box:
+            require(finite3(b.center), where + ".center must be finite");
+            require(finite3(b.half_extents) && b.half_extents[0] > 0 && b.half_extents[1] > 0 && b.half_extents[2] > 0,
+                    where + ": box half_extents must be > 0 (an empty box bounds nothing)");
+            require(std::isfinite(b.radius) && b.radius >= 0.0f &&
+                        b.radius <= *std::min_element(b.half_extents.begin(), b.half_extents.end()),
+                    where + ": box edge radius must be in [0, smallest half extent]");
+            break;
+        case Boundary::Kind::Plane: {
+            require(finite3(b.normal) && std::isfinite(b.offset), where + ": plane normal and offset must be finite");
+            const float len = std::hypot(b.normal[0], b.normal[1], b.normal[2]);
+            require(len > 0.0f, where + ": plane normal must not be zero");
+            break;
+        }
+        default: fail(Status::InvalidArgument, where + ": unknown boundary type");
+    }
+}
+
+}  // namespace
+
+bool NoiseConfig::has_region() const {
+    return region_min[0] < region_max[0] || region_min[1] < region_max[1] || region_min[2] < region_max[2];
+}
+
+void NoiseField::validate(const NoiseConfig& c) {
+    const int type = int(c.type);
+    require(type >= 0 && type <= 3, "noise type " + std::to_string(type) + " is not one of CURL, PERLIN, WHITE, GAUSSIAN");
+    check_positive(c.scale, "scale");
+    require(std::isfinite(c.gain) && c.gain >= 0.0f, "noise gain must be a finite number >= 0");
+    require(std::isfinite(c.time_scale) && c.time_scale >= 0.0f, "noise time_scale must be a finite number >= 0 (0: static)");
+    check_positive(c.boundary_distance, "boundary_distance (d0)");
+    require(finite3(c.region_min) && finite3(c.region_max), "noise region bounds must be finite");
+    if (c.has_region())
+        for (int a = 0; a < 3; ++a)
+            require(c.region_min[a] < c.region_max[a],
+                    "noise region_min[" + std::to_string(a) + "] must be below region_max[" + std::to_string(a) + "]");
+    for (size_t i = 0; i < c.boundaries.size(); ++i) check_boundary(c.boundaries[i], i);
+    require(std::isfinite(c.fd_step) && c.fd_step >= 0.0f, "noise fd_step must be a finite number >= 0");
+    if (c.baked) {
+        require(c.type == NoiseType::Curl || c.type == NoiseType::Perlin,
+                "only CURL and PERLIN noise can be baked (WHITE and GAUSSIAN are not fields of space)");
+        require(c.time_scale == 0.0f, "a time-varying noise (time_scale > 0) cannot be baked");
+        uint64_t nodes = 1;
+        for (int a = 0; a < 3; ++a) {
+            require(c.bake_resolution[a] >= 2 && c.bake_resolution[a] <= 4096,
+                    "noise bake_resolution[" + std::to_string(a) + "] must be in [2, 4096]");
+            nodes *= c.bake_resolution[a];
+        }
+        require(nodes <= kMaxBakedNodes, "noise bake_resolution has more than 2^27 nodes");
+    }
+}
+
+NoiseField::NoiseField(Context& ctx, NoiseConfig config, const std::array<float, 3>* fallback_min,
+                       const std::array<float, 3>* fallback_max)
+    : ctx_(ctx), config_(std::move(config)) {
+    if (!config_.has_region() && fallback_min && fallback_max) {
+        config_.region_min = *fallback_min;
+        config_.region_max = *fallback_max;
+    }
+    validate(config_);
+    if ((config_.domain_walls || config_.baked) && !config_.has_region())
+        fail(Status::InvalidArgument, std::string("noise ") + (config_.baked ? "baking" : "domain_walls") +
+                                          " needs a region (region_min < region_max)");
+    if (config_.fd_step == 0.0f) config_.fd_step = config_.scale / 100.0f;
+
+    // Independent potentials: one Philox draw per channel (perlin.cl).
+    for (uint32_t k = 0; k < 3; ++k) {
+        const auto r = philox_for(config_.seed, k, 0, kStreamPerlinOffset);
+        offsets_[k] = cl_uint4{{r[0], r[1], r[2], r[3]}};
+    }
+
+    std::vector<cl_float4> prims;
+    auto push = [&](float type, std::array<float, 3> a, std::array<float, 4> b) {
+        prims.push_back(cl_float4{{a[0], a[1], a[2], type}});
+        prims.push_back(cl_float4{{b[0], b[1], b[2], b[3]}});
+    };
+    if (config_.domain_walls)
+        push(kPrimBoxInterior, config_.region_min,
+             {config_.region_max[0], config_.region_max[1], config_.region_max[2], 0.0f});
+    for (const Boundary& b : config_.boundaries) {
+        switch (b.kind) {
+            case Boundary::Kind::Sphere: push(kPrimSphere, b.center, {b.radius, 0, 0, 0}); break;
+            case Boundary::Kind::Box: {
+                // A C^2 distance needs rounded edges (curl_noise.cl): radius 0
+                // means "a small default", an eighth of the noise scale.
+                const float hmin = *std::min_element(b.half_extents.begin(), b.half_extents.end());
+                const float rr = b.radius > 0.0f ? b.radius : std::min(hmin, config_.scale / 8.0f);
+                push(kPrimBox, b.center, {b.half_extents[0], b.half_extents[1], b.half_extents[2], rr});
+                break;
+            }
+            case Boundary::Kind::Plane: {
+                const float len = std::hypot(b.normal[0], b.normal[1], b.normal[2]);
+                push(kPrimPlane, {b.normal[0] / len, b.normal[1] / len, b.normal[2] / len}, {b.offset / len, 0, 0, 0});
+                break;
+            }
+        }
+    }
+    prim_count_ = uint32_t(prims.size() / 2);
+    prims_.allocate(ctx_, std::max<size_t>(prims.size(), 2), "noise boundaries");
+    prims_.upload(ctx_, prims.data(), prims.size());
+    baked_.allocate(ctx_, 1, "baked noise");
+    if (config_.baked) bake();
+}
+
+cl_uint NoiseField::set_args(cl::Kernel& k, cl_uint i) const {
+    const auto& c = config_;
+    int flags = 0;
+    if (c.time_scale > 0.0f) flags |= kFlagTimed;
+    if (c.finite_difference) flags |= kFlagFiniteDifference;
+    if (baked_ready_) flags |= kFlagBaked;
+    k.setArg(i++, cl_int(c.type));
+    k.setArg(i++, cl_int(flags));
+    k.setArg(i++, cl_float4{{c.scale, c.gain, c.boundary_distance, c.time_scale > 0.0f ? 1.0f / c.time_scale : 0.0f}});
+    k.setArg(i++, c.fd_step);
+    k.setArg(i++, cl_ulong(c.seed));
+    for (const auto& o : offsets_) k.setArg(i++, o);
+    k.setArg(i++, prims_.get());
+    k.setArg(i++, cl_uint(prim_count_));
+    k.setArg(i++, baked_.get());
+    k.setArg(i++, bake_min_);
+    k.setArg(i++, bake_cell_);
+    k.setArg(i++, bake_dims_);
+    return i;
+}
+
+void NoiseField::bake() {
+    const auto& c = config_;
+    for (int a = 0; a < 3; ++a) {
+        bake_min_.s[a] = c.region_min[a];
+        bake_cell_.s[a] = (c.region_max[a] - c.region_min[a]) / float(c.bake_resolution[a] - 1);
+        bake_dims_.s[a] = cl_int(c.bake_resolution[a]);
+    }
+    bake_cell_.s[3] = 1.0f;
+    const size_t nodes = size_t(c.bake_resolution[0]) * c.bake_resolution[1] * c.bake_resolution[2];
+    DeviceBuffer<cl_float4> grid(ctx_, nodes, "baked noise");
+    cl::Kernel kernel = ctx_.kernel("noise_field.cl", "noise_bake");
+    const cl_uint i = set_args(kernel, 0);  // procedural: baked_ready_ is false
+    kernel.setArg(i, grid.get());
+    launch(ctx_, kernel, nodes);
+    ctx_.queue().finish();
+    baked_ = std::move(grid);
+    baked_ready_ = true;
+}
+
+void NoiseField::sample(const float* xyz, size_t n, float time, uint32_t step, float* out) {
+    require(xyz != nullptr || n == 0, "noise sample: points is NULL");
+    require(out != nullptr || n == 0, "noise sample: out is NULL");
+    require(std::isfinite(time), "noise sample: time must be finite");
+    require(n <= 0xFFFFFFFFu, "noise sample: more than 2^32 - 1 points");
+    std::vector<cl_float4> points(n);
+    for (size_t i = 0; i < n; ++i) {
+        for (int a = 0; a < 3; ++a) {
+            const float v = xyz[3 * i + a];
+            if (!std::isfinite(v))
+                fail(Status::InvalidArgument, "noise sample: point " + std::to_string(i) + " is not finite");
+            points[i].s[a] = v;
+        }
+        points[i].s[3] = 0.0f;
+    }
+    if (n == 0) return;
+    DeviceBuffer<cl_float4> in(ctx_, n, "noise sample points"), result(ctx_, n, "noise sample results");
+    in.upload(ctx_, points.data(), n);
+    cl::Kernel kernel = ctx_.kernel("noise_field.cl", "noise_sample");
+    cl_uint i = 0;
+    kernel.setArg(i++, in.get());
+    kernel.setArg(i++, cl_uint(n));
+    kernel.setArg(i++, time);
+    kernel.setArg(i++, step);
+    i = set_args(kernel, i);
+    kernel.setArg(i, result.get());
+    launch(ctx_, kernel, n);
+    result.download(ctx_, points.data(), n);
+    for (size_t p = 0; p < n; ++p)
+        for (int a = 0; a < 3; ++a) out[3 * p + a] = points[p].s[a];
+}
+
+}  // namespace swarmcl

@@ -1,0 +1,78 @@
+// A noise field on the device: one of the four noise functions of the
+// data-driven noise paper (§4.2.1) with the boundary-aware curl noise of the
+// curl-noise paper (§4, Eq. 1-3), procedural or baked onto a grid
+// (kernels/noise_field.cl).
+#pragma once
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "device/buffer.hpp"
+#include "device/context.hpp"
+
+namespace swarmcl {
+
+enum class NoiseType : int { Curl = 0, Perlin = 1, White = 2, Gaussian = 3 };
+
+// A boundary of the curl potential (Eq. 2): an obstacle or a half space.
+struct Boundary {
+    enum class Kind { Sphere, Box, Plane } kind = Kind::Sphere;
+    std::array<float, 3> center{};
+    float radius = 0.0f;                 // sphere radius; box edge rounding radius
+    std::array<float, 3> half_extents{};
+    std::array<float, 3> normal{};       // plane: unit normal into free space
+    float offset = 0.0f;                 // plane: dot(normal, x) >= offset is free
+};
+
+struct NoiseConfig {
+    NoiseType type = NoiseType::Curl;
+    float scale = 0.4f;         // m; Table 1 (aggregation) of the curl-noise paper
+    float gain = 0.25f;         // m/s; Table 1
+    uint64_t seed = 0;
+    float time_scale = 0.0f;    // s per noise unit along time; 0: a static field
+    float boundary_distance = 0.4f;  // d0 of Eq. 3, m
+    bool domain_walls = false;  // the region box is an "extended boundary"
+    std::array<float, 3> region_min{}, region_max{};  // walls and bake region
+    std::vector<Boundary> boundaries;
+    bool baked = false;
+    std::array<uint32_t, 3> bake_resolution{64, 64, 64};  // grid nodes per axis
+    bool finite_difference = false;  // curl by central differences (checking)
+    float fd_step = 0.0f;            // m; 0: scale / 100
+
+    bool has_region() const;
+};
+
+class NoiseField {
+public:
+    // Validates (Error(InvalidArgument) naming the field) and, if baked,
+    // bakes the field.  `fallback_region` is used when config has no region.
+    NoiseField(Context& ctx, NoiseConfig config, const std::array<float, 3>* fallback_min = nullptr,
+               const std::array<float, 3>* fallback_max = nullptr);
+
+    const NoiseConfig& config() const { return config_; }
+
+    // Appends the NOISE_PARAMS arguments (noise_field.cl) from `index` on.
+    cl_uint set_args(cl::Kernel& kernel, cl_uint index) const;
+
+    // Samples at n packed xyz points into out (packed xyz); point i counts as
+    // agent i for the random noise types.
+    void sample(const float* xyz, size_t n, float time, uint32_t step, float* out);
+
+    static void validate(const NoiseConfig& config);
+
+private:
+    void bake();
+
+    Context& ctx_;
+    NoiseConfig config_;
+    std::array<cl_uint4, 3> offsets_{};
+    DeviceBuffer<cl_float4> prims_;
+    uint32_t prim_count_ = 0;
+    DeviceBuffer<cl_float4> baked_;
+    cl_float4 bake_min_{}, bake_cell_{};
+    cl_int4 bake_dims_{};
+    bool baked_ready_ = false;
+};
+
+}  // namespace swarmcl

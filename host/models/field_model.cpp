@@ -1,0 +1,62 @@
+#include "models/field_model.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "core/error.hpp"
+#include "swarm/swarm.hpp"
+
+namespace swarmcl {
+
+FieldModel::FieldModel(Swarm& swarm, FieldModelConfig config) : config_(std::move(config)) {
+    const auto& c = config_;
+    if (c.has_goal) {
+        for (int a = 0; a < 3; ++a) require(std::isfinite(c.goal[a]), "field model goal must be finite");
+        require(std::isfinite(c.goal_radius) && c.goal_radius >= 0.0f, "field model goal_radius must be >= 0");
+        require(std::isfinite(c.goal_speed) && c.goal_speed >= 0.0f, "field model goal_speed (s0) must be >= 0");
+    }
+    require(std::isfinite(c.min_distance) && c.min_distance >= 0.0f,
+            "field model min_distance must be a finite number >= 0 (0: off)");
+    Context& ctx = swarm.context();
+    noise_ = std::make_unique<NoiseField>(ctx, c.noise, &swarm.config().domain_min, &swarm.config().domain_max);
+    if (c.min_distance > 0.0f) mde_.emplace(ctx, c.min_distance, c.noise.seed);
+    advance_ = ctx.kernel("field_model.cl", "field_model_advance");
+    moved_.allocate(ctx, 2, "MDE counters");
+    moved_.fill(ctx, 0u, 2);
+}
+
+void FieldModel::advance(Swarm& swarm, uint64_t step) {
+    const uint32_t n = swarm.agent_count();
+    const float dt = swarm.config().dt;
+    cl_uint i = 0;
+    advance_.setArg(i++, swarm.positions().get());
+    advance_.setArg(i++, swarm.velocities().get());
+    advance_.setArg(i++, swarm.ids().get());
+    advance_.setArg(i++, n);
+    advance_.setArg(i++, dt);
+    advance_.setArg(i++, float(double(step) * dt));
+    advance_.setArg(i++, cl_uint(step));
+    i = noise_->set_args(advance_, i);
+    const auto& c = config_;
+    advance_.setArg(i++, cl_float4{{c.goal[0], c.goal[1], c.goal[2], c.has_goal ? c.goal_radius : -1.0f}});
+    advance_.setArg(i++, c.goal_speed);
+    launch(swarm.context(), advance_, n);
+    swarm.positions_changed();
+    if (mde_) mde_->apply(swarm, moved_);
+    ++steps_since_read_;
+}
+
+StepStats FieldModel::take_stats(Swarm& swarm) {
+    cl_uint counts[2] = {0, 0};
+    moved_.download(swarm.context(), counts, 2);
+    moved_.fill(swarm.context(), 0u, 2);
+    StepStats s;
+    s.agents = swarm.agent_count();
+    s.mde_moved_last = counts[0];
+    s.mde_moved_total = counts[1];
+    s.steps = steps_since_read_;
+    steps_since_read_ = 0;
+    return s;
+}
+
+}  // namespace swarmcl

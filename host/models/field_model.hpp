@@ -1,0 +1,52 @@
+// The local behaviour of the curl-noise paper (§4, §6): velocity from the
+// (boundary-aware) noise field plus an optional pull to a goal at speed s0,
+// the position update, then minimum distance enforcement.
+#pragma once
+#include <array>
+#include <memory>
+#include <optional>
+
+#include "fields/noise_field.hpp"
+#include "models/min_distance.hpp"
+#include "swarm/behavior.hpp"
+
+namespace swarmcl {
+
+struct FieldModelConfig {
+    NoiseConfig noise;
+    bool has_goal = false;
+    std::array<float, 3> goal{};
+    float goal_radius = 0.0f;   // no pull inside this sphere around the goal
+    float goal_speed = 1.5f;    // s0, m/s (Table 1, aggregation)
+    float min_distance = 0.0f;  // MDE threshold, m; 0: no enforcement
+};
+
+// MDE counts read back from the device (only when asked for).
+struct StepStats {
+    uint32_t agents = 0;
+    uint32_t mde_moved_last = 0;   // agents moved by MDE in the last step
+    uint64_t mde_moved_total = 0;  // summed over steps since the last read
+    uint64_t steps = 0;            // steps since the last read
+};
+
+class FieldModel : public Behavior {
+public:
+    // Validates; the noise region defaults to the swarm's domain.
+    FieldModel(Swarm& swarm, FieldModelConfig config);
+
+    void advance(Swarm& swarm, uint64_t step) override;
+    const FieldModelConfig& config() const { return config_; }
+
+    // Reads and resets the counters (waits for the device).
+    StepStats take_stats(Swarm& swarm);
+
+private:
+    FieldModelConfig config_;
+    std::unique_ptr<NoiseField> noise_;
+    std::optional<MinDistance> mde_;
+    cl::Kernel advance_;
+    DeviceBuffer<cl_uint> moved_;
+    uint64_t steps_since_read_ = 0;
+};
+
+}  // namespace swarmcl
