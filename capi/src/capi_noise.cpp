@@ -91,6 +91,7 @@ swcl_field_model_desc swcl_field_model_desc_default(void) {
     d.has_goal = 0;
     d.goal_radius = c.goal_radius;
     d.goal_speed = c.goal_speed;
+    d.goal_falloff = c.goal_falloff;
     d.min_distance = c.min_distance;
     return d;
 }
@@ -105,6 +106,7 @@ swcl_status swcl_swarm_set_field_model(swcl_swarm swarm, const swcl_field_model_
         for (int a = 0; a < 3; ++a) c.goal[a] = desc->goal[a];
         c.goal_radius = desc->goal_radius;
         c.goal_speed = desc->goal_speed;
+        c.goal_falloff = desc->goal_falloff;
         c.min_distance = desc->min_distance;
         s.set_behavior(std::make_shared<FieldModel>(s, std::move(c)));
     });

@@ -4,7 +4,7 @@
  * domain walls, a pull to a goal sphere, minimum distance enforcement.
  * Prints statistics every few steps.
  *
- * Usage: aggregation [agents] [steps] [device-selector]                     */
+ * Usage: aggregation [agents] [steps] [device-selector] [min-distance]                     */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -34,7 +34,7 @@ int main(int argc, char** argv) {
     const uint32_t n = argc > 1 ? (uint32_t)strtoul(argv[1], NULL, 10) : 1000u;
     const uint32_t steps = argc > 2 ? (uint32_t)strtoul(argv[2], NULL, 10) : 300u;
     const uint32_t every = steps >= 10 ? steps / 10 : 1;
-    const float mde = 0.05f; /* minimum distance between insects, m */
+    const float mde = argc > 4 ? (float)atof(argv[4]) : 0.03f; /* minimum distance between insects, m */
     swcl_context_desc cdesc = swcl_context_desc_default();
     swcl_swarm_desc sdesc = swcl_swarm_desc_default();
     swcl_field_model_desc model = swcl_field_model_desc_default();
@@ -57,19 +57,21 @@ int main(int argc, char** argv) {
     CHECK(swcl_context_device_info(ctx, &info));
     printf("swarmcl %s on %s / %s\n", swcl_version_string(), info.platform_name, info.device_name);
 
-    /* A 6 x 6 x 4 m room; insects start spread over it. */
+    /* A 3 m cube; as in the paper's aggregation, the insects start where they
+     * gather (the goal area is the starting area). */
     sdesc.capacity = n;
     sdesc.agent_count = n;
     sdesc.seed = 2024;
-    sdesc.domain_min[0] = -3.0f; sdesc.domain_max[0] = 3.0f;
-    sdesc.domain_min[1] = -3.0f; sdesc.domain_max[1] = 3.0f;
-    sdesc.domain_min[2] = 0.0f;  sdesc.domain_max[2] = 4.0f;
+    sdesc.domain_min[0] = -1.5f; sdesc.domain_max[0] = 1.5f;
+    sdesc.domain_min[1] = -1.5f; sdesc.domain_max[1] = 1.5f;
+    sdesc.domain_min[2] = 0.5f;  sdesc.domain_max[2] = 3.5f;
     sdesc.interaction_radius = 0.1f;
     sdesc.dt = 1.0f / 30.0f;
     CHECK(swcl_swarm_create(ctx, &sdesc, &swarm));
 
     /* Table 1, aggregation: scale 0.4, gain 0.25, s0 1.5; the walls keep the
-     * swarm in; the insects gather in a 0.6 m sphere at the room's centre. */
+     * swarm in; insects outside a 1.2 m sphere at the centre are pulled back,
+     * the pull growing to s0 over 1 m. */
     model.noise.scale = 0.4f;
     model.noise.gain = 0.25f;
     model.noise.seed = 7;
@@ -77,8 +79,9 @@ int main(int argc, char** argv) {
     model.noise.domain_walls = 1;
     model.has_goal = 1;
     model.goal[0] = 0.0f; model.goal[1] = 0.0f; model.goal[2] = 2.0f;
-    model.goal_radius = 0.6f;
+    model.goal_radius = 1.2f;
     model.goal_speed = 1.5f;
+    model.goal_falloff = 1.0f;
     model.min_distance = mde;
     CHECK(swcl_swarm_set_field_model(swarm, &model));
 

@@ -14,6 +14,7 @@ FieldModel::FieldModel(Swarm& swarm, FieldModelConfig config) : config_(std::mov
         for (int a = 0; a < 3; ++a) require(std::isfinite(c.goal[a]), "field model goal must be finite");
         require(std::isfinite(c.goal_radius) && c.goal_radius >= 0.0f, "field model goal_radius must be >= 0");
         require(std::isfinite(c.goal_speed) && c.goal_speed >= 0.0f, "field model goal_speed (s0) must be >= 0");
+        require(std::isfinite(c.goal_falloff) && c.goal_falloff >= 0.0f, "field model goal_falloff must be >= 0");
     }
     require(std::isfinite(c.min_distance) && c.min_distance >= 0.0f,
             "field model min_distance must be a finite number >= 0 (0: off)");
@@ -40,6 +41,7 @@ void FieldModel::advance(Swarm& swarm, uint64_t step) {
     const auto& c = config_;
     advance_.setArg(i++, cl_float4{{c.goal[0], c.goal[1], c.goal[2], c.has_goal ? c.goal_radius : -1.0f}});
     advance_.setArg(i++, c.goal_speed);
+    advance_.setArg(i++, c.goal_falloff);
     launch(swarm.context(), advance_, n);
     swarm.positions_changed();
     if (mde_) mde_->apply(swarm, moved_);

@@ -269,6 +269,8 @@ typedef struct swcl_field_model_desc {
     float goal[3];
     float goal_radius;             /* no pull inside, m (default 0) */
     float goal_speed;              /* s0, m/s (default 1.5, Table 1) */
+    float goal_falloff;            /* m over which the pull grows from 0 at the goal
+                                      sphere to s0 (default 0: at once, as the paper) */
     float min_distance;            /* MDE threshold, m; 0: off (default 0) */
 } swcl_field_model_desc;
 
