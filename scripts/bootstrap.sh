@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config git
   ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd clinfo
-  libglm-dev libgtest-dev libnanoflann-dev libnoise-dev
+  libglm-dev libgtest-dev libnanoflann-dev libnoise-dev nlohmann-json3-dev
   python3 python3-pip python3-venv
 )
 

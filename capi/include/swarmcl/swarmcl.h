@@ -292,6 +292,65 @@ typedef struct swcl_step_stats {
 /* Model statistics since the last call (waits for the device). */
 SWCL_API swcl_status swcl_swarm_take_step_stats(swcl_swarm swarm, swcl_step_stats* out);
 
+
+/* ---- scenario files --------------------------------------------------------
+ * A JSON description of a run (docs/scenarios.md): model and parameters, agents
+ * and their initial distribution, domain, obstacles, goal, steps, dt, seed and
+ * outputs.  Loading validates everything; an error names the line and column
+ * of malformed JSON, or the key path of a bad value
+ * ("model.noise.scale: expected a number > 0"), with SWCL_ERROR_PARSE
+ * (SWCL_ERROR_IO when the file cannot be read). */
+
+typedef struct swcl_scenario { uint64_t id; } swcl_scenario;
+
+SWCL_API swcl_status swcl_scenario_load(const char* path, swcl_scenario* out);
+/* The same from JSON text of `length` bytes. */
+SWCL_API swcl_status swcl_scenario_parse(const char* text, size_t length, swcl_scenario* out);
+SWCL_API swcl_status swcl_scenario_destroy(swcl_scenario scenario);
+
+typedef enum swcl_export_format {
+    SWCL_EXPORT_CSV = 1,   /* <base>.csv: id,frame,P.x,P.y,P.z,v.x,v.y,v.z */
+    SWCL_EXPORT_NPY = 2,   /* <base>_positions.npy, <base>_velocities.npy: float32 (frames, N, 3) */
+    SWCL_EXPORT_VTP = 4    /* <base>_<frame>.vtp per frame and <base>.pvd for ParaView */
+} swcl_export_format;
+
+typedef struct swcl_scenario_info {
+    uint32_t struct_size;
+    uint32_t agents;
+    uint32_t steps;
+    uint32_t output_every;     /* record every k-th step */
+    uint32_t output_formats;   /* swcl_export_format bits */
+    float dt;
+    uint64_t seed;
+    char name[128];
+    char output_dir[1024];
+    char model[32];            /* "field" or "ballistic" */
+} swcl_scenario_info;
+
+/* out->struct_size must be set by the caller. */
+SWCL_API swcl_status swcl_scenario_get_info(swcl_scenario scenario, swcl_scenario_info* out);
+/* A swarm as the scenario describes it: agents placed, velocities set, model
+ * attached. */
+SWCL_API swcl_status swcl_scenario_create_swarm(swcl_scenario scenario, swcl_context context,
+                                                swcl_swarm* out);
+
+/* ---- recording trajectories -------------------------------------------------
+ * Writes frames of a swarm to `dir` (created if missing) in the chosen formats.
+ * Every file is written to a temporary name and renamed when complete, so an
+ * interrupted run never leaves a truncated file behind; without
+ * swcl_recorder_finish the CSV, .npy and .pvd files are discarded. */
+
+typedef struct swcl_recorder { uint64_t id; } swcl_recorder;
+
+SWCL_API swcl_status swcl_recorder_create(const char* dir, const char* basename, uint32_t formats,
+                                          swcl_recorder* out);
+/* Reads the swarm's positions and velocities and appends them as `frame` at
+ * simulation time `time` (s). */
+SWCL_API swcl_status swcl_recorder_add_frame(swcl_recorder recorder, swcl_swarm swarm, uint32_t frame,
+                                             double time);
+SWCL_API swcl_status swcl_recorder_finish(swcl_recorder recorder);
+SWCL_API swcl_status swcl_recorder_destroy(swcl_recorder recorder);
+
 #ifdef __cplusplus
 } /* extern "C" */
 #endif

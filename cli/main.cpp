@@ -1,0 +1,262 @@
+// The swarmcl command line: run a scenario file, list devices, validate a
+// scenario.  It uses only the public C API, like any other program would.
+//
+//   swarmcl run scenario.json [--steps N] [--out DIR] [--format csv,npy,vtp]
+//                             [--every K] [--device D] [--quiet]
+//   swarmcl devices
+//   swarmcl validate scenario.json
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+#include <swarmcl/swarmcl.h>
+
+namespace {
+
+const char* kUsage =
+    "usage:\n"
+    "  swarmcl run SCENARIO.json [--steps N] [--out DIR] [--format csv,npy,vtp] [--every K]\n"
+    "                            [--device D] [--quiet]\n"
+    "  swarmcl devices\n"
+    "  swarmcl validate SCENARIO.json\n";
+
+// A failed C call: message on stderr, exit status 1.
+struct Failure {
+    std::string message;
+};
+
+// Destroys a handle when the scope ends, also when a Failure unwinds it: a
+// recorder destroyed unfinished removes what it wrote.
+template <typename H, swcl_status (*Destroy)(H)>
+struct Owned {
+    H handle{};
+    ~Owned() {
+        if (handle.id) Destroy(handle);
+    }
+};
+
+void check(swcl_status status, const char* what) {
+    if (status != SWCL_OK)
+        throw Failure{std::string(what) + ": " + swcl_status_string(status) + ": " + swcl_last_error()};
+}
+
+std::string read_file(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+int cmd_devices() {
+    uint32_t n = 0;
+    check(swcl_device_count(&n), "listing devices");
+    for (uint32_t i = 0; i < n; ++i) {
+        swcl_device_info info;
+        info.struct_size = sizeof(info);
+        check(swcl_device_get_info(i, &info), "reading device info");
+        const char* type = info.type == SWCL_DEVICE_TYPE_GPU   ? "GPU"
+                           : info.type == SWCL_DEVICE_TYPE_CPU ? "CPU"
+                                                               : "other";
+        std::printf("%u  %-5s %s / %s  (%u compute units, %.1f GiB, %s)\n", i, type, info.platform_name,
+                    info.device_name, info.compute_units, double(info.global_memory_bytes) / (1u << 30), info.version);
+    }
+    return 0;
+}
+
+int cmd_validate(const std::string& path) {
+    Owned<swcl_scenario, swcl_scenario_destroy> scn;
+    check(swcl_scenario_load(path.c_str(), &scn.handle), "invalid scenario");
+    swcl_scenario_info info;
+    info.struct_size = sizeof(info);
+    check(swcl_scenario_get_info(scn.handle, &info), "reading the scenario");
+    std::printf("%s: valid (%s: %u agents, %s model, %u steps of %g s)\n", path.c_str(), info.name, info.agents,
+                info.model, info.steps, double(info.dt));
+    return 0;
+}
+
+uint32_t parse_formats(const std::string& list) {
+    uint32_t mask = 0;
+    std::stringstream in(list);
+    std::string f;
+    while (std::getline(in, f, ',')) {
+        if (f == "csv") mask |= SWCL_EXPORT_CSV;
+        else if (f == "npy") mask |= SWCL_EXPORT_NPY;
+        else if (f == "vtp") mask |= SWCL_EXPORT_VTP;
+        else throw Failure{"--format: unknown format '" + f + "' (expected csv, npy, vtp)"};
+    }
+    if (!mask) throw Failure{"--format: no format given"};
+    return mask;
+}
+
+uint32_t parse_count(const char* flag, const char* text, uint32_t min) {
+    char* end = nullptr;
+    errno = 0;
+    const unsigned long v = std::strtoul(text, &end, 10);
+    if (!*text || *end || errno || v < min || v > 0xFFFFFFFFul || text[0] == '-')
+        throw Failure{std::string(flag) + ": expected an integer >= " + std::to_string(min) + ", got '" + text + "'"};
+    return uint32_t(v);
+}
+
+// Writes text to path through a temporary file and a rename.
+void write_atomically(const std::string& path, const std::string& text) {
+    const std::string tmp = path + ".partial";
+    {
+        std::ofstream out(tmp, std::ios::binary);
+        out << text;
+        out.flush();
+        if (!out) {
+            std::remove(tmp.c_str());
+            throw Failure{"cannot write '" + path + "'"};
+        }
+    }
+    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+        std::remove(tmp.c_str());
+        throw Failure{"cannot write '" + path + "'"};
+    }
+}
+
+void progress(bool show, uint32_t done, uint32_t total, double seconds) {
+    if (!show) return;
+    const int width = 30;
+    const int filled = total ? int(double(done) / total * width) : width;
+    std::fprintf(stderr, "\r[%.*s%.*s] %3d%% %u/%u steps  %.1f steps/s", filled, "##############################",
+                 width - filled, "..............................", total ? int(100.0 * done / total) : 100, done, total,
+                 seconds > 0 ? done / seconds : 0.0);
+    if (done == total) std::fputc('\n', stderr);
+    std::fflush(stderr);
+}
+
+int cmd_run(int argc, char** argv) {
+    std::string path, out_dir, device;
+    long steps_override = -1, every_override = -1;
+    uint32_t formats_override = 0;
+    bool quiet = false;
+    for (int i = 0; i < argc; ++i) {
+        const std::string a = argv[i];
+        auto value = [&](const char* flag) -> const char* {
+            if (i + 1 >= argc) throw Failure{std::string(flag) + ": missing value"};
+            return argv[++i];
+        };
+        if (a == "--steps") steps_override = parse_count("--steps", value("--steps"), 0);
+        else if (a == "--every") every_override = parse_count("--every", value("--every"), 1);
+        else if (a == "--out") out_dir = value("--out");
+        else if (a == "--format") formats_override = parse_formats(value("--format"));
+        else if (a == "--device") device = value("--device");
+        else if (a == "--quiet") quiet = true;
+        else if (!a.empty() && a[0] == '-') throw Failure{"unknown option '" + a + "'\n" + kUsage};
+        else if (path.empty()) path = a;
+        else throw Failure{"unexpected argument '" + a + "'\n" + kUsage};
+    }
+    if (path.empty()) throw Failure{std::string("run: no scenario file\n") + kUsage};
+
+    Owned<swcl_scenario, swcl_scenario_destroy> scenario;
+    check(swcl_scenario_load(path.c_str(), &scenario.handle), "invalid scenario");
+    const swcl_scenario scn = scenario.handle;
+    swcl_scenario_info info;
+    info.struct_size = sizeof(info);
+    check(swcl_scenario_get_info(scn, &info), "reading the scenario");
+    const uint32_t steps = steps_override >= 0 ? uint32_t(steps_override) : info.steps;
+    const uint32_t every = every_override > 0 ? uint32_t(every_override) : info.output_every;
+    const uint32_t formats = formats_override ? formats_override : info.output_formats;
+    if (out_dir.empty()) out_dir = info.output_dir;
+
+    swcl_context_desc cd = swcl_context_desc_default();
+    if (!device.empty()) cd.device = device.c_str();
+    Owned<swcl_context, swcl_context_destroy> context;
+    check(swcl_context_create(&cd, &context.handle), "opening the device");
+    const swcl_context ctx = context.handle;
+    swcl_device_info dev;
+    dev.struct_size = sizeof(dev);
+    check(swcl_context_device_info(ctx, &dev), "reading device info");
+    Owned<swcl_swarm, swcl_swarm_destroy> owned_swarm;
+    check(swcl_scenario_create_swarm(scn, ctx, &owned_swarm.handle), "creating the swarm");
+    const swcl_swarm swarm = owned_swarm.handle;
+    Owned<swcl_recorder, swcl_recorder_destroy> recorder;
+    check(swcl_recorder_create(out_dir.c_str(), info.name, formats, &recorder.handle), "opening the output folder");
+    const swcl_recorder rec = recorder.handle;
+
+    const bool show = !quiet && isatty(STDERR_FILENO);
+    if (!quiet)
+        std::printf("%s: %u agents, %s model, %u steps of %g s on %s / %s\n", info.name, info.agents, info.model, steps,
+                    double(info.dt), dev.platform_name, dev.device_name);
+    const auto start = std::chrono::steady_clock::now();
+    auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+    uint32_t frames = 0;
+    check(swcl_recorder_add_frame(rec, swarm, 0, 0.0), "recording frame 0");
+    ++frames;
+    for (uint32_t done = 0; done < steps;) {
+        const uint32_t k = std::min(every, steps - done);
+        check(swcl_swarm_step(swarm, k), "stepping");
+        done += k;
+        check(swcl_recorder_add_frame(rec, swarm, done, double(done) * info.dt), "recording");
+        ++frames;
+        progress(show, done, steps, seconds());
+    }
+    check(swcl_recorder_finish(rec), "writing the outputs");
+    const double wall = seconds();
+    swcl_step_stats stats;
+    stats.struct_size = sizeof(stats);
+    check(swcl_swarm_take_step_stats(swarm, &stats), "reading statistics");
+
+    nlohmann::json run;
+    run["scenario"] = info.name;
+    run["scenario_file"] = path;
+    run["device"] = std::string(dev.platform_name) + " / " + dev.device_name;
+    run["agents"] = info.agents;
+    run["steps"] = steps;
+    run["dt"] = info.dt;
+    run["seed"] = info.seed;
+    run["frames"] = frames;
+    run["every"] = every;
+    run["seconds"] = wall;
+    run["steps_per_second"] = wall > 0 ? steps / wall : 0.0;
+    run["mde_moved_fraction"] =
+        stats.steps && info.agents ? double(stats.mde_moved_total) / (double(stats.steps) * info.agents) : 0.0;
+    nlohmann::json fmts = nlohmann::json::array();
+    if (formats & SWCL_EXPORT_CSV) fmts.push_back("csv");
+    if (formats & SWCL_EXPORT_NPY) fmts.push_back("npy");
+    if (formats & SWCL_EXPORT_VTP) fmts.push_back("vtp");
+    run["formats"] = fmts;
+    run["output_dir"] = out_dir;
+    run["parameters"] = nlohmann::json::parse(read_file(path), nullptr, false);
+    write_atomically(out_dir + "/run.json", run.dump(2) + "\n");
+    if (!quiet)
+        std::printf("done: %u steps in %.2f s (%.1f steps/s), %u frames written to %s/ (run.json has the statistics)\n",
+                    steps, wall, wall > 0 ? steps / wall : 0.0, frames, out_dir.c_str());
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc < 2) {
+        std::fputs(kUsage, stderr);
+        return 2;
+    }
+    const std::string cmd = argv[1];
+    try {
+        if (cmd == "run") return cmd_run(argc - 2, argv + 2);
+        if (cmd == "devices") return cmd_devices();
+        if (cmd == "validate") {
+            if (argc != 3) throw Failure{std::string("validate: expected one scenario file\n") + kUsage};
+            return cmd_validate(argv[2]);
+        }
+        if (cmd == "--help" || cmd == "-h" || cmd == "help") {
+            std::fputs(kUsage, stdout);
+            return 0;
+        }
+        std::fprintf(stderr, "unknown command '%s'\n%s", cmd.c_str(), kUsage);
+        return 2;
+    } catch (const Failure& f) {
+        std::fprintf(stderr, "swarmcl: %s\n", f.message.c_str());
+        return 1;
+    }
+}

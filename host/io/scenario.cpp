@@ -1,0 +1,366 @@
+#include "io/scenario.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <set>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "core/error.hpp"
+#include "core/philox.hpp"
+#include "io/recorder.hpp"
+
+namespace swarmcl {
+namespace {
+
+using json = nlohmann::json;
+
+[[noreturn]] void bad(const std::string& path, const std::string& what) { fail(Status::Parse, path + ": " + what); }
+
+// One JSON object being read: typed getters that name the key path in their
+// errors, and a check that no unknown key is left over.
+class Obj {
+public:
+    Obj(const json& j, std::string path) : j_(j), path_(std::move(path)) {
+        if (!j_.is_object()) bad(label(), "expected an object");
+    }
+    ~Obj() = default;
+
+    bool has(const char* key) {
+        seen_.insert(key);
+        return j_.contains(key);
+    }
+    std::string at(const char* key) const { return path_.empty() ? key : path_ + "." + key; }
+
+    double number(const char* key, double def, double lo, double hi, const char* range) {
+        if (!has(key)) return def;
+        const json& v = j_[key];
+        if (!v.is_number()) bad(at(key), std::string("expected a number ") + range);
+        const double x = v.get<double>();
+        if (!std::isfinite(x) || x < lo || x > hi) bad(at(key), std::string("expected a number ") + range);
+        return x;
+    }
+    float positive(const char* key, float def) {
+        const double x = number(key, def, 0.0, std::numeric_limits<double>::max(), "> 0");
+        if (!(x > 0.0)) bad(at(key), "expected a number > 0");
+        return float(x);
+    }
+    float non_negative(const char* key, float def) {
+        return float(number(key, def, 0.0, std::numeric_limits<float>::max(), ">= 0"));
+    }
+    uint64_t integer(const char* key, uint64_t def, uint64_t hi) {
+        if (!has(key)) return def;
+        const json& v = j_[key];
+        if (!v.is_number_integer() || (v.is_number_integer() && !v.is_number_unsigned() && v.get<int64_t>() < 0) ||
+            v.get<uint64_t>() > hi)
+            bad(at(key), "expected an integer in [0, " + std::to_string(hi) + "]");
+        return v.get<uint64_t>();
+    }
+    bool boolean(const char* key, bool def) {
+        if (!has(key)) return def;
+        if (!j_[key].is_boolean()) bad(at(key), "expected true or false");
+        return j_[key].get<bool>();
+    }
+    std::string string(const char* key, const std::string& def) {
+        if (!has(key)) return def;
+        if (!j_[key].is_string()) bad(at(key), "expected a string");
+        return j_[key].get<std::string>();
+    }
+    std::array<float, 3> vec3(const char* key, std::array<float, 3> def) {
+        if (!has(key)) return def;
+        return to_vec3(j_[key], at(key));
+    }
+    std::array<float, 3> required_vec3(const char* key) {
+        require_key(key);
+        return vec3(key, {});
+    }
+    const json& child(const char* key) {
+        seen_.insert(key);
+        return j_[key];
+    }
+    void require_key(const char* key) {
+        if (!has(key)) bad(at(key), "missing");
+    }
+    // Unknown keys: a typo must not be silently ignored.
+    void finish() const {
+        for (auto it = j_.begin(); it != j_.end(); ++it)
+            if (!seen_.count(it.key())) bad(at(it.key().c_str()), "unknown key");
+    }
+    std::string label() const { return path_.empty() ? "(top level)" : path_; }
+
+    static std::array<float, 3> to_vec3(const json& v, const std::string& path) {
+        if (!v.is_array() || v.size() != 3) bad(path, "expected an array of 3 numbers");
+        std::array<float, 3> out{};
+        for (int a = 0; a < 3; ++a) {
+            if (!v[a].is_number() || !std::isfinite(v[a].get<double>())) bad(path, "expected an array of 3 finite numbers");
+            out[a] = v[a].get<float>();
+        }
+        return out;
+    }
+
+private:
+    const json& j_;
+    std::string path_;
+    std::set<std::string> seen_;
+};
+
+const char* kNoiseTypes[] = {"curl", "perlin", "white", "gaussian"};
+
+NoiseConfig read_noise(const json& j, const std::string& path) {
+    Obj o(j, path);
+    NoiseConfig c;
+    const std::string type = o.string("type", "curl");
+    bool known = false;
+    for (int t = 0; t < 4; ++t)
+        if (type == kNoiseTypes[t]) c.type = NoiseType(t), known = true;
+    if (!known) bad(o.at("type"), "expected one of \"curl\", \"perlin\", \"white\", \"gaussian\"");
+    c.scale = o.positive("scale", c.scale);
+    c.gain = o.non_negative("gain", c.gain);
+    c.seed = o.integer("seed", c.seed, std::numeric_limits<uint64_t>::max());
+    c.time_scale = o.non_negative("time_scale", c.time_scale);
+    c.boundary_distance = o.positive("boundary_distance", c.boundary_distance);
+    c.domain_walls = o.boolean("domain_walls", c.domain_walls);
+    c.baked = o.boolean("baked", c.baked);
+    if (o.has("bake_resolution")) {
+        const json& r = o.child("bake_resolution");
+        if (r.is_number_integer()) {
+            const auto v = r.get<int64_t>();
+            if (v < 2 || v > 4096) bad(o.at("bake_resolution"), "expected an integer in [2, 4096] or 3 of them");
+            c.bake_resolution = {uint32_t(v), uint32_t(v), uint32_t(v)};
+        } else {
+            const auto v = Obj::to_vec3(r, o.at("bake_resolution"));
+            for (int a = 0; a < 3; ++a) {
+                if (v[a] < 2 || v[a] > 4096 || v[a] != std::floor(v[a]))
+                    bad(o.at("bake_resolution"), "expected an integer in [2, 4096] or 3 of them");
+                c.bake_resolution[a] = uint32_t(v[a]);
+            }
+        }
+    }
+    c.finite_difference = o.boolean("finite_difference", c.finite_difference);
+    o.finish();
+    return c;
+}
+
+Boundary read_obstacle(const json& j, const std::string& path) {
+    Obj o(j, path);
+    Boundary b;
+    o.require_key("type");
+    const std::string type = o.string("type", "");
+    if (type == "sphere") {
+        b.kind = Boundary::Kind::Sphere;
+        b.center = o.required_vec3("center");
+        b.radius = o.positive("radius", 0.0f);
+        o.require_key("radius");
+    } else if (type == "box") {
+        b.kind = Boundary::Kind::Box;
+        b.center = o.required_vec3("center");
+        b.half_extents = o.required_vec3("half_extents");
+        for (float h : b.half_extents)
+            if (!(h > 0.0f)) bad(o.at("half_extents"), "expected 3 numbers > 0");
+        b.radius = o.non_negative("edge_radius", 0.0f);
+    } else if (type == "plane") {
+        b.kind = Boundary::Kind::Plane;
+        b.normal = o.required_vec3("normal");
+        if (b.normal[0] == 0 && b.normal[1] == 0 && b.normal[2] == 0) bad(o.at("normal"), "must not be zero");
+        b.offset = float(o.number("offset", 0.0, -1e30, 1e30, "(finite)"));
+    } else {
+        bad(o.at("type"), "expected \"sphere\", \"box\" or \"plane\" (mesh obstacles come with the path-field model)");
+    }
+    o.finish();
+    return b;
+}
+
+void read_model(const json& j, Scenario& s, std::vector<Boundary> obstacles) {
+    Obj o(j, "model");
+    const std::string type = o.string("type", "field");
+    if (type == "ballistic") {
+        o.finish();
+        if (!obstacles.empty()) bad("obstacles", "a ballistic model ignores obstacles: remove them or use \"field\"");
+        return;
+    }
+    if (type != "field") bad("model.type", "expected \"field\" or \"ballistic\"");
+    FieldModelConfig c;
+    if (o.has("noise")) c.noise = read_noise(o.child("noise"), "model.noise");
+    c.noise.boundaries = std::move(obstacles);
+    if (o.has("goal")) {
+        Obj g(o.child("goal"), "model.goal");
+        c.has_goal = true;
+        c.goal = g.required_vec3("center");
+        c.goal_radius = g.non_negative("radius", c.goal_radius);
+        c.goal_speed = g.non_negative("speed", c.goal_speed);
+        c.goal_falloff = g.non_negative("falloff", c.goal_falloff);
+        g.finish();
+    }
+    c.min_distance = o.non_negative("min_distance", c.min_distance);
+    o.finish();
+    s.field_model = std::move(c);
+}
+
+void read_agents(const json& j, Scenario& s) {
+    Obj o(j, "agents");
+    o.require_key("count");
+    const uint64_t count = o.integer("count", 0, 0xFFFFFFFEu);
+    const uint64_t capacity = o.integer("capacity", std::max<uint64_t>(count, 1), 0xFFFFFFFEu);
+    if (capacity < count || capacity == 0) bad(o.at("capacity"), "expected an integer >= agents.count and > 0");
+    s.swarm.agent_count = 0;  // placed from `initial` after creation
+    s.swarm.capacity = uint32_t(capacity);
+    s.initial.velocity = o.vec3("velocity", {0, 0, 0});
+    s.initial.min = s.swarm.domain_min;
+    s.initial.max = s.swarm.domain_max;
+    if (o.has("initial")) {
+        Obj d(o.child("initial"), "agents.initial");
+        const std::string type = d.string("type", "uniform");
+        if (type == "uniform") {
+            s.initial.kind = InitialDistribution::Kind::Uniform;
+            s.initial.min = d.vec3("min", s.initial.min);
+            s.initial.max = d.vec3("max", s.initial.max);
+            for (int a = 0; a < 3; ++a)
+                if (!(s.initial.min[a] <= s.initial.max[a])) bad(d.at("min"), "must not exceed agents.initial.max");
+        } else if (type == "sphere") {
+            s.initial.kind = InitialDistribution::Kind::Sphere;
+            s.initial.center = d.required_vec3("center");
+            d.require_key("radius");
+            s.initial.radius = d.positive("radius", 0.0f);
+        } else if (type == "points") {
+            s.initial.kind = InitialDistribution::Kind::Points;
+            d.require_key("positions");
+            const json& p = d.child("positions");
+            if (!p.is_array() || p.size() != count)
+                bad(d.at("positions"), "expected an array of agents.count (" + std::to_string(count) + ") [x, y, z]");
+            for (size_t i = 0; i < p.size(); ++i) {
+                const auto v = Obj::to_vec3(p[i], d.at("positions") + "[" + std::to_string(i) + "]");
+                s.initial.points.insert(s.initial.points.end(), v.begin(), v.end());
+            }
+        } else {
+            bad(d.at("type"), "expected \"uniform\", \"sphere\" or \"points\"");
+        }
+        d.finish();
+    }
+    o.finish();
+    s.swarm.agent_count = uint32_t(count);
+}
+
+void read_output(const json& j, Scenario& s) {
+    Obj o(j, "output");
+    s.output_dir = o.string("dir", s.output_dir);
+    if (s.output_dir.empty()) bad(o.at("dir"), "expected a non-empty folder name");
+    if (o.has("formats")) {
+        const json& f = o.child("formats");
+        if (!f.is_array()) bad(o.at("formats"), "expected an array of \"csv\", \"npy\", \"vtp\"");
+        s.output_formats = 0;
+        for (size_t i = 0; i < f.size(); ++i) {
+            const std::string at = o.at("formats") + "[" + std::to_string(i) + "]";
+            if (!f[i].is_string()) bad(at, "expected \"csv\", \"npy\" or \"vtp\"");
+            try {
+                s.output_formats |= parse_export_formats(f[i].get<std::string>());
+            } catch (const Error&) {
+                bad(at, "expected \"csv\", \"npy\" or \"vtp\"");
+            }
+        }
+    }
+    s.output_every = uint32_t(o.integer("every", s.output_every, 0xFFFFFFFFu));
+    if (s.output_every == 0) bad(o.at("every"), "expected an integer >= 1");
+    o.finish();
+}
+
+// "line L, column C" of a byte offset, for JSON syntax errors.
+std::string position_of(const std::string& text, size_t byte) {
+    size_t line = 1, col = 1;
+    for (size_t i = 0; i < byte && i < text.size(); ++i) {
+        if (text[i] == '\n') ++line, col = 1;
+        else ++col;
+    }
+    return "line " + std::to_string(line) + ", column " + std::to_string(col);
+}
+
+}  // namespace
+
+Scenario parse_scenario(const std::string& text) {
+    json root;
+    try {
+        root = json::parse(text);
+    } catch (const json::parse_error& e) {
+        std::string what = e.what();
+        const auto colon = what.rfind(": ");
+        fail(Status::Parse, "malformed JSON at " + position_of(text, e.byte == 0 ? 0 : e.byte - 1) + ": " +
+                                (colon == std::string::npos ? what : what.substr(colon + 2)));
+    }
+    Scenario s;
+    s.source = text;
+    Obj top(root, "");
+    s.name = top.string("name", s.name);
+    s.swarm.seed = top.integer("seed", 0, std::numeric_limits<uint64_t>::max());
+    s.swarm.dt = top.positive("dt", s.swarm.dt);
+    s.steps = uint32_t(top.integer("steps", s.steps, 100000000));
+    s.swarm.interaction_radius = top.positive("interaction_radius", s.swarm.interaction_radius);
+    if (top.has("domain")) {
+        Obj d(top.child("domain"), "domain");
+        s.swarm.domain_min = d.required_vec3("min");
+        s.swarm.domain_max = d.required_vec3("max");
+        for (int a = 0; a < 3; ++a)
+            if (!(s.swarm.domain_min[a] < s.swarm.domain_max[a])) bad("domain.min", "must be below domain.max on every axis");
+        d.finish();
+    }
+    top.require_key("agents");
+    read_agents(top.child("agents"), s);
+    std::vector<Boundary> obstacles;
+    if (top.has("obstacles")) {
+        const json& list = top.child("obstacles");
+        if (!list.is_array()) bad("obstacles", "expected an array");
+        for (size_t i = 0; i < list.size(); ++i) obstacles.push_back(read_obstacle(list[i], "obstacles[" + std::to_string(i) + "]"));
+    }
+    if (top.has("model")) read_model(top.child("model"), s, std::move(obstacles));
+    else if (!obstacles.empty()) bad("obstacles", "obstacles need a model (\"model\": {\"type\": \"field\"})");
+    if (top.has("output")) read_output(top.child("output"), s);
+    top.finish();
+    if (s.field_model) {
+        // The model's own checks (noise parameters and their combinations),
+        // reported under the scenario path.
+        auto noise = s.field_model->noise;
+        if (!noise.has_region()) noise.region_min = s.swarm.domain_min, noise.region_max = s.swarm.domain_max;
+        try {
+            NoiseField::validate(noise);
+        } catch (const Error& e) {
+            bad("model.noise", e.what());
+        }
+    }
+    return s;
+}
+
+Scenario load_scenario(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) fail(Status::Io, "cannot open scenario file '" + path + "'");
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (in.bad()) fail(Status::Io, "cannot read scenario file '" + path + "'");
+    try {
+        return parse_scenario(text.str());
+    } catch (const Error& e) {
+        fail(e.status(), path + ": " + e.what());
+    }
+}
+
+std::vector<float> Scenario::initial_positions() const {
+    const uint32_t n = swarm.agent_count;
+    if (initial.kind == InitialDistribution::Kind::Points) return initial.points;
+    std::vector<float> xyz(size_t(n) * 3);
+    for (uint32_t id = 0; id < n; ++id) {
+        const auto r = philox_for(swarm.seed, id, 0, 0);
+        float u[3] = {uniform01(r[0]), uniform01(r[1]), uniform01(r[2])};
+        if (initial.kind == InitialDistribution::Kind::Uniform) {
+            for (int a = 0; a < 3; ++a) xyz[3 * size_t(id) + a] = initial.min[a] + u[a] * (initial.max[a] - initial.min[a]);
+        } else {
+            // Uniform in a ball: radius ∝ cbrt(u), direction uniform on the sphere.
+            const float cz = 2.0f * u[1] - 1.0f, phi = 6.2831853f * u[2];
+            const float sz = std::sqrt(std::max(0.0f, 1.0f - cz * cz));
+            const float rad = initial.radius * std::cbrt(uniform01(r[3]));
+            const float dir[3] = {sz * std::cos(phi), sz * std::sin(phi), cz};
+            for (int a = 0; a < 3; ++a) xyz[3 * size_t(id) + a] = initial.center[a] + rad * dir[a];
+        }
+    }
+    return xyz;
+}
+
+}  // namespace swarmcl
