@@ -1,109 +1,252 @@
-// Building the neighbour grid: cell key per agent, a stable deterministic
-// counting sort of agents by cell, cell ranges, and the reordering of agent
-// data into cell order.
+// Building the neighbour grid: cell key per agent, a deterministic sort of
+// agent slots by (cell, agent id) without atomics, cell ranges, and the
+// reordering of agent data into cell order.
 //
-// Determinism without ordered atomics: the scatter takes slots inside a cell
-// with atomics (order varies run to run), then each cell's slice is sorted by
-// agent id.  The result depends only on (cell, id): bitwise the same order on
-// every run, and stable with respect to agent id.
+// The sort starts from the "layout", the order the state is in now: the cell
+// of every slot (old_key) and the cell ranges (old_start) of the last build
+// whose permutation was applied.  (An invalid layout has old_key = ncells,
+// "no cell", and old_start all zero: every agent then counts as moved.)  An
+// agent still in its layout cell is a "stayer"; the stayers, in slot order,
+// are already sorted by (cell, id).  Only the "movers" are sorted: compacted
+// in slot order, sorted by cell with a stable LSD radix sort (per-block digit
+// histograms, no atomics), then each cell's movers are sorted by id and
+// merged into its stayers.  With
+//   L[c] = movers whose old cell is below c,  A[c] = movers whose new cell is below c,
+// the new start of cell c is old_start[c] - L[c] + A[c]: no counts and no
+// scan over the cells.  A simulation step moves a few agents to another
+// cell, so a rebuild costs a few streaming passes over the slots and a sort
+// of the movers; a fresh write in random order sorts everything with the
+// same kernels.
+//
+// Every kernel's result depends only on its inputs (no atomics, fixed
+// partitions), and the final order is by (cell, id): two runs give bitwise
+// the same order, whatever the history.
+//
+// Chunked kernels: work-item b of `nchunks` loops serially over a contiguous
+// chunk (no barriers or local memory; PoCL runs such loops well on a CPU).
 #include "grid_common.cl"
 
-// keys[s] = cell of the agent in slot s; counts[cell] += 1 (counts zeroed).
-__kernel void grid_count(__global const float4* pos, uint n, GRID_PARAMS,
-                         __global uint* keys, __global volatile uint* counts) {
-    const uint s = get_global_id(0);
-    if (s >= n) return;
-    const Grid g = GRID_MAKE();
-    const uint key = grid_cell_index(&g, grid_cell_of(&g, pos[s]));
-    keys[s] = key;
-    atomic_inc(&counts[key]);
-}
+inline uint chunk_size(uint n, uint nchunks) { return (n + nchunks - 1u) / nchunks; }
 
-// Scan, pass 1: sums[b] = sum of counts in block b.
-__kernel void grid_scan_blocks(__global const uint* counts, uint ncells, uint block,
-                               __global uint* sums) {
+// Chunk b: keys[s] = cell of the agent in slot s, and counts[b] = movers in
+// the chunk.  The cell is grid_cell_of()'s, computed as clamp then truncate,
+// which equals floor then clamp for every input (truncation is floor on
+// [0, dims-1]; below 0 and above dims-1 both clamp to the same bound; NaN
+// goes through the same clamp) and is several times faster on PoCL than the
+// scalar floor.
+__kernel void grid_keys_count(__global const float4* pos, uint n, GRID_PARAMS, __global const uint* old_key,
+                              uint nchunks, __global uint* keys, __global uint* counts) {
     const uint b = get_global_id(0);
-    const uint begin = b * block;
-    if (begin >= ncells) return;
-    const uint end = min(begin + block, ncells);
-    uint total = 0;
-    for (uint c = begin; c < end; ++c) total += counts[c];
-    sums[b] = total;
+    if (b >= nchunks) return;
+    const uint size = chunk_size(n, nchunks);
+    const uint begin = min(b * size, n), end = min(begin + size, n);
+    const float4 hi = convert_float4(grid_dims - 1);
+    const uint dx = (uint)grid_dims.x, dxy = (uint)grid_dims.x * (uint)grid_dims.y;
+    uint count = 0;
+    for (uint s = begin; s < end; ++s) {
+        const float4 f = clamp((pos[s] - grid_origin) * grid_inv_cell, (float4)(0.0f), hi);
+        const uint4 q = convert_uint4(f);
+        const uint key = q.x + dx * q.y + dxy * q.z;
+        keys[s] = key;
+        count += key != old_key[s] ? 1u : 0u;
+    }
+    counts[b] = count;
 }
 
-// Scan, pass 2 (one work-item): exclusive scan of the block sums in place.
-__kernel void grid_scan_top(__global uint* sums, uint nblocks) {
-    if (get_global_id(0) != 0) return;
+// Compacts the movers in slot order: r_key = new cell, r_slot = slot, r_id =
+// agent id, r_old = layout cell (ascending, as the layout is sorted by cell).
+// The last chunk writes the number of movers to *m.
+__kernel void grid_movers_write(__global const uint* keys, __global const uint* old_key, __global const uint* ids,
+                                uint n, uint nchunks, __global const uint* counts, __global uint* r_key,
+                                __global uint* r_slot, __global uint* r_id, __global uint* r_old,
+                                __global uint* m) {
+    const uint b = get_global_id(0);
+    if (b >= nchunks) return;
+    uint out = 0;
+    for (uint i = 0; i < b; ++i) out += counts[i];
+    if (b == nchunks - 1u) *m = out + counts[b];
+    if (counts[b] == 0u) return;
+    const uint size = chunk_size(n, nchunks);
+    const uint begin = min(b * size, n), end = min(begin + size, n);
+    for (uint s = begin; s < end; ++s) {
+        const uint k = keys[s], o = old_key[s];
+        if (k != o) {
+            r_key[out] = k;
+            r_slot[out] = s;
+            r_id[out] = ids[s];
+            r_old[out] = o;
+            ++out;
+        }
+    }
+}
+
+// The first index of the ascending arr[0, m) whose value is >= v.
+inline uint lower_bound(__global const uint* arr, uint m, uint v) {
+    uint lo = 0u, hi = m;
+    while (lo < hi) {
+        const uint mid = lo + (hi - lo) / 2u;
+        if (arr[mid] < v) lo = mid + 1u; else hi = mid;
+    }
+    return lo;
+}
+
+// Stable LSD radix sort of the *m movers by cell, one digit per pass.
+// Pass 1: hist[d * nblocks + b] = values of digit d in block b.
+__kernel void radix_hist(__global const uint* keys, __global const uint* m_ptr, uint shift, uint mask,
+                         uint nblocks, __global uint* hist) {
+    const uint b = get_global_id(0);
+    if (b >= nblocks) return;
+    for (uint d = 0; d <= mask; ++d) hist[d * nblocks + b] = 0u;
+    const uint m = *m_ptr;
+    const uint size = chunk_size(m, nblocks);
+    const uint begin = min(b * size, m), end = min(begin + size, m);
+    for (uint j = begin; j < end; ++j) hist[((keys[j] >> shift) & mask) * nblocks + b] += 1u;
+}
+
+// Pass 2: hist rows (one digit each) become exclusive prefixes over the
+// blocks; totals[d] = values of digit d.
+__kernel void radix_rows(__global uint* hist, uint nblocks, uint radix, __global uint* totals) {
+    const uint d = get_global_id(0);
+    if (d >= radix) return;
+    __global uint* row = hist + d * nblocks;
     uint running = 0;
     for (uint b = 0; b < nblocks; ++b) {
-        const uint v = sums[b];
-        sums[b] = running;
+        const uint v = row[b];
+        row[b] = running;
         running += v;
     }
+    totals[d] = running;
 }
 
-// Scan, pass 3: start[c] = exclusive prefix of counts; start[ncells] = n.
-__kernel void grid_scan_write(__global const uint* counts, uint ncells, uint block,
-                              __global const uint* sums, __global uint* start, uint n) {
+// Pass 3: block b adds the digit bases (prefix of totals: digit-major, so the
+// order is stable) to its column of offsets, then scatters its values in
+// order.
+__kernel void radix_scatter(__global const uint* keys, __global const uint* slots, __global const uint* ids,
+                            __global const uint* m_ptr, uint shift, uint mask, uint nblocks,
+                            __global uint* offsets, __global const uint* totals, __global uint* keys_out, __global uint* slots_out,
+                            __global uint* ids_out) {
     const uint b = get_global_id(0);
-    const uint begin = b * block;
-    if (begin >= ncells) return;
-    const uint end = min(begin + block, ncells);
-    uint running = sums[b];
-    for (uint c = begin; c < end; ++c) {
-        start[c] = running;
-        running += counts[c];
+    if (b >= nblocks) return;
+    const uint m = *m_ptr;
+    const uint size = chunk_size(m, nblocks);
+    const uint begin = min(b * size, m), end = min(begin + size, m);
+    if (begin >= end) return;
+    uint base = 0;
+    for (uint d = 0; d <= mask; ++d) {
+        offsets[d * nblocks + b] += base;
+        base += totals[d];
     }
-    if (end == ncells) start[ncells] = n;
+    for (uint j = begin; j < end; ++j) {
+        const uint k = keys[j];
+        const uint o = offsets[((k >> shift) & mask) * nblocks + b]++;
+        keys_out[o] = k;
+        slots_out[o] = slots[j];
+        ids_out[o] = ids[j];
+    }
 }
 
-// Scatter: perm[new slot] = old slot.  Decrementing the counts takes a slot in
-// the cell and leaves the counts at zero, ready for the next build.
-__kernel void grid_scatter(__global const uint* keys, uint n, __global const uint* start,
-                           __global volatile uint* counts, __global uint* perm) {
-    const uint s = get_global_id(0);
-    if (s >= n) return;
-    const uint key = keys[s];
-    const uint slot = start[key] + atomic_dec(&counts[key]) - 1u;
-    perm[slot] = s;
+// Sorts a few movers (slot[i], id[i]) by id: insertion sort when short or
+// nearly sorted, heap sort for crowded cells so the cost stays n log n.
+inline void swap_pair(__global uint* slot, __global uint* id, uint a, uint b) {
+    const uint ts = slot[a], ti = id[a];
+    slot[a] = slot[b];
+    id[a] = id[b];
+    slot[b] = ts;
+    id[b] = ti;
 }
 
-// Sorts each cell's slice of perm by agent id.  Cells are small (a few agents)
-// so insertion sort; a crowded cell (everything in one cell) falls back to
-// heap sort so the cost stays n log n.
-inline void sift_down(__global uint* a, __global const uint* ids, uint root, uint end) {
+inline void sift_down(__global uint* slot, __global uint* id, uint root, uint end) {
     while (2u * root + 1u < end) {
         uint child = 2u * root + 1u;
-        if (child + 1u < end && ids[a[child + 1u]] > ids[a[child]]) child++;
-        if (ids[a[root]] >= ids[a[child]]) return;
-        const uint t = a[root]; a[root] = a[child]; a[child] = t;
+        if (child + 1u < end && id[child + 1u] > id[child]) child++;
+        if (id[root] >= id[child]) return;
+        swap_pair(slot, id, root, child);
         root = child;
     }
 }
 
-__kernel void grid_sort_cells(__global const uint* start, uint ncells, __global const uint* ids,
-                              __global uint* perm) {
-    const uint c = get_global_id(0);
-    if (c >= ncells) return;
-    const uint begin = start[c], end = start[c + 1];
-    const uint len = end - begin;
-    if (len < 2u) return;
-    __global uint* a = perm + begin;
-    if (len <= 32u) {
+inline void sort_by_id(__global uint* slot, __global uint* id, uint len) {
+    uint descents = 0;
+    for (uint i = 1; i < len; ++i) descents += id[i - 1u] > id[i] ? 1u : 0u;
+    if (descents == 0u) return;
+    if (len <= 32u || descents <= 2u) {
         for (uint i = 1; i < len; ++i) {
-            const uint v = a[i];
-            const uint key = ids[v];
+            const uint vs = slot[i], vi = id[i];
             uint j = i;
-            while (j > 0 && ids[a[j - 1]] > key) { a[j] = a[j - 1]; --j; }
-            a[j] = v;
+            while (j > 0 && id[j - 1u] > vi) {
+                slot[j] = slot[j - 1u];
+                id[j] = id[j - 1u];
+                --j;
+            }
+            slot[j] = vs;
+            id[j] = vi;
         }
         return;
     }
-    for (uint i = len / 2u; i-- > 0u;) sift_down(a, ids, i, len);
+    for (uint i = len / 2u; i-- > 0u;) sift_down(slot, id, i, len);
     for (uint e = len - 1u; e > 0u; --e) {
-        const uint t = a[0]; a[0] = a[e]; a[e] = t;
-        sift_down(a, ids, 0u, e);
+        swap_pair(slot, id, 0u, e);
+        sift_down(slot, id, 0u, e);
     }
+}
+
+// The new order, cells [b * cells_per_item, ...) per work-item.  With the
+// movers' layout cells r_old (ascending) and new cells m_key (sorted), L[c]
+// and A[c] are positions in those arrays, found by one binary search per
+// work-item and then walked.  start[c] = old_start[c] - L[c] + A[c];
+// perm[new slot] = old slot: the cell's stayers (in layout order, so by id;
+// every slot of the layout range when none left the cell) merged by id with
+// its movers (m_slot/m_id [A[c], A[c+1]), sorted by id here in place);
+// new_key[new slot] = cell (the next layout).  start[ncells] = n.
+__kernel void grid_place(__global const uint* keys, uint n, __global const uint* old_start,
+                         __global const uint* r_old, __global const uint* m_ptr, __global const uint* m_key,
+                         __global uint* m_slot, __global uint* m_id, __global const uint* ids, uint ncells,
+                         uint cells_per_item, __global uint* start, __global uint* perm, __global uint* new_key) {
+    const uint b = get_global_id(0);
+    const uint c0 = b * cells_per_item;
+    if (c0 >= ncells) return;
+    const uint c1 = min(c0 + cells_per_item, ncells);
+    const uint m = *m_ptr;
+    uint l = lower_bound(r_old, m, c0), a = lower_bound(m_key, m, c0);
+    uint os = old_start[c0];
+    uint t = os - l + a;
+    for (uint c = c0; c < c1; ++c) {
+        const uint oe = old_start[c + 1u];
+        uint l1 = l, a1 = a;
+        while (l1 < m && r_old[l1] == c) ++l1;
+        while (a1 < m && m_key[a1] == c) ++a1;
+        const uint ns = t;
+        start[c] = ns;
+        if (l1 == l) {
+            for (uint s = os; s < oe; ++s) perm[t++] = s;
+        } else {
+            for (uint s = os; s < oe; ++s)
+                if (keys[s] == c) perm[t++] = s;
+        }
+        if (a1 > a) {
+            const uint na = a1 - a;
+            __global uint* ms = m_slot + a;
+            __global uint* mi = m_id + a;
+            sort_by_id(ms, mi, na);
+            // Merge from the back: stayers perm[ns, t), movers [0, na).
+            uint i = t - ns, j = na, k = t + na;
+            uint si = i > 0u ? ids[perm[ns + i - 1u]] : 0u;
+            while (j > 0u) {
+                if (i > 0u && si > mi[j - 1u]) {
+                    perm[--k] = perm[ns + --i];
+                    si = i > 0u ? ids[perm[ns + i - 1u]] : 0u;
+                } else {
+                    perm[--k] = ms[--j];
+                }
+            }
+            t += na;
+        }
+        for (uint s = ns; s < t; ++s) new_key[s] = c;
+        os = oe;
+        l = l1;
+        a = a1;
+    }
+    if (c1 == ncells) start[ncells] = n;
 }
 
 // Reordering into cell order: dst[s] = src[perm[s]].
@@ -113,12 +256,17 @@ __kernel void permute_float4(__global const float4* src, __global const uint* pe
     if (s < n) dst[s] = src[perm[s]];
 }
 
-// ids follow the permutation; slot_of maps each id back to its new slot.
-__kernel void permute_ids(__global const uint* src_ids, __global const uint* perm, uint n,
-                          __global uint* dst_ids, __global uint* slot_of) {
+__kernel void permute_uint(__global const uint* src, __global const uint* perm, uint n, __global uint* dst) {
+    const uint s = get_global_id(0);
+    if (s < n) dst[s] = src[perm[s]];
+}
+
+// Positions and ids in one pass over perm.
+__kernel void permute_pos_ids(__global const float4* pos, __global const uint* ids, __global const uint* perm,
+                              uint n, __global float4* pos_out, __global uint* ids_out) {
     const uint s = get_global_id(0);
     if (s >= n) return;
-    const uint id = src_ids[perm[s]];
-    dst_ids[s] = id;
-    slot_of[id] = s;
+    const uint p = perm[s];
+    pos_out[s] = pos[p];
+    ids_out[s] = ids[p];
 }

@@ -29,6 +29,13 @@ __kernel void identity_layout(uint n, __global uint* ids, __global uint* slot_of
     slot_of[s] = s;
 }
 
+// The inverse of ids: slot_of[ids[s]] = s (built on demand, before reads and
+// writes in id order).
+__kernel void slot_of_from_ids(__global const uint* ids, uint n, __global uint* slot_of) {
+    const uint s = get_global_id(0);
+    if (s < n) slot_of[ids[s]] = s;
+}
+
 // Ballistic step (no behaviour model): p += v dt.
 __kernel void integrate_ballistic(__global float4* pos, __global const float4* vel, uint n, float dt) {
     const uint s = get_global_id(0);

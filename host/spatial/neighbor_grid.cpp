@@ -1,30 +1,58 @@
 #include "spatial/neighbor_grid.hpp"
 
+#include <algorithm>
+#include <utility>
+
 namespace swarmcl {
 namespace {
-// Cells per scan block: the top-level scan is serial over ncells / kScanBlock.
-constexpr uint32_t kScanBlock = 256;
+// Work-items of the chunked kernels (each loops over a contiguous chunk):
+// enough for every core, few enough that per-chunk work stays sequential.
+constexpr uint32_t kMoverChunks = 512;   // slots: mover counts and compaction
+constexpr uint32_t kMinChunkSlots = 256; // ... but at least this many slots each
+constexpr uint32_t kRadixBlocks = 64;    // movers: radix histograms and scatter
+constexpr uint32_t kCellsPerItem = 64;   // cells per work-item of grid_place
+constexpr uint32_t kMaxRadixBits = 9;    // digit width: 2^9 x kRadixBlocks histogram
+
+uint32_t div_up(uint32_t a, uint32_t b) { return (a + b - 1) / b; }
 }  // namespace
 
 NeighborGrid::NeighborGrid(Context& ctx, const GridGeometry& geometry, uint32_t capacity)
-    : ctx_(ctx), geometry_(geometry), ncells_(geometry.cell_count()),
-      nblocks_((ncells_ + kScanBlock - 1) / kScanBlock) {
+    : ctx_(ctx), geometry_(geometry), ncells_(geometry.cell_count()) {
+    // Digits of the cell keys (0 .. ncells-1): as few passes as the width
+    // needs at <= kMaxRadixBits bits each, the bits spread evenly.
+    uint32_t key_bits = 1;
+    while (key_bits < 32 && (uint64_t(ncells_) - 1) >> key_bits) ++key_bits;
+    radix_passes_ = div_up(key_bits, kMaxRadixBits);
+    radix_bits_ = div_up(key_bits, radix_passes_);
+    const uint32_t hist_len = (1u << radix_bits_) * kRadixBlocks;
+
+    capacity_ = capacity;
     keys_.allocate(ctx, capacity, "grid keys");
-    counts_.allocate(ctx, ncells_, "grid cell counts");
-    start_.allocate(ctx, size_t(ncells_) + 1, "grid cell starts");
     perm_.allocate(ctx, capacity, "grid permutation");
-    block_sums_.allocate(ctx, nblocks_, "grid scan sums");
-    counts_.fill(ctx, 0u, ncells_);
+    layout_key_.allocate(ctx, capacity, "grid layout keys");
+    for (auto* b : {&r_key_, &r_slot_, &r_id_, &r_old_, &t_key_, &t_slot_, &t_id_})
+        b->allocate(ctx, capacity, "grid movers");
+    movers_.allocate(ctx, 1, "grid mover count");
+    start_.allocate(ctx, size_t(ncells_) + 1, "grid cell starts");
+    layout_start_.allocate(ctx, size_t(ncells_) + 1, "grid layout cell starts");
+    chunk_counts_.allocate(ctx, kMoverChunks, "grid chunk counts");
+    hist_.allocate(ctx, hist_len, "grid radix histogram");
+    totals_.allocate(ctx, size_t(1) << radix_bits_, "grid radix totals");
     // An empty grid is valid too: every cell range empty.
     start_.fill(ctx, 0u, size_t(ncells_) + 1);
-    count_ = ctx.kernel("grid.cl", "grid_count");
-    scan_blocks_ = ctx.kernel("grid.cl", "grid_scan_blocks");
-    scan_top_ = ctx.kernel("grid.cl", "grid_scan_top");
-    scan_write_ = ctx.kernel("grid.cl", "grid_scan_write");
-    scatter_ = ctx.kernel("grid.cl", "grid_scatter");
-    sort_ = ctx.kernel("grid.cl", "grid_sort_cells");
+    // An invalid layout (see invalidate_layout).
+    layout_start_.fill(ctx, 0u, size_t(ncells_) + 1);
+    layout_key_.fill(ctx, ncells_, capacity);
+
+    keys_k_ = ctx.kernel("grid.cl", "grid_keys_count");
+    movers_write_ = ctx.kernel("grid.cl", "grid_movers_write");
+    radix_hist_ = ctx.kernel("grid.cl", "radix_hist");
+    radix_scatter_ = ctx.kernel("grid.cl", "radix_scatter");
+    radix_rows_ = ctx.kernel("grid.cl", "radix_rows");
+    place_ = ctx.kernel("grid.cl", "grid_place");
     permute_f4_ = ctx.kernel("grid.cl", "permute_float4");
-    permute_ids_ = ctx.kernel("grid.cl", "permute_ids");
+    permute_u_ = ctx.kernel("grid.cl", "permute_uint");
+    permute_state_ = ctx.kernel("grid.cl", "permute_pos_ids");
 }
 
 cl_uint NeighborGrid::set_grid_args(cl::Kernel& kernel, cl_uint index) {
@@ -36,30 +64,72 @@ cl_uint NeighborGrid::set_grid_args(cl::Kernel& kernel, cl_uint index) {
     return index;
 }
 
-void NeighborGrid::build(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<cl_uint>& ids, uint32_t n) {
-    // counts_ is all zero here: the scatter of the previous build decremented
-    // every count back to zero (unless that build was interrupted).
-    if (counts_dirty_) counts_.fill(ctx_, 0u, ncells_);
-    counts_dirty_ = true;
-    set_grid_args(count_, 2);
-    count_.setArg(0, pos.get());
-    count_.setArg(1, n);
-    count_.setArg(6, keys_.get());
-    count_.setArg(7, counts_.get());
-    launch(ctx_, count_, n);
+void NeighborGrid::invalidate_layout() {
+    // Every slot in "cell ncells", so every agent is a mover (an invalid
+    // layout always has these contents).
+    if (!layout_valid_) return;
+    layout_start_.fill(ctx_, 0u, size_t(ncells_) + 1);
+    layout_key_.fill(ctx_, ncells_, capacity_);
+    layout_valid_ = false;
+    layout_n_ = 0;
+}
 
-    set_args(scan_blocks_, counts_.get(), ncells_, kScanBlock, block_sums_.get());
-    launch(ctx_, scan_blocks_, nblocks_);
-    set_args(scan_top_, block_sums_.get(), nblocks_);
-    launch(ctx_, scan_top_, 1);
-    set_args(scan_write_, counts_.get(), ncells_, kScanBlock, block_sums_.get(), start_.get(), n);
-    launch(ctx_, scan_write_, nblocks_);
+void NeighborGrid::build(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<cl_uint>& ids, uint32_t n,
+                         const StageHook& after_stage) {
+    const auto stage = [&](const char* name) {
+        if (after_stage) after_stage(name);
+    };
+    built_n_ = n;
+    if (layout_valid_ && layout_n_ != n) invalidate_layout();
+    if (n == 0) {
+        start_.fill(ctx_, 0u, size_t(ncells_) + 1);
+        return;
+    }
 
-    set_args(scatter_, keys_.get(), n, start_.get(), counts_.get(), perm_.get());
-    launch(ctx_, scatter_, n);
-    counts_dirty_ = false;
-    set_args(sort_, start_.get(), ncells_, ids.get(), perm_.get());
-    launch(ctx_, sort_, ncells_);
+    // Cell keys, and the movers (cell differs from the layout's) per chunk.
+    const uint32_t chunks = std::clamp(n / kMinChunkSlots, 1u, kMoverChunks);
+    set_grid_args(keys_k_, 2);
+    keys_k_.setArg(0, pos.get());
+    keys_k_.setArg(1, n);
+    keys_k_.setArg(6, layout_key_.get());
+    keys_k_.setArg(7, chunks);
+    keys_k_.setArg(8, keys_.get());
+    keys_k_.setArg(9, chunk_counts_.get());
+    launch(ctx_, keys_k_, chunks);
+    stage("grid_keys_count");
+
+    // The movers compacted in slot order: r_key = new cell, r_slot = slot,
+    // r_id = id, r_old = layout cell.
+    set_args(movers_write_, keys_.get(), layout_key_.get(), ids.get(), n, chunks, chunk_counts_.get(), r_key_.get(),
+             r_slot_.get(), r_id_.get(), r_old_.get(), movers_.get());
+    launch(ctx_, movers_write_, chunks);
+    stage("movers_write");
+    // Stable radix sort of the movers by new cell.
+    DeviceBuffer<cl_uint>*kin = &r_key_, *sin = &r_slot_, *iin = &r_id_;
+    DeviceBuffer<cl_uint>*kout = &t_key_, *sout = &t_slot_, *iout = &t_id_;
+    const uint32_t mask = (1u << radix_bits_) - 1u;
+    for (uint32_t p = 0; p < radix_passes_; ++p) {
+        const uint32_t shift = p * radix_bits_;
+        set_args(radix_hist_, kin->get(), movers_.get(), shift, mask, kRadixBlocks, hist_.get());
+        launch(ctx_, radix_hist_, kRadixBlocks);
+        set_args(radix_rows_, hist_.get(), kRadixBlocks, mask + 1u, totals_.get());
+        launch(ctx_, radix_rows_, mask + 1u);
+        set_args(radix_scatter_, kin->get(), sin->get(), iin->get(), movers_.get(), shift, mask, kRadixBlocks,
+                 hist_.get(), totals_.get(), kout->get(), sout->get(), iout->get());
+        launch(ctx_, radix_scatter_, kRadixBlocks);
+        std::swap(kin, kout);
+        std::swap(sin, sout);
+        std::swap(iin, iout);
+    }
+    stage("radix sort of movers");
+    // Cell starts, the permutation and the next layout's keys (into the
+    // radix sort's free key buffer), cell by cell.
+    pending_key_ = kout;
+    set_args(place_, keys_.get(), n, layout_start_.get(), r_old_.get(), movers_.get(), kin->get(),
+             sin->get(), iin->get(), ids.get(), ncells_, kCellsPerItem, start_.get(), perm_.get(),
+             pending_key_->get());
+    launch(ctx_, place_, div_up(ncells_, kCellsPerItem));
+    stage("grid_place");
 }
 
 void NeighborGrid::permute(const DeviceBuffer<cl_float4>& src, DeviceBuffer<cl_float4>& dst, uint32_t n) {
@@ -67,10 +137,29 @@ void NeighborGrid::permute(const DeviceBuffer<cl_float4>& src, DeviceBuffer<cl_f
     launch(ctx_, permute_f4_, n);
 }
 
-void NeighborGrid::permute_ids(const DeviceBuffer<cl_uint>& src, DeviceBuffer<cl_uint>& dst,
-                               DeviceBuffer<cl_uint>& slot_of, uint32_t n) {
-    set_args(permute_ids_, src.get(), perm_.get(), n, dst.get(), slot_of.get());
-    launch(ctx_, permute_ids_, n);
+void NeighborGrid::permute(const DeviceBuffer<cl_uint>& src, DeviceBuffer<cl_uint>& dst, uint32_t n) {
+    set_args(permute_u_, src.get(), perm_.get(), n, dst.get());
+    launch(ctx_, permute_u_, n);
+}
+
+void NeighborGrid::reorder_state(DeviceBuffer<cl_float4>& pos, DeviceBuffer<cl_float4>& vel,
+                                 DeviceBuffer<cl_uint>& ids, DeviceBuffer<cl_float4>& scratch,
+                                 DeviceBuffer<cl_uint>& ids_scratch, uint32_t n) {
+    set_args(permute_state_, pos.get(), ids.get(), perm_.get(), n, scratch.get(), ids_scratch.get());
+    launch(ctx_, permute_state_, n);
+    std::swap(pos, scratch);
+    std::swap(ids, ids_scratch);
+    permute(vel, scratch, n);
+    std::swap(vel, scratch);
+    // The state is now in the built order: it is the next build's layout.
+    if (n == 0 || n != built_n_) {
+        invalidate_layout();
+        return;
+    }
+    ctx_.queue().enqueueCopyBuffer(start_.get(), layout_start_.get(), 0, 0, (size_t(ncells_) + 1) * sizeof(cl_uint));
+    std::swap(layout_key_, *pending_key_);
+    layout_valid_ = true;
+    layout_n_ = n;
 }
 
 }  // namespace swarmcl

@@ -1,8 +1,16 @@
 // The uniform neighbour grid on the device (kernels/grid.cl): cell keys, a
-// stable deterministic sort of agent slots by (cell, agent id), and the cell
-// ranges the queries and models iterate.
+// deterministic sort of agent slots by (cell, agent id) without atomics, and
+// the cell ranges the queries and models iterate.
+//
+// The grid remembers the cell ranges of the order the state is in (the
+// "layout": the last build whose permutation was applied with
+// reorder_state()).  A build only sorts the agents that left their layout
+// cell, so rebuilding a nearly sorted swarm (a simulation step) costs a few
+// streaming passes; anything else (a fresh write, a new agent count) is
+// correct too, just a full sort.
 #pragma once
 #include <cstdint>
+#include <functional>
 
 #include "device/buffer.hpp"
 #include "device/context.hpp"
@@ -14,16 +22,29 @@ class NeighborGrid {
 public:
     NeighborGrid(Context& ctx, const GridGeometry& geometry, uint32_t capacity);
 
-    // Sorts the n agents of `pos` (slot order, ids[slot] = agent id) by cell:
-    // afterwards permutation()[new slot] = old slot, and cell_start() holds the
-    // ranges of the new order.  Enqueued only; nothing waits.
-    void build(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<cl_uint>& ids, uint32_t n);
+    // Called after each stage of build() (for the benchmark's stage timings).
+    using StageHook = std::function<void(const char* stage)>;
+
+    // Sorts the n agents of `pos` (slot order, ids[slot] = agent id) by
+    // (cell, id): afterwards permutation()[new slot] = old slot, and
+    // cell_start() holds the ranges of the new order.  Requires that within
+    // each layout cell the slots are in increasing id order (true of any
+    // layout reorder_state() made; invalidate_layout() otherwise).
+    // Enqueued only; nothing waits.
+    void build(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<cl_uint>& ids, uint32_t n,
+               const StageHook& after_stage = {});
 
     // dst[s] = src[permutation[s]] for the last build.
     void permute(const DeviceBuffer<cl_float4>& src, DeviceBuffer<cl_float4>& dst, uint32_t n);
-    // ids follow the permutation; slot_of[id] = new slot.
-    void permute_ids(const DeviceBuffer<cl_uint>& src, DeviceBuffer<cl_uint>& dst,
-                     DeviceBuffer<cl_uint>& slot_of, uint32_t n);
+    void permute(const DeviceBuffer<cl_uint>& src, DeviceBuffer<cl_uint>& dst, uint32_t n);
+    // Reorders the state by the last build's permutation (through the
+    // scratch buffers, swapped in), and the new order becomes the layout the
+    // next build starts from.  Any other per-agent array is permute()d too.
+    void reorder_state(DeviceBuffer<cl_float4>& pos, DeviceBuffer<cl_float4>& vel, DeviceBuffer<cl_uint>& ids,
+                       DeviceBuffer<cl_float4>& scratch, DeviceBuffer<cl_uint>& ids_scratch, uint32_t n);
+    // The state's order is no longer one a build produced (e.g. agents put
+    // back in id order): the next build sorts from scratch.
+    void invalidate_layout();
 
     const GridGeometry& geometry() const { return geometry_; }
     DeviceBuffer<cl_uint>& cell_start() { return start_; }
@@ -36,10 +57,20 @@ private:
     Context& ctx_;
     GridGeometry geometry_;
     uint32_t ncells_;
-    uint32_t nblocks_;
-    bool counts_dirty_ = false;  // a build stopped half way: counts need zeroing
-    DeviceBuffer<cl_uint> keys_, counts_, start_, perm_, block_sums_;
-    cl::Kernel count_, scan_blocks_, scan_top_, scan_write_, scatter_, sort_, permute_f4_, permute_ids_;
+    uint32_t capacity_ = 0;
+    uint32_t radix_bits_, radix_passes_;
+    bool layout_valid_ = false;
+    uint32_t layout_n_ = 0;
+    uint32_t built_n_ = 0;
+    // Per slot: keys (cell), perm, layout_key (the layout's cell); the
+    // movers (r_*) and the radix sort's other half (t_*).  Per cell (+1):
+    // start, layout_start.  hist/totals: radix.
+    DeviceBuffer<cl_uint> keys_, perm_, layout_key_, r_key_, r_slot_, r_id_, r_old_, t_key_, t_slot_, t_id_, movers_;
+    DeviceBuffer<cl_uint>* pending_key_ = nullptr;  // the last build's keys in its order (r_key_ or t_key_)
+    DeviceBuffer<cl_uint> start_, layout_start_, chunk_counts_;
+    DeviceBuffer<cl_uint> hist_, totals_;
+    cl::Kernel keys_k_, movers_write_, radix_hist_, radix_scatter_;
+    cl::Kernel radix_rows_, place_, permute_f4_, permute_u_, permute_state_;
 };
 
 }  // namespace swarmcl

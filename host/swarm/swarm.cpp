@@ -36,8 +36,9 @@ uint32_t max_cells_for(uint32_t capacity) {
 
 const SwarmConfig& checked(const SwarmConfig& c, Context& ctx) {
     validate(c);
-    // State, scratch and grid buffers per agent, and the grid's cells.
-    const double bytes = double(c.capacity) * (3 * 16 + 6 * 4 + 12) + double(max_cells_for(c.capacity)) * 8;
+    // State, scratch and grid buffers per agent (float4 x3, uint x13, packed
+    // xyz), and the grid's per-cell arrays (2 uints).
+    const double bytes = double(c.capacity) * (3 * 16 + 13 * 4 + 12) + double(max_cells_for(c.capacity)) * 8;
     if (bytes > double(ctx.device().global_memory))
         fail(Status::OutOfMemory, "a swarm of capacity " + std::to_string(c.capacity) + " needs about " +
                                       std::to_string(uint64_t(bytes)) + " bytes; the device has " +
@@ -73,6 +74,7 @@ Swarm::Swarm(std::shared_ptr<Context> ctx, const SwarmConfig& config)
     scatter_ = c.kernel("swarm_state.cl", "scatter_xyz");
     identity_ = c.kernel("swarm_state.cl", "identity_layout");
     integrate_ = c.kernel("swarm_state.cl", "integrate_ballistic");
+    slot_of_k_ = c.kernel("swarm_state.cl", "slot_of_from_ids");
     count_ = c.kernel("neighbors.cl", "neighbor_count");
     nearest_ = c.kernel("neighbors.cl", "nearest_neighbor");
     lists_ = c.kernel("neighbors.cl", "neighbor_lists");
@@ -105,12 +107,14 @@ void Swarm::set_count(uint32_t n) {
     // Velocities of the agents that stay are kept (gathered in id order), new
     // agents start at rest; the layout restarts in id order.
     const uint32_t keep = std::min(n, n_);
+    ensure_slot_of();
     set_args(gather_, vel_.get(), slot_of_.get(), keep, packed_.get());
     launch(c, gather_, keep);
     if (n > keep) c.queue().enqueueFillBuffer(packed_.get(), 0.0f, size_t(keep) * 3 * sizeof(float),
                                               size_t(n - keep) * 3 * sizeof(float));
     set_args(identity_, n, ids_.get(), slot_of_.get());
     launch(c, identity_, n);
+    grid_.invalidate_layout();  // id order is no order a grid build made
     set_args(scatter_, packed_.get(), slot_of_.get(), n, vel_.get());
     launch(c, scatter_, n);
     n_ = n;
@@ -129,6 +133,7 @@ void Swarm::write(Attribute attribute, const float* src, size_t count) {
     }
     check_finite(src, count, what);
     if (attribute == Attribute::Position) set_count(uint32_t(count));
+    ensure_slot_of();
     packed_.upload(*ctx_, src, count * 3);
     set_args(scatter_, packed_.get(), slot_of_.get(), uint32_t(count),
              attribute == Attribute::Position ? pos_.get() : vel_.get());
@@ -140,6 +145,7 @@ void Swarm::read(Attribute attribute, float* dst, size_t count) {
     const char* what = attribute == Attribute::Position ? "swcl_swarm_read(POSITION)" : "swcl_swarm_read(VELOCITY)";
     require(dst != nullptr || count == 0, std::string(what) + ": dst is NULL");
     check_count(count, what);
+    ensure_slot_of();
     set_args(gather_, attribute == Attribute::Position ? pos_.get() : vel_.get(), slot_of_.get(), n_,
              packed_.get());
     launch(*ctx_, gather_, n_);
@@ -167,13 +173,16 @@ void Swarm::swap_positions_with_scratch() {
 void Swarm::ensure_grid() {
     if (grid_current_) return;
     grid_.build(pos_, ids_, n_);
-    grid_.permute(pos_, scratch_, n_);
-    std::swap(pos_, scratch_);
-    grid_.permute(vel_, scratch_, n_);
-    std::swap(vel_, scratch_);
-    grid_.permute_ids(ids_, ids_scratch_, slot_of_, n_);
-    std::swap(ids_, ids_scratch_);
+    grid_.reorder_state(pos_, vel_, ids_, scratch_, ids_scratch_, n_);
+    slot_of_current_ = false;
     grid_current_ = true;
+}
+
+void Swarm::ensure_slot_of() {
+    if (slot_of_current_) return;
+    set_args(slot_of_k_, ids_.get(), n_, slot_of_.get());
+    launch(*ctx_, slot_of_k_, n_);
+    slot_of_current_ = true;
 }
 
 namespace {

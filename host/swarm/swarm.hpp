@@ -52,7 +52,12 @@ public:
     DeviceBuffer<cl_float4>& positions() { return pos_; }
     DeviceBuffer<cl_float4>& velocities() { return vel_; }
     DeviceBuffer<cl_uint>& ids() { return ids_; }
-    DeviceBuffer<cl_uint>& slot_of() { return slot_of_; }
+    // id -> slot, the inverse of ids(); built on demand (only reads and
+    // writes in id order need it, so a step does not pay for it).
+    DeviceBuffer<cl_uint>& slot_of() {
+        ensure_slot_of();
+        return slot_of_;
+    }
     // A float4 array of the capacity that a stage may write new positions to,
     // then swap in (the grid then needs a rebuild).
     DeviceBuffer<cl_float4>& scratch() { return scratch_; }
@@ -71,6 +76,7 @@ private:
     void check_count(size_t count, const char* what) const;
     void place_uniformly(uint32_t count);
     void set_count(uint32_t n);
+    void ensure_slot_of();
 
     std::shared_ptr<Context> ctx_;
     SwarmConfig config_;
@@ -78,12 +84,13 @@ private:
     uint32_t n_ = 0;
     uint64_t steps_ = 0;
     bool grid_current_ = false;
+    bool slot_of_current_ = true;  // slot_of_ is the inverse of ids_
     DeviceBuffer<cl_float4> pos_, vel_, scratch_;
     DeviceBuffer<cl_uint> ids_, ids_scratch_, slot_of_;
     DeviceBuffer<cl_float> packed_;  // 3 floats per agent: the caller's layout
     DeviceBuffer<cl_uint> query_u32_;
     DeviceBuffer<cl_float> query_f32_;
-    cl::Kernel gather_, scatter_, identity_, integrate_;
+    cl::Kernel gather_, scatter_, identity_, integrate_, slot_of_k_;
     cl::Kernel count_, nearest_, lists_;
     std::shared_ptr<Behavior> behavior_;
     std::mutex mutex_;
