@@ -7,7 +7,9 @@
 //   swarmcl validate scenario.json
 #include <algorithm>
 #include <cerrno>
+#include <csignal>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -15,6 +17,7 @@
 #include <sstream>
 #include <string>
 #include <unistd.h>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 #include <swarmcl/swarmcl.h>
@@ -27,6 +30,11 @@ const char* kUsage =
     "                            [--device D] [--quiet]\n"
     "  swarmcl devices\n"
     "  swarmcl validate SCENARIO.json\n";
+
+// Ctrl-C or a termination request: the run stops between steps, and the
+// unfinished outputs are removed as for any other failure.
+volatile std::sig_atomic_t g_interrupted = 0;
+extern "C" void on_signal(int) { g_interrupted = 1; }
 
 // A failed C call: message on stderr, exit status 1.
 struct Failure {
@@ -123,6 +131,48 @@ void write_atomically(const std::string& path, const std::string& text) {
     }
 }
 
+// Statistics of the swarm now (main job, curl-noise paper item 8): mean
+// speed, nearest-neighbour distance percentiles, the fraction of pairs
+// closer than the MDE distance, and the share MDE moved per step since the
+// last call.
+struct FrameStats {
+    double mean_speed = 0, nn_p5 = 0, nn_p50 = 0, nn_p95 = 0, close_pair_fraction = 0, mde_moved = 0;
+};
+
+FrameStats frame_stats(swcl_swarm swarm, uint32_t n, float min_distance) {
+    FrameStats f;
+    if (n == 0) return f;
+    std::vector<float> vel(size_t(n) * 3), nn(n);
+    check(swcl_swarm_read(swarm, SWCL_ATTRIBUTE_VELOCITY, vel.data(), n), "reading velocities");
+    for (uint32_t i = 0; i < n; ++i)
+        f.mean_speed += std::sqrt(double(vel[3 * i]) * vel[3 * i] + double(vel[3 * i + 1]) * vel[3 * i + 1] +
+                                  double(vel[3 * i + 2]) * vel[3 * i + 2]) / n;
+    if (n > 1) {
+        check(swcl_swarm_nearest_neighbor(swarm, nn.data(), nullptr, n), "nearest neighbours");
+        std::sort(nn.begin(), nn.end());
+        auto pct = [&](double q) { return double(nn[size_t(q * (n - 1) + 0.5)]); };
+        f.nn_p5 = pct(0.05), f.nn_p50 = pct(0.5), f.nn_p95 = pct(0.95);
+        if (min_distance > 0) {
+            std::vector<uint32_t> close(n);
+            // Just below the threshold: pairs MDE left at exactly d do not count.
+            check(swcl_swarm_neighbor_count(swarm, min_distance * 0.999f, close.data(), n), "counting close pairs");
+            double pairs = 0;
+            for (uint32_t c : close) pairs += c;
+            f.close_pair_fraction = pairs / 2.0 / (0.5 * double(n) * (n - 1.0));
+        }
+    }
+    swcl_step_stats st;
+    st.struct_size = sizeof(st);
+    check(swcl_swarm_take_step_stats(swarm, &st), "reading statistics");
+    if (st.steps) f.mde_moved = double(st.mde_moved_total) / (double(st.steps) * n);
+    return f;
+}
+
+void print_stats(uint32_t step, const FrameStats& f) {
+    std::printf("%8u %8.3f %9.4f %9.4f %9.4f %10.2e %8.3f%%\n", step, f.mean_speed, f.nn_p5, f.nn_p50, f.nn_p95,
+                f.close_pair_fraction, 100.0 * f.mde_moved);
+}
+
 void progress(bool show, uint32_t done, uint32_t total, double seconds) {
     if (!show) return;
     const int width = 30;
@@ -184,27 +234,38 @@ int cmd_run(int argc, char** argv) {
     const swcl_recorder rec = recorder.handle;
 
     const bool show = !quiet && isatty(STDERR_FILENO);
-    if (!quiet)
+    if (!quiet) {
         std::printf("%s: %u agents, %s model, %u steps of %g s on %s / %s\n", info.name, info.agents, info.model, steps,
                     double(info.dt), dev.platform_name, dev.device_name);
+        std::printf("%8s %8s %9s %9s %9s %10s %9s\n", "step", "speed", "nn p5", "nn p50", "nn p95", "pairs<mde",
+                    "MDE moved");
+    }
+    FrameStats last;
     const auto start = std::chrono::steady_clock::now();
     auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
     uint32_t frames = 0;
     check(swcl_recorder_add_frame(rec, swarm, 0, 0.0), "recording frame 0");
     ++frames;
+    if (!quiet) print_stats(0, last = frame_stats(swarm, info.agents, info.min_distance));
+    std::signal(SIGINT, on_signal);
+    std::signal(SIGTERM, on_signal);
     for (uint32_t done = 0; done < steps;) {
+        if (g_interrupted) throw Failure{"interrupted at step " + std::to_string(done) + "; no output was kept"};
         const uint32_t k = std::min(every, steps - done);
         check(swcl_swarm_step(swarm, k), "stepping");
         done += k;
         check(swcl_recorder_add_frame(rec, swarm, done, double(done) * info.dt), "recording");
         ++frames;
+        if (!quiet) {
+            if (show) std::fputs("\r\033[K", stderr);  // the table line replaces the bar
+            print_stats(done, last = frame_stats(swarm, info.agents, info.min_distance));
+            std::fflush(stdout);
+        }
         progress(show, done, steps, seconds());
     }
     check(swcl_recorder_finish(rec), "writing the outputs");
     const double wall = seconds();
-    swcl_step_stats stats;
-    stats.struct_size = sizeof(stats);
-    check(swcl_swarm_take_step_stats(swarm, &stats), "reading statistics");
+    if (quiet) last = frame_stats(swarm, info.agents, info.min_distance);
 
     nlohmann::json run;
     run["scenario"] = info.name;
@@ -218,8 +279,12 @@ int cmd_run(int argc, char** argv) {
     run["every"] = every;
     run["seconds"] = wall;
     run["steps_per_second"] = wall > 0 ? steps / wall : 0.0;
-    run["mde_moved_fraction"] =
-        stats.steps && info.agents ? double(stats.mde_moved_total) / (double(stats.steps) * info.agents) : 0.0;
+    run["final"] = {{"mean_speed", last.mean_speed},
+                    {"nearest_neighbor_p5", last.nn_p5},
+                    {"nearest_neighbor_p50", last.nn_p50},
+                    {"nearest_neighbor_p95", last.nn_p95},
+                    {"close_pair_fraction", last.close_pair_fraction},
+                    {"mde_moved_fraction", last.mde_moved}};
     nlohmann::json fmts = nlohmann::json::array();
     if (formats & SWCL_EXPORT_CSV) fmts.push_back("csv");
     if (formats & SWCL_EXPORT_NPY) fmts.push_back("npy");

@@ -79,6 +79,7 @@ swcl_status swcl_scenario_get_info(swcl_scenario scenario, swcl_scenario_info* o
         copy_text(info.name, s->name);
         copy_text(info.output_dir, s->output_dir);
         copy_text(info.model, s->field_model ? "field" : "ballistic");
+        info.min_distance = s->field_model ? s->field_model->min_distance : 0.0f;
         *out = info;
     });
 }

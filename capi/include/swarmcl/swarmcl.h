@@ -325,6 +325,7 @@ typedef struct swcl_scenario_info {
     char name[128];
     char output_dir[1024];
     char model[32];            /* "field" or "ballistic" */
+    float min_distance;        /* the field model's MDE distance (0: none) */
 } swcl_scenario_info;
 
 /* out->struct_size must be set by the caller. */
