@@ -4,6 +4,7 @@
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <fcntl.h>
 #include <unistd.h>
 
 #include "core/error.hpp"
@@ -20,10 +21,20 @@ void AtomicFile::fail_after_bytes_for_testing(long long bytes) {
 }
 
 AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
-    std::string pattern = path_ + ".partial-XXXXXX";
-    const int fd = mkstemp(pattern.data());
-    if (fd < 0) fail("cannot create a file beside", errno);
-    temp_ = pattern;
+    // open(O_EXCL, 0666) rather than mkstemp: the file gets the permissions
+    // the user's umask gives any new file (mkstemp would make it 0600).
+    static std::atomic<unsigned> counter{0};
+    int fd = -1;
+    for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
+        temp_ = path_ + ".partial-" + std::to_string(getpid()) + "-" + std::to_string(counter++);
+        fd = open(temp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd < 0 && errno != EEXIST) break;
+    }
+    if (fd < 0) {
+        const int err = errno;
+        temp_.clear();
+        fail("cannot create a file beside", err);
+    }
     file_ = fdopen(fd, "wb");
     if (!file_) {
         const int err = errno;
