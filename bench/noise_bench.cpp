@@ -264,7 +264,8 @@ std::vector<Variant> variants(const Options& o) {
 // noise_sample over the first n device points, arguments set as NoiseField::sample sets them.
 cl::Kernel sample_kernel(swarmcl::Context& ctx, swarmcl::NoiseField& field, const cl::Buffer& points,
                          const cl::Buffer& out, uint32_t n, float t) {
-    cl::Kernel k = ctx.kernel("noise_field.cl", "noise_sample");
+    (void)ctx;
+    cl::Kernel k = field.kernel("noise_field.cl", "noise_sample");  // specialised for the field
     cl_uint i = 0;
     k.setArg(i++, points);
     k.setArg(i++, cl_uint(n));

@@ -66,11 +66,11 @@
 /* J.r{i} is row i: J.r0.y = d psi_x / d y. */
 typedef struct { float3 r0, r1, r2; } swcl_mat3;
 
-inline float3 swcl_mat3_curl(swcl_mat3 J)
+SWCL_INLINE float3 swcl_mat3_curl(swcl_mat3 J)
 {
     return (float3)(J.r2.y - J.r1.z, J.r0.z - J.r2.x, J.r1.x - J.r0.y);
 }
-inline float3 swcl_mat3_tmul(swcl_mat3 J, float3 v)   /* J^T v */
+SWCL_INLINE float3 swcl_mat3_tmul(swcl_mat3 J, float3 v)   /* J^T v */
 {
     return v.x * J.r0 + v.y * J.r1 + v.z * J.r2;
 }
@@ -84,7 +84,7 @@ inline float3 swcl_mat3_tmul(swcl_mat3 J, float3 v)   /* J^T v */
  * d must be C^2 in the d0 band for V to be continuous there. */
 typedef struct { float d; float3 g; float3 hd; float3 ho; } swcl_dist;
 
-inline float3 swcl_hess_mul(swcl_dist b, float3 v)    /* H v */
+SWCL_INLINE float3 swcl_hess_mul(swcl_dist b, float3 v)    /* H v */
 {
     return (float3)(b.hd.x * v.x + b.ho.z * v.y + b.ho.y * v.z,
                     b.ho.z * v.x + b.hd.y * v.y + b.ho.x * v.z,
@@ -92,7 +92,7 @@ inline float3 swcl_hess_mul(swcl_dist b, float3 v)    /* H v */
 }
 
 /* Half space dot(n, p) >= c (n unit, into free space): H = 0. */
-inline swcl_dist swcl_dist_plane(float3 p, float3 n, float c)
+SWCL_INLINE swcl_dist swcl_dist_plane(float3 p, float3 n, float c)
 {
     swcl_dist b;
     b.d = dot(n, p) - c; b.g = n; b.hd = (float3)(0.0f); b.ho = (float3)(0.0f);
@@ -101,7 +101,7 @@ inline swcl_dist swcl_dist_plane(float3 p, float3 n, float c)
 
 /* Outside of a sphere obstacle (centre c, radius r): d = |p - c| - r,
  * g = n, H = (I - n n^T) / |p - c|. */
-inline swcl_dist swcl_dist_sphere(float3 p, float3 c, float r)
+SWCL_INLINE swcl_dist swcl_dist_sphere(float3 p, float3 c, float r)
 {
     swcl_dist b;
     float3 q = p - c;
@@ -125,7 +125,7 @@ inline swcl_dist swcl_dist_sphere(float3 p, float3 c, float r)
  *     de/dq_i = w_i^3,   d2e/dq_i dq_j = 3/e (w_i^2 delta_ij - w_i^3 w_j^3).
  * Inside the inner box (e = 0, d <= -rr: deep in the obstacle) the
  * nearest face is used, with H = 0. */
-inline swcl_dist swcl_dist_box(float3 p, float3 c, float3 h, float rr)
+SWCL_INLINE swcl_dist swcl_dist_box(float3 p, float3 c, float3 h, float rr)
 {
     swcl_dist b;
     float3 rel = p - c;
@@ -157,14 +157,14 @@ inline swcl_dist swcl_dist_box(float3 p, float3 c, float3 h, float rr)
 /* ----------------------------------------------------- Eq. 2-3 modulation */
 
 /* Eq. 3, r clamped to [0, 1] ("r should never be negative"). */
-inline float swcl_ramp(float r)
+SWCL_INLINE float swcl_ramp(float r)
 {
     r = clamp(r, 0.0f, 1.0f);
     float r2 = r * r;
     return r * (15.0f + r2 * (-10.0f + 3.0f * r2)) * 0.125f;
 }
 /* d ramp / dr = 15/8 (1 - r^2)^2 for 0 < r < 1, 0 outside (C^1 at r = 1). */
-inline float swcl_dramp(float r)
+SWCL_INLINE float swcl_dramp(float r)
 {
     if (r <= 0.0f || r >= 1.0f) return 0.0f;
     float t = 1.0f - r * r;
@@ -172,7 +172,7 @@ inline float swcl_dramp(float r)
 }
 
 /* Unit normal n = g / |g| (g = 0 only deep inside obstacles: any unit). */
-inline float3 swcl_dist_normal(swcl_dist b, float* glen)
+SWCL_INLINE float3 swcl_dist_normal(swcl_dist b, float* glen)
 {
     float l = length(b.g);
     *glen = l;
@@ -180,7 +180,7 @@ inline float3 swcl_dist_normal(swcl_dist b, float* glen)
 }
 
 /* Eq. 2 on a value only (finite-difference mode; needs d and g, not H). */
-inline float3 swcl_modulate_value(swcl_dist b, float d0, float3 psi)
+SWCL_INLINE float3 swcl_modulate_value(swcl_dist b, float d0, float3 psi)
 {
     float r = b.d / d0;
     if (r >= 1.0f) return psi;
@@ -192,7 +192,7 @@ inline float3 swcl_modulate_value(swcl_dist b, float d0, float3 psi)
 /* Eq. 2 on (psi, J = d psi/dx) in place, product rule included (header):
  *   dN_i/dx_j = psi_i da_j + a J_ij + (1-a)(n_i dphi_j + phi G_ij) - phi n_i da_j
  *   G = grad n = (I - n n^T) H / |g|,  dphi = G^T psi + J^T n,  da = a'(r)/d0 g */
-inline void swcl_modulate(swcl_dist b, float d0, float3* psi, swcl_mat3* J)
+SWCL_INLINE void swcl_modulate(swcl_dist b, float d0, float3* psi, swcl_mat3* J)
 {
     float r = b.d / d0;
     if (r >= 1.0f) return;
@@ -229,10 +229,10 @@ inline void swcl_modulate(swcl_dist b, float d0, float3* psi, swcl_mat3* J)
 #define SWCL_PRIM_BOX          3
 #define SWCL_PRIM_PLANE        4
 
-inline int swcl_prim_type(float4 a) { return (int)a.w; }
-inline int swcl_prim_parts(float4 a) { return swcl_prim_type(a) == SWCL_PRIM_BOX_INTERIOR ? 6 : 1; }
+SWCL_INLINE int swcl_prim_type(float4 a) { return (int)a.w; }
+SWCL_INLINE int swcl_prim_parts(float4 a) { return swcl_prim_type(a) == SWCL_PRIM_BOX_INTERIOR ? 6 : 1; }
 
-inline swcl_dist swcl_prim_dist(float4 a, float4 b, int part, float3 p)
+SWCL_INLINE swcl_dist swcl_prim_dist(float4 a, float4 b, int part, float3 p)
 {
     switch (swcl_prim_type(a)) {
     case SWCL_PRIM_BOX_INTERIOR: {
@@ -263,7 +263,7 @@ typedef struct {
     uint4 off[3];            /* per-channel Philox domain offsets (perlin.cl)     */
 } swcl_curl_params;
 
-inline swcl_curl_params swcl_curl_params_make(float scale, float gain, float d0,
+SWCL_INLINE swcl_curl_params swcl_curl_params_make(float scale, float gain, float d0,
                                               float time_scale, ulong seed)
 {
     swcl_curl_params c;
@@ -273,37 +273,148 @@ inline swcl_curl_params swcl_curl_params_make(float scale, float gain, float d0,
     return c;
 }
 
+/* Modulated potential and its Jacobian in plain scalars (the fast path):
+ * p = psi, jRC = d psi_R / d x_C. */
+typedef struct {
+    float p0, p1, p2;
+    float j00, j01, j02, j10, j11, j12, j20, j21, j22;
+} swcl_pj;
+
+/* psi = gain * (P1, P2, P3)(x / scale) and J = d psi / dx (analytic), scalar
+ * core. timed != 0: P_k are 4D noise at (x / scale, t / time_scale); pass a
+ * compile-time constant so that the other branch folds away. */
+SWCL_INLINE void swcl_noise_potential_s(float x, float y, float z, float t, int timed,
+                                        float inv_scale, float gain, float inv_time_scale,
+                                        uint4 o0, uint4 o1, uint4 o2, swcl_pj* N)
+{
+    const float ux = x * inv_scale, uy = y * inv_scale, uz = z * inv_scale;
+    const float jg = gain * inv_scale;
+    float v0, a0, a1, a2, v1, b0, b1, b2, v2, c0, c1, c2;
+    if (timed) {
+        const float uw = t * inv_time_scale;
+        float w0, w1, w2;
+        swcl_perlin4_seeded_s(ux, uy, uz, uw, o0, &v0, &a0, &a1, &a2, &w0);
+        swcl_perlin4_seeded_s(ux, uy, uz, uw, o1, &v1, &b0, &b1, &b2, &w1);
+        swcl_perlin4_seeded_s(ux, uy, uz, uw, o2, &v2, &c0, &c1, &c2, &w2);
+    } else {
+        swcl_perlin3_seeded_s(ux, uy, uz, o0, &v0, &a0, &a1, &a2);
+        swcl_perlin3_seeded_s(ux, uy, uz, o1, &v1, &b0, &b1, &b2);
+        swcl_perlin3_seeded_s(ux, uy, uz, o2, &v2, &c0, &c1, &c2);
+    }
+    N->p0 = gain * v0; N->p1 = gain * v1; N->p2 = gain * v2;
+    N->j00 = jg * a0; N->j01 = jg * a1; N->j02 = jg * a2;
+    N->j10 = jg * b0; N->j11 = jg * b1; N->j12 = jg * b2;
+    N->j20 = jg * c0; N->j21 = jg * c1; N->j22 = jg * c2;
+}
+
+/* Eq. 2 for the half space s x_K >= s c (an axis-aligned wall: n = s e_K,
+ * H = 0, so grad n = 0), branch free. Eq. 2 reduces to: the rows i != K of
+ * psi and J scale by alpha, and column K of those rows gains psi_i dalpha/dx_K;
+ * row K is unchanged. At r >= 1 (alpha = 1, alpha' = 0) this is exactly the
+ * identity, so it needs no test of the distance. */
+#define SWCL_WALL_ROW(i, K, a, dak)                                         \
+    do {                                                                    \
+        const float q = N->p##i;                                            \
+        N->p##i = (a) * q;                                                  \
+        N->j##i##0 = (a) * N->j##i##0 + ((K) == 0 ? q * (dak) : 0.0f);      \
+        N->j##i##1 = (a) * N->j##i##1 + ((K) == 1 ? q * (dak) : 0.0f);      \
+        N->j##i##2 = (a) * N->j##i##2 + ((K) == 2 ? q * (dak) : 0.0f);      \
+    } while (0)
+
+SWCL_INLINE void swcl_modulate_wall_s(swcl_pj* N, int K, float s, float d, float inv_d0)
+{
+    const float r = d * inv_d0;
+    const float rc = r < 0.0f ? 0.0f : (r > 1.0f ? 1.0f : r);
+    const float r2 = rc * rc;
+    const float a = rc * (15.0f + r2 * (-10.0f + 3.0f * r2)) * 0.125f;   /* swcl_ramp */
+    const float om = 1.0f - r2;
+    const float dak = (r > 0.0f ? 1.875f * om * om : 0.0f) * inv_d0 * s; /* swcl_dramp / d0 * g_K */
+    if (K != 0) SWCL_WALL_ROW(0, K, a, dak);
+    if (K != 1) SWCL_WALL_ROW(1, K, a, dak);
+    if (K != 2) SWCL_WALL_ROW(2, K, a, dak);
+}
+
+/* The six walls of a box interior [lo, hi] (SWCL_PRIM_BOX_INTERIOR), in the
+ * order of swcl_prim_dist: x lo, x hi, y lo, y hi, z lo, z hi. */
+SWCL_INLINE void swcl_modulate_box_interior_s(swcl_pj* N, float x, float y, float z,
+                                              float lx, float ly, float lz,
+                                              float hx, float hy, float hz, float inv_d0)
+{
+    swcl_modulate_wall_s(N, 0,  1.0f, x - lx, inv_d0);
+    swcl_modulate_wall_s(N, 0, -1.0f, hx - x, inv_d0);
+    swcl_modulate_wall_s(N, 1,  1.0f, y - ly, inv_d0);
+    swcl_modulate_wall_s(N, 1, -1.0f, hy - y, inv_d0);
+    swcl_modulate_wall_s(N, 2,  1.0f, z - lz, inv_d0);
+    swcl_modulate_wall_s(N, 2, -1.0f, hz - z, inv_d0);
+}
+
+/* V = scale curl N: the curl is taken in noise units, V = scale * curl_x N. */
+SWCL_INLINE void swcl_pj_curl(const swcl_pj* N, float scale, float* vx, float* vy, float* vz)
+{
+    *vx = scale * (N->j21 - N->j12);
+    *vy = scale * (N->j02 - N->j20);
+    *vz = scale * (N->j10 - N->j01);
+}
+
+SWCL_INLINE void swcl_pj_get(const swcl_pj* N, float3* psi, swcl_mat3* J)
+{
+    *psi = (float3)(N->p0, N->p1, N->p2);
+    J->r0 = (float3)(N->j00, N->j01, N->j02);
+    J->r1 = (float3)(N->j10, N->j11, N->j12);
+    J->r2 = (float3)(N->j20, N->j21, N->j22);
+}
+SWCL_INLINE void swcl_pj_set(swcl_pj* N, float3 psi, swcl_mat3 J)
+{
+    N->p0 = psi.x; N->p1 = psi.y; N->p2 = psi.z;
+    N->j00 = J.r0.x; N->j01 = J.r0.y; N->j02 = J.r0.z;
+    N->j10 = J.r1.x; N->j11 = J.r1.y; N->j12 = J.r1.z;
+    N->j20 = J.r2.x; N->j21 = J.r2.y; N->j22 = J.r2.z;
+}
+
 /* psi = gain * (P1, P2, P3)(x / scale) and J = d psi / dx (analytic).
  * timed != 0: P_k are 4D noise at (x / scale, t / time_scale). */
-inline void swcl_noise_potential(float3 x, float t, int timed, swcl_curl_params c,
-                                 float3* psi, swcl_mat3* J)
+SWCL_INLINE void swcl_noise_potential(float3 x, float t, int timed, swcl_curl_params c,
+                                      float3* psi, swcl_mat3* J)
 {
-    float3 u = x * c.inv_scale;
-    float jg = c.gain * c.inv_scale;
-    float v[3]; float3 g[3];
-    for (int k = 0; k < 3; ++k) {
-        if (timed) {
-            swcl_vg4 n = swcl_perlin4_seeded((float4)(u, t * c.inv_time_scale), c.off[k]);
-            v[k] = n.v; g[k] = n.g.xyz;
+    swcl_pj N;
+    if (timed)
+        swcl_noise_potential_s(x.x, x.y, x.z, t, 1, c.inv_scale, c.gain, c.inv_time_scale,
+                               c.off[0], c.off[1], c.off[2], &N);
+    else
+        swcl_noise_potential_s(x.x, x.y, x.z, t, 0, c.inv_scale, c.gain, c.inv_time_scale,
+                               c.off[0], c.off[1], c.off[2], &N);
+    swcl_pj_get(&N, psi, J);
+}
+
+/* Apply Eq. 2 for every part of every primitive from `first` on, in order
+ * (scalar state; box interiors take the wall fast path, the others the
+ * general swcl_modulate). */
+SWCL_INLINE void swcl_modulate_prims_s(swcl_pj* N, float x, float y, float z, float d0,
+                                       __global const float4* prims, uint first, uint nprims)
+{
+    __global const float* pf = (__global const float*)prims;
+    for (uint i = first; i < nprims; ++i) {
+        __global const float* q = pf + 8 * i;
+        if ((int)q[3] == SWCL_PRIM_BOX_INTERIOR) {
+            swcl_modulate_box_interior_s(N, x, y, z, q[0], q[1], q[2], q[4], q[5], q[6], 1.0f / d0);
         } else {
-            swcl_vg3 n = swcl_perlin3_seeded(u, c.off[k]);
-            v[k] = n.v; g[k] = n.g;
+            const float4 a = prims[2 * i], b = prims[2 * i + 1];
+            float3 psi; swcl_mat3 J;
+            swcl_pj_get(N, &psi, &J);
+            swcl_modulate(swcl_prim_dist(a, b, 0, (float3)(x, y, z)), d0, &psi, &J);
+            swcl_pj_set(N, psi, J);
         }
     }
-    *psi = c.gain * (float3)(v[0], v[1], v[2]);
-    J->r0 = jg * g[0]; J->r1 = jg * g[1]; J->r2 = jg * g[2];
 }
 
 /* Apply Eq. 2 for every part of every primitive, in order. */
-inline void swcl_modulate_prims(float3 x, float d0, __global const float4* prims, uint nprims,
-                                float3* psi, swcl_mat3* J)
+SWCL_INLINE void swcl_modulate_prims(float3 x, float d0, __global const float4* prims, uint nprims,
+                                     float3* psi, swcl_mat3* J)
 {
-    for (uint i = 0; i < nprims; ++i) {
-        float4 a = prims[2 * i], b = prims[2 * i + 1];
-        int np = swcl_prim_parts(a);
-        for (int part = 0; part < np; ++part)
-            swcl_modulate(swcl_prim_dist(a, b, part, x), d0, psi, J);
-    }
+    swcl_pj N;
+    swcl_pj_set(&N, *psi, *J);
+    swcl_modulate_prims_s(&N, x.x, x.y, x.z, d0, prims, 0u, nprims);
+    swcl_pj_get(&N, psi, J);
 }
 
 /* Modulated potential N(x) (value only): what the FD mode differentiates. */
@@ -322,7 +433,7 @@ inline float3 swcl_curl_noise_potential(float3 x, float t, int timed, swcl_curl_
 }
 
 /* V(x) = scale * curl N(x), analytic (Eq. 1-3). timed: 4D noise at time t. */
-inline float3 swcl_curl_noise(float3 x, float t, int timed, swcl_curl_params c,
+SWCL_INLINE float3 swcl_curl_noise(float3 x, float t, int timed, swcl_curl_params c,
                               __global const float4* prims, uint nprims)
 {
     float3 psi; swcl_mat3 J;

@@ -41,7 +41,7 @@ typedef struct {
     noise_off0, noise_off1, noise_off2, noise_prims, noise_nprims, noise_baked, noise_bake_min, \
     noise_bake_cell, noise_bake_dims)
 
-inline NoiseField noise_make(int type, int flags, float4 shape, float fd_step, ulong seed, uint4 off0,
+SWCL_INLINE NoiseField noise_make(int type, int flags, float4 shape, float fd_step, ulong seed, uint4 off0,
                              uint4 off1, uint4 off2, __global const float4* prims, uint nprims,
                              __global const float4* baked, float4 bake_min, float4 bake_cell,
                              int4 bake_dims) {
@@ -70,7 +70,7 @@ inline NoiseField noise_make(int type, int flags, float4 shape, float fd_step, u
 // Perlin vector noise P(x) = gain (P1, P2, P3)(x / scale) (noise paper
 // §4.2.1), used as a velocity as given: boundaries (Eq. 2) shape the curl
 // potential only.
-inline float3 noise_perlin_vector(const NoiseField* f, float3 x, float t) {
+SWCL_INLINE float3 noise_perlin_vector(const NoiseField* f, float3 x, float t) {
     float3 psi;
     swcl_mat3 J;
     swcl_noise_potential(x, t, f->flags & NOISE_FLAG_TIMED, f->curl, &psi, &J);
@@ -78,7 +78,7 @@ inline float3 noise_perlin_vector(const NoiseField* f, float3 x, float t) {
 }
 
 // Trilinear read of the baked grid, clamped to its border outside.
-inline float3 noise_baked_sample(const NoiseField* f, float3 x) {
+SWCL_INLINE float3 noise_baked_sample(const NoiseField* f, float3 x) {
     const float3 u = clamp((x - f->bake_min.xyz) * f->bake_inv_cell.xyz, (float3)(0.0f),
                            convert_float3(f->bake_dims.xyz - (int3)(1)));
     const int3 i0 = min(convert_int3(floor(u)), f->bake_dims.xyz - (int3)(2));
@@ -95,7 +95,7 @@ inline float3 noise_baked_sample(const NoiseField* f, float3 x) {
 // The noise velocity (m/s) at x and time t for agent `agent` at step `step`.
 // Curl and Perlin depend on (x, t); white and Gaussian on (seed, agent, step)
 // only (Philox, so the same on every device and in any agent order).
-inline float3 noise_velocity(const NoiseField* f, float3 x, float t, uint agent, uint step) {
+SWCL_INLINE float3 noise_velocity(const NoiseField* f, float3 x, float t, uint agent, uint step) {
     if (f->flags & NOISE_FLAG_BAKED) return noise_baked_sample(f, x);
     switch (f->type) {
         case NOISE_PERLIN: return noise_perlin_vector(f, x, t);
@@ -116,26 +116,140 @@ inline float3 noise_velocity(const NoiseField* f, float3 x, float t, uint agent,
     }
 }
 
-// Samples the field at a batch of points; point i is agent i for the random
-// noise types.
+// ---- specialised scalar path ------------------------------------------------
+//
+// The host builds this file once per noise configuration with
+//   -DNOISE_KIND=k      NOISE_CURL, NOISE_PERLIN, NOISE_WHITE, NOISE_GAUSSIAN,
+//                       or NOISE_KIND_BAKED (a baked grid, trilinear)
+//   -DNOISE_TIMED=0|1   4D (time-varying) Perlin
+//   -DNOISE_FD=0|1      finite-difference curl (a check; generic path)
+//   -DNOISE_WALLS=0|1   prims[0] is the domain box interior (6 walls)
+//   -DNOISE_OBSTACLES=0|1  further primitives follow (a loop over them)
+// so the hot path has no runtime switch on the type or flags and, for the
+// common cases (no boundary or domain walls only), no loop either: then
+// everything is straight-line scalar code that PoCL vectorises across
+// work-items. Without NOISE_KIND the runtime switch above is used (the
+// kernel arguments are the same either way).
+#define NOISE_KIND_BAKED 4
+#ifndef NOISE_TIMED
+#define NOISE_TIMED 0
+#endif
+#ifndef NOISE_FD
+#define NOISE_FD 0
+#endif
+#ifndef NOISE_WALLS
+#define NOISE_WALLS 0
+#endif
+#ifndef NOISE_OBSTACLES
+#define NOISE_OBSTACLES 0
+#endif
+
+// Trilinear read of the baked grid (float4 nodes), clamped to its border
+// outside: scalar, branch free.
+SWCL_INLINE void noise_baked_sample_s(__global const float4* baked, float4 bmin, float4 bcell, int4 dims,
+                                      float x, float y, float z, float* vx, float* vy, float* vz) {
+    const float fx = (float)(dims.x - 1), fy = (float)(dims.y - 1), fz = (float)(dims.z - 1);
+    float ux = (x - bmin.x) * (1.0f / bcell.x), uy = (y - bmin.y) * (1.0f / bcell.y),
+          uz = (z - bmin.z) * (1.0f / bcell.z);
+    ux = ux > 0.0f ? (ux < fx ? ux : fx) : 0.0f;   // NaN-free inputs (checked on the host)
+    uy = uy > 0.0f ? (uy < fy ? uy : fy) : 0.0f;
+    uz = uz > 0.0f ? (uz < fz ? uz : fz) : 0.0f;
+    int ix = (int)ux, iy = (int)uy, iz = (int)uz;   // u >= 0: truncation is floor
+    ix = ix < dims.x - 2 ? ix : dims.x - 2;
+    iy = iy < dims.y - 2 ? iy : dims.y - 2;
+    iz = iz < dims.z - 2 ? iz : dims.z - 2;
+    const float wx = ux - (float)ix, wy = uy - (float)iy, wz = uz - (float)iz;
+    const int sy = 4 * dims.x, sz = 4 * dims.x * dims.y;
+    __global const float* c = (__global const float*)baked + 4 * (ix + dims.x * (iy + dims.y * iz));
+#define NOISE_TRI(k)                                                                   \
+    {                                                                                  \
+        const float x00 = c[k] + (c[4 + k] - c[k]) * wx;                               \
+        const float x10 = c[sy + k] + (c[sy + 4 + k] - c[sy + k]) * wx;                \
+        const float x01 = c[sz + k] + (c[sz + 4 + k] - c[sz + k]) * wx;                \
+        const float x11 = c[sz + sy + k] + (c[sz + sy + 4 + k] - c[sz + sy + k]) * wx; \
+        const float y0 = x00 + (x10 - x00) * wy, y1 = x01 + (x11 - x01) * wy;          \
+        r##k = y0 + (y1 - y0) * wz;                                                    \
+    }
+    float r0, r1, r2;
+    NOISE_TRI(0) NOISE_TRI(1) NOISE_TRI(2)
+#undef NOISE_TRI
+    *vx = r0; *vy = r1; *vz = r2;
+}
+
+#if defined(NOISE_KIND) && (NOISE_KIND == NOISE_KIND_BAKED || \
+    ((NOISE_KIND == NOISE_CURL || NOISE_KIND == NOISE_PERLIN) && !NOISE_FD))
+#define NOISE_SCALAR 1
+#else
+#define NOISE_SCALAR 0
+#endif
+
+// The noise velocity at (x, y, z), time t, agent `agent`, step `step`, into
+// (*vx, *vy, *vz); same value as noise_velocity().
+#define NOISE_VELOCITY_S(x, y, z, t, agent, step, vx, vy, vz) \
+    noise_velocity_s(noise_type, noise_flags, noise_shape, noise_fd_step, noise_seed, noise_off0, noise_off1, \
+                     noise_off2, noise_prims, noise_nprims, noise_baked, noise_bake_min, noise_bake_cell,     \
+                     noise_bake_dims, x, y, z, t, agent, step, vx, vy, vz)
+
+SWCL_INLINE void noise_velocity_s(NOISE_PARAMS, float x, float y, float z, float t, uint agent, uint step,
+                                  float* vx, float* vy, float* vz) {
+#if NOISE_SCALAR && NOISE_KIND == NOISE_KIND_BAKED
+    noise_baked_sample_s(noise_baked, noise_bake_min, noise_bake_cell, noise_bake_dims, x, y, z, vx, vy, vz);
+#elif NOISE_SCALAR
+    const float scale = noise_shape.x, gain = noise_shape.y, d0 = noise_shape.z;
+    swcl_pj N;
+    swcl_noise_potential_s(x, y, z, t, NOISE_TIMED, 1.0f / scale, gain, noise_shape.w, noise_off0, noise_off1,
+                           noise_off2, &N);
+#if NOISE_KIND == NOISE_PERLIN
+    // Perlin vector noise: psi itself, no boundaries (noise_perlin_vector).
+    *vx = N.p0; *vy = N.p1; *vz = N.p2;
+#else
+#if NOISE_WALLS
+    {
+        __global const float* w = (__global const float*)noise_prims;
+        swcl_modulate_box_interior_s(&N, x, y, z, w[0], w[1], w[2], w[4], w[5], w[6], 1.0f / d0);
+    }
+#endif
+#if NOISE_OBSTACLES
+    swcl_modulate_prims_s(&N, x, y, z, d0, noise_prims, NOISE_WALLS ? 1u : 0u, noise_nprims);
+#endif
+    swcl_pj_curl(&N, scale, vx, vy, vz);
+#endif
+#else
+    const NoiseField f = NOISE_MAKE();
+    const float3 v = noise_velocity(&f, (float3)(x, y, z), t, agent, step);
+    *vx = v.x; *vy = v.y; *vz = v.z;
+#endif
+}
+
+// Component c of float4 element i of a buffer seen as floats.
+#define NOISE_AT(p, i, c) (p)[4 * (size_t)(i) + (c)]
+
+// Samples the field at a batch of points (float4, w ignored); point i is
+// agent i for the random noise types.
 __kernel void noise_sample(__global const float4* points, uint n, float t, uint step, NOISE_PARAMS,
                            __global float4* out) {
     const uint i = get_global_id(0);
     if (i >= n) return;
-    const NoiseField f = NOISE_MAKE();
-    out[i] = (float4)(noise_velocity(&f, points[i].xyz, t, i, step), 0.0f);
+    __global const float* p = (__global const float*)points;
+    float vx, vy, vz;
+    NOISE_VELOCITY_S(NOISE_AT(p, i, 0), NOISE_AT(p, i, 1), NOISE_AT(p, i, 2), t, i, step, &vx, &vy, &vz);
+    __global float* o = (__global float*)out;
+    NOISE_AT(o, i, 0) = vx; NOISE_AT(o, i, 1) = vy; NOISE_AT(o, i, 2) = vz; NOISE_AT(o, i, 3) = 0.0f;
 }
 
-// Bakes the procedural field (flags without BAKED) onto the grid nodes
-// min + (i, j, k) * cell.
+// Bakes the procedural field (built without NOISE_KIND_BAKED) onto the grid
+// nodes min + (i, j, k) * cell.
 __kernel void noise_bake(NOISE_PARAMS, __global float4* out) {
     const uint i = get_global_id(0);
     const uint n = (uint)(noise_bake_dims.x * noise_bake_dims.y * noise_bake_dims.z);
     if (i >= n) return;
-    const NoiseField f = NOISE_MAKE();
     const uint nx = (uint)noise_bake_dims.x, ny = (uint)noise_bake_dims.y;
-    const float3 x = noise_bake_min.xyz +
-                     noise_bake_cell.xyz * (float3)((float)(i % nx), (float)((i / nx) % ny), (float)(i / (nx * ny)));
-    out[i] = (float4)(noise_velocity(&f, x, 0.0f, i, 0u), 0.0f);
+    const float x = noise_bake_min.x + noise_bake_cell.x * (float)(i % nx);
+    const float y = noise_bake_min.y + noise_bake_cell.y * (float)((i / nx) % ny);
+    const float z = noise_bake_min.z + noise_bake_cell.z * (float)(i / (nx * ny));
+    float vx, vy, vz;
+    NOISE_VELOCITY_S(x, y, z, 0.0f, i, 0u, &vx, &vy, &vz);
+    __global float* o = (__global float*)out;
+    NOISE_AT(o, i, 0) = vx; NOISE_AT(o, i, 1) = vy; NOISE_AT(o, i, 2) = vz; NOISE_AT(o, i, 3) = 0.0f;
 }
 #endif

@@ -38,7 +38,16 @@
 
 #include "philox.cl"
 
-__constant uchar swcl_perm[256] = {
+/* Everything on the hot path is always inlined and written in plain scalar
+ * floats and ints (no float3, no struct returns, no switch, no private
+ * arrays): PoCL's CPU device vectorises a kernel across work-items only when
+ * every instruction of its body has a scalar type, and that is also the shape
+ * GPUs like. The struct / float3 functions further down are thin wrappers
+ * over the scalar cores (*_s), kept for tests and the generic boundary path. */
+#define SWCL_INLINE __attribute__((always_inline)) inline
+
+/* int, not uchar: a gather of 32-bit words, no zero extension. */
+__constant int swcl_perm[256] = {
     151,160,137,91,90,15,131,13,201,95,96,53,194,233,7,225,140,36,103,30,69,142,
     8,99,37,240,21,10,23,190,6,148,247,120,234,75,0,26,197,62,94,252,219,203,117,
     35,11,32,57,177,33,88,237,149,56,87,174,20,125,136,171,168,68,175,74,165,71,
@@ -56,120 +65,196 @@ __constant uchar swcl_perm[256] = {
 typedef struct { float v; float3 g; } swcl_vg3;
 typedef struct { float v; float4 g; } swcl_vg4;
 
-inline int swcl_perm_at(int i) { return (int)swcl_perm[i & 255]; }
+SWCL_INLINE int swcl_perm_at(int i) { return swcl_perm[i & 255]; }
 
-inline int swcl_hash3(int X, int Y, int Z)
+SWCL_INLINE int swcl_hash3(int X, int Y, int Z)
 {
     return swcl_perm_at(swcl_perm_at(swcl_perm_at(X) + Y) + Z);
 }
-inline int swcl_hash4(int X, int Y, int Z, int W)
+SWCL_INLINE int swcl_hash4(int X, int Y, int Z, int W)
 {
     return swcl_perm_at(swcl_perm_at(swcl_perm_at(swcl_perm_at(X) + Y) + Z) + W);
 }
 
-inline float swcl_fade(float t)  { return t * t * t * (t * (t * 6.0f - 15.0f) + 10.0f); }
-inline float swcl_dfade(float t) { return 30.0f * t * t * (t * (t - 2.0f) + 1.0f); }
+SWCL_INLINE float swcl_fade(float t)  { return t * t * t * (t * (t * 6.0f - 15.0f) + 10.0f); }
+SWCL_INLINE float swcl_dfade(float t) { return 30.0f * t * t * (t * (t - 2.0f) + 1.0f); }
 
-/* Perlin 2002 grad(hash, x, y, z) written as the gradient vector g, so that
- * grad(hash, x, y, z) = dot(g, (x, y, z)). */
-inline float3 swcl_grad3_vec(int h)
+/* floor(x) as an int, branch free (the builtin floor carries inf/NaN
+ * branches on PoCL). Exact for |x| < 2^31, the range of the int lattice
+ * indices anyway. */
+SWCL_INLINE int swcl_floor_i(float x)
+{
+    const int i = (int)x;                 /* truncation toward 0 */
+    return ((float)i > x) ? i - 1 : i;
+}
+
+/* Perlin 2002 grad(hash, x, y, z) as a vector g, grad = dot(g, (x, y, z)):
+ * u = h < 8 ? x : y, v = h < 4 ? y : (h == 12 || h == 14 ? x : z), signs from
+ * bits 0 and 1 (set -> -1). u and v are different axes. */
+SWCL_INLINE void swcl_grad3_s(int h, float* gx, float* gy, float* gz)
 {
     h &= 15;
-    float3 u = (h < 8) ? (float3)(1.0f, 0.0f, 0.0f) : (float3)(0.0f, 1.0f, 0.0f);
-    float3 v = (h < 4) ? (float3)(0.0f, 1.0f, 0.0f)
-             : ((h == 12 || h == 14) ? (float3)(1.0f, 0.0f, 0.0f) : (float3)(0.0f, 0.0f, 1.0f));
-    return ((h & 1) ? -u : u) + ((h & 2) ? -v : v);
+    const float su = (h & 1) ? -1.0f : 1.0f, sv = (h & 2) ? -1.0f : 1.0f;
+    const int vx = (h == 12) | (h == 14);
+    *gx = (h < 8) ? su : (vx ? sv : 0.0f);
+    *gy = (h < 8) ? ((h < 4) ? sv : 0.0f) : su;
+    *gz = (h >= 4 && !vx) ? sv : 0.0f;
 }
 
-/* 4D gradient: zero axis h>>3, signs from bits 0..2 (see header). */
-inline float4 swcl_grad4_vec(int h)
+/* 4D gradient: zero axis h >> 3, the other three in ascending order take the
+ * sign of bits 0, 1, 2 (set -> -1). */
+SWCL_INLINE void swcl_grad4_s(int h, float* gx, float* gy, float* gz, float* gw)
 {
     h &= 31;
-    float s0 = (h & 1) ? -1.0f : 1.0f, s1 = (h & 2) ? -1.0f : 1.0f, s2 = (h & 4) ? -1.0f : 1.0f;
-    switch (h >> 3) {
-    case 0:  return (float4)(0.0f, s0, s1, s2);
-    case 1:  return (float4)(s0, 0.0f, s1, s2);
-    case 2:  return (float4)(s0, s1, 0.0f, s2);
-    default: return (float4)(s0, s1, s2, 0.0f);
-    }
+    const int z = h >> 3;
+    const float s0 = (h & 1) ? -1.0f : 1.0f, s1 = (h & 2) ? -1.0f : 1.0f, s2 = (h & 4) ? -1.0f : 1.0f;
+    *gx = (z == 0) ? 0.0f : s0;
+    *gy = (z == 0) ? s0 : ((z == 1) ? 0.0f : s1);
+    *gz = (z <= 1) ? s1 : ((z == 2) ? 0.0f : s2);
+    *gw = (z == 3) ? 0.0f : s2;
 }
 
-/* lerp on (value, gradient) pairs along one axis; t = fade(f_axis), dt = fade'(f_axis). */
-inline swcl_vg3 swcl_dlerp3(float t, float dt, int axis, swcl_vg3 a, swcl_vg3 b)
+/* A corner of the 3D lattice: gradient g and value dot(g, d), d = f - corner. */
+#define SWCL_CORNER3(h, dx, dy, dz, C)                                        \
+    float C##x, C##y, C##z;                                                   \
+    swcl_grad3_s((h), &C##x, &C##y, &C##z);                                   \
+    const float C##v = C##x * (dx) + C##y * (dy) + C##z * (dz);
+
+/* lerp of (value, gradient) along axis AX: R = A + t (B - A), gradient
+ * gA + t (gB - gA) + dt (B - A) e_AX. */
+#define SWCL_DLERP3(t, dt, AX, A, B, R)                                       \
+    const float R##v = A##v + (t) * (B##v - A##v);                            \
+    const float R##x = A##x + (t) * (B##x - A##x) + ((AX) == 0 ? (dt) * (B##v - A##v) : 0.0f); \
+    const float R##y = A##y + (t) * (B##y - A##y) + ((AX) == 1 ? (dt) * (B##v - A##v) : 0.0f); \
+    const float R##z = A##z + (t) * (B##z - A##z) + ((AX) == 2 ? (dt) * (B##v - A##v) : 0.0f);
+
+/* Improved noise and its gradient at p, lattice shifted by (ox, oy, oz) whole
+ * cells (scalar core). */
+SWCL_INLINE void swcl_perlin3_s(float px, float py, float pz, int ox, int oy, int oz,
+                                float* val, float* gx, float* gy, float* gz)
 {
-    swcl_vg3 r;
-    r.v = a.v + t * (b.v - a.v);
-    r.g = a.g + t * (b.g - a.g);
-    float e = dt * (b.v - a.v);
-    if (axis == 0) r.g.x += e; else if (axis == 1) r.g.y += e; else r.g.z += e;
-    return r;
-}
-inline swcl_vg4 swcl_dlerp4(float t, float dt, int axis, swcl_vg4 a, swcl_vg4 b)
-{
-    swcl_vg4 r;
-    r.v = a.v + t * (b.v - a.v);
-    r.g = a.g + t * (b.g - a.g);
-    float e = dt * (b.v - a.v);
-    if (axis == 0) r.g.x += e; else if (axis == 1) r.g.y += e;
-    else if (axis == 2) r.g.z += e; else r.g.w += e;
-    return r;
+    const int ix = swcl_floor_i(px), iy = swcl_floor_i(py), iz = swcl_floor_i(pz);
+    const float x = px - (float)ix, y = py - (float)iy, z = pz - (float)iz;   /* exact */
+    const int X = ix + ox, Y = iy + oy, Z = iz + oz;
+    const float u = swcl_fade(x), v = swcl_fade(y), w = swcl_fade(z);
+    const float du = swcl_dfade(x), dv = swcl_dfade(y), dw = swcl_dfade(z);
+    const float x1 = x - 1.0f, y1 = y - 1.0f, z1 = z - 1.0f;
+    const int A = swcl_perm_at(X) + Y, B = swcl_perm_at(X + 1) + Y;
+    const int AA = swcl_perm_at(A) + Z, AB = swcl_perm_at(A + 1) + Z;
+    const int BA = swcl_perm_at(B) + Z, BB = swcl_perm_at(B + 1) + Z;
+    SWCL_CORNER3(swcl_perm_at(AA),     x,  y,  z,  c000)
+    SWCL_CORNER3(swcl_perm_at(BA),     x1, y,  z,  c100)
+    SWCL_CORNER3(swcl_perm_at(AB),     x,  y1, z,  c010)
+    SWCL_CORNER3(swcl_perm_at(BB),     x1, y1, z,  c110)
+    SWCL_CORNER3(swcl_perm_at(AA + 1), x,  y,  z1, c001)
+    SWCL_CORNER3(swcl_perm_at(BA + 1), x1, y,  z1, c101)
+    SWCL_CORNER3(swcl_perm_at(AB + 1), x,  y1, z1, c011)
+    SWCL_CORNER3(swcl_perm_at(BB + 1), x1, y1, z1, c111)
+    SWCL_DLERP3(u, du, 0, c000, c100, a00)
+    SWCL_DLERP3(u, du, 0, c010, c110, a10)
+    SWCL_DLERP3(u, du, 0, c001, c101, a01)
+    SWCL_DLERP3(u, du, 0, c011, c111, a11)
+    SWCL_DLERP3(v, dv, 1, a00, a10, b0)
+    SWCL_DLERP3(v, dv, 1, a01, a11, b1)
+    SWCL_DLERP3(w, dw, 2, b0, b1, r)
+    *val = rv; *gx = rx; *gy = ry; *gz = rz;
 }
 
-/* Corner term: value dot(g, f - c), gradient g (the linear part). */
-inline swcl_vg3 swcl_corner3(int X, int Y, int Z, int cx, int cy, int cz, float3 f)
+/* 4D: lattice corners and lerps on (value, 4-gradient). */
+#define SWCL_CORNER4(h, dx, dy, dz, dw, C)                                    \
+    float C##x, C##y, C##z, C##w;                                             \
+    swcl_grad4_s((h), &C##x, &C##y, &C##z, &C##w);                            \
+    const float C##v = C##x * (dx) + C##y * (dy) + C##z * (dz) + C##w * (dw);
+#define SWCL_DLERP4(t, dt, AX, A, B, R)                                       \
+    const float R##v = A##v + (t) * (B##v - A##v);                            \
+    const float R##x = A##x + (t) * (B##x - A##x) + ((AX) == 0 ? (dt) * (B##v - A##v) : 0.0f); \
+    const float R##y = A##y + (t) * (B##y - A##y) + ((AX) == 1 ? (dt) * (B##v - A##v) : 0.0f); \
+    const float R##z = A##z + (t) * (B##z - A##z) + ((AX) == 2 ? (dt) * (B##v - A##v) : 0.0f); \
+    const float R##w = A##w + (t) * (B##w - A##w) + ((AX) == 3 ? (dt) * (B##v - A##v) : 0.0f);
+
+/* hash of corner (cx, cy) of the (z, w) slab given h_zw = perm[perm[X+cx]+Y+cy]+Z */
+#define SWCL_H4(ZW, cz, cw) swcl_perm_at(swcl_perm_at((ZW) + (cz)) + W + (cw))
+
+SWCL_INLINE void swcl_perlin4_s(float px, float py, float pz, float pw, int ox, int oy, int oz, int ow,
+                                float* val, float* gx, float* gy, float* gz, float* gw)
 {
-    swcl_vg3 r;
-    r.g = swcl_grad3_vec(swcl_hash3(X + cx, Y + cy, Z + cz));
-    r.v = dot(r.g, f - (float3)((float)cx, (float)cy, (float)cz));
-    return r;
-}
-inline swcl_vg4 swcl_corner4(int4 L, int cx, int cy, int cz, int cw, float4 f)
-{
-    swcl_vg4 r;
-    r.g = swcl_grad4_vec(swcl_hash4(L.x + cx, L.y + cy, L.z + cz, L.w + cw));
-    r.v = dot(r.g, f - (float4)((float)cx, (float)cy, (float)cz, (float)cw));
-    return r;
+    const int ix = swcl_floor_i(px), iy = swcl_floor_i(py), iz = swcl_floor_i(pz), iw = swcl_floor_i(pw);
+    const float x = px - (float)ix, y = py - (float)iy, z = pz - (float)iz, w = pw - (float)iw;
+    const int X = ix + ox, Y = iy + oy, Z = iz + oz, W = iw + ow;
+    const float u = swcl_fade(x), v = swcl_fade(y), s = swcl_fade(z), q = swcl_fade(w);
+    const float du = swcl_dfade(x), dv = swcl_dfade(y), ds = swcl_dfade(z), dq = swcl_dfade(w);
+    const float x1 = x - 1.0f, y1 = y - 1.0f, z1 = z - 1.0f, w1 = w - 1.0f;
+    /* hash4 = perm[perm[perm[perm[X]+Y]+Z]+W] */
+    const int P0 = swcl_perm_at(X) + Y, P1 = swcl_perm_at(X + 1) + Y;
+    const int Z00 = swcl_perm_at(P0) + Z, Z10 = swcl_perm_at(P1) + Z;         /* (cx, cy) */
+    const int Z01 = swcl_perm_at(P0 + 1) + Z, Z11 = swcl_perm_at(P1 + 1) + Z;
+    SWCL_CORNER4(SWCL_H4(Z00, 0, 0), x,  y,  z,  w,  c0000)
+    SWCL_CORNER4(SWCL_H4(Z10, 0, 0), x1, y,  z,  w,  c1000)
+    SWCL_CORNER4(SWCL_H4(Z01, 0, 0), x,  y1, z,  w,  c0100)
+    SWCL_CORNER4(SWCL_H4(Z11, 0, 0), x1, y1, z,  w,  c1100)
+    SWCL_CORNER4(SWCL_H4(Z00, 1, 0), x,  y,  z1, w,  c0010)
+    SWCL_CORNER4(SWCL_H4(Z10, 1, 0), x1, y,  z1, w,  c1010)
+    SWCL_CORNER4(SWCL_H4(Z01, 1, 0), x,  y1, z1, w,  c0110)
+    SWCL_CORNER4(SWCL_H4(Z11, 1, 0), x1, y1, z1, w,  c1110)
+    SWCL_CORNER4(SWCL_H4(Z00, 0, 1), x,  y,  z,  w1, c0001)
+    SWCL_CORNER4(SWCL_H4(Z10, 0, 1), x1, y,  z,  w1, c1001)
+    SWCL_CORNER4(SWCL_H4(Z01, 0, 1), x,  y1, z,  w1, c0101)
+    SWCL_CORNER4(SWCL_H4(Z11, 0, 1), x1, y1, z,  w1, c1101)
+    SWCL_CORNER4(SWCL_H4(Z00, 1, 1), x,  y,  z1, w1, c0011)
+    SWCL_CORNER4(SWCL_H4(Z10, 1, 1), x1, y,  z1, w1, c1011)
+    SWCL_CORNER4(SWCL_H4(Z01, 1, 1), x,  y1, z1, w1, c0111)
+    SWCL_CORNER4(SWCL_H4(Z11, 1, 1), x1, y1, z1, w1, c1111)
+    /* x, then y, then z, then w, as the reference (nested lerps) */
+    SWCL_DLERP4(u, du, 0, c0000, c1000, a000) SWCL_DLERP4(u, du, 0, c0100, c1100, a100)
+    SWCL_DLERP4(u, du, 0, c0010, c1010, a010) SWCL_DLERP4(u, du, 0, c0110, c1110, a110)
+    SWCL_DLERP4(u, du, 0, c0001, c1001, a001) SWCL_DLERP4(u, du, 0, c0101, c1101, a101)
+    SWCL_DLERP4(u, du, 0, c0011, c1011, a011) SWCL_DLERP4(u, du, 0, c0111, c1111, a111)
+    SWCL_DLERP4(v, dv, 1, a000, a100, b00) SWCL_DLERP4(v, dv, 1, a010, a110, b10)
+    SWCL_DLERP4(v, dv, 1, a001, a101, b01) SWCL_DLERP4(v, dv, 1, a011, a111, b11)
+    SWCL_DLERP4(s, ds, 2, b00, b10, e0) SWCL_DLERP4(s, ds, 2, b01, b11, e1)
+    SWCL_DLERP4(q, dq, 3, e0, e1, r)
+    *val = rv; *gx = rx; *gy = ry; *gz = rz; *gw = rw;
 }
 
-/* Improved noise and its gradient at p, lattice shifted by ioff whole cells. */
-inline swcl_vg3 swcl_perlin3_shifted(float3 p, int3 ioff)
+/* Seeded channel (see header): fraction of the Philox offset added to the
+ * coordinate, whole cells to the lattice index. */
+SWCL_INLINE float swcl_off_frac(uint o) { return (float)(o & 0xffffffu) * 0x1.0p-24f; }
+SWCL_INLINE int swcl_off_cells(uint o) { return (int)(o >> 24); }
+
+SWCL_INLINE void swcl_perlin3_seeded_s(float px, float py, float pz, uint4 o,
+                                       float* val, float* gx, float* gy, float* gz)
 {
-    float3 fl = floor(p);
-    float3 f = p - fl;                      /* exact in float */
-    int X = (int)fl.x + ioff.x, Y = (int)fl.y + ioff.y, Z = (int)fl.z + ioff.z;
-    float3 u = (float3)(swcl_fade(f.x), swcl_fade(f.y), swcl_fade(f.z));
-    float3 du = (float3)(swcl_dfade(f.x), swcl_dfade(f.y), swcl_dfade(f.z));
-    swcl_vg3 x00 = swcl_dlerp3(u.x, du.x, 0, swcl_corner3(X, Y, Z, 0, 0, 0, f), swcl_corner3(X, Y, Z, 1, 0, 0, f));
-    swcl_vg3 x10 = swcl_dlerp3(u.x, du.x, 0, swcl_corner3(X, Y, Z, 0, 1, 0, f), swcl_corner3(X, Y, Z, 1, 1, 0, f));
-    swcl_vg3 x01 = swcl_dlerp3(u.x, du.x, 0, swcl_corner3(X, Y, Z, 0, 0, 1, f), swcl_corner3(X, Y, Z, 1, 0, 1, f));
-    swcl_vg3 x11 = swcl_dlerp3(u.x, du.x, 0, swcl_corner3(X, Y, Z, 0, 1, 1, f), swcl_corner3(X, Y, Z, 1, 1, 1, f));
-    swcl_vg3 y0 = swcl_dlerp3(u.y, du.y, 1, x00, x10);
-    swcl_vg3 y1 = swcl_dlerp3(u.y, du.y, 1, x01, x11);
-    return swcl_dlerp3(u.z, du.z, 2, y0, y1);
+    swcl_perlin3_s(px + swcl_off_frac(o.x), py + swcl_off_frac(o.y), pz + swcl_off_frac(o.z),
+                   swcl_off_cells(o.x), swcl_off_cells(o.y), swcl_off_cells(o.z), val, gx, gy, gz);
+}
+SWCL_INLINE void swcl_perlin4_seeded_s(float px, float py, float pz, float pw, uint4 o,
+                                       float* val, float* gx, float* gy, float* gz, float* gw)
+{
+    swcl_perlin4_s(px + swcl_off_frac(o.x), py + swcl_off_frac(o.y), pz + swcl_off_frac(o.z),
+                   pw + swcl_off_frac(o.w), swcl_off_cells(o.x), swcl_off_cells(o.y),
+                   swcl_off_cells(o.z), swcl_off_cells(o.w), val, gx, gy, gz, gw);
 }
 
-inline swcl_vg4 swcl_perlin4_shifted(float4 p, int4 ioff)
+/* ---- struct / vector wrappers (tests, generic paths) ---- */
+
+SWCL_INLINE swcl_vg3 swcl_perlin3_shifted(float3 p, int3 ioff)
 {
-    float4 fl = floor(p);
-    float4 f = p - fl;
-    int4 L = convert_int4(fl) + ioff;
-    float4 u = (float4)(swcl_fade(f.x), swcl_fade(f.y), swcl_fade(f.z), swcl_fade(f.w));
-    float4 du = (float4)(swcl_dfade(f.x), swcl_dfade(f.y), swcl_dfade(f.z), swcl_dfade(f.w));
-    swcl_vg4 zw[4];                          /* index (cz + 2 cw) after the x and y lerps */
-    for (int c = 0; c < 4; ++c) {
-        int cz = c & 1, cw = c >> 1;
-        swcl_vg4 x0 = swcl_dlerp4(u.x, du.x, 0, swcl_corner4(L, 0, 0, cz, cw, f), swcl_corner4(L, 1, 0, cz, cw, f));
-        swcl_vg4 x1 = swcl_dlerp4(u.x, du.x, 0, swcl_corner4(L, 0, 1, cz, cw, f), swcl_corner4(L, 1, 1, cz, cw, f));
-        zw[c] = swcl_dlerp4(u.y, du.y, 1, x0, x1);
-    }
-    swcl_vg4 w0 = swcl_dlerp4(u.z, du.z, 2, zw[0], zw[1]);
-    swcl_vg4 w1 = swcl_dlerp4(u.z, du.z, 2, zw[2], zw[3]);
-    return swcl_dlerp4(u.w, du.w, 3, w0, w1);
+    swcl_vg3 r; float gx, gy, gz;
+    swcl_perlin3_s(p.x, p.y, p.z, ioff.x, ioff.y, ioff.z, &r.v, &gx, &gy, &gz);
+    r.g = (float3)(gx, gy, gz);
+    return r;
+}
+SWCL_INLINE swcl_vg4 swcl_perlin4_shifted(float4 p, int4 ioff)
+{
+    swcl_vg4 r; float gx, gy, gz, gw;
+    swcl_perlin4_s(p.x, p.y, p.z, p.w, ioff.x, ioff.y, ioff.z, ioff.w, &r.v, &gx, &gy, &gz, &gw);
+    r.g = (float4)(gx, gy, gz, gw);
+    return r;
 }
 
 /* Unseeded noise (Perlin's reference function) with gradient. */
-inline swcl_vg3 swcl_perlin3(float3 p) { return swcl_perlin3_shifted(p, (int3)(0)); }
-inline swcl_vg4 swcl_perlin4(float4 p) { return swcl_perlin4_shifted(p, (int4)(0)); }
+SWCL_INLINE swcl_vg3 swcl_perlin3(float3 p) { return swcl_perlin3_shifted(p, (int3)(0)); }
+SWCL_INLINE swcl_vg4 swcl_perlin4(float4 p) { return swcl_perlin4_shifted(p, (int4)(0)); }
 
 /* Per-seed, per-channel domain offset (see header): a raw Philox draw. */
 inline uint4 swcl_perlin_offset(ulong seed, uint channel)
@@ -180,13 +265,19 @@ inline int4 swcl_offset_cells(uint4 o) { return convert_int4(o >> 24); }
 inline float4 swcl_offset_frac(uint4 o) { return convert_float4(o & 0xffffffu) * 0x1.0p-24f; }
 
 /* Seeded noise: value and gradient (d/dp) of noise_seed(p) = noise(p + offset). */
-inline swcl_vg3 swcl_perlin3_seeded(float3 p, uint4 o)
+SWCL_INLINE swcl_vg3 swcl_perlin3_seeded(float3 p, uint4 o)
 {
-    return swcl_perlin3_shifted(p + swcl_offset_frac(o).xyz, swcl_offset_cells(o).xyz);
+    swcl_vg3 r; float gx, gy, gz;
+    swcl_perlin3_seeded_s(p.x, p.y, p.z, o, &r.v, &gx, &gy, &gz);
+    r.g = (float3)(gx, gy, gz);
+    return r;
 }
-inline swcl_vg4 swcl_perlin4_seeded(float4 p, uint4 o)
+SWCL_INLINE swcl_vg4 swcl_perlin4_seeded(float4 p, uint4 o)
 {
-    return swcl_perlin4_shifted(p + swcl_offset_frac(o), swcl_offset_cells(o));
+    swcl_vg4 r; float gx, gy, gz, gw;
+    swcl_perlin4_seeded_s(p.x, p.y, p.z, p.w, o, &r.v, &gx, &gy, &gz, &gw);
+    r.g = (float4)(gx, gy, gz, gw);
+    return r;
 }
 
 #endif /* SWCL_PERLIN_CL */

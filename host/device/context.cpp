@@ -15,26 +15,28 @@ Context::Context(const std::string& selector, const std::string& build_options)
     if (!build_options.empty()) options_ += " " + build_options;
 }
 
-cl::Program Context::program(const std::string& file) {
+cl::Program Context::program(const std::string& file, const std::string& defines) {
     std::lock_guard<std::mutex> lock(programs_mutex_);
-    if (auto it = programs_.find(file); it != programs_.end()) return it->second;
+    const std::string key = defines.empty() ? file : file + '\n' + defines;
+    if (auto it = programs_.find(key); it != programs_.end()) return it->second;
     cl::Program program(context_, load_kernel_source(file));
+    const std::string options = defines.empty() ? options_ : options_ + " " + defines;
     try {
-        program.build({device_.device}, options_.c_str());
+        program.build({device_.device}, options.c_str());
     } catch (const cl::BuildError& e) {
         std::string log;
         for (const auto& entry : e.getBuildLog()) log += entry.second;
-        fail(Status::Build, "building kernels/" + file + " with '" + options_ + "' failed:\n" + log);
+        fail(Status::Build, "building kernels/" + file + " with '" + options + "' failed:\n" + log);
     } catch (const cl::Error& e) {
         std::string log = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device_.device);
         fail(Status::Build, "building kernels/" + file + " failed (" + std::to_string(e.err()) + "):\n" + log);
     }
-    programs_.emplace(file, program);
+    programs_.emplace(key, program);
     return program;
 }
 
-cl::Kernel Context::kernel(const std::string& file, const char* name) {
-    return cl::Kernel(program(file), name);
+cl::Kernel Context::kernel(const std::string& file, const char* name, const std::string& defines) {
+    return cl::Kernel(program(file, defines), name);
 }
 
 }  // namespace swarmcl

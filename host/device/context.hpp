@@ -20,11 +20,13 @@ public:
     cl::Context& cl_context() { return context_; }
     cl::CommandQueue& queue() { return queue_; }
 
-    // The program compiled from kernels/<file> (includes expanded).  A build
-    // failure throws Error(Build) carrying the compiler log.
-    cl::Program program(const std::string& file);
+    // The program compiled from kernels/<file> (includes expanded), with
+    // `defines` (e.g. "-DNOISE_KIND=0") appended to the build options; each
+    // (file, defines) pair is built once and kept.  A build failure throws
+    // Error(Build) carrying the compiler log.
+    cl::Program program(const std::string& file, const std::string& defines = "");
     // A fresh kernel object (kernels hold arguments, so callers keep their own).
-    cl::Kernel kernel(const std::string& file, const char* name);
+    cl::Kernel kernel(const std::string& file, const char* name, const std::string& defines = "");
 
     // Largest single allocation the device allows, in bytes.
     uint64_t max_allocation() const { return device_.max_allocation; }

@@ -157,6 +157,24 @@ cl_uint NoiseField::set_args(cl::Kernel& k, cl_uint i) const {
     return i;
 }
 
+std::string NoiseField::defines() const {
+    const auto& c = config_;
+    if (baked_ready_) return "-DNOISE_KIND=4";  // NOISE_KIND_BAKED
+    std::string d = "-DNOISE_KIND=" + std::to_string(int(c.type));
+    if (c.type == NoiseType::Curl || c.type == NoiseType::Perlin)
+        d += std::string(" -DNOISE_TIMED=") + (c.time_scale > 0.0f ? "1" : "0");
+    if (c.type == NoiseType::Curl) {
+        d += std::string(" -DNOISE_FD=") + (c.finite_difference ? "1" : "0");
+        d += std::string(" -DNOISE_WALLS=") + (c.domain_walls ? "1" : "0");
+        d += std::string(" -DNOISE_OBSTACLES=") + (c.boundaries.empty() ? "0" : "1");
+    }
+    return d;
+}
+
+cl::Kernel NoiseField::kernel(const std::string& file, const char* name) const {
+    return ctx_.kernel(file, name, defines());
+}
+
 void NoiseField::bake() {
     const auto& c = config_;
     for (int a = 0; a < 3; ++a) {
@@ -167,7 +185,7 @@ void NoiseField::bake() {
     bake_cell_.s[3] = 1.0f;
     const size_t nodes = size_t(c.bake_resolution[0]) * c.bake_resolution[1] * c.bake_resolution[2];
     DeviceBuffer<cl_float4> grid(ctx_, nodes, "baked noise");
-    cl::Kernel kernel = ctx_.kernel("noise_field.cl", "noise_bake");
+    cl::Kernel kernel = this->kernel("noise_field.cl", "noise_bake");
     const cl_uint i = set_args(kernel, 0);  // procedural: baked_ready_ is false
     kernel.setArg(i, grid.get());
     launch(ctx_, kernel, nodes);
@@ -194,7 +212,7 @@ void NoiseField::sample(const float* xyz, size_t n, float time, uint32_t step, f
     if (n == 0) return;
     DeviceBuffer<cl_float4> in(ctx_, n, "noise sample points"), result(ctx_, n, "noise sample results");
     in.upload(ctx_, points.data(), n);
-    cl::Kernel kernel = ctx_.kernel("noise_field.cl", "noise_sample");
+    cl::Kernel kernel = this->kernel("noise_field.cl", "noise_sample");
     cl_uint i = 0;
     kernel.setArg(i++, in.get());
     kernel.setArg(i++, cl_uint(n));

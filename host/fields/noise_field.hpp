@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "device/buffer.hpp"
@@ -54,6 +55,13 @@ public:
 
     // Appends the NOISE_PARAMS arguments (noise_field.cl) from `index` on.
     cl_uint set_args(cl::Kernel& kernel, cl_uint index) const;
+
+    // Build options that specialise kernels/noise_field.cl (and files that
+    // include it) for this field: -DNOISE_KIND, NOISE_TIMED, NOISE_FD,
+    // NOISE_WALLS, NOISE_OBSTACLES.  The kernel arguments stay the same.
+    std::string defines() const;
+    // A kernel from `file` built for this field (Context::kernel with defines()).
+    cl::Kernel kernel(const std::string& file, const char* name) const;
 
     // Samples at n packed xyz points into out (packed xyz); point i counts as
     // agent i for the random noise types.

@@ -21,7 +21,8 @@ FieldModel::FieldModel(Swarm& swarm, FieldModelConfig config) : config_(std::mov
     Context& ctx = swarm.context();
     noise_ = std::make_unique<NoiseField>(ctx, c.noise, &swarm.config().domain_min, &swarm.config().domain_max);
     if (c.min_distance > 0.0f) mde_.emplace(ctx, c.min_distance, c.noise.seed);
-    advance_ = ctx.kernel("field_model.cl", "field_model_advance");
+    // Built for this noise configuration (NoiseField::defines).
+    advance_ = noise_->kernel("field_model.cl", "field_model_advance");
     moved_.allocate(ctx, 2, "MDE counters");
     moved_.fill(ctx, 0u, 2);
 }
