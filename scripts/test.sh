@@ -7,3 +7,12 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/scripts/build.sh"
 cd "${SWARMCL_BUILD_DIR:-$root/build}"
 ctest --output-on-failure -j "$(nproc)"
+
+# ---- Python package: pip-installs the project (scikit-build-core builds the
+# library into the wheel; CMake's folder build/python/ is kept, so a rerun only
+# rebuilds what changed) into a venv kept at build/venv, then runs pytest.
+venv="${SWARMCL_BUILD_DIR:-$root/build}/venv"
+[ -x "$venv/bin/python" ] || python3 -m venv "$venv"
+"$venv/bin/python" -m pip install -q --disable-pip-version-check "$root[test]"
+cd "$root"
+"$venv/bin/python" -m pytest -q -p no:cacheprovider tests/python

@@ -1,0 +1,29 @@
+"""swarmcl: swarm simulation on OpenCL devices, from Python.
+
+A thin layer over the library's C API (``swarmcl/swarmcl.h``), loaded with cffi
+in ABI mode; see bindings/python/README.md.
+
+>>> import swarmcl, numpy as np
+>>> with swarmcl.Context() as ctx, swarmcl.Swarm(ctx, agent_count=1000, seed=1) as s:
+...     s.set_field_model(swarmcl.FieldModel(min_distance=0.03))
+...     s.step(10)
+...     p = s.read_positions()          # (1000, 3) float32, agent-id order
+"""
+
+from ._native import constants, ffi, header_path, lib, library_path
+from ._core import NO_AGENT, Context, Recorder, Scenario, Swarm, devices, noise_sample, version
+from .descriptors import (Box, DeviceInfo, DeviceType, FieldModel, NoiseDesc, NoiseType, Plane,
+                          Sphere, StepStats)
+from .errors import (BuildError, InternalError, InvalidArgumentError, InvalidHandleError, IOError_,
+                     NoDeviceError, OpenCLError, OutOfMemoryError, ParseError, SwarmclError)
+
+__version__ = version()
+
+__all__ = [
+    "Context", "Swarm", "Scenario", "Recorder", "devices", "noise_sample", "version", "NO_AGENT",
+    "NoiseDesc", "NoiseType", "FieldModel", "Sphere", "Box", "Plane", "DeviceInfo", "DeviceType",
+    "StepStats",
+    "SwarmclError", "InvalidArgumentError", "InvalidHandleError", "NoDeviceError", "BuildError",
+    "OutOfMemoryError", "IOError_", "ParseError", "OpenCLError", "InternalError",
+    "ffi", "lib", "constants", "header_path", "library_path",
+]

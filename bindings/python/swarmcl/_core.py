@@ -1,0 +1,412 @@
+"""Context, Swarm and the free functions over the C API."""
+
+from __future__ import annotations
+
+import operator
+import os
+import weakref
+from typing import Optional
+
+import numpy as np
+
+from ._native import constants, ffi, lib
+from .descriptors import DeviceInfo, FieldModel, NoiseDesc, StepStats
+from .errors import check, error_for
+
+__all__ = ["Context", "Swarm", "Scenario", "Recorder", "devices", "noise_sample", "version", "NO_AGENT"]
+
+NO_AGENT: int = constants["SWCL_NO_AGENT"]
+_POSITION = int(lib.SWCL_ATTRIBUTE_POSITION)
+_VELOCITY = int(lib.SWCL_ATTRIBUTE_VELOCITY)
+_SWARM_DEFAULT = lib.swcl_swarm_desc_default()
+
+
+def version() -> str:
+    """The version of the loaded library, e.g. '0.1.0'."""
+    return ffi.string(lib.swcl_version_string()).decode()
+
+
+def _device_info_from(fill) -> DeviceInfo:
+    info = ffi.new("swcl_device_info*")
+    info.struct_size = ffi.sizeof("swcl_device_info")
+    check(fill(info))
+    return DeviceInfo._from_c(info)
+
+
+def devices() -> list:
+    """Every OpenCL device of every platform (NoDeviceError without OpenCL)."""
+    n = ffi.new("uint32_t*")
+    check(lib.swcl_device_count(n))
+    return [_device_info_from(lambda p, i=i: lib.swcl_device_get_info(i, p)) for i in range(n[0])]
+
+
+# ---- arrays ----------------------------------------------------------------------
+
+def _out_array(out, shape, dtype, what: str) -> np.ndarray:
+    """``out`` if it is a writeable C-contiguous array of the shape and dtype
+    (filled in place, no copy), else a new one when out is None."""
+    if out is None:
+        return np.empty(shape, dtype=dtype)
+    if not isinstance(out, np.ndarray):
+        raise TypeError(f"{what}: out must be a numpy.ndarray, got {type(out).__name__}")
+    if out.dtype != dtype or out.shape != shape:
+        raise ValueError(f"{what}: out must be {np.dtype(dtype).name} of shape {shape}, "
+                         f"got {out.dtype.name} of shape {out.shape}")
+    if not out.flags.c_contiguous or not out.flags.writeable:
+        raise ValueError(f"{what}: out must be C-contiguous and writeable")
+    return out
+
+
+def _xyz_in(values, what: str) -> np.ndarray:
+    """Any array-like of shape (N, 3) as C-contiguous float32 (one conversion,
+    none when it already is)."""
+    a = np.ascontiguousarray(values, dtype=np.float32)
+    if a.ndim == 1 and a.size == 0:
+        a = a.reshape(0, 3)
+    if a.ndim != 2 or a.shape[1] != 3:
+        raise ValueError(f"{what}: expected shape (N, 3), got {a.shape}")
+    return a
+
+
+def _fptr(a: np.ndarray):
+    return ffi.from_buffer("float[]", a) if a.size else ffi.NULL
+
+
+def _uptr(a: np.ndarray):
+    return ffi.from_buffer("uint32_t[]", a) if a.size else ffi.NULL
+
+
+# ---- lifetime --------------------------------------------------------------------
+
+def _destroy(fn, ctype: str, handle_id: int) -> None:
+    # Runs from close(), a with-block exit, garbage collection or interpreter
+    # exit; never raises (a handle already gone is fine).
+    try:
+        fn(ffi.new(ctype, [handle_id])[0])
+    except Exception:  # pragma: no cover - interpreter shutdown
+        pass
+
+
+class _Handle:
+    _kind = ""
+
+    def _adopt(self, handle_ptr, destroy, ctype: str) -> None:
+        self._hp = handle_ptr           # owns the memory the handle struct views
+        self._h = handle_ptr[0]         # passed by value to every call
+        self._finalizer = weakref.finalize(self, _destroy, destroy, ctype, int(handle_ptr[0].id))
+
+    @property
+    def handle_id(self) -> int:
+        """The C handle's id (never reused by the library)."""
+        return int(self._h.id)
+
+    @property
+    def closed(self) -> bool:
+        return not self._finalizer.alive
+
+    def close(self) -> None:
+        """Releases the C object now (also done by ``with`` and garbage
+        collection).  Later calls raise InvalidHandleError."""
+        self._finalizer()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def __repr__(self) -> str:
+        state = "closed" if self.closed else f"id={self.handle_id}"
+        return f"<swarmcl.{type(self).__name__} {state}>"
+
+
+class Context(_Handle):
+    """An OpenCL device with swarmcl's kernels built for it.
+
+    ``device``: None (``$SWARMCL_DEVICE``, else the first GPU, else the first
+    CPU), an index (``0``) or a case-insensitive part of the platform or device
+    name (``"pthread"``, ``"nvidia"``)."""
+
+    def __init__(self, device=None, build_options: Optional[str] = None):
+        desc = ffi.new("swcl_context_desc*", lib.swcl_context_desc_default())
+        keep = []
+        if device is not None:
+            keep.append(ffi.new("char[]", str(device).encode()))
+            desc.device = keep[-1]
+        if build_options:
+            keep.append(ffi.new("char[]", str(build_options).encode()))
+            desc.build_options = keep[-1]
+        out = ffi.new("swcl_context*")
+        check(lib.swcl_context_create(desc, out))
+        self._adopt(out, lib.swcl_context_destroy, "swcl_context*")
+
+    @property
+    def device(self) -> DeviceInfo:
+        """The device the context runs on."""
+        return _device_info_from(lambda p: lib.swcl_context_device_info(self._h, p))
+
+
+class Swarm(_Handle):
+    """A swarm of agents on a context's device.
+
+    Arguments left at None take swcl_swarm_desc_default()'s values, except that
+    ``capacity`` grows to ``agent_count`` when only the latter is given.
+    ``domain`` is ((x0, y0, z0), (x1, y1, z1)) in metres.  Swarms stay usable
+    after their context is closed."""
+
+    def __init__(self, context: Context, capacity: Optional[int] = None,
+                 agent_count: Optional[int] = None, seed: Optional[int] = None,
+                 domain=None, interaction_radius: Optional[float] = None,
+                 dt: Optional[float] = None):
+        if not isinstance(context, Context):
+            raise TypeError(f"context must be a swarmcl.Context, got {type(context).__name__}")
+        desc = ffi.new("swcl_swarm_desc*", _SWARM_DEFAULT)
+        if capacity is None and agent_count is not None:
+            capacity = max(int(desc.capacity), operator.index(agent_count))
+        for name, value in (("capacity", capacity), ("agent_count", agent_count), ("seed", seed)):
+            if value is not None:
+                value = operator.index(value)
+                limit = 2**64 if name == "seed" else 2**32
+                if not 0 <= value < limit:
+                    raise ValueError(f"Swarm: {name} must be in [0, {limit}), got {value}")
+                setattr(desc, name, value)
+        if domain is not None:
+            lo, hi = domain
+            desc.domain_min = tuple(float(v) for v in lo)
+            desc.domain_max = tuple(float(v) for v in hi)
+        if interaction_radius is not None:
+            desc.interaction_radius = interaction_radius
+        if dt is not None:
+            desc.dt = dt
+        out = ffi.new("swcl_swarm*")
+        check(lib.swcl_swarm_create(context._h, desc, out))
+        self._init_handle(out, context)
+
+    def _init_handle(self, handle_ptr, context: Context) -> None:
+        self._adopt(handle_ptr, lib.swcl_swarm_destroy, "swcl_swarm*")
+        self.context = context
+        self._u32 = ffi.new("uint32_t*")
+        self._u64 = ffi.new("uint64_t*")
+
+    @classmethod
+    def _wrap(cls, handle_ptr, context: Context) -> "Swarm":
+        """A Swarm object owning a handle made elsewhere (a scenario)."""
+        s = cls.__new__(cls)
+        s._init_handle(handle_ptr, context)
+        return s
+
+    # ---- counts --------------------------------------------------------------
+
+    @property
+    def agent_count(self) -> int:
+        check(lib.swcl_swarm_agent_count(self._h, self._u32))
+        return int(self._u32[0])
+
+    def __len__(self) -> int:
+        return self.agent_count
+
+    @property
+    def step_count(self) -> int:
+        """Steps simulated so far."""
+        check(lib.swcl_swarm_step_count(self._h, self._u64))
+        return int(self._u64[0])
+
+    # ---- state -----------------------------------------------------------------
+
+    def _read(self, attribute: int, out, what: str) -> np.ndarray:
+        n = self.agent_count
+        out = _out_array(out, (n, 3), np.float32, what)
+        check(lib.swcl_swarm_read(self._h, attribute, _fptr(out), n))
+        return out
+
+    def _write(self, attribute: int, values, what: str) -> None:
+        a = _xyz_in(values, what)
+        check(lib.swcl_swarm_write(self._h, attribute, _fptr(a), a.shape[0]))
+
+    def read_positions(self, out: Optional[np.ndarray] = None) -> np.ndarray:
+        """Positions (N, 3) float32 in agent-id order, written straight into
+        ``out`` (a C-contiguous float32 array, returned) or a new array."""
+        return self._read(_POSITION, out, "read_positions")
+
+    def read_velocities(self, out: Optional[np.ndarray] = None) -> np.ndarray:
+        """Velocities (N, 3) float32, like read_positions."""
+        return self._read(_VELOCITY, out, "read_velocities")
+
+    def write_positions(self, positions) -> None:
+        """Sets positions from any (N, 3) array-like; the agent count becomes N
+        (<= capacity); new agents start at rest."""
+        self._write(_POSITION, positions, "write_positions")
+
+    def write_velocities(self, velocities) -> None:
+        """Sets velocities from any (N, 3) array-like, N = agent_count."""
+        self._write(_VELOCITY, velocities, "write_velocities")
+
+    positions = property(lambda self: self.read_positions(), write_positions,
+                         doc="Positions as a new (N, 3) float32 array; assigning writes them.")
+    velocities = property(lambda self: self.read_velocities(), write_velocities,
+                          doc="Velocities as a new (N, 3) float32 array; assigning writes them.")
+
+    # ---- stepping ----------------------------------------------------------------
+
+    def step(self, steps: int = 1) -> None:
+        """Advances ``steps`` time steps of dt (ballistic without a model)."""
+        try:
+            status = lib.swcl_swarm_step(self._h, steps)
+        except (OverflowError, TypeError) as exc:
+            raise ValueError(f"step: steps must be an integer in [0, 2**32), got {steps!r}") from exc
+        if status:
+            raise error_for(status)
+
+    def set_field_model(self, model: FieldModel) -> None:
+        """Moves the swarm with the curl-noise paper's field model from the next step."""
+        if not isinstance(model, FieldModel):
+            raise TypeError(f"set_field_model: expected a FieldModel, got {type(model).__name__}")
+        desc, _keep = model.to_c()
+        check(lib.swcl_swarm_set_field_model(self._h, desc))
+
+    def clear_model(self) -> None:
+        """Back to ballistic motion."""
+        check(lib.swcl_swarm_clear_model(self._h))
+
+    def take_step_stats(self) -> StepStats:
+        """Model statistics since the last call (waits for the device)."""
+        out = ffi.new("swcl_step_stats*")
+        out.struct_size = ffi.sizeof("swcl_step_stats")
+        check(lib.swcl_swarm_take_step_stats(self._h, out))
+        return StepStats(agents=int(out.agents), mde_moved_last=int(out.mde_moved_last),
+                         mde_moved_total=int(out.mde_moved_total), steps=int(out.steps))
+
+    # ---- neighbour queries -----------------------------------------------------------
+
+    def neighbor_count(self, radius: float, out: Optional[np.ndarray] = None) -> np.ndarray:
+        """Number of other agents within ``radius`` of each agent, uint32 (N,)."""
+        n = self.agent_count
+        out = _out_array(out, (n,), np.uint32, "neighbor_count")
+        check(lib.swcl_swarm_neighbor_count(self._h, radius, _uptr(out), n))
+        return out
+
+    def nearest_neighbor(self):
+        """(distances float32 (N,), ids uint32 (N,)) of each agent's nearest
+        other agent; alone: (inf, NO_AGENT)."""
+        n = self.agent_count
+        dist = np.empty(n, np.float32)
+        ids = np.empty(n, np.uint32)
+        check(lib.swcl_swarm_nearest_neighbor(self._h, _fptr(dist), _uptr(ids), n))
+        return dist, ids
+
+    def neighbor_lists(self, radius: float, max_neighbors: int):
+        """(ids uint32 (N, max_neighbors) nearest first, padded with NO_AGENT;
+        counts uint32 (N,) full neighbour counts; number of truncated lists)."""
+        n = self.agent_count
+        cap = operator.index(max_neighbors)
+        if cap < 0:
+            raise ValueError(f"neighbor_lists: max_neighbors must be >= 0, got {cap}")
+        ids = np.empty((n, cap), np.uint32)
+        counts = np.empty(n, np.uint32)
+        truncated = ffi.new("uint32_t*")
+        check(lib.swcl_swarm_neighbor_lists(self._h, radius, cap, _uptr(ids), _uptr(counts), n, truncated))
+        return ids, counts, int(truncated[0])
+
+
+def noise_sample(context: Context, desc: NoiseDesc, points, time: float = 0.0, step: int = 0,
+                 out: Optional[np.ndarray] = None) -> np.ndarray:
+    """Evaluates a noise field at (N, 3) points; returns (N, 3) float32
+    velocities (into ``out`` when given).  Point i counts as agent i for WHITE
+    and GAUSSIAN noise."""
+    if not isinstance(context, Context):
+        raise TypeError(f"context must be a swarmcl.Context, got {type(context).__name__}")
+    if not isinstance(desc, NoiseDesc):
+        raise TypeError(f"desc must be a NoiseDesc, got {type(desc).__name__}")
+    pts = _xyz_in(points, "noise_sample")
+    out = _out_array(out, pts.shape, np.float32, "noise_sample")
+    cdesc, _keep = desc.to_c()
+    check(lib.swcl_noise_sample(context._h, cdesc, _fptr(pts), pts.shape[0], time, step, _fptr(out)))
+    return out
+
+
+# ---- scenario files and recording ------------------------------------------------
+
+def _export_formats(formats) -> int:
+    """'csv' | 'npy' | 'vtp', a list of them, or the swcl_export_format bits."""
+    if isinstance(formats, int):
+        return formats
+    if isinstance(formats, str):
+        formats = [formats]
+    bits = 0
+    for f in formats:
+        name = "SWCL_EXPORT_" + str(f).strip().upper()
+        if not hasattr(lib, name):
+            raise ValueError(f"unknown export format {f!r}; one of csv, npy, vtp")
+        bits |= int(getattr(lib, name))
+    return bits
+
+
+def _format_names(bits: int) -> tuple:
+    elements = ffi.typeof("swcl_export_format").relements
+    return tuple(k[len("SWCL_EXPORT_"):].lower() for k, v in sorted(elements.items(), key=lambda kv: kv[1])
+                 if bits & v)
+
+
+class Scenario(_Handle):
+    """A validated scenario (docs/scenarios.md), from ``Scenario.load(path)``
+    or ``Scenario.parse(json_text)``.  A malformed file raises ParseError
+    naming the line and column or the key path ("model.noise.scale: ...");
+    an unreadable one IOError_."""
+
+    def __init__(self, _handle_ptr):
+        """Use Scenario.load() or Scenario.parse()."""
+        self._adopt(_handle_ptr, lib.swcl_scenario_destroy, "swcl_scenario*")
+
+    @classmethod
+    def load(cls, path) -> "Scenario":
+        out = ffi.new("swcl_scenario*")
+        check(lib.swcl_scenario_load(os.fsencode(path), out))
+        return cls(out)
+
+    @classmethod
+    def parse(cls, text) -> "Scenario":
+        data = text.encode("utf-8") if isinstance(text, str) else bytes(text)
+        out = ffi.new("swcl_scenario*")
+        check(lib.swcl_scenario_parse(data, len(data), out))
+        return cls(out)
+
+    @property
+    def info(self) -> dict:
+        """name, agents, steps, dt, seed, model, output_dir, output_every, output_formats."""
+        p = ffi.new("swcl_scenario_info*")
+        p.struct_size = ffi.sizeof("swcl_scenario_info")
+        check(lib.swcl_scenario_get_info(self._h, p))
+        return {
+            "name": ffi.string(p.name).decode("utf-8", "replace"),
+            "agents": int(p.agents), "steps": int(p.steps), "dt": float(p.dt), "seed": int(p.seed),
+            "model": ffi.string(p.model).decode(),
+            "output_dir": ffi.string(p.output_dir).decode("utf-8", "replace"),
+            "output_every": int(p.output_every), "output_formats": _format_names(int(p.output_formats)),
+        }
+
+    def create_swarm(self, context: Context) -> "Swarm":
+        """A swarm as the scenario describes it: agents placed, velocities set,
+        model attached."""
+        if not isinstance(context, Context):
+            raise TypeError(f"context must be a swarmcl.Context, got {type(context).__name__}")
+        out = ffi.new("swcl_swarm*")
+        check(lib.swcl_scenario_create_swarm(self._h, context._h, out))
+        return Swarm._wrap(out, context)
+
+
+class Recorder(_Handle):
+    """Writes frames of a swarm to ``directory`` as ``formats`` ('csv', 'npy',
+    'vtp' or a list).  Files appear complete on ``finish()``; closing without
+    finishing discards the CSV, .npy and .pvd files."""
+
+    def __init__(self, directory, basename: str = "swarm", formats=("csv",)):
+        out = ffi.new("swcl_recorder*")
+        check(lib.swcl_recorder_create(os.fsencode(directory), str(basename).encode(),
+                                       _export_formats(formats), out))
+        self._adopt(out, lib.swcl_recorder_destroy, "swcl_recorder*")
+
+    def add_frame(self, swarm: Swarm, frame: int, time: float = 0.0) -> None:
+        check(lib.swcl_recorder_add_frame(self._h, swarm._h, frame, time))
+
+    def finish(self) -> None:
+        check(lib.swcl_recorder_finish(self._h))
