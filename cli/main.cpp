@@ -40,6 +40,10 @@ extern "C" void on_signal(int) { g_interrupted = 1; }
 struct Failure {
     std::string message;
 };
+// A malformed command line: message and usage on stderr, exit status 2.
+struct Usage {
+    std::string message;
+};
 
 // Destroys a handle when the scope ends, also when a Failure unwinds it: a
 // recorder destroyed unfinished removes what it wrote.
@@ -98,9 +102,9 @@ uint32_t parse_formats(const std::string& list) {
         if (f == "csv") mask |= SWCL_EXPORT_CSV;
         else if (f == "npy") mask |= SWCL_EXPORT_NPY;
         else if (f == "vtp") mask |= SWCL_EXPORT_VTP;
-        else throw Failure{"--format: unknown format '" + f + "' (expected csv, npy, vtp)"};
+        else throw Usage{"--format: unknown format '" + f + "' (expected csv, npy, vtp)"};
     }
-    if (!mask) throw Failure{"--format: no format given"};
+    if (!mask) throw Usage{"--format: no format given"};
     return mask;
 }
 
@@ -109,7 +113,7 @@ uint32_t parse_count(const char* flag, const char* text, uint32_t min) {
     errno = 0;
     const unsigned long v = std::strtoul(text, &end, 10);
     if (!*text || *end || errno || v < min || v > 0xFFFFFFFFul || text[0] == '-')
-        throw Failure{std::string(flag) + ": expected an integer >= " + std::to_string(min) + ", got '" + text + "'"};
+        throw Usage{std::string(flag) + ": expected an integer >= " + std::to_string(min) + ", got '" + text + "'"};
     return uint32_t(v);
 }
 
@@ -192,7 +196,7 @@ int cmd_run(int argc, char** argv) {
     for (int i = 0; i < argc; ++i) {
         const std::string a = argv[i];
         auto value = [&](const char* flag) -> const char* {
-            if (i + 1 >= argc) throw Failure{std::string(flag) + ": missing value"};
+            if (i + 1 >= argc) throw Usage{std::string(flag) + ": missing value"};
             return argv[++i];
         };
         if (a == "--steps") steps_override = parse_count("--steps", value("--steps"), 0);
@@ -201,11 +205,11 @@ int cmd_run(int argc, char** argv) {
         else if (a == "--format") formats_override = parse_formats(value("--format"));
         else if (a == "--device") device = value("--device");
         else if (a == "--quiet") quiet = true;
-        else if (!a.empty() && a[0] == '-') throw Failure{"unknown option '" + a + "'\n" + kUsage};
+        else if (!a.empty() && a[0] == '-') throw Usage{"unknown option '" + a + "'"};
         else if (path.empty()) path = a;
-        else throw Failure{"unexpected argument '" + a + "'\n" + kUsage};
+        else throw Usage{"unexpected argument '" + a + "'"};
     }
-    if (path.empty()) throw Failure{std::string("run: no scenario file\n") + kUsage};
+    if (path.empty()) throw Usage{"run: no scenario file"};
 
     Owned<swcl_scenario, swcl_scenario_destroy> scenario;
     check(swcl_scenario_load(path.c_str(), &scenario.handle), "invalid scenario");
@@ -311,7 +315,7 @@ int main(int argc, char** argv) {
         if (cmd == "run") return cmd_run(argc - 2, argv + 2);
         if (cmd == "devices") return cmd_devices();
         if (cmd == "validate") {
-            if (argc != 3) throw Failure{std::string("validate: expected one scenario file\n") + kUsage};
+            if (argc != 3) throw Usage{"validate: expected one scenario file"};
             return cmd_validate(argv[2]);
         }
         if (cmd == "--help" || cmd == "-h" || cmd == "help") {
@@ -319,6 +323,9 @@ int main(int argc, char** argv) {
             return 0;
         }
         std::fprintf(stderr, "unknown command '%s'\n%s", cmd.c_str(), kUsage);
+        return 2;
+    } catch (const Usage& u) {
+        std::fprintf(stderr, "swarmcl: %s\n%s", u.message.c_str(), kUsage);
         return 2;
     } catch (const Failure& f) {
         std::fprintf(stderr, "swarmcl: %s\n", f.message.c_str());

@@ -43,8 +43,9 @@ public:
         return x;
     }
     float positive(const char* key, float def) {
-        const double x = number(key, def, 0.0, std::numeric_limits<double>::max(), "> 0");
-        if (!(x > 0.0)) bad(at(key), "expected a number > 0");
+        const double x = number(key, def, 0.0, std::numeric_limits<float>::max(), "> 0");
+        // > 0 as a float too: 1e-320 is a positive double but 0 as a float.
+        if (!(float(x) > 0.0f)) bad(at(key), "expected a number > 0");
         return float(x);
     }
     float non_negative(const char* key, float def) {
@@ -80,6 +81,15 @@ public:
         seen_.insert(key);
         return j_[key];
     }
+    // Reports a key not in `keys` as unknown before any value is read, so a
+    // typo of a required key says "unknown key", not "missing".
+    void allow(std::initializer_list<const char*> keys) const {
+        for (auto it = j_.begin(); it != j_.end(); ++it) {
+            bool known = false;
+            for (const char* k : keys) known = known || it.key() == k;
+            if (!known) bad(at(it.key().c_str()), "unknown key");
+        }
+    }
     void require_key(const char* key) {
         if (!has(key)) bad(at(key), "missing");
     }
@@ -94,8 +104,11 @@ public:
         if (!v.is_array() || v.size() != 3) bad(path, "expected an array of 3 numbers");
         std::array<float, 3> out{};
         for (int a = 0; a < 3; ++a) {
-            if (!v[a].is_number() || !std::isfinite(v[a].get<double>())) bad(path, "expected an array of 3 finite numbers");
-            out[a] = v[a].get<float>();
+            // Finite as a float too: 1e39 is a finite double but inf as a float.
+            if (!v[a].is_number() || !std::isfinite(v[a].get<double>()) ||
+                std::fabs(v[a].get<double>()) > std::numeric_limits<float>::max())
+                bad(path, "expected an array of 3 finite numbers");
+            out[a] = float(v[a].get<double>());
         }
         return out;
     }
@@ -149,11 +162,13 @@ Boundary read_obstacle(const json& j, const std::string& path) {
     o.require_key("type");
     const std::string type = o.string("type", "");
     if (type == "sphere") {
+        o.allow({"type", "center", "radius"});
         b.kind = Boundary::Kind::Sphere;
         b.center = o.required_vec3("center");
-        b.radius = o.positive("radius", 0.0f);
         o.require_key("radius");
+        b.radius = o.positive("radius", 0.0f);
     } else if (type == "box") {
+        o.allow({"type", "center", "half_extents", "edge_radius"});
         b.kind = Boundary::Kind::Box;
         b.center = o.required_vec3("center");
         b.half_extents = o.required_vec3("half_extents");
@@ -161,6 +176,7 @@ Boundary read_obstacle(const json& j, const std::string& path) {
             if (!(h > 0.0f)) bad(o.at("half_extents"), "expected 3 numbers > 0");
         b.radius = o.non_negative("edge_radius", 0.0f);
     } else if (type == "plane") {
+        o.allow({"type", "normal", "offset"});
         b.kind = Boundary::Kind::Plane;
         b.normal = o.required_vec3("normal");
         if (b.normal[0] == 0 && b.normal[1] == 0 && b.normal[2] == 0) bad(o.at("normal"), "must not be zero");
@@ -186,6 +202,7 @@ void read_model(const json& j, Scenario& s, std::vector<Boundary> obstacles) {
     c.noise.boundaries = std::move(obstacles);
     if (o.has("goal")) {
         Obj g(o.child("goal"), "model.goal");
+        g.allow({"center", "radius", "speed", "falloff"});
         c.has_goal = true;
         c.goal = g.required_vec3("center");
         c.goal_radius = g.non_negative("radius", c.goal_radius);
@@ -200,6 +217,7 @@ void read_model(const json& j, Scenario& s, std::vector<Boundary> obstacles) {
 
 void read_agents(const json& j, Scenario& s) {
     Obj o(j, "agents");
+    o.allow({"count", "capacity", "velocity", "initial"});
     o.require_key("count");
     const uint64_t count = o.integer("count", 0, 0xFFFFFFFEu);
     const uint64_t capacity = o.integer("capacity", std::max<uint64_t>(count, 1), 0xFFFFFFFEu);
@@ -219,11 +237,13 @@ void read_agents(const json& j, Scenario& s) {
             for (int a = 0; a < 3; ++a)
                 if (!(s.initial.min[a] <= s.initial.max[a])) bad(d.at("min"), "must not exceed agents.initial.max");
         } else if (type == "sphere") {
+            d.allow({"type", "center", "radius"});
             s.initial.kind = InitialDistribution::Kind::Sphere;
             s.initial.center = d.required_vec3("center");
             d.require_key("radius");
             s.initial.radius = d.positive("radius", 0.0f);
         } else if (type == "points") {
+            d.allow({"type", "positions"});
             s.initial.kind = InitialDistribution::Kind::Points;
             d.require_key("positions");
             const json& p = d.child("positions");
@@ -248,16 +268,15 @@ void read_output(const json& j, Scenario& s) {
     if (s.output_dir.empty()) bad(o.at("dir"), "expected a non-empty folder name");
     if (o.has("formats")) {
         const json& f = o.child("formats");
-        if (!f.is_array()) bad(o.at("formats"), "expected an array of \"csv\", \"npy\", \"vtp\"");
+        if (!f.is_array() || f.empty()) bad(o.at("formats"), "expected a non-empty array of \"csv\", \"npy\", \"vtp\"");
         s.output_formats = 0;
         for (size_t i = 0; i < f.size(); ++i) {
             const std::string at = o.at("formats") + "[" + std::to_string(i) + "]";
-            if (!f[i].is_string()) bad(at, "expected \"csv\", \"npy\" or \"vtp\"");
-            try {
-                s.output_formats |= parse_export_formats(f[i].get<std::string>());
-            } catch (const Error&) {
-                bad(at, "expected \"csv\", \"npy\" or \"vtp\"");
-            }
+            const std::string name = f[i].is_string() ? f[i].get<std::string>() : std::string();
+            if (name == "csv") s.output_formats |= kExportCsv;
+            else if (name == "npy") s.output_formats |= kExportNpy;
+            else if (name == "vtp") s.output_formats |= kExportVtp;
+            else bad(at, "expected \"csv\", \"npy\" or \"vtp\"");
         }
     }
     s.output_every = uint32_t(o.integer("every", s.output_every, 0xFFFFFFFFu));
@@ -286,17 +305,27 @@ Scenario parse_scenario(const std::string& text) {
         const auto colon = what.rfind(": ");
         fail(Status::Parse, "malformed JSON at " + position_of(text, e.byte == 0 ? 0 : e.byte - 1) + ": " +
                                 (colon == std::string::npos ? what : what.substr(colon + 2)));
+    } catch (const json::exception& e) {
+        // e.g. out_of_range.406 "number overflow parsing '1e400'": no position.
+        const std::string what = e.what();
+        const auto bracket = what.find("] ");
+        fail(Status::Parse, "malformed JSON: " + (bracket == std::string::npos ? what : what.substr(bracket + 2)));
     }
     Scenario s;
     s.source = text;
     Obj top(root, "");
     s.name = top.string("name", s.name);
+    // The name names the output files (and swcl_scenario_info.name[128]).
+    if (s.name.empty() || s.name.size() > 127 || s.name == "." || s.name == ".." ||
+        s.name.find_first_of(std::string("/\\\0", 3)) != std::string::npos)
+        bad("name", "expected 1 to 127 characters without '/', '\\' or NUL (it names the output files)");
     s.swarm.seed = top.integer("seed", 0, std::numeric_limits<uint64_t>::max());
     s.swarm.dt = top.positive("dt", s.swarm.dt);
     s.steps = uint32_t(top.integer("steps", s.steps, 100000000));
     s.swarm.interaction_radius = top.positive("interaction_radius", s.swarm.interaction_radius);
     if (top.has("domain")) {
         Obj d(top.child("domain"), "domain");
+        d.allow({"min", "max"});
         s.swarm.domain_min = d.required_vec3("min");
         s.swarm.domain_max = d.required_vec3("max");
         for (int a = 0; a < 3; ++a)

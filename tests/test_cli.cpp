@@ -1,0 +1,392 @@
+// The `swarmcl` program end to end, run as a user runs it: exit status,
+// messages, and the files it writes (read back by the formats' rules).
+#include <gtest/gtest.h>
+
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <thread>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <fcntl.h>
+
+#include <nlohmann/json.hpp>
+
+#include "io/scenario.hpp"
+#include "io_test_support.hpp"
+
+#ifndef SWARMCL_CLI
+#error "SWARMCL_CLI must name the swarmcl binary"
+#endif
+
+namespace {
+
+using namespace swarmcl;
+using namespace swarmcl::iotest;
+
+struct Result {
+    int status = -1;  // exit status; -1 when it did not exit normally
+    std::string out, err;
+};
+
+std::string quote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+// Runs `swarmcl ARGS` in `cwd` with stdout and stderr captured in files.
+Result cli(const std::string& args, const std::string& cwd) {
+    const std::string out = cwd + "/.cli-stdout", err = cwd + "/.cli-stderr";
+    const std::string cmd = "cd " + quote(cwd) + " && " + quote(SWARMCL_CLI) + " " + args + " >" + quote(out) +
+                            " 2>" + quote(err) + " </dev/null";
+    const int raw = std::system(cmd.c_str());
+    Result r;
+    r.status = (raw != -1 && WIFEXITED(raw)) ? WEXITSTATUS(raw) : -1;
+    r.out = read_bytes(out);
+    r.err = read_bytes(err);
+    std::remove(out.c_str());
+    std::remove(err.c_str());
+    return r;
+}
+
+// A small field-model scenario: 24 agents in a box, curl noise and a goal.
+const char* kTiny = R"({
+  "name": "tiny",
+  "seed": 9,
+  "dt": 0.02,
+  "steps": 50,
+  "domain": {"min": [0, 0, 0], "max": [2, 2, 2]},
+  "interaction_radius": 0.2,
+  "agents": {"count": 24, "velocity": [0.1, 0, 0], "initial": {"type": "uniform", "min": [0.5, 0.5, 0.5], "max": [1.5, 1.5, 1.5]}},
+  "model": {
+    "type": "field",
+    "noise": {"type": "curl", "scale": 0.5, "gain": 0.2, "seed": 1, "domain_walls": true},
+    "goal": {"center": [1, 1, 1.5], "speed": 0.5},
+    "min_distance": 0.02
+  },
+  "output": {"dir": "results", "formats": ["csv", "npy", "vtp"], "every": 5}
+})";
+
+class Cli : public ::testing::Test {
+protected:
+    void SetUp() override { write_text(dir / "tiny.json", kTiny); }
+    TempDir dir;
+};
+
+TEST_F(Cli, RunWritesEveryOutputAndRunJson) {
+    const Result r = cli("run tiny.json --steps 6 --every 2 --out outdir", dir.path());
+    ASSERT_EQ(r.status, 0) << r.out << r.err;
+    EXPECT_NE(r.out.find("24 agents"), std::string::npos) << r.out;
+
+    const std::string out = dir / "outdir";
+    std::set<std::string> expected{"tiny.csv",        "tiny_positions.npy", "tiny_velocities.npy", "tiny.pvd",
+                                   "run.json",        "tiny_000000.vtp",    "tiny_000002.vtp",     "tiny_000004.vtp",
+                                   "tiny_000006.vtp"};
+    EXPECT_EQ(list_dir(out), expected) << "no temporaries, nothing else";
+
+    // frames = steps / every + 1, at steps 0, 2, 4, 6.
+    const auto rows = parse_trajectory_csv(read_bytes(out + "/tiny.csv"));
+    ASSERT_EQ(rows.size(), 4u * 24u);
+    for (size_t k = 0; k < 4; ++k)
+        for (size_t i = 0; i < 24; ++i) {
+            EXPECT_EQ(rows[k * 24 + i].frame, 2 * k);
+            EXPECT_EQ(rows[k * 24 + i].id, i);
+        }
+    // Frame 0 is the scenario's initial state, bit for bit.
+    const Scenario s = parse_scenario(kTiny);
+    const auto initial = s.initial_positions();
+    for (size_t i = 0; i < 24; ++i)
+        for (int a = 0; a < 3; ++a) {
+            EXPECT_EQ(rows[i].p[a], initial[3 * i + a]);
+            EXPECT_EQ(rows[i].v[a], s.initial.velocity[a]);
+        }
+    // The swarm moved, and stayed sane.
+    int moved = 0;
+    for (size_t i = 0; i < 24; ++i)
+        for (int a = 0; a < 3; ++a) {
+            moved += rows[3 * 24 + i].p[a] != rows[i].p[a];
+            EXPECT_TRUE(std::isfinite(rows[3 * 24 + i].p[a]));
+        }
+    EXPECT_GT(moved, 24);
+
+    // .npy: the same numbers as the CSV.
+    for (const char* name : {"tiny_positions.npy", "tiny_velocities.npy"}) {
+        const Npy npy = read_npy(out + "/" + name);
+        EXPECT_EQ(npy.descr, "<f4");
+        EXPECT_EQ(npy.shape, (std::vector<uint64_t>{4, 24, 3})) << name;
+        ASSERT_EQ(npy.data.size(), 4u * 24u * 12u);
+        const auto v = as_vector<float>(npy.data);
+        const bool positions = std::string(name) == "tiny_positions.npy";
+        for (size_t r = 0; r < rows.size(); ++r)
+            for (int a = 0; a < 3; ++a) EXPECT_EQ(v[3 * r + a], positions ? rows[r].p[a] : rows[r].v[a]);
+    }
+    // .vtp and .pvd.
+    const auto pvd = read_pvd(out + "/tiny.pvd");
+    ASSERT_EQ(pvd.size(), 4u);
+    for (size_t k = 0; k < 4; ++k) {
+        char name[32];
+        std::snprintf(name, sizeof name, "tiny_%06zu.vtp", 2 * k);
+        EXPECT_EQ(pvd[k].first, name);
+        EXPECT_NEAR(pvd[k].second, 2 * k * double(0.02f), 1e-6);
+        const Vtp vtp = read_vtp(out + "/" + name);
+        EXPECT_EQ(vtp.points, 24u);
+        ASSERT_EQ(vtp.arrays.count("Points"), 1u);
+        const auto p = as_vector<float>(vtp.arrays.at("Points").bytes);
+        ASSERT_EQ(p.size(), 72u);
+        for (size_t i = 0; i < 24; ++i)
+            for (int a = 0; a < 3; ++a) EXPECT_EQ(p[3 * i + a], rows[k * 24 + i].p[a]);
+    }
+
+    // run.json: the statistics, with --steps overriding the file's 50.
+    const auto run = nlohmann::json::parse(read_bytes(out + "/run.json"));
+    ASSERT_TRUE(run.is_object());
+    ASSERT_TRUE(run.contains("device") && run["device"].is_string());
+    EXPECT_FALSE(run["device"].get<std::string>().empty());
+    EXPECT_EQ(run.at("agents"), 24);
+    EXPECT_EQ(run.at("steps"), 6);
+    EXPECT_EQ(run.at("frames"), 4);
+    EXPECT_EQ(run.at("every"), 2);
+    EXPECT_EQ(run.at("seed"), 9);
+    EXPECT_EQ(run.at("scenario"), "tiny");
+    ASSERT_TRUE(run.at("seconds").is_number());
+    EXPECT_GE(run["seconds"].get<double>(), 0.0);
+    ASSERT_TRUE(run.at("steps_per_second").is_number());
+    EXPECT_GE(run["steps_per_second"].get<double>(), 0.0);
+    EXPECT_EQ(run.at("parameters"), nlohmann::json::parse(kTiny)) << "the scenario as given";
+    EXPECT_EQ(run.at("formats"), nlohmann::json::parse(R"(["csv", "npy", "vtp"])"));
+
+    // The final figures agree with a brute-force reference on the last frame
+    // as written to the CSV.
+    ASSERT_TRUE(run.contains("final") && run["final"].is_object()) << run.dump(2);
+    const auto& fin = run["final"];
+    const CsvRow* last = &rows[3 * 24];
+    double mean_speed = 0;
+    std::vector<double> nn(24, INFINITY);
+    int close_lo = 0, close_hi = 0;  // pairs surely / possibly below 0.999 * min_distance
+    const double md = 0.999 * double(0.02f);
+    for (size_t i = 0; i < 24; ++i) {
+        mean_speed += std::sqrt(double(last[i].v[0]) * last[i].v[0] + double(last[i].v[1]) * last[i].v[1] +
+                                double(last[i].v[2]) * last[i].v[2]) / 24;
+        for (size_t j = 0; j < 24; ++j) {
+            if (i == j) continue;
+            const double dx = last[i].p[0] - last[j].p[0], dy = last[i].p[1] - last[j].p[1],
+                         dz = last[i].p[2] - last[j].p[2];
+            const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
+            nn[i] = std::min(nn[i], d);
+            if (j > i) close_lo += d < md * (1 - 1e-5), close_hi += d <= md * (1 + 1e-5);
+        }
+    }
+    std::sort(nn.begin(), nn.end());
+    EXPECT_NEAR(fin.at("mean_speed").get<double>(), mean_speed, 1e-5 * std::max(1.0, mean_speed));
+    // Percentiles: an order statistic next to q * (n - 1).
+    for (const auto& [key, q] : {std::pair<const char*, double>{"nearest_neighbor_p5", 0.05},
+                                 {"nearest_neighbor_p50", 0.5}, {"nearest_neighbor_p95", 0.95}}) {
+        const double x = fin.at(key).get<double>(), r = q * 23;
+        const double lo = nn[size_t(std::floor(r))], hi = nn[size_t(std::ceil(r))];
+        EXPECT_TRUE(x >= lo * (1 - 1e-5) - 1e-7 && x <= hi * (1 + 1e-5) + 1e-7) << key << " " << x << " not in [" << lo
+                                                                                << ", " << hi << "]";
+    }
+    const double pairs = 24.0 * 23.0 / 2.0;
+    EXPECT_GE(fin.at("close_pair_fraction").get<double>(), close_lo / pairs - 1e-12);
+    EXPECT_LE(fin.at("close_pair_fraction").get<double>(), close_hi / pairs + 1e-12);
+    ASSERT_TRUE(fin.at("mde_moved_fraction").is_number());
+    EXPECT_GE(fin["mde_moved_fraction"].get<double>(), 0.0);
+    EXPECT_LE(fin["mde_moved_fraction"].get<double>(), 1.0);
+}
+
+TEST_F(Cli, RunUsesTheScenarioOutputSettingsAndIsDeterministic) {
+    // --steps 7 with the file's every = 5: frames at 0, 5, 7.
+    const Result r = cli("run tiny.json --steps 7 --quiet", dir.path());
+    ASSERT_EQ(r.status, 0) << r.out << r.err;
+    EXPECT_TRUE(r.out.empty()) << "--quiet: " << r.out;
+    const std::string out = dir / "results";  // output.dir, relative to the working folder
+    EXPECT_EQ(list_dir(out), (std::set<std::string>{"tiny.csv", "tiny_positions.npy", "tiny_velocities.npy", "tiny.pvd",
+                                                      "run.json", "tiny_000000.vtp", "tiny_000005.vtp",
+                                                      "tiny_000007.vtp"}));
+    const auto run = nlohmann::json::parse(read_bytes(out + "/run.json"));
+    EXPECT_EQ(run.at("steps"), 7);
+    EXPECT_EQ(run.at("frames"), 3);
+    EXPECT_EQ(run.at("every"), 5);
+    EXPECT_EQ(read_npy(out + "/tiny_positions.npy").shape, (std::vector<uint64_t>{3, 24, 3}));
+
+    // The same run again, into another folder and as CSV only: the same numbers.
+    const Result again = cli("run tiny.json --steps 7 --quiet --format csv --out again", dir.path());
+    ASSERT_EQ(again.status, 0) << again.err;
+    EXPECT_EQ(list_dir(dir / "again"), (std::set<std::string>{"tiny.csv", "run.json"}));
+    EXPECT_EQ(read_bytes(dir / "again/tiny.csv"), read_bytes(out + "/tiny.csv"));
+}
+
+TEST_F(Cli, ZeroStepsWritesOneFrame) {
+    const Result r = cli("run tiny.json --steps 0 --format npy --out zero --quiet", dir.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(read_npy(dir / "zero/tiny_positions.npy").shape, (std::vector<uint64_t>{1, 24, 3}));
+    EXPECT_EQ(nlohmann::json::parse(read_bytes(dir / "zero/run.json")).at("frames"), 1);
+}
+
+TEST_F(Cli, Validate) {
+    Result r = cli("validate tiny.json", dir.path());
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find("valid"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("24 agents"), std::string::npos) << r.out;
+
+    write_text(dir / "bad.json", R"({"agents": {"count": 3}, "model": {"noise": {"scale": -2}}})");
+    r = cli("validate bad.json", dir.path());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("model.noise.scale: expected a number > 0"), std::string::npos) << r.err;
+    EXPECT_EQ(r.out.find("valid"), std::string::npos) << r.out;
+
+    write_text(dir / "typo.json", "{\n  \"agents\": {\"count\": 3},\n  \"stpes\": 4\n}");
+    r = cli("validate typo.json", dir.path());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("stpes: unknown key"), std::string::npos) << r.err;
+
+    write_text(dir / "broken.json", "{\n  \"agents\": {\"count\": 3}\n  \"steps\": 4\n}");
+    r = cli("validate broken.json", dir.path());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_AT_TOKEN(r.err, 3, 3, 9);  // the string "steps" where a ',' belongs
+
+    r = cli("validate missing.json", dir.path());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("missing.json"), std::string::npos) << r.err;
+
+    for (const auto& e : fs::directory_iterator(std::string(SWARMCL_SOURCE_DIR) + "/examples/scenarios")) {
+        r = cli("validate " + quote(e.path().string()), dir.path());
+        EXPECT_EQ(r.status, 0) << e.path() << ": " << r.err;
+    }
+}
+
+TEST_F(Cli, RunFailuresWriteNothing) {
+    // A bad scenario: exit 1 with the key path, and no output folder.
+    write_text(dir / "bad.json", R"({"agents": {"count": 3}, "dt": -1, "output": {"dir": "never"}})");
+    Result r = cli("run bad.json", dir.path());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("dt:"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "never"));
+
+    r = cli("run missing.json --out never", dir.path());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_FALSE(fs::exists(dir / "never"));
+
+    // An output folder that cannot be created.
+    r = cli("run tiny.json --steps 2 --out /proc/swarmcl-nope", dir.path());
+    EXPECT_EQ(r.status, 1) << r.out << r.err;
+    EXPECT_NE(r.err.find("/proc/swarmcl-nope"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists("/proc/swarmcl-nope"));
+
+    write_text(dir / "plain", "a regular file");
+    r = cli("run tiny.json --steps 2 --out plain/sub", dir.path());
+    EXPECT_EQ(r.status, 1) << r.out << r.err;
+    EXPECT_NE(r.err.find("plain/sub"), std::string::npos) << r.err;
+    EXPECT_EQ(read_bytes(dir / "plain"), "a regular file");
+
+    // A device that does not exist.
+    r = cli("run tiny.json --steps 2 --out nodev --device no-such-device-xyz", dir.path());
+    EXPECT_EQ(r.status, 1) << r.out << r.err;
+    EXPECT_FALSE(r.err.empty());
+    EXPECT_FALSE(fs::exists(dir / "nodev"));
+
+    EXPECT_EQ(list_dir(dir.path()), (std::set<std::string>{"tiny.json", "bad.json", "plain"}));
+}
+
+TEST_F(Cli, UsageErrorsExitWith2) {
+    Result r = cli("", dir.path());
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.err.find("usage"), std::string::npos) << r.err;
+
+    r = cli("fly tiny.json", dir.path());
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.err.find("usage"), std::string::npos) << r.err;
+
+    r = cli("run tiny.json --bogus", dir.path());
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_NE(r.err.find("--bogus"), std::string::npos) << r.err;
+
+    r = cli("run", dir.path());
+    EXPECT_EQ(r.status, 2) << r.err;
+
+    r = cli("run tiny.json --steps", dir.path());  // a missing value
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_NE(r.err.find("--steps"), std::string::npos) << r.err;
+
+    r = cli("validate", dir.path());
+    EXPECT_EQ(r.status, 2) << r.err;
+
+    // Bad option values are refused before anything runs or is written.
+    for (const char* bad : {"--steps -3", "--steps 12x", "--every 0", "--format gif", "--steps 99999999999"}) {
+        r = cli(std::string("run tiny.json --out written ") + bad, dir.path());
+        EXPECT_NE(r.status, 0) << bad;
+        EXPECT_NE(r.err.find(std::string(bad).substr(0, std::string(bad).find(' '))), std::string::npos)
+            << bad << ": " << r.err;
+        EXPECT_FALSE(fs::exists(dir / "written")) << bad;
+    }
+
+    r = cli("--help", dir.path());
+    EXPECT_EQ(r.status, 0);
+    EXPECT_NE(r.out.find("usage"), std::string::npos);
+}
+
+TEST_F(Cli, InterruptRemovesUnfinishedOutputs) {
+    // A run far too long to finish; once frame 5 is on disk (so the run is in
+    // its step loop), SIGINT must stop it with exit 1 and remove every frame.
+    // The waits below only bound a hang; the outcome does not depend on them.
+    const std::string out = dir / "sig";
+    const std::string cli_path = SWARMCL_CLI, err_path = dir / "sig.err";
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, 2, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    std::vector<std::string> args{cli_path, "run", dir / "tiny.json", "--steps", "100000000", "--every", "1",
+                                  "--format", "vtp", "--out", out, "--quiet"};
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    pid_t pid = 0;
+    ASSERT_EQ(posix_spawn(&pid, cli_path.c_str(), &actions, nullptr, argv.data(), environ), 0);
+    posix_spawn_file_actions_destroy(&actions);
+
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    int status = 0;
+    bool exited = false;
+    while (!fs::exists(out + "/tiny_000005.vtp") && std::chrono::steady_clock::now() < deadline) {
+        if (waitpid(pid, &status, WNOHANG) == pid) {
+            exited = true;
+            break;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    ASSERT_FALSE(exited) << "the run ended on its own: " << read_bytes(err_path);
+    ASSERT_TRUE(fs::exists(out + "/tiny_000005.vtp")) << "no frame 5 after 120 s";
+    kill(pid, SIGINT);
+    while (!exited && std::chrono::steady_clock::now() < deadline + std::chrono::seconds(60)) {
+        exited = waitpid(pid, &status, WNOHANG) == pid;
+        if (!exited) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    if (!exited) {
+        kill(pid, SIGKILL);
+        waitpid(pid, &status, 0);
+        FAIL() << "SIGINT did not stop the run";
+    }
+    ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+    EXPECT_EQ(WEXITSTATUS(status), 1);
+    EXPECT_NE(read_bytes(err_path).find("interrupted"), std::string::npos) << read_bytes(err_path);
+    EXPECT_TRUE(list_dir(out).empty()) << list_dir(out).size() << " files left, e.g. " << *list_dir(out).begin();
+}
+
+TEST_F(Cli, DevicesListsAtLeastOne) {
+    const Result r = cli("devices", dir.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.out.rfind("0 ", 0), 0u) << r.out;
+    EXPECT_TRUE(r.out.find("CPU") != std::string::npos || r.out.find("GPU") != std::string::npos) << r.out;
+}
+
+}  // namespace
