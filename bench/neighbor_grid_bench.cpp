@@ -31,6 +31,7 @@
 
 #include <nanoflann.hpp>
 
+#include "bench_util.hpp"
 #include "device/context.hpp"
 #include "swarm/swarm.hpp"
 
@@ -39,6 +40,8 @@
 #endif
 
 namespace {
+
+using namespace swarmcl::bench;
 
 using Clock = std::chrono::steady_clock;
 constexpr double kPi = 3.14159265358979323846;
@@ -59,13 +62,6 @@ std::vector<double> timed(int repeats, const std::function<void()>& before, cons
     return t;
 }
 
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-double minimum(const std::vector<double>& v) { return *std::min_element(v.begin(), v.end()); }
 
 // ---- options -------------------------------------------------------------------
 
@@ -180,24 +176,6 @@ void parallel_for(uint32_t n, int threads, const std::function<void(uint32_t, ui
 
 // ---- output ----------------------------------------------------------------------
 
-std::string json_escape(const std::string& s) {
-    std::string o;
-    for (char c : s) {
-        if (c == '"' || c == '\\') o += '\\';
-        if (static_cast<unsigned char>(c) < 0x20) continue;
-        o += c;
-    }
-    return o;
-}
-
-std::string json_array(const std::vector<double>& v, double scale) {
-    std::ostringstream s;
-    s.precision(6);
-    s << '[';
-    for (size_t i = 0; i < v.size(); ++i) s << (i ? ", " : "") << v[i] * scale;
-    s << ']';
-    return s.str();
-}
 
 struct Timing {
     std::string name;
@@ -598,20 +576,6 @@ SizeResult run_size(const Options& opt, const std::shared_ptr<swarmcl::Context>&
     return res;
 }
 
-// The 1-minute load average (Linux), to tell a noisy machine from a slow one.
-double load_average() {
-    std::ifstream f("/proc/loadavg");
-    double l = -1;
-    if (f) f >> l;
-    return l;
-}
-
-std::string utc_now() {
-    const std::time_t t = std::time(nullptr);
-    char buf[32];
-    std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
-    return buf;
-}
 
 void write_json(const Options& opt, const swarmcl::DeviceEntry& dev, const std::vector<SizeResult>& results,
                 double load_before, double load_after) {

@@ -38,6 +38,7 @@
 
 #include <noise.h>
 
+#include "bench_util.hpp"
 #include "device/buffer.hpp"
 #include "device/context.hpp"
 #include "fields/noise_field.hpp"
@@ -51,18 +52,12 @@
 
 namespace {
 
+using namespace swarmcl::bench;
+
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    const size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-double minimum(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::min_element(v.begin(), v.end()); }
 
 // ---- options -------------------------------------------------------------------
 
@@ -155,29 +150,6 @@ Options parse(int argc, char** argv) {
 
 // ---- output helpers ---------------------------------------------------------------
 
-std::string json_escape(const std::string& s) {
-    std::string o;
-    for (char c : s) {
-        if (c == '"' || c == '\\') o += '\\';
-        if (static_cast<unsigned char>(c) < 0x20) continue;
-        o += c;
-    }
-    return o;
-}
-
-double load_average() {
-    std::ifstream f("/proc/loadavg");
-    double l = -1;
-    if (f) f >> l;
-    return l;
-}
-
-std::string utc_now() {
-    const std::time_t t = std::time(nullptr);
-    char buf[32];
-    std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
-    return buf;
-}
 
 const char* verdict(bool ok) { return ok ? "met" : "NOT met"; }
 
