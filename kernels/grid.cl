@@ -211,6 +211,24 @@ __kernel void grid_place(__global const uint* keys, uint n, __global const uint*
     uint os = old_start[c0];
     uint t = os - l + a;
     for (uint c = c0; c < c1; ++c) {
+        // Cells [c, e) before the next one a mover leaves or enters hold
+        // stayers only, in layout order: their ranges all shift by the same
+        // delta, so they are placed in streaming passes, not cell by cell
+        // (the common case of a simulation step, and of sparse grids).
+        const uint e = min(min(l < m ? r_old[l] : ncells, a < m ? m_key[a] : ncells), c1);
+        if (e > c) {
+            const uint delta = t - os;  // wraps as uint: start = old + delta
+            for (uint k = c; k < e; ++k) start[k] = old_start[k] + delta;
+            const uint oe = old_start[e];
+            for (uint s = os; s < oe; ++s) {
+                perm[s + delta] = s;
+                new_key[s + delta] = keys[s];  // a stayer: its cell
+            }
+            t += oe - os;
+            os = oe;
+            c = e - 1u;
+            continue;
+        }
         const uint oe = old_start[c + 1u];
         uint l1 = l, a1 = a;
         while (l1 < m && r_old[l1] == c) ++l1;
@@ -261,12 +279,14 @@ __kernel void permute_uint(__global const uint* src, __global const uint* perm, 
     if (s < n) dst[s] = src[perm[s]];
 }
 
-// Positions and ids in one pass over perm.
-__kernel void permute_pos_ids(__global const float4* pos, __global const uint* ids, __global const uint* perm,
-                              uint n, __global float4* pos_out, __global uint* ids_out) {
+// Positions, velocities and ids in one pass over perm.
+__kernel void permute_state(__global const float4* pos, __global const float4* vel, __global const uint* ids,
+                            __global const uint* perm, uint n, __global float4* pos_out,
+                            __global float4* vel_out, __global uint* ids_out) {
     const uint s = get_global_id(0);
     if (s >= n) return;
     const uint p = perm[s];
     pos_out[s] = pos[p];
+    vel_out[s] = vel[p];
     ids_out[s] = ids[p];
 }

@@ -52,7 +52,7 @@ NeighborGrid::NeighborGrid(Context& ctx, const GridGeometry& geometry, uint32_t 
     place_ = ctx.kernel("grid.cl", "grid_place");
     permute_f4_ = ctx.kernel("grid.cl", "permute_float4");
     permute_u_ = ctx.kernel("grid.cl", "permute_uint");
-    permute_state_ = ctx.kernel("grid.cl", "permute_pos_ids");
+    permute_state_ = ctx.kernel("grid.cl", "permute_state");
 }
 
 cl_uint NeighborGrid::set_grid_args(cl::Kernel& kernel, cl_uint index) {
@@ -60,7 +60,7 @@ cl_uint NeighborGrid::set_grid_args(cl::Kernel& kernel, cl_uint index) {
     kernel.setArg(index++, cl_float4{{g.origin[0], g.origin[1], g.origin[2], 0.0f}});
     kernel.setArg(index++, 1.0f / g.cell);
     kernel.setArg(index++, cl_int4{{g.dims[0], g.dims[1], g.dims[2], 0}});
-    kernel.setArg(index++, start_.get());
+    kernel.setArg(index++, cell_start().get());
     return index;
 }
 
@@ -68,6 +68,10 @@ void NeighborGrid::invalidate_layout() {
     // Every slot in "cell ncells", so every agent is a mover (an invalid
     // layout always has these contents).
     if (!layout_valid_) return;
+    if (start_in_layout_) {  // keep the current ranges: they move to start_
+        std::swap(start_, layout_start_);
+        start_in_layout_ = false;
+    }
     layout_start_.fill(ctx_, 0u, size_t(ncells_) + 1);
     layout_key_.fill(ctx_, ncells_, capacity_);
     layout_valid_ = false;
@@ -81,6 +85,7 @@ void NeighborGrid::build(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<
     };
     built_n_ = n;
     if (layout_valid_ && layout_n_ != n) invalidate_layout();
+    start_in_layout_ = false;  // this build's ranges go to start_
     if (n == 0) {
         start_.fill(ctx_, 0u, size_t(ncells_) + 1);
         return;
@@ -144,19 +149,23 @@ void NeighborGrid::permute(const DeviceBuffer<cl_uint>& src, DeviceBuffer<cl_uin
 
 void NeighborGrid::reorder_state(DeviceBuffer<cl_float4>& pos, DeviceBuffer<cl_float4>& vel,
                                  DeviceBuffer<cl_uint>& ids, DeviceBuffer<cl_float4>& scratch,
-                                 DeviceBuffer<cl_uint>& ids_scratch, uint32_t n) {
-    set_args(permute_state_, pos.get(), ids.get(), perm_.get(), n, scratch.get(), ids_scratch.get());
+                                 DeviceBuffer<cl_float4>& vel_scratch, DeviceBuffer<cl_uint>& ids_scratch,
+                                 uint32_t n) {
+    set_args(permute_state_, pos.get(), vel.get(), ids.get(), perm_.get(), n, scratch.get(), vel_scratch.get(),
+             ids_scratch.get());
     launch(ctx_, permute_state_, n);
     std::swap(pos, scratch);
+    std::swap(vel, vel_scratch);
     std::swap(ids, ids_scratch);
-    permute(vel, scratch, n);
-    std::swap(vel, scratch);
     // The state is now in the built order: it is the next build's layout.
     if (n == 0 || n != built_n_) {
         invalidate_layout();
         return;
     }
-    ctx_.queue().enqueueCopyBuffer(start_.get(), layout_start_.get(), 0, 0, (size_t(ncells_) + 1) * sizeof(cl_uint));
+    // The ranges become the layout's by a swap, not a copy (16 MB for a
+    // sparse 4M-cell grid); cell_start() then names layout_start_.
+    std::swap(start_, layout_start_);
+    start_in_layout_ = true;
     std::swap(layout_key_, *pending_key_);
     layout_valid_ = true;
     layout_n_ = n;

@@ -37,17 +37,19 @@ public:
     // dst[s] = src[permutation[s]] for the last build.
     void permute(const DeviceBuffer<cl_float4>& src, DeviceBuffer<cl_float4>& dst, uint32_t n);
     void permute(const DeviceBuffer<cl_uint>& src, DeviceBuffer<cl_uint>& dst, uint32_t n);
-    // Reorders the state by the last build's permutation (through the
-    // scratch buffers, swapped in), and the new order becomes the layout the
-    // next build starts from.  Any other per-agent array is permute()d too.
+    // Reorders the state by the last build's permutation in one pass
+    // (through the scratch buffers, swapped in), and the new order becomes
+    // the layout the next build starts from.  Any other per-agent array is
+    // permute()d too.
     void reorder_state(DeviceBuffer<cl_float4>& pos, DeviceBuffer<cl_float4>& vel, DeviceBuffer<cl_uint>& ids,
-                       DeviceBuffer<cl_float4>& scratch, DeviceBuffer<cl_uint>& ids_scratch, uint32_t n);
+                       DeviceBuffer<cl_float4>& scratch, DeviceBuffer<cl_float4>& vel_scratch,
+                       DeviceBuffer<cl_uint>& ids_scratch, uint32_t n);
     // The state's order is no longer one a build produced (e.g. agents put
     // back in id order): the next build sorts from scratch.
     void invalidate_layout();
 
     const GridGeometry& geometry() const { return geometry_; }
-    DeviceBuffer<cl_uint>& cell_start() { return start_; }
+    DeviceBuffer<cl_uint>& cell_start() { return start_in_layout_ ? layout_start_ : start_; }
     DeviceBuffer<cl_uint>& permutation() { return perm_; }
 
     // Appends the GRID_PARAMS arguments (grid_common.cl) from `index` on.
@@ -60,6 +62,7 @@ private:
     uint32_t capacity_ = 0;
     uint32_t radix_bits_, radix_passes_;
     bool layout_valid_ = false;
+    bool start_in_layout_ = false;  // the current ranges are layout_start_'s (after reorder_state)
     uint32_t layout_n_ = 0;
     uint32_t built_n_ = 0;
     // Per slot: keys (cell), perm, layout_key (the layout's cell); the

@@ -36,9 +36,9 @@ uint32_t max_cells_for(uint32_t capacity) {
 
 const SwarmConfig& checked(const SwarmConfig& c, Context& ctx) {
     validate(c);
-    // State, scratch and grid buffers per agent (float4 x3, uint x13, packed
+    // State, scratch and grid buffers per agent (float4 x4, uint x13, packed
     // xyz), and the grid's per-cell arrays (2 uints).
-    const double bytes = double(c.capacity) * (3 * 16 + 13 * 4 + 12) + double(max_cells_for(c.capacity)) * 8;
+    const double bytes = double(c.capacity) * (4 * 16 + 13 * 4 + 12) + double(max_cells_for(c.capacity)) * 8;
     if (bytes > double(ctx.device().global_memory))
         fail(Status::OutOfMemory, "a swarm of capacity " + std::to_string(c.capacity) + " needs about " +
                                       std::to_string(uint64_t(bytes)) + " bytes; the device has " +
@@ -66,6 +66,7 @@ Swarm::Swarm(std::shared_ptr<Context> ctx, const SwarmConfig& config)
     pos_.allocate(c, cap, "positions");
     vel_.allocate(c, cap, "velocities");
     scratch_.allocate(c, cap, "reorder scratch");
+    vel_scratch_.allocate(c, cap, "velocity reorder scratch");
     ids_.allocate(c, cap, "agent ids");
     ids_scratch_.allocate(c, cap, "agent ids scratch");
     slot_of_.allocate(c, cap, "agent slots");
@@ -173,7 +174,7 @@ void Swarm::swap_positions_with_scratch() {
 void Swarm::ensure_grid() {
     if (grid_current_) return;
     grid_.build(pos_, ids_, n_);
-    grid_.reorder_state(pos_, vel_, ids_, scratch_, ids_scratch_, n_);
+    grid_.reorder_state(pos_, vel_, ids_, scratch_, vel_scratch_, ids_scratch_, n_);
     slot_of_current_ = false;
     grid_current_ = true;
 }

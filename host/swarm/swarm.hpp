@@ -85,7 +85,7 @@ private:
     uint64_t steps_ = 0;
     bool grid_current_ = false;
     bool slot_of_current_ = true;  // slot_of_ is the inverse of ids_
-    DeviceBuffer<cl_float4> pos_, vel_, scratch_;
+    DeviceBuffer<cl_float4> pos_, vel_, scratch_, vel_scratch_;  // vel_scratch_: reorder only
     DeviceBuffer<cl_uint> ids_, ids_scratch_, slot_of_;
     DeviceBuffer<cl_float> packed_;  // 3 floats per agent: the caller's layout
     DeviceBuffer<cl_uint> query_u32_;
