@@ -458,4 +458,80 @@ inline float3 swcl_curl_noise_fd(float3 x, float h, float t, int timed, swcl_cur
     return c.scale * (float3)(dy.z - dz.y, dz.x - dx.z, dx.y - dy.x) / (2.0f * h);
 }
 
+/* ---- explicit-width variants (CPU devices, NOISE_WIDTH = 8 or 16) ----
+ * swcl_noise_potential_s, swcl_modulate_wall_s and swcl_pj_curl on SWCL_W
+ * points at once (perlin.cl), same operations in the same order. */
+#ifdef SWCL_W
+typedef struct {
+    swcl_fw p0, p1, p2;
+    swcl_fw j00, j01, j02, j10, j11, j12, j20, j21, j22;
+} swcl_pjw;
+
+SWCL_INLINE void swcl_noise_potential_w(swcl_fw x, swcl_fw y, swcl_fw z, float t, int timed,
+                                        float inv_scale, float gain, float inv_time_scale,
+                                        uint4 o0, uint4 o1, uint4 o2, swcl_pjw* N)
+{
+    const swcl_fw ux = x * inv_scale, uy = y * inv_scale, uz = z * inv_scale;
+    const float jg = gain * inv_scale;
+    swcl_fw v0, a0, a1, a2, v1, b0, b1, b2, v2, c0, c1, c2;
+    if (timed) {
+        const swcl_fw uw = (swcl_fw)(t * inv_time_scale);
+        swcl_fw w0, w1, w2;
+        swcl_perlin4_seeded_w(ux, uy, uz, uw, o0, &v0, &a0, &a1, &a2, &w0);
+        swcl_perlin4_seeded_w(ux, uy, uz, uw, o1, &v1, &b0, &b1, &b2, &w1);
+        swcl_perlin4_seeded_w(ux, uy, uz, uw, o2, &v2, &c0, &c1, &c2, &w2);
+    } else {
+        swcl_perlin3_seeded_w(ux, uy, uz, o0, &v0, &a0, &a1, &a2);
+        swcl_perlin3_seeded_w(ux, uy, uz, o1, &v1, &b0, &b1, &b2);
+        swcl_perlin3_seeded_w(ux, uy, uz, o2, &v2, &c0, &c1, &c2);
+    }
+    N->p0 = gain * v0; N->p1 = gain * v1; N->p2 = gain * v2;
+    N->j00 = jg * a0; N->j01 = jg * a1; N->j02 = jg * a2;
+    N->j10 = jg * b0; N->j11 = jg * b1; N->j12 = jg * b2;
+    N->j20 = jg * c0; N->j21 = jg * c1; N->j22 = jg * c2;
+}
+
+#define SWCL_WALL_ROW_W(i, K, a, dak)                                       \
+    do {                                                                    \
+        const swcl_fw q = N->p##i;                                          \
+        N->p##i = (a) * q;                                                  \
+        N->j##i##0 = (a) * N->j##i##0 + ((K) == 0 ? q * (dak) : (swcl_fw)(0.0f)); \
+        N->j##i##1 = (a) * N->j##i##1 + ((K) == 1 ? q * (dak) : (swcl_fw)(0.0f)); \
+        N->j##i##2 = (a) * N->j##i##2 + ((K) == 2 ? q * (dak) : (swcl_fw)(0.0f)); \
+    } while (0)
+
+SWCL_INLINE void swcl_modulate_wall_w(swcl_pjw* N, int K, float s, swcl_fw d, float inv_d0)
+{
+    const swcl_fw zero = (swcl_fw)(0.0f), one = (swcl_fw)(1.0f);
+    const swcl_fw r = d * inv_d0;
+    const swcl_fw rc = select(select(r, one, r > 1.0f), zero, r < 0.0f);
+    const swcl_fw r2 = rc * rc;
+    const swcl_fw a = rc * (15.0f + r2 * (-10.0f + 3.0f * r2)) * 0.125f;   /* swcl_ramp */
+    const swcl_fw om = 1.0f - r2;
+    const swcl_fw dak = select(zero, 1.875f * om * om, r > 0.0f) * inv_d0 * s;
+    if (K != 0) SWCL_WALL_ROW_W(0, K, a, dak);
+    if (K != 1) SWCL_WALL_ROW_W(1, K, a, dak);
+    if (K != 2) SWCL_WALL_ROW_W(2, K, a, dak);
+}
+
+SWCL_INLINE void swcl_modulate_box_interior_w(swcl_pjw* N, swcl_fw x, swcl_fw y, swcl_fw z,
+                                              float lx, float ly, float lz,
+                                              float hx, float hy, float hz, float inv_d0)
+{
+    swcl_modulate_wall_w(N, 0,  1.0f, x - lx, inv_d0);
+    swcl_modulate_wall_w(N, 0, -1.0f, hx - x, inv_d0);
+    swcl_modulate_wall_w(N, 1,  1.0f, y - ly, inv_d0);
+    swcl_modulate_wall_w(N, 1, -1.0f, hy - y, inv_d0);
+    swcl_modulate_wall_w(N, 2,  1.0f, z - lz, inv_d0);
+    swcl_modulate_wall_w(N, 2, -1.0f, hz - z, inv_d0);
+}
+
+SWCL_INLINE void swcl_pjw_curl(const swcl_pjw* N, float scale, swcl_fw* vx, swcl_fw* vy, swcl_fw* vz)
+{
+    *vx = scale * (N->j21 - N->j12);
+    *vy = scale * (N->j02 - N->j20);
+    *vz = scale * (N->j10 - N->j01);
+}
+#endif /* SWCL_W */
+
 #endif /* SWCL_CURL_NOISE_CL */

@@ -37,3 +37,29 @@ __kernel void field_model_advance(__global float4* pos, __global float4* vel, __
     NOISE_AT(pp, i, 0) = px + vx * dt; NOISE_AT(pp, i, 1) = py + vy * dt; NOISE_AT(pp, i, 2) = pz + vz * dt;
     NOISE_AT(pp, i, 3) = 0.0f;
 }
+
+#ifdef NOISE_WIDE
+// field_model_advance on SWCL_W consecutive agents per work-item (CPU devices;
+// noise_field.cl, explicit-width path): same arithmetic, in the same order.
+__kernel void field_model_advance_w(__global float4* pos, __global float4* vel, __global const uint* ids,
+                                    uint n, float dt, float t, uint step, NOISE_PARAMS, float4 goal,
+                                    float goal_speed, float goal_falloff) {
+    const uint base = get_global_id(0) * SWCL_W;
+    if (base >= n) return;
+    __global float* pp = (__global float*)pos;
+    swcl_fw px, py, pz;
+    noise_load_xyz_w(pp, base, n, &px, &py, &pz);
+    swcl_fw vx, vy, vz;
+    NOISE_VELOCITY_W(px, py, pz, t, &vx, &vy, &vz);
+    if (goal.w >= 0.0f) {
+        const swcl_fw gx = goal.x - px, gy = goal.y - py, gz = goal.z - pz;
+        const swcl_fw dist = sqrt(gx * gx + gy * gy + gz * gz);
+        const swcl_fw ramp = goal_falloff > 0.0f ? fmin((swcl_fw)(1.0f), (dist - goal.w) / goal_falloff)
+                                                 : (swcl_fw)(1.0f);
+        const swcl_fw k = select((swcl_fw)(0.0f), goal_speed * ramp / dist, (dist > goal.w) & (dist > 0.0f));
+        vx += k * gx; vy += k * gy; vz += k * gz;
+    }
+    noise_store_w((__global float*)vel, base, n, vx, vy, vz);
+    noise_store_w(pp, base, n, px + vx * dt, py + vy * dt, pz + vz * dt);
+}
+#endif

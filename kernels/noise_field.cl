@@ -252,4 +252,157 @@ __kernel void noise_bake(NOISE_PARAMS, __global float4* out) {
     __global float* o = (__global float*)out;
     NOISE_AT(o, i, 0) = vx; NOISE_AT(o, i, 1) = vy; NOISE_AT(o, i, 2) = vz; NOISE_AT(o, i, 3) = 0.0f;
 }
+
+// ---- explicit-width path (CPU devices) --------------------------------------
+//
+// With -DNOISE_WIDTH=8|16 (NoiseField::width(): CPU devices, or
+// $SWARMCL_NOISE_WIDTH) and a configuration of the specialised path without
+// obstacles, noise_sample_w (and field_model_advance_w) run SWCL_W
+// consecutive points per work-item in floatW lanes: the scalar path's
+// arithmetic, in the same order (perlin.cl, curl_noise.cl). Launch
+// ceil(n / SWCL_W) work-items; the last one clamps its loads to point n - 1
+// and stores only the lanes below n.
+#if defined(SWCL_W) && NOISE_SCALAR && !NOISE_OBSTACLES
+#define NOISE_WIDE 1
+
+// Trilinear blend of the 8 nodes from c (strides sy, sz in nodes).
+SWCL_INLINE float4 noise_tri4(__global const float4* c, int sy, int sz, float wx, float wy, float wz) {
+    const float4 x00 = c[0] + (c[1] - c[0]) * wx;
+    const float4 x10 = c[sy] + (c[sy + 1] - c[sy]) * wx;
+    const float4 x01 = c[sz] + (c[sz + 1] - c[sz]) * wx;
+    const float4 x11 = c[sz + sy] + (c[sz + sy + 1] - c[sz + sy]) * wx;
+    const float4 y0 = x00 + (x10 - x00) * wy, y1 = x01 + (x11 - x01) * wy;
+    return y0 + (y1 - y0) * wz;
+}
+
+// noise_baked_sample_s on SWCL_W points.
+SWCL_INLINE void noise_baked_sample_w(__global const float4* baked, float4 bmin, float4 bcell, int4 dims,
+                                      swcl_fw x, swcl_fw y, swcl_fw z, swcl_fw* vx, swcl_fw* vy, swcl_fw* vz) {
+    const swcl_fw zero = (swcl_fw)(0.0f);
+    const float fx = (float)(dims.x - 1), fy = (float)(dims.y - 1), fz = (float)(dims.z - 1);
+    swcl_fw ux = (x - bmin.x) * (1.0f / bcell.x), uy = (y - bmin.y) * (1.0f / bcell.y),
+            uz = (z - bmin.z) * (1.0f / bcell.z);
+    ux = select(zero, select((swcl_fw)(fx), ux, ux < fx), ux > 0.0f);
+    uy = select(zero, select((swcl_fw)(fy), uy, uy < fy), uy > 0.0f);
+    uz = select(zero, select((swcl_fw)(fz), uz, uz < fz), uz > 0.0f);
+    const swcl_iw ix = min(swcl_cvt_iw(ux), (swcl_iw)(dims.x - 2)), iy = min(swcl_cvt_iw(uy), (swcl_iw)(dims.y - 2)),
+                  iz = min(swcl_cvt_iw(uz), (swcl_iw)(dims.z - 2));
+    const swcl_fw wx = ux - swcl_cvt_fw(ix), wy = uy - swcl_cvt_fw(iy), wz = uz - swcl_cvt_fw(iz);
+    // Per lane: the 8 corner nodes as float4 loads, interpolated as float4
+    // (each component as noise_baked_sample_s computes it), then transposed.
+    const int sy = dims.x, sz = dims.x * dims.y;
+    const swcl_iw b = ix + dims.x * (iy + dims.y * iz);
+#define NOISE_TRI_LANE_(k)                                                                               \
+    const float4 r_##k = noise_tri4(baked + SWCL_LANE(b, k), sy, sz, SWCL_LANE(wx, k), SWCL_LANE(wy, k), \
+                                    SWCL_LANE(wz, k));
+    SWCL_EACH_LANE(NOISE_TRI_LANE_)
+#undef NOISE_TRI_LANE_
+#define NOISE_RX_(k) r_##k.x
+#define NOISE_RY_(k) r_##k.y
+#define NOISE_RZ_(k) r_##k.z
+    *vx = (swcl_fw)(SWCL_LANES(NOISE_RX_));
+    *vy = (swcl_fw)(SWCL_LANES(NOISE_RY_));
+    *vz = (swcl_fw)(SWCL_LANES(NOISE_RZ_));
+#undef NOISE_RX_
+#undef NOISE_RY_
+#undef NOISE_RZ_
+}
+
+// noise_velocity_s on SWCL_W points (curl, Perlin vector or baked).
+SWCL_INLINE void noise_velocity_w(NOISE_PARAMS, swcl_fw x, swcl_fw y, swcl_fw z, float t,
+                                  swcl_fw* vx, swcl_fw* vy, swcl_fw* vz) {
+#if NOISE_KIND == NOISE_KIND_BAKED
+    noise_baked_sample_w(noise_baked, noise_bake_min, noise_bake_cell, noise_bake_dims, x, y, z, vx, vy, vz);
+#else
+    const float scale = noise_shape.x, gain = noise_shape.y, d0 = noise_shape.z;
+    swcl_pjw N;
+    swcl_noise_potential_w(x, y, z, t, NOISE_TIMED, 1.0f / scale, gain, noise_shape.w, noise_off0, noise_off1,
+                           noise_off2, &N);
+#if NOISE_KIND == NOISE_PERLIN
+    *vx = N.p0; *vy = N.p1; *vz = N.p2;
+#else
+#if NOISE_WALLS
+    {
+        __global const float* w = (__global const float*)noise_prims;
+        swcl_modulate_box_interior_w(&N, x, y, z, w[0], w[1], w[2], w[4], w[5], w[6], 1.0f / d0);
+    }
+#endif
+    swcl_pjw_curl(&N, scale, vx, vy, vz);
+#endif
+#endif
+}
+
+#define NOISE_VELOCITY_W(x, y, z, t, vx, vy, vz) \
+    noise_velocity_w(noise_type, noise_flags, noise_shape, noise_fd_step, noise_seed, noise_off0, noise_off1, \
+                     noise_off2, noise_prims, noise_nprims, noise_baked, noise_bake_min, noise_bake_cell,     \
+                     noise_bake_dims, x, y, z, t, vx, vy, vz)
+
+// The xyz of the SWCL_W points (float4 elements of p, seen as floats) from
+// `base` on: whole float16 loads and shuffles, or, in the last work-item,
+// single loads with indices clamped to n - 1.
+#define NOISE_LOAD_LANE_(k) p[4 * (size_t)min(base + (uint)SWCL_LANE_I(k), n - 1) + c]
+SWCL_INLINE swcl_fw noise_load_tail_w(__global const float* p, uint base, uint n, int c) {
+    return (swcl_fw)(SWCL_LANES(NOISE_LOAD_LANE_));
+}
+#undef NOISE_LOAD_LANE_
+SWCL_INLINE void noise_load_xyz_w(__global const float* p, uint base, uint n, swcl_fw* x, swcl_fw* y, swcl_fw* z) {
+    if (base + SWCL_W <= n) {
+        __global const float* q = p + 4 * (size_t)base;
+        const float16 a0 = vload16(0, q), a1 = vload16(1, q);
+#if SWCL_W == 16
+        const float16 a2 = vload16(2, q), a3 = vload16(3, q);
+        *x = (float16)(a0.s048c, a1.s048c, a2.s048c, a3.s048c);
+        *y = (float16)(a0.s159d, a1.s159d, a2.s159d, a3.s159d);
+        *z = (float16)(a0.s26ae, a1.s26ae, a2.s26ae, a3.s26ae);
+#else
+        *x = (float8)(a0.s048c, a1.s048c);
+        *y = (float8)(a0.s159d, a1.s159d);
+        *z = (float8)(a0.s26ae, a1.s26ae);
+#endif
+    } else {
+        *x = noise_load_tail_w(p, base, n, 0);
+        *y = noise_load_tail_w(p, base, n, 1);
+        *z = noise_load_tail_w(p, base, n, 2);
+    }
+}
+
+// Stores (a.k, b.k, c.k, 0) to float4 element base + k of o, for the lanes
+// below n: whole float16 stores except in the last work-item.
+#define NOISE_STORE_LANE_(k)                                                              \
+    if (base + (uint)SWCL_LANE_I(k) < n)                                                  \
+        vstore4((float4)(SWCL_LANE(a, k), SWCL_LANE(b, k), SWCL_LANE(c, k), 0.0f),        \
+                base + (uint)SWCL_LANE_I(k), o);
+#define NOISE_STORE4_(j, k0, k1, k2, k3)                                                  \
+    vstore16((float16)(a.s##k0, b.s##k0, c.s##k0, 0.0f, a.s##k1, b.s##k1, c.s##k1, 0.0f,  \
+                       a.s##k2, b.s##k2, c.s##k2, 0.0f, a.s##k3, b.s##k3, c.s##k3, 0.0f), \
+             j, q);
+SWCL_INLINE void noise_store_w(__global float* o, uint base, uint n, swcl_fw a, swcl_fw b, swcl_fw c) {
+    if (base + SWCL_W <= n) {
+        __global float* q = o + 4 * (size_t)base;
+        NOISE_STORE4_(0, 0, 1, 2, 3)
+        NOISE_STORE4_(1, 4, 5, 6, 7)
+#if SWCL_W == 16
+        NOISE_STORE4_(2, 8, 9, a, b)
+        NOISE_STORE4_(3, c, d, e, f)
+#endif
+    } else {
+        SWCL_EACH_LANE(NOISE_STORE_LANE_)
+    }
+}
+#undef NOISE_STORE_LANE_
+#undef NOISE_STORE4_
+
+// noise_sample on SWCL_W consecutive points per work-item.
+__kernel void noise_sample_w(__global const float4* points, uint n, float t, uint step, NOISE_PARAMS,
+                             __global float4* out) {
+    const uint base = get_global_id(0) * SWCL_W;
+    if (base >= n) return;
+    __global const float* p = (__global const float*)points;
+    swcl_fw x, y, z;
+    noise_load_xyz_w(p, base, n, &x, &y, &z);
+    swcl_fw vx, vy, vz;
+    NOISE_VELOCITY_W(x, y, z, t, &vx, &vy, &vz);
+    noise_store_w((__global float*)out, base, n, vx, vy, vz);
+}
+#endif
 #endif

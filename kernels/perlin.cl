@@ -280,4 +280,215 @@ SWCL_INLINE swcl_vg4 swcl_perlin4_seeded(float4 p, uint4 o)
     return r;
 }
 
+/* ---- explicit-width variants (CPU devices) ----
+ *
+ * Built when NOISE_WIDTH (8 or 16) is defined: the same arithmetic as the
+ * scalar cores above, in the same order, on SWCL_W consecutive points at once
+ * (floatW lanes), so every lane gives the scalar result up to the compiler's
+ * own contraction choices. PoCL does not vectorise the scalar cores across
+ * work-items (docs/noise.md), so on CPUs one work-item runs SWCL_W points.
+ * Permutation lookups are gathers (swcl_perm_w). */
+#if defined(NOISE_WIDTH) && NOISE_WIDTH > 1
+#define SWCL_W NOISE_WIDTH
+#if SWCL_W == 8
+typedef float8 swcl_fw;
+typedef int8 swcl_iw;
+#define swcl_cvt_fw convert_float8
+#define swcl_cvt_iw convert_int8
+#define SWCL_LANES(E) E(0), E(1), E(2), E(3), E(4), E(5), E(6), E(7)
+#define SWCL_EACH_LANE(E) E(0) E(1) E(2) E(3) E(4) E(5) E(6) E(7)
+#elif SWCL_W == 16
+typedef float16 swcl_fw;
+typedef int16 swcl_iw;
+#define swcl_cvt_fw convert_float16
+#define swcl_cvt_iw convert_int16
+#define SWCL_LANES(E) E(0), E(1), E(2), E(3), E(4), E(5), E(6), E(7), \
+                      E(8), E(9), E(a), E(b), E(c), E(d), E(e), E(f)
+#define SWCL_EACH_LANE(E) E(0) E(1) E(2) E(3) E(4) E(5) E(6) E(7) \
+                          E(8) E(9) E(a) E(b) E(c) E(d) E(e) E(f)
+#else
+#error "NOISE_WIDTH must be 1, 8 or 16"
+#endif
+/* SWCL_LANES(E): E(k) for every lane, comma separated (a vector literal);
+ * SWCL_EACH_LANE(E): the same, juxtaposed (statements). k is a hex digit
+ * token; lane k of a vector and its index as an int: */
+#define SWCL_LANE(v, k) ((v).s##k)
+#define SWCL_LANE_I(k) (0x##k)
+
+/* The permutation lookup of W lanes. On x86 CPUs with AVX-512 and W = 16 one
+ * hardware gather (vpgatherdd); LLVM does not form it from W scalar loads,
+ * and those cost an extract, a load and an insert per lane. (The AVX2 gather
+ * for W = 8 measured slower than the scalar loads on a Xeon, so W = 8 keeps
+ * them.)
+ * The __constant table is addressed through an integer cast: CPU devices have
+ * one flat address space. -DSWCL_NO_HW_GATHER keeps the scalar loads. */
+#define SWCL_PERM_LANE_(k) swcl_perm[SWCL_LANE(swcl_pi_, k)]
+#ifdef __has_builtin
+#define SWCL_HAS_BUILTIN(x) __has_builtin(x)
+#else
+#define SWCL_HAS_BUILTIN(x) 0
+#endif
+#if defined(SWCL_NO_HW_GATHER)
+#define SWCL_HW_GATHER 0
+SWCL_INLINE swcl_iw swcl_perm_w(swcl_iw i)
+{
+    const swcl_iw swcl_pi_ = i & 255;
+    return (swcl_iw)(SWCL_LANES(SWCL_PERM_LANE_));
+}
+#elif SWCL_W == 16 && defined(__AVX512F__) && defined(__x86_64__) && SWCL_HAS_BUILTIN(__builtin_ia32_gathersiv16si)
+#define SWCL_HW_GATHER 1
+SWCL_INLINE swcl_iw swcl_perm_w(swcl_iw i)
+{
+    const swcl_iw swcl_pi_ = i & 255;
+    return __builtin_ia32_gathersiv16si((int16)(0), (const void*)(size_t)swcl_perm, swcl_pi_, (ushort)0xffff, 4);
+}
+#else
+#define SWCL_HW_GATHER 0
+SWCL_INLINE swcl_iw swcl_perm_w(swcl_iw i)
+{
+    const swcl_iw swcl_pi_ = i & 255;
+    return (swcl_iw)(SWCL_LANES(SWCL_PERM_LANE_));
+}
+#endif
+
+SWCL_INLINE swcl_fw swcl_fade_w(swcl_fw t)  { return t * t * t * (t * (t * 6.0f - 15.0f) + 10.0f); }
+SWCL_INLINE swcl_fw swcl_dfade_w(swcl_fw t) { return 30.0f * t * t * (t * (t - 2.0f) + 1.0f); }
+SWCL_INLINE swcl_iw swcl_floor_iw(swcl_fw x)
+{
+    const swcl_iw i = swcl_cvt_iw(x);            /* truncation toward 0 */
+    return i + (swcl_cvt_fw(i) > x);              /* true is -1 */
+}
+
+SWCL_INLINE void swcl_grad3_w(swcl_iw h, swcl_fw* gx, swcl_fw* gy, swcl_fw* gz)
+{
+    h &= 15;
+    const swcl_fw one = (swcl_fw)(1.0f), mone = (swcl_fw)(-1.0f), zero = (swcl_fw)(0.0f);
+    const swcl_fw su = select(one, mone, (h & 1) != 0), sv = select(one, mone, (h & 2) != 0);
+    const swcl_iw vx = (h == 12) | (h == 14);
+    const swcl_iw lt8 = h < 8;
+    *gx = select(select(zero, sv, vx), su, lt8);
+    *gy = select(su, select(zero, sv, h < 4), lt8);
+    *gz = select(zero, sv, (h >= 4) & ~vx);
+}
+
+SWCL_INLINE void swcl_grad4_w(swcl_iw h, swcl_fw* gx, swcl_fw* gy, swcl_fw* gz, swcl_fw* gw)
+{
+    h &= 31;
+    const swcl_iw z = h >> 3;
+    const swcl_fw one = (swcl_fw)(1.0f), mone = (swcl_fw)(-1.0f), zero = (swcl_fw)(0.0f);
+    const swcl_fw s0 = select(one, mone, (h & 1) != 0), s1 = select(one, mone, (h & 2) != 0),
+                  s2 = select(one, mone, (h & 4) != 0);
+    *gx = select(s0, zero, z == 0);
+    *gy = select(select(s1, zero, z == 1), s0, z == 0);
+    *gz = select(select(s2, zero, z == 2), s1, z <= 1);
+    *gw = select(s2, zero, z == 3);
+}
+
+#define SWCL_CORNER3_W(h, dx, dy, dz, C)                                      \
+    swcl_fw C##x, C##y, C##z;                                                 \
+    swcl_grad3_w((h), &C##x, &C##y, &C##z);                                   \
+    const swcl_fw C##v = C##x * (dx) + C##y * (dy) + C##z * (dz);
+#define SWCL_DLERP3_W(t, dt, AX, A, B, R)                                     \
+    const swcl_fw R##v = A##v + (t) * (B##v - A##v);                          \
+    const swcl_fw R##x = A##x + (t) * (B##x - A##x) + ((AX) == 0 ? (dt) * (B##v - A##v) : (swcl_fw)(0.0f)); \
+    const swcl_fw R##y = A##y + (t) * (B##y - A##y) + ((AX) == 1 ? (dt) * (B##v - A##v) : (swcl_fw)(0.0f)); \
+    const swcl_fw R##z = A##z + (t) * (B##z - A##z) + ((AX) == 2 ? (dt) * (B##v - A##v) : (swcl_fw)(0.0f));
+
+SWCL_INLINE void swcl_perlin3_w(swcl_fw px, swcl_fw py, swcl_fw pz, int ox, int oy, int oz,
+                                swcl_fw* val, swcl_fw* gx, swcl_fw* gy, swcl_fw* gz)
+{
+    const swcl_iw ix = swcl_floor_iw(px), iy = swcl_floor_iw(py), iz = swcl_floor_iw(pz);
+    const swcl_fw x = px - swcl_cvt_fw(ix), y = py - swcl_cvt_fw(iy), z = pz - swcl_cvt_fw(iz);
+    const swcl_iw X = ix + ox, Y = iy + oy, Z = iz + oz;
+    const swcl_fw u = swcl_fade_w(x), v = swcl_fade_w(y), w = swcl_fade_w(z);
+    const swcl_fw du = swcl_dfade_w(x), dv = swcl_dfade_w(y), dw = swcl_dfade_w(z);
+    const swcl_fw x1 = x - 1.0f, y1 = y - 1.0f, z1 = z - 1.0f;
+    const swcl_iw A = swcl_perm_w(X) + Y, B = swcl_perm_w(X + 1) + Y;
+    const swcl_iw AA = swcl_perm_w(A) + Z, AB = swcl_perm_w(A + 1) + Z;
+    const swcl_iw BA = swcl_perm_w(B) + Z, BB = swcl_perm_w(B + 1) + Z;
+    SWCL_CORNER3_W(swcl_perm_w(AA),     x,  y,  z,  c000)
+    SWCL_CORNER3_W(swcl_perm_w(BA),     x1, y,  z,  c100)
+    SWCL_CORNER3_W(swcl_perm_w(AB),     x,  y1, z,  c010)
+    SWCL_CORNER3_W(swcl_perm_w(BB),     x1, y1, z,  c110)
+    SWCL_CORNER3_W(swcl_perm_w(AA + 1), x,  y,  z1, c001)
+    SWCL_CORNER3_W(swcl_perm_w(BA + 1), x1, y,  z1, c101)
+    SWCL_CORNER3_W(swcl_perm_w(AB + 1), x,  y1, z1, c011)
+    SWCL_CORNER3_W(swcl_perm_w(BB + 1), x1, y1, z1, c111)
+    SWCL_DLERP3_W(u, du, 0, c000, c100, a00)
+    SWCL_DLERP3_W(u, du, 0, c010, c110, a10)
+    SWCL_DLERP3_W(u, du, 0, c001, c101, a01)
+    SWCL_DLERP3_W(u, du, 0, c011, c111, a11)
+    SWCL_DLERP3_W(v, dv, 1, a00, a10, b0)
+    SWCL_DLERP3_W(v, dv, 1, a01, a11, b1)
+    SWCL_DLERP3_W(w, dw, 2, b0, b1, r)
+    *val = rv; *gx = rx; *gy = ry; *gz = rz;
+}
+
+#define SWCL_CORNER4_W(h, dx, dy, dz, dw, C)                                  \
+    swcl_fw C##x, C##y, C##z, C##w;                                           \
+    swcl_grad4_w((h), &C##x, &C##y, &C##z, &C##w);                            \
+    const swcl_fw C##v = C##x * (dx) + C##y * (dy) + C##z * (dz) + C##w * (dw);
+#define SWCL_DLERP4_W(t, dt, AX, A, B, R)                                     \
+    const swcl_fw R##v = A##v + (t) * (B##v - A##v);                          \
+    const swcl_fw R##x = A##x + (t) * (B##x - A##x) + ((AX) == 0 ? (dt) * (B##v - A##v) : (swcl_fw)(0.0f)); \
+    const swcl_fw R##y = A##y + (t) * (B##y - A##y) + ((AX) == 1 ? (dt) * (B##v - A##v) : (swcl_fw)(0.0f)); \
+    const swcl_fw R##z = A##z + (t) * (B##z - A##z) + ((AX) == 2 ? (dt) * (B##v - A##v) : (swcl_fw)(0.0f)); \
+    const swcl_fw R##w = A##w + (t) * (B##w - A##w) + ((AX) == 3 ? (dt) * (B##v - A##v) : (swcl_fw)(0.0f));
+#define SWCL_H4_W(ZW, cz, cw) swcl_perm_w(swcl_perm_w((ZW) + (cz)) + W + (cw))
+
+SWCL_INLINE void swcl_perlin4_w(swcl_fw px, swcl_fw py, swcl_fw pz, swcl_fw pw, int ox, int oy, int oz, int ow,
+                                swcl_fw* val, swcl_fw* gx, swcl_fw* gy, swcl_fw* gz, swcl_fw* gw)
+{
+    const swcl_iw ix = swcl_floor_iw(px), iy = swcl_floor_iw(py), iz = swcl_floor_iw(pz), iw = swcl_floor_iw(pw);
+    const swcl_fw x = px - swcl_cvt_fw(ix), y = py - swcl_cvt_fw(iy), z = pz - swcl_cvt_fw(iz),
+                  w = pw - swcl_cvt_fw(iw);
+    const swcl_iw X = ix + ox, Y = iy + oy, Z = iz + oz, W = iw + ow;
+    const swcl_fw u = swcl_fade_w(x), v = swcl_fade_w(y), s = swcl_fade_w(z), q = swcl_fade_w(w);
+    const swcl_fw du = swcl_dfade_w(x), dv = swcl_dfade_w(y), ds = swcl_dfade_w(z), dq = swcl_dfade_w(w);
+    const swcl_fw x1 = x - 1.0f, y1 = y - 1.0f, z1 = z - 1.0f, w1 = w - 1.0f;
+    const swcl_iw P0 = swcl_perm_w(X) + Y, P1 = swcl_perm_w(X + 1) + Y;
+    const swcl_iw Z00 = swcl_perm_w(P0) + Z, Z10 = swcl_perm_w(P1) + Z;
+    const swcl_iw Z01 = swcl_perm_w(P0 + 1) + Z, Z11 = swcl_perm_w(P1 + 1) + Z;
+    SWCL_CORNER4_W(SWCL_H4_W(Z00, 0, 0), x,  y,  z,  w,  c0000)
+    SWCL_CORNER4_W(SWCL_H4_W(Z10, 0, 0), x1, y,  z,  w,  c1000)
+    SWCL_CORNER4_W(SWCL_H4_W(Z01, 0, 0), x,  y1, z,  w,  c0100)
+    SWCL_CORNER4_W(SWCL_H4_W(Z11, 0, 0), x1, y1, z,  w,  c1100)
+    SWCL_CORNER4_W(SWCL_H4_W(Z00, 1, 0), x,  y,  z1, w,  c0010)
+    SWCL_CORNER4_W(SWCL_H4_W(Z10, 1, 0), x1, y,  z1, w,  c1010)
+    SWCL_CORNER4_W(SWCL_H4_W(Z01, 1, 0), x,  y1, z1, w,  c0110)
+    SWCL_CORNER4_W(SWCL_H4_W(Z11, 1, 0), x1, y1, z1, w,  c1110)
+    SWCL_CORNER4_W(SWCL_H4_W(Z00, 0, 1), x,  y,  z,  w1, c0001)
+    SWCL_CORNER4_W(SWCL_H4_W(Z10, 0, 1), x1, y,  z,  w1, c1001)
+    SWCL_CORNER4_W(SWCL_H4_W(Z01, 0, 1), x,  y1, z,  w1, c0101)
+    SWCL_CORNER4_W(SWCL_H4_W(Z11, 0, 1), x1, y1, z,  w1, c1101)
+    SWCL_CORNER4_W(SWCL_H4_W(Z00, 1, 1), x,  y,  z1, w1, c0011)
+    SWCL_CORNER4_W(SWCL_H4_W(Z10, 1, 1), x1, y,  z1, w1, c1011)
+    SWCL_CORNER4_W(SWCL_H4_W(Z01, 1, 1), x,  y1, z1, w1, c0111)
+    SWCL_CORNER4_W(SWCL_H4_W(Z11, 1, 1), x1, y1, z1, w1, c1111)
+    SWCL_DLERP4_W(u, du, 0, c0000, c1000, a000) SWCL_DLERP4_W(u, du, 0, c0100, c1100, a100)
+    SWCL_DLERP4_W(u, du, 0, c0010, c1010, a010) SWCL_DLERP4_W(u, du, 0, c0110, c1110, a110)
+    SWCL_DLERP4_W(u, du, 0, c0001, c1001, a001) SWCL_DLERP4_W(u, du, 0, c0101, c1101, a101)
+    SWCL_DLERP4_W(u, du, 0, c0011, c1011, a011) SWCL_DLERP4_W(u, du, 0, c0111, c1111, a111)
+    SWCL_DLERP4_W(v, dv, 1, a000, a100, b00) SWCL_DLERP4_W(v, dv, 1, a010, a110, b10)
+    SWCL_DLERP4_W(v, dv, 1, a001, a101, b01) SWCL_DLERP4_W(v, dv, 1, a011, a111, b11)
+    SWCL_DLERP4_W(s, ds, 2, b00, b10, e0) SWCL_DLERP4_W(s, ds, 2, b01, b11, e1)
+    SWCL_DLERP4_W(q, dq, 3, e0, e1, r)
+    *val = rv; *gx = rx; *gy = ry; *gz = rz; *gw = rw;
+}
+
+SWCL_INLINE void swcl_perlin3_seeded_w(swcl_fw px, swcl_fw py, swcl_fw pz, uint4 o,
+                                       swcl_fw* val, swcl_fw* gx, swcl_fw* gy, swcl_fw* gz)
+{
+    swcl_perlin3_w(px + swcl_off_frac(o.x), py + swcl_off_frac(o.y), pz + swcl_off_frac(o.z),
+                   swcl_off_cells(o.x), swcl_off_cells(o.y), swcl_off_cells(o.z), val, gx, gy, gz);
+}
+SWCL_INLINE void swcl_perlin4_seeded_w(swcl_fw px, swcl_fw py, swcl_fw pz, swcl_fw pw, uint4 o,
+                                       swcl_fw* val, swcl_fw* gx, swcl_fw* gy, swcl_fw* gz, swcl_fw* gw)
+{
+    swcl_perlin4_w(px + swcl_off_frac(o.x), py + swcl_off_frac(o.y), pz + swcl_off_frac(o.z),
+                   pw + swcl_off_frac(o.w), swcl_off_cells(o.x), swcl_off_cells(o.y),
+                   swcl_off_cells(o.z), swcl_off_cells(o.w), val, gx, gy, gz, gw);
+}
+#endif /* NOISE_WIDTH > 1 */
+
 #endif /* SWCL_PERLIN_CL */

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <string>
 
 #include "core/error.hpp"
@@ -16,6 +17,23 @@ constexpr float kPrimBoxInterior = 1, kPrimSphere = 2, kPrimBox = 3, kPrimPlane 
 constexpr int kFlagTimed = 1, kFlagFiniteDifference = 2, kFlagBaked = 4;
 constexpr uint32_t kStreamPerlinOffset = 2;  // SWCL_STREAM_PERLIN_OFFSET
 constexpr uint64_t kMaxBakedNodes = uint64_t(1) << 27;
+
+// Explicit-width kernels: SWCL_W points per work-item (perlin.cl).  CPU
+// devices only by default: PoCL does not vectorise the scalar kernels across
+// work-items, GPUs run them one point per work-item.
+constexpr uint32_t kCpuNoiseWidth = 16;
+
+uint32_t preferred_noise_width(const DeviceEntry& device) {
+    const char* env = std::getenv("SWARMCL_NOISE_WIDTH");
+    if (env && *env) {
+        const std::string v(env);
+        if (v == "1") return 1;
+        if (v == "8") return 8;
+        if (v == "16") return 16;
+        fail(Status::InvalidArgument, "SWARMCL_NOISE_WIDTH must be 1, 8 or 16 (got '" + v + "')");
+    }
+    return (device.type & CL_DEVICE_TYPE_CPU) ? kCpuNoiseWidth : 1;
+}
 
 bool finite3(const std::array<float, 3>& v) {
     return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
@@ -96,6 +114,7 @@ NoiseField::NoiseField(Context& ctx, NoiseConfig config, const std::array<float,
         fail(Status::InvalidArgument, std::string("noise ") + (config_.baked ? "baking" : "domain_walls") +
                                           " needs a region (region_min < region_max)");
     if (config_.fd_step == 0.0f) config_.fd_step = config_.scale / 100.0f;
+    preferred_width_ = preferred_noise_width(ctx_.device());
 
     // Independent potentials: one Philox draw per channel (perlin.cl).
     for (uint32_t k = 0; k < 3; ++k) {
@@ -157,9 +176,21 @@ cl_uint NoiseField::set_args(cl::Kernel& k, cl_uint i) const {
     return i;
 }
 
+uint32_t NoiseField::width() const {
+    const auto& c = config_;
+    // The configurations noise_field.cl's explicit-width path covers
+    // (NOISE_WIDE): baked, or curl / Perlin vector without finite differences
+    // and, for curl, without obstacles.
+    const bool wide = baked_ready_ || (c.type == NoiseType::Perlin) ||
+                      (c.type == NoiseType::Curl && !c.finite_difference && c.boundaries.empty());
+    return wide ? preferred_width_ : 1;
+}
+
 std::string NoiseField::defines() const {
     const auto& c = config_;
-    if (baked_ready_) return "-DNOISE_KIND=4";  // NOISE_KIND_BAKED
+    const uint32_t w = width();
+    const std::string wd = w > 1 ? " -DNOISE_WIDTH=" + std::to_string(w) : "";
+    if (baked_ready_) return "-DNOISE_KIND=4" + wd;  // NOISE_KIND_BAKED
     std::string d = "-DNOISE_KIND=" + std::to_string(int(c.type));
     if (c.type == NoiseType::Curl || c.type == NoiseType::Perlin)
         d += std::string(" -DNOISE_TIMED=") + (c.time_scale > 0.0f ? "1" : "0");
@@ -168,7 +199,7 @@ std::string NoiseField::defines() const {
         d += std::string(" -DNOISE_WALLS=") + (c.domain_walls ? "1" : "0");
         d += std::string(" -DNOISE_OBSTACLES=") + (c.boundaries.empty() ? "0" : "1");
     }
-    return d;
+    return d + wd;
 }
 
 cl::Kernel NoiseField::kernel(const std::string& file, const char* name) const {
@@ -212,7 +243,8 @@ void NoiseField::sample(const float* xyz, size_t n, float time, uint32_t step, f
     if (n == 0) return;
     DeviceBuffer<cl_float4> in(ctx_, n, "noise sample points"), result(ctx_, n, "noise sample results");
     in.upload(ctx_, points.data(), n);
-    cl::Kernel kernel = this->kernel("noise_field.cl", "noise_sample");
+    const uint32_t w = width();
+    cl::Kernel kernel = this->kernel("noise_field.cl", w > 1 ? "noise_sample_w" : "noise_sample");
     cl_uint i = 0;
     kernel.setArg(i++, in.get());
     kernel.setArg(i++, cl_uint(n));
@@ -220,7 +252,7 @@ void NoiseField::sample(const float* xyz, size_t n, float time, uint32_t step, f
     kernel.setArg(i++, step);
     i = set_args(kernel, i);
     kernel.setArg(i, result.get());
-    launch(ctx_, kernel, n);
+    launch(ctx_, kernel, (n + w - 1) / w);
     result.download(ctx_, points.data(), n);
     for (size_t p = 0; p < n; ++p)
         for (int a = 0; a < 3; ++a) out[3 * p + a] = points[p].s[a];

@@ -59,9 +59,18 @@ public:
     // Build options that specialise kernels/noise_field.cl (and files that
     // include it) for this field: -DNOISE_KIND, NOISE_TIMED, NOISE_FD,
     // NOISE_WALLS, NOISE_OBSTACLES.  The kernel arguments stay the same.
+    // On CPU devices also -DNOISE_WIDTH=W (width()).
     std::string defines() const;
     // A kernel from `file` built for this field (Context::kernel with defines()).
     cl::Kernel kernel(const std::string& file, const char* name) const;
+
+    // Points per work-item of the explicit-width kernels (noise_sample_w,
+    // field_model_advance_w: launch ceil(n / width()) work-items), or 1 when
+    // the one-point-per-work-item kernels are to be used.  > 1 on CPU devices
+    // for the configurations the wide path covers (curl / Perlin vector
+    // without obstacles or finite differences, baked); $SWARMCL_NOISE_WIDTH
+    // = 1, 8 or 16 overrides the device default (docs/noise.md).
+    uint32_t width() const;
 
     // Samples at n packed xyz points into out (packed xyz); point i counts as
     // agent i for the random noise types.
@@ -81,6 +90,7 @@ private:
     cl_float4 bake_min_{}, bake_cell_{};
     cl_int4 bake_dims_{};
     bool baked_ready_ = false;
+    uint32_t preferred_width_ = 1;  // device default or $SWARMCL_NOISE_WIDTH
 };
 
 }  // namespace swarmcl

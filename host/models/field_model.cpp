@@ -22,7 +22,10 @@ FieldModel::FieldModel(Swarm& swarm, FieldModelConfig config) : config_(std::mov
     noise_ = std::make_unique<NoiseField>(ctx, c.noise, &swarm.config().domain_min, &swarm.config().domain_max);
     if (c.min_distance > 0.0f) mde_.emplace(ctx, c.min_distance, c.noise.seed);
     // Built for this noise configuration (NoiseField::defines).
-    advance_ = noise_->kernel("field_model.cl", "field_model_advance");
+    // On CPU devices the explicit-width variant (NoiseField::width() agents per
+    // work-item).
+    width_ = noise_->width();
+    advance_ = noise_->kernel("field_model.cl", width_ > 1 ? "field_model_advance_w" : "field_model_advance");
     moved_.allocate(ctx, 2, "MDE counters");
     moved_.fill(ctx, 0u, 2);
 }
@@ -43,7 +46,7 @@ void FieldModel::advance(Swarm& swarm, uint64_t step) {
     advance_.setArg(i++, cl_float4{{c.goal[0], c.goal[1], c.goal[2], c.has_goal ? c.goal_radius : -1.0f}});
     advance_.setArg(i++, c.goal_speed);
     advance_.setArg(i++, c.goal_falloff);
-    launch(swarm.context(), advance_, n);
+    launch(swarm.context(), advance_, (size_t(n) + width_ - 1) / width_);
     swarm.positions_changed();
     if (mde_) mde_->apply(swarm, moved_);
     ++steps_since_read_;

@@ -46,6 +46,7 @@ private:
     std::unique_ptr<NoiseField> noise_;
     std::optional<MinDistance> mde_;
     cl::Kernel advance_;
+    uint32_t width_ = 1;  // agents per work-item of advance_ (NoiseField::width)
     DeviceBuffer<cl_uint> moved_;
     uint64_t steps_since_read_ = 0;
 };
