@@ -232,7 +232,7 @@ std::vector<Timing> build_stages(swarmcl::Context& ctx, swarmcl::Swarm& swarm, c
     using swarmcl::DeviceBuffer;
     auto& grid = swarm.grid();
     auto& q = ctx.queue();
-    DeviceBuffer<cl_float4> pos_out(ctx, n, "positions out");
+    DeviceBuffer<cl_float4> pos_out(ctx, n, "positions out"), vel_out(ctx, n, "velocities out");
     DeviceBuffer<cl_uint> ids_out(ctx, n, "ids out");
     std::vector<Timing> out;
     for (const auto& c : cases) {
@@ -243,7 +243,7 @@ std::vector<Timing> build_stages(swarmcl::Context& ctx, swarmcl::Swarm& swarm, c
         const std::string tag = c.first + "/";
         std::vector<std::string> names;
         std::vector<std::vector<double>> t;
-        std::vector<double> t_seq, t_perm_pos, t_perm_ids;
+        std::vector<double> t_seq, t_perm;
         for (int k = 0; k <= repeats; ++k) {  // k == 0: warm-up
             size_t i = 0;
             auto t0 = Clock::now();
@@ -262,18 +262,13 @@ std::vector<Timing> build_stages(swarmcl::Context& ctx, swarmcl::Swarm& swarm, c
             q.finish();
             if (k) t_seq.push_back(seconds_since(t0));
             t0 = Clock::now();
-            grid.permute(swarm.positions(), pos_out, n);
+            grid.permute_state(swarm.positions(), swarm.velocities(), swarm.ids(), pos_out, vel_out, ids_out, n);
             q.finish();
-            if (k) t_perm_pos.push_back(seconds_since(t0));
-            t0 = Clock::now();
-            grid.permute(swarm.ids(), ids_out, n);
-            q.finish();
-            if (k) t_perm_ids.push_back(seconds_since(t0));
+            if (k) t_perm.push_back(seconds_since(t0));
         }
         out.push_back({tag + "build stages back to back, 1 finish", t_seq});
         for (size_t i = 0; i < names.size(); ++i) out.push_back({tag + names[i], t[i]});
-        out.push_back({tag + "permute_float4 (x2 per rebuild)", t_perm_pos});
-        out.push_back({tag + "permute_uint (ids)", t_perm_ids});
+        out.push_back({tag + "permute_state (positions, velocities, ids)", t_perm});
     }
     swarm.write(swarmcl::Attribute::Position, xyz.data(), n);
     swarm.ensure_grid();

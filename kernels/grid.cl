@@ -268,17 +268,6 @@ __kernel void grid_place(__global const uint* keys, uint n, __global const uint*
 }
 
 // Reordering into cell order: dst[s] = src[perm[s]].
-__kernel void permute_float4(__global const float4* src, __global const uint* perm, uint n,
-                             __global float4* dst) {
-    const uint s = get_global_id(0);
-    if (s < n) dst[s] = src[perm[s]];
-}
-
-__kernel void permute_uint(__global const uint* src, __global const uint* perm, uint n, __global uint* dst) {
-    const uint s = get_global_id(0);
-    if (s < n) dst[s] = src[perm[s]];
-}
-
 // Positions, velocities and ids in one pass over perm.
 __kernel void permute_state(__global const float4* pos, __global const float4* vel, __global const uint* ids,
                             __global const uint* perm, uint n, __global float4* pos_out,

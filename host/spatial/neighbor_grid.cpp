@@ -50,8 +50,6 @@ NeighborGrid::NeighborGrid(Context& ctx, const GridGeometry& geometry, uint32_t 
     radix_scatter_ = ctx.kernel("grid.cl", "radix_scatter");
     radix_rows_ = ctx.kernel("grid.cl", "radix_rows");
     place_ = ctx.kernel("grid.cl", "grid_place");
-    permute_f4_ = ctx.kernel("grid.cl", "permute_float4");
-    permute_u_ = ctx.kernel("grid.cl", "permute_uint");
     permute_state_ = ctx.kernel("grid.cl", "permute_state");
 }
 
@@ -137,23 +135,19 @@ void NeighborGrid::build(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<
     stage("grid_place");
 }
 
-void NeighborGrid::permute(const DeviceBuffer<cl_float4>& src, DeviceBuffer<cl_float4>& dst, uint32_t n) {
-    set_args(permute_f4_, src.get(), perm_.get(), n, dst.get());
-    launch(ctx_, permute_f4_, n);
-}
-
-void NeighborGrid::permute(const DeviceBuffer<cl_uint>& src, DeviceBuffer<cl_uint>& dst, uint32_t n) {
-    set_args(permute_u_, src.get(), perm_.get(), n, dst.get());
-    launch(ctx_, permute_u_, n);
+void NeighborGrid::permute_state(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<cl_float4>& vel,
+                                 const DeviceBuffer<cl_uint>& ids, DeviceBuffer<cl_float4>& pos_out,
+                                 DeviceBuffer<cl_float4>& vel_out, DeviceBuffer<cl_uint>& ids_out, uint32_t n) {
+    set_args(permute_state_, pos.get(), vel.get(), ids.get(), perm_.get(), n, pos_out.get(), vel_out.get(),
+             ids_out.get());
+    launch(ctx_, permute_state_, n);
 }
 
 void NeighborGrid::reorder_state(DeviceBuffer<cl_float4>& pos, DeviceBuffer<cl_float4>& vel,
                                  DeviceBuffer<cl_uint>& ids, DeviceBuffer<cl_float4>& scratch,
                                  DeviceBuffer<cl_float4>& vel_scratch, DeviceBuffer<cl_uint>& ids_scratch,
                                  uint32_t n) {
-    set_args(permute_state_, pos.get(), vel.get(), ids.get(), perm_.get(), n, scratch.get(), vel_scratch.get(),
-             ids_scratch.get());
-    launch(ctx_, permute_state_, n);
+    permute_state(pos, vel, ids, scratch, vel_scratch, ids_scratch, n);
     std::swap(pos, scratch);
     std::swap(vel, vel_scratch);
     std::swap(ids, ids_scratch);

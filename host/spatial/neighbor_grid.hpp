@@ -34,13 +34,15 @@ public:
     void build(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<cl_uint>& ids, uint32_t n,
                const StageHook& after_stage = {});
 
-    // dst[s] = src[permutation[s]] for the last build.
-    void permute(const DeviceBuffer<cl_float4>& src, DeviceBuffer<cl_float4>& dst, uint32_t n);
-    void permute(const DeviceBuffer<cl_uint>& src, DeviceBuffer<cl_uint>& dst, uint32_t n);
-    // Reorders the state by the last build's permutation in one pass
-    // (through the scratch buffers, swapped in), and the new order becomes
-    // the layout the next build starts from.  Any other per-agent array is
-    // permute()d too.
+    // x_out[s] = x[permutation[s]] for positions, velocities and ids, in one
+    // pass, for the last build; changes nothing else (benchmarks time it).
+    void permute_state(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<cl_float4>& vel,
+                       const DeviceBuffer<cl_uint>& ids, DeviceBuffer<cl_float4>& pos_out,
+                       DeviceBuffer<cl_float4>& vel_out, DeviceBuffer<cl_uint>& ids_out, uint32_t n);
+    // Reorders the state by the last build's permutation (permute_state()
+    // into the scratch buffers, swapped in), and the new order becomes the
+    // layout the next build starts from.  A model that keeps more per-agent
+    // arrays adds them to the permute_state kernel.
     void reorder_state(DeviceBuffer<cl_float4>& pos, DeviceBuffer<cl_float4>& vel, DeviceBuffer<cl_uint>& ids,
                        DeviceBuffer<cl_float4>& scratch, DeviceBuffer<cl_float4>& vel_scratch,
                        DeviceBuffer<cl_uint>& ids_scratch, uint32_t n);
@@ -73,7 +75,7 @@ private:
     DeviceBuffer<cl_uint> start_, layout_start_, chunk_counts_;
     DeviceBuffer<cl_uint> hist_, totals_;
     cl::Kernel keys_k_, movers_write_, radix_hist_, radix_scatter_;
-    cl::Kernel radix_rows_, place_, permute_f4_, permute_u_, permute_state_;
+    cl::Kernel radix_rows_, place_, permute_state_;
 };
 
 }  // namespace swarmcl
