@@ -1,0 +1,271 @@
+#include "models/energy_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "core/error.hpp"
+#include "swarm/swarm.hpp"
+
+namespace swarmcl {
+namespace {
+
+constexpr uint32_t kCentreChunks = 64;  // fixed: the reduction order depends only on n
+constexpr uint32_t kGoalUnset = 0x7FFFFFFFu;
+constexpr uint32_t kGoalBackward = 0x80000000u;
+constexpr uint32_t kMaxCandidates = 4096;  // private arrays of the kernel
+
+bool finite_nonneg(float x) { return std::isfinite(x) && x >= 0.0f; }
+
+void check_weights(const EnergyWeights& w, const std::string& what) {
+    const float all[8] = {w.rep, w.oa, w.cos, w.dir, w.acc, w.env, w.n, w.user};
+    const char* names[8] = {"rep", "oa", "cos", "dir", "acc", "env", "n", "user"};
+    for (int k = 0; k < 8; ++k)
+        require(finite_nonneg(all[k]), "energy model " + what + "." + names[k] + " must be a finite number >= 0");
+}
+
+void check_stimuli(const std::vector<Stimulus>& stimuli) {
+    require(stimuli.size() <= 1024, "energy model: more than 1024 stimuli");
+    for (size_t s = 0; s < stimuli.size(); ++s) {
+        const auto& st = stimuli[s];
+        const std::string w = "energy model stimuli[" + std::to_string(s) + "]";
+        for (int a = 0; a < 3; ++a)
+            require(std::isfinite(st.position[a]) && std::isfinite(st.velocity[a]),
+                    w + ": position and velocity must be finite");
+        require(st.kind == Stimulus::Kind::Attract || (std::isfinite(st.d_danger) && st.d_danger > 0.0f),
+                w + ": d_danger must be a finite number > 0");
+    }
+}
+
+void check_keypoints(const std::vector<std::array<float, 3>>& kp) {
+    require(kp.empty() || kp.size() >= 2,
+            "energy model keypoints: " + std::to_string(kp.size()) + " given, a curve needs at least 2");
+    require(kp.size() <= 65536, "energy model keypoints: more than 65536");
+    for (size_t k = 0; k < kp.size(); ++k)
+        for (int a = 0; a < 3; ++a)
+            require(std::isfinite(kp[k][a]), "energy model keypoints[" + std::to_string(k) + "] is not finite");
+}
+
+cl_float8 pack(const EnergyWeights& w) {
+    cl_float8 p;
+    const float v[8] = {w.rep, w.oa, w.cos, w.dir, w.acc, w.env, w.n, w.user};
+    for (int k = 0; k < 8; ++k) p.s[k] = v[k];
+    return p;
+}
+
+}  // namespace
+
+void EnergyModel::validate(const EnergyModelConfig& c) {
+    check_weights(c.weights, "weights");
+    check_weights(c.danger_weights, "danger_weights");
+    require(std::isfinite(c.rho) && c.rho > 0.0f, "energy model rho must be a finite number > 0");
+    require(std::isfinite(c.d_rep) && c.d_rep > 0.0f, "energy model d_rep must be a finite number > 0");
+    require(std::isfinite(c.d_att1) && c.d_att1 >= c.d_rep,
+            "energy model d_att1 must be a finite number >= d_rep");
+    require(std::isfinite(c.d_att2) && c.d_att2 >= c.d_att1,
+            "energy model d_att2 must be a finite number >= d_att1");
+    require(c.span <= 1024, "energy model span above 1024");
+    require(finite_nonneg(c.accel_time), "energy model accel_time must be >= 0 (0: the dataset's frame time)");
+    require(finite_nonneg(c.danger_horizon), "energy model danger_horizon must be >= 0");
+    require(std::isfinite(c.keypoint_reach) && c.keypoint_reach > 0.0f,
+            "energy model keypoint_reach must be a finite number > 0");
+    check_stimuli(c.stimuli);
+    check_keypoints(c.keypoints);
+    NoiseField::validate(c.noise);
+}
+
+EnergyModel::EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr<const Dataset> dataset)
+    : ctx_(swarm.context()), config_(std::move(config)), dataset_(std::move(dataset)) {
+    require(dataset_ != nullptr, "energy model: no dataset");
+    dataset_->validate("energy model dataset");
+    validate(config_);
+    Context& ctx = swarm.context();
+    const Dataset& d = *dataset_;
+    // The widest candidate range of any speed group.
+    const uint32_t G = d.groups();
+    for (uint32_t g = 0; g < G; ++g) {
+        const uint32_t lo = g > config_.span ? g - config_.span : 0u;
+        const uint32_t hi = std::min(G, g + config_.span + 1);
+        max_cand_ = std::max(max_cand_, d.group_start[hi] - d.group_start[lo]);
+    }
+    if (max_cand_ > kMaxCandidates)
+        fail(Status::InvalidArgument, "energy model: " + std::to_string(max_cand_) +
+                                          " candidates per agent (speed groups x span too wide; at most " +
+                                          std::to_string(kMaxCandidates) + "): use more groups or a smaller span");
+    accel_time_ = config_.accel_time > 0.0f ? config_.accel_time
+                                            : (d.frame_time > 0.0 ? float(d.frame_time) : 0.01f);
+    noise_ = std::make_unique<NoiseField>(ctx, config_.noise, &swarm.config().domain_min,
+                                          &swarm.config().domain_max);
+    const std::string defines = noise_->defines() + " -DEM_MAX_CAND=" + std::to_string(max_cand_);
+    select_ = ctx.kernel("energy_model.cl", "energy_select", defines);
+    terms_ = ctx.kernel("energy_model.cl", "energy_select", defines + " -DEM_TERMS");
+    centre_partial_ = ctx.kernel("energy_model.cl", "energy_centre_partial", defines);
+    centre_final_ = ctx.kernel("energy_model.cl", "energy_centre_final", defines);
+
+    std::vector<cl_float4> v(d.size()), a(d.size());
+    for (uint32_t i = 0; i < d.size(); ++i) {
+        v[i] = {{d.v[i][0], d.v[i][1], d.v[i][2], 0.0f}};
+        a[i] = {{d.a[i][0], d.a[i][1], d.a[i][2], 0.0f}};
+    }
+    std::vector<cl_float> gmin(G);
+    for (uint32_t g = 0; g < G; ++g) {
+        const auto& s = d.v[d.group_start[g]];
+        gmin[g] = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);  // as the kernel's em_len
+    }
+    dv_.allocate(ctx, d.size(), "dataset velocities");
+    da_.allocate(ctx, d.size(), "dataset accelerations");
+    dv_.upload(ctx, v.data(), v.size());
+    da_.upload(ctx, a.data(), a.size());
+    group_start_.allocate(ctx, G + 1, "dataset groups");
+    group_start_.upload(ctx, d.group_start.data(), G + 1);
+    group_min_speed_.allocate(ctx, G, "dataset group speeds");
+    group_min_speed_.upload(ctx, gmin.data(), G);
+    centre_.allocate(ctx, 1, "swarm centre");
+    centre_.fill(ctx, cl_float4{{0, 0, 0, 0}}, 1);
+    partial_.allocate(ctx, kCentreChunks, "swarm centre partial sums");
+    capacity_ = swarm.config().capacity;
+    vel_out_.allocate(ctx, capacity_, "energy model velocities");
+    goal_.allocate(ctx, capacity_, "keypoint goals");
+    set_keypoints(config_.keypoints, config_.keypoints_closed);
+    set_stimuli(config_.stimuli);
+}
+
+void EnergyModel::reset_goals(uint32_t capacity) {
+    std::vector<cl_uint> g(capacity);
+    for (uint32_t id = 0; id < capacity; ++id)
+        g[id] = kGoalUnset | ((config_.bidirectional && (id & 1u)) ? kGoalBackward : 0u);
+    goal_.upload(ctx_, g.data(), capacity);
+}
+
+void EnergyModel::set_stimuli(std::vector<Stimulus> stimuli) {
+    check_stimuli(stimuli);
+    config_.stimuli = std::move(stimuli);
+    stim_.reserve(ctx_, std::max<size_t>(1, 2 * config_.stimuli.size()), "stimuli");
+}
+
+void EnergyModel::set_keypoints(std::vector<std::array<float, 3>> keypoints, bool closed) {
+    check_keypoints(keypoints);
+    std::vector<cl_float4> k(std::max<size_t>(1, keypoints.size()), cl_float4{{0, 0, 0, 0}});
+    for (size_t i = 0; i < keypoints.size(); ++i) k[i] = {{keypoints[i][0], keypoints[i][1], keypoints[i][2], 0.0f}};
+    DeviceBuffer<cl_float4> buf(ctx_, k.size(), "keypoints");
+    buf.upload(ctx_, k.data(), k.size());
+    kp_ = std::move(buf);
+    config_.keypoints = std::move(keypoints);
+    config_.keypoints_closed = closed;
+    reset_goals(capacity_);
+}
+
+void EnergyModel::upload_stimuli(float time) {
+    // Positions at the current time; kind in w (0 attract, 1 startle).
+    std::vector<cl_float4> s(std::max<size_t>(1, 2 * config_.stimuli.size()), cl_float4{{0, 0, 0, 0}});
+    for (size_t i = 0; i < config_.stimuli.size(); ++i) {
+        const Stimulus& st = config_.stimuli[i];
+        for (int a = 0; a < 3; ++a) s[2 * i].s[a] = st.position[a] + st.velocity[a] * time;
+        s[2 * i].s[3] = st.kind == Stimulus::Kind::Attract ? 0.0f : 1.0f;
+        s[2 * i + 1] = {{st.d_danger, 0.0f, 0.0f, 0.0f}};
+    }
+    stim_.upload(ctx_, s.data(), s.size());
+}
+
+void EnergyModel::compute_centre(Swarm& swarm) {
+    const uint32_t n = swarm.agent_count();
+    const uint32_t chunk = std::max<uint32_t>(1, (n + kCentreChunks - 1) / kCentreChunks);
+    set_args(centre_partial_, swarm.positions().get(), n, chunk, partial_.get());
+    launch(ctx_, centre_partial_, kCentreChunks);
+    set_args(centre_final_, partial_.get(), kCentreChunks, centre_.get());
+    launch(ctx_, centre_final_, 1);
+}
+
+cl_uint EnergyModel::set_common_args(cl::Kernel& k, Swarm& swarm, uint64_t step) {
+    const float dt = swarm.config().dt;
+    const float time = float(double(step) * dt);
+    upload_stimuli(time);
+    const auto& c = config_;
+    cl_uint i = 0;
+    k.setArg(i++, swarm.positions().get());
+    k.setArg(i++, swarm.velocities().get());
+    k.setArg(i++, swarm.ids().get());
+    k.setArg(i++, swarm.agent_count());
+    k.setArg(i++, dt);
+    k.setArg(i++, time);
+    k.setArg(i++, cl_uint(step));
+    k.setArg(i++, dv_.get());
+    k.setArg(i++, da_.get());
+    k.setArg(i++, group_start_.get());
+    k.setArg(i++, group_min_speed_.get());
+    k.setArg(i++, cl_uint(dataset_->groups()));
+    k.setArg(i++, cl_uint(c.span));
+    k.setArg(i++, centre_.get());
+    k.setArg(i++, pack(c.weights));
+    k.setArg(i++, pack(c.danger_weights));
+    k.setArg(i++, cl_float4{{c.d_rep, c.d_att1, c.d_att2, c.rho}});
+    k.setArg(i++, cl_float4{{accel_time_, c.danger_horizon, c.keypoint_reach, c.keypoints_closed ? 1.0f : 0.0f}});
+    k.setArg(i++, stim_.get());
+    k.setArg(i++, cl_uint(c.stimuli.size()));
+    k.setArg(i++, kp_.get());
+    k.setArg(i++, cl_uint(c.keypoints.size()));
+    k.setArg(i++, goal_.get());
+    i = swarm.grid().set_grid_args(k, i);
+    i = noise_->set_args(k, i);
+    return i;
+}
+
+void EnergyModel::advance(Swarm& swarm, uint64_t step) {
+    const uint32_t n = swarm.agent_count();
+    swarm.ensure_grid();  // agents in cell order: neighbours via the grid
+    compute_centre(swarm);
+    cl_uint i = set_common_args(select_, swarm, step);
+    select_.setArg(i++, swarm.scratch().get());
+    select_.setArg(i++, vel_out_.get());
+    launch(ctx_, select_, n);
+    if (n) ctx_.queue().enqueueCopyBuffer(vel_out_.get(), swarm.velocities().get(), 0, 0, size_t(n) * sizeof(cl_float4));
+    swarm.swap_positions_with_scratch();
+}
+
+EnergyTerms EnergyModel::evaluate(Swarm& swarm, uint64_t step) {
+    const uint32_t n = swarm.agent_count();
+    swarm.ensure_grid();
+    compute_centre(swarm);
+    DeviceBuffer<cl_float> terms(ctx_, size_t(std::max(n, 1u)) * max_cand_ * 8, "energy terms");
+    DeviceBuffer<cl_uint> chosen(ctx_, std::max(n, 1u), "chosen samples");
+    DeviceBuffer<cl_uint> range(ctx_, 2 * size_t(std::max(n, 1u)), "candidate ranges");
+    terms.fill(ctx_, 0.0f, size_t(std::max(n, 1u)) * max_cand_ * 8);
+    cl_uint i = set_common_args(terms_, swarm, step);
+    terms_.setArg(i++, terms.get());
+    terms_.setArg(i++, chosen.get());
+    terms_.setArg(i++, range.get());
+    launch(ctx_, terms_, n);
+    EnergyTerms out;
+    out.terms.resize(size_t(n) * max_cand_ * 8);
+    out.chosen.resize(n);
+    std::vector<cl_uint> r(2 * size_t(n));
+    terms.download(ctx_, out.terms.data(), out.terms.size());
+    chosen.download(ctx_, out.chosen.data(), n);
+    range.download(ctx_, r.data(), r.size());
+    for (uint32_t a = 0; a < n; ++a) {
+        out.first.push_back(r[2 * a]);
+        out.last.push_back(r[2 * a + 1]);
+    }
+    return out;
+}
+
+void EnergyModel::goals(Swarm& swarm, std::vector<int32_t>& goal, std::vector<uint8_t>& backward) {
+    const uint32_t n = swarm.agent_count();
+    std::vector<cl_uint> g(std::max(n, 1u));
+    goal_.download(ctx_, g.data(), n);
+    goal.resize(n);
+    backward.resize(n);
+    for (uint32_t a = 0; a < n; ++a) {
+        const uint32_t k = g[a] & ~kGoalBackward;
+        goal[a] = k == kGoalUnset ? -1 : int32_t(k);
+        backward[a] = (g[a] & kGoalBackward) ? 1 : 0;
+    }
+}
+
+std::array<float, 4> EnergyModel::centre(Swarm&) {
+    cl_float4 c;
+    centre_.download(ctx_, &c, 1);
+    return {c.s[0], c.s[1], c.s[2], c.s[3]};
+}
+
+}  // namespace swarmcl

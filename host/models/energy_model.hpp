@@ -1,0 +1,111 @@
+// FASTSWARM (Xiang et al.): each step every agent picks, from the reference
+// dataset D, the velocity that minimises the energy of Eq. 2-14 over its
+// speed group and the neighbouring groups, then moves p <- p + v dt (Eq. 1).
+// kernels/energy_model.cl does the work; docs/energy-model.md has the
+// equations, units and the choices made where the paper is vague.
+#pragma once
+#include <array>
+#include <memory>
+#include <vector>
+
+#include "data/dataset.hpp"
+#include "fields/noise_field.hpp"
+#include "swarm/behavior.hpp"
+
+namespace swarmcl {
+
+class Swarm;
+
+// Weights of the energy terms (Table 1 columns).  Defaults: aggregation.
+struct EnergyWeights {
+    float rep = 1.0f, oa = 1.0f, cos = 0.05f, dir = 1.0f, acc = 1.0f, env = 0.0f, n = 0.2f, user = 0.0f;
+};
+
+// A stimulus of Eq. 11-12 moving as p(t) = position + velocity * t.
+struct Stimulus {
+    enum class Kind { Attract, Startle } kind = Kind::Attract;
+    std::array<float, 3> position{};
+    std::array<float, 3> velocity{};  // m/s
+    float d_danger = 0.3f;            // m; startle only
+};
+
+struct EnergyModelConfig {
+    EnergyWeights weights;
+    // Weights of agents within d_danger of a startling stimulus (Table 1,
+    // escaping "in danger": no attraction to neighbours or the centre).
+    EnergyWeights danger_weights{1.0f, 0.0f, 0.0f, 1.0f, 1.0f, 2.0f, 0.3f, 0.0f};
+    float rho = 2.5f;          // §5: rho = 2.5 in all experiments
+    float d_rep = 0.04f;       // m, repulsion radius (Eq. 4)
+    float d_att1 = 0.08f;      // m, inner attraction radius (Eq. 6)
+    float d_att2 = 0.25f;      // m, outer attraction radius
+    uint32_t span = 1;         // neighbouring speed groups searched on each side
+    float accel_time = 0.0f;   // s, scale of E_amag; 0: the dataset's frame time (0.01 s if unknown)
+    float danger_horizon = 0.5f;  // s, look-ahead of the startled prediction (Eq. 12)
+    NoiseConfig noise;         // f_N (curl noise); default: scale 0.2 m, time_scale 1 s
+    std::vector<Stimulus> stimuli;
+    std::vector<std::array<float, 3>> keypoints;  // f_CD (Eq. 15); empty: none
+    bool keypoints_closed = true;   // the curve is a loop (heart, star)
+    bool bidirectional = true;      // odd agent ids traverse it backwards
+    float keypoint_reach = 0.05f;   // m: a keypoint counts as reached within this distance
+
+    EnergyModelConfig() {
+        noise.scale = 0.2f;
+        noise.time_scale = 1.0f;
+    }
+};
+
+// The eight terms of one candidate for one agent (checking and tests).
+struct EnergyTerms {
+    std::vector<float> terms;       // [agent id][candidate - first][term], EnergyModel::max_candidates() wide
+    std::vector<uint32_t> chosen;   // per agent id: the chosen sample index
+    std::vector<uint32_t> first, last;  // per agent id: the candidate range [first, last)
+};
+
+class EnergyModel : public Behavior {
+public:
+    // Validates the configuration (Error(InvalidArgument) naming the value).
+    EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr<const Dataset> dataset);
+
+    void advance(Swarm& swarm, uint64_t step) override;
+
+    const EnergyModelConfig& config() const { return config_; }
+    const Dataset& dataset() const { return *dataset_; }
+    uint32_t max_candidates() const { return max_cand_; }
+
+    // Replace the stimuli / keypoints from the next step on (validated;
+    // unchanged on error).  New keypoints restart every agent's traversal.
+    void set_stimuli(std::vector<Stimulus> stimuli);
+    void set_keypoints(std::vector<std::array<float, 3>> keypoints, bool closed);
+
+    // Per agent id: the goal keypoint index (-1: not chosen yet) and whether
+    // the agent traverses the curve backwards.
+    void goals(Swarm& swarm, std::vector<int32_t>& goal, std::vector<uint8_t>& backward);
+    // The swarm centre the last step used (xyz) and the agent count (w).
+    std::array<float, 4> centre(Swarm& swarm);
+
+    // Evaluates every term for the current state at step `step` without
+    // moving anything.
+    EnergyTerms evaluate(Swarm& swarm, uint64_t step);
+
+    static void validate(const EnergyModelConfig& config);
+
+private:
+    void compute_centre(Swarm& swarm);
+    cl_uint set_common_args(cl::Kernel& k, Swarm& swarm, uint64_t step);
+    void upload_stimuli(float time);
+    void reset_goals(uint32_t capacity);
+
+    Context& ctx_;  // the swarm's (a swarm keeps its context alive)
+    EnergyModelConfig config_;
+    std::shared_ptr<const Dataset> dataset_;
+    std::unique_ptr<NoiseField> noise_;
+    uint32_t max_cand_ = 0;
+    float accel_time_ = 0.01f;
+    cl::Kernel select_, terms_, centre_partial_, centre_final_;
+    DeviceBuffer<cl_float4> dv_, da_, centre_, partial_, stim_, kp_, vel_out_;
+    DeviceBuffer<cl_uint> group_start_, goal_;
+    DeviceBuffer<cl_float> group_min_speed_;
+    uint32_t capacity_ = 0;
+};
+
+}  // namespace swarmcl
