@@ -3,13 +3,14 @@
 #include <mutex>
 
 #include "capi_common.hpp"
+#include "capi_noise.hpp"
 #include "fields/noise_field.hpp"
 #include "models/field_model.hpp"
 
 using namespace swarmcl;
 using namespace swarmcl::capi;
 
-namespace {
+namespace swarmcl::capi {
 
 NoiseConfig noise_config_from(const swcl_noise_desc& d) {
     NoiseConfig c;
@@ -54,7 +55,7 @@ NoiseConfig noise_config_from(const swcl_noise_desc& d) {
     return c;
 }
 
-}  // namespace
+}  // namespace swarmcl::capi
 
 extern "C" {
 

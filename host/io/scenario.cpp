@@ -196,7 +196,14 @@ void read_model(const json& j, Scenario& s, std::vector<Boundary> obstacles) {
         if (!obstacles.empty()) bad("obstacles", "a ballistic model ignores obstacles: remove them or use \"field\"");
         return;
     }
-    if (type != "field") bad("model.type", "expected \"field\" or \"ballistic\"");
+    if (type == "energy") {  // FASTSWARM: host/io/scenario_energy.cpp reads the rest
+        EnergyScenario e = read_energy_scenario(j, "model");
+        if (o.has("noise")) e.config.noise = read_noise(o.child("noise"), "model.noise");
+        e.config.noise.boundaries = std::move(obstacles);
+        s.energy_model = std::move(e);
+        return;
+    }
+    if (type != "field") bad("model.type", "expected \"field\", \"energy\" or \"ballistic\"");
     FieldModelConfig c;
     if (o.has("noise")) c.noise = read_noise(o.child("noise"), "model.noise");
     c.noise.boundaries = std::move(obstacles);
@@ -344,6 +351,15 @@ Scenario parse_scenario(const std::string& text) {
     else if (!obstacles.empty()) bad("obstacles", "obstacles need a model (\"model\": {\"type\": \"field\"})");
     if (top.has("output")) read_output(top.child("output"), s);
     top.finish();
+    if (s.energy_model) {
+        auto noise = s.energy_model->config.noise;
+        if (!noise.has_region()) noise.region_min = s.swarm.domain_min, noise.region_max = s.swarm.domain_max;
+        try {
+            NoiseField::validate(noise);
+        } catch (const Error& e) {
+            bad("model.noise", e.what());
+        }
+    }
     if (s.field_model) {
         // The model's own checks (noise parameters and their combinations),
         // reported under the scenario path.

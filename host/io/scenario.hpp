@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "models/field_model.hpp"
+#include "io/scenario_energy.hpp"
 #include "swarm/swarm.hpp"
 
 namespace swarmcl {
@@ -28,6 +29,7 @@ struct Scenario {
     SwarmConfig swarm;                    // capacity, agent count, seed, domain, radius, dt
     InitialDistribution initial;
     std::optional<FieldModelConfig> field_model;  // empty: ballistic
+    std::optional<EnergyScenario> energy_model;   // model.type "energy" (FASTSWARM)
     uint32_t steps = 100;
     std::string output_dir = "out";
     uint32_t output_formats = 1;          // ExportFormat mask

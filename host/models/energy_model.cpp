@@ -69,6 +69,8 @@ void EnergyModel::validate(const EnergyModelConfig& c) {
     require(finite_nonneg(c.danger_horizon), "energy model danger_horizon must be >= 0");
     require(std::isfinite(c.keypoint_reach) && c.keypoint_reach > 0.0f,
             "energy model keypoint_reach must be a finite number > 0");
+    for (int a = 0; a < 3; ++a)
+        require(std::isfinite(c.fixed_centre[a]), "energy model fixed_centre must be finite");
     check_stimuli(c.stimuli);
     check_keypoints(c.keypoints);
     NoiseField::validate(c.noise);
@@ -169,6 +171,12 @@ void EnergyModel::upload_stimuli(float time) {
 
 void EnergyModel::compute_centre(Swarm& swarm) {
     const uint32_t n = swarm.agent_count();
+    if (config_.has_fixed_centre) {
+        const auto& c = config_.fixed_centre;
+        const cl_float4 v{{c[0], c[1], c[2], float(n)}};
+        centre_.upload(ctx_, &v, 1);
+        return;
+    }
     const uint32_t chunk = std::max<uint32_t>(1, (n + kCentreChunks - 1) / kCentreChunks);
     set_args(centre_partial_, swarm.positions().get(), n, chunk, partial_.get());
     launch(ctx_, centre_partial_, kCentreChunks);

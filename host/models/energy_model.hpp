@@ -36,8 +36,14 @@ struct EnergyModelConfig {
     EnergyWeights danger_weights{1.0f, 0.0f, 0.0f, 1.0f, 1.0f, 2.0f, 0.3f, 0.0f};
     float rho = 2.5f;          // §5: rho = 2.5 in all experiments
     float d_rep = 0.04f;       // m, repulsion radius (Eq. 4)
-    float d_att1 = 0.08f;      // m, inner attraction radius (Eq. 6)
-    float d_att2 = 0.25f;      // m, outer attraction radius
+    float d_att1 = 0.1f;       // m, inner attraction radius (Eq. 6)
+    float d_att2 = 0.4f;       // m, outer attraction radius
+    // The point E_cos (Eq. 7) pulls towards.  Default: the swarm centre (mean
+    // position, a fixed-order device reduction each step).  A fixed centre
+    // keeps the swarm over one place (Table 1 aggregation, "unchanged swarm
+    // centre"; real swarms hover over a marker).
+    bool has_fixed_centre = false;
+    std::array<float, 3> fixed_centre{};
     uint32_t span = 1;         // neighbouring speed groups searched on each side
     float accel_time = 0.0f;   // s, scale of E_amag; 0: the dataset's frame time (0.01 s if unknown)
     float danger_horizon = 0.5f;  // s, look-ahead of the startled prediction (Eq. 12)

@@ -293,6 +293,118 @@ typedef struct swcl_step_stats {
 SWCL_API swcl_status swcl_swarm_take_step_stats(swcl_swarm swarm, swcl_step_stats* out);
 
 
+/* ---- FASTSWARM: data-driven energy model ---------------------------------
+ * Xiang et al., "FASTSWARM" (docs/energy-model.md).  A reference dataset D of
+ * (velocity, acceleration) samples is built from real 3D tracks (forward
+ * differences, §3), subsampled to k samples, sorted by speed and split into
+ * speed groups (§5.2.1).  Each step every agent picks the sample velocity of
+ * its own and the neighbouring speed groups that minimises
+ *   E = E_rep + E_oa + E_cos + E_dir + E_acc + E_env + E_n + E_user  (Eq. 2-14)
+ * (ties: the lowest sample index) and moves p += v dt. */
+typedef struct swcl_dataset { uint64_t id; } swcl_dataset;
+
+typedef enum swcl_time_format {
+    SWCL_TIME_AUTO = 0,      /* a number: seconds; else "YYYY-MM-DD HH:MM:SS[.f]" */
+    SWCL_TIME_SECONDS = 1,
+    SWCL_TIME_FRAME = 2,     /* integer frame numbers times frame_time */
+    SWCL_TIME_DATETIME = 3
+} swcl_time_format;
+
+typedef struct swcl_dataset_desc {
+    uint32_t struct_size;
+    /* Track CSV columns: header names, or 0-based indices written in digits.
+     * NULL: "id", "time", "x", "y", "z". */
+    const char* column_id;
+    const char* column_time;
+    const char* column_x;
+    const char* column_y;
+    const char* column_z;
+    swcl_time_format time_format;  /* default AUTO */
+    double frame_time;             /* s; 0: the median step of the data (default) */
+    double unit_scale;             /* position unit in metres (default 1; 0.01 for cm) */
+    double gap_factor;             /* steps above gap_factor * frame_time split a track (1.5) */
+    uint32_t smoothing;            /* half-width of a moving average of positions (0: none) */
+    uint32_t k;                    /* samples kept (default 300, §5.2.1) */
+    uint32_t groups;               /* speed groups (default 10) */
+    uint64_t seed;                 /* the subsampling draw */
+    float synthetic_mean_speed;    /* swcl_dataset_synthetic only: m/s (default 0.5) */
+} swcl_dataset_desc;
+SWCL_API swcl_dataset_desc swcl_dataset_desc_default(void);
+/* From a track CSV file (errors name the line and column). */
+SWCL_API swcl_status swcl_dataset_from_csv(const char* path, const swcl_dataset_desc* desc, swcl_dataset* out);
+/* From tracks as arrays: track k has counts[k] (>= 3) samples; times (s) and
+ * packed xyz positions (in unit_scale units) run over all tracks in order. */
+SWCL_API swcl_status swcl_dataset_from_tracks(const uint32_t* counts, size_t track_count, const double* times,
+                                              const float* xyz, const swcl_dataset_desc* desc, swcl_dataset* out);
+/* From deterministic synthetic tracks (tests and examples without data;
+ * frame_time 0 means 0.01 s). */
+SWCL_API swcl_status swcl_dataset_synthetic(const swcl_dataset_desc* desc, swcl_dataset* out);
+/* Dataset files (a small checked binary format, docs/energy-model.md). */
+SWCL_API swcl_status swcl_dataset_load(const char* path, swcl_dataset* out);
+SWCL_API swcl_status swcl_dataset_save(swcl_dataset dataset, const char* path);
+SWCL_API swcl_status swcl_dataset_destroy(swcl_dataset dataset);
+typedef struct swcl_dataset_info {
+    uint32_t struct_size;
+    uint32_t samples;
+    uint32_t groups;
+    double frame_time;             /* s, of the source data */
+} swcl_dataset_info;
+SWCL_API swcl_status swcl_dataset_get_info(swcl_dataset dataset, swcl_dataset_info* out);
+/* The samples sorted by speed: velocities (m/s) and accelerations (m/s^2),
+ * packed xyz, `count` = samples; either pointer may be NULL. */
+SWCL_API swcl_status swcl_dataset_read(swcl_dataset dataset, float* out_velocities, float* out_accelerations,
+                                       size_t count);
+
+typedef struct swcl_energy_weights {
+    float rep, oa, cos, dir, acc, env, noise, user;   /* Table 1 columns, >= 0 */
+} swcl_energy_weights;
+typedef enum swcl_stimulus_kind {
+    SWCL_STIMULUS_ATTRACT = 0,     /* a female, a light: Psi = |v^ - v^_sti| (Eq. 12) */
+    SWCL_STIMULUS_STARTLE = 1      /* a danger: Psi = 1 - |p' - p_sti| / d_danger within d_danger */
+} swcl_stimulus_kind;
+typedef struct swcl_stimulus {
+    swcl_stimulus_kind kind;
+    float position[3];             /* at time 0, m */
+    float velocity[3];             /* m/s: the stimulus moves as position + velocity * t */
+    float d_danger;                /* m, > 0 (STARTLE) */
+} swcl_stimulus;
+typedef struct swcl_energy_model_desc {
+    uint32_t struct_size;
+    swcl_energy_weights weights;         /* default: Table 1 aggregation (1 1 0.05 1 1 0 0.2 0) */
+    swcl_energy_weights danger_weights;  /* within d_danger of a STARTLE stimulus
+                                            (default Table 1 escaping, in danger: 1 0 0 1 1 2 0.3 0) */
+    float rho;                     /* 2.5 (§5) */
+    float d_rep;                   /* repulsion radius, m (default 0.04) */
+    float d_att1, d_att2;          /* attraction between these, m (0.1, 0.4) */
+    int32_t has_fixed_centre;      /* 1: E_cos pulls towards fixed_centre; 0 (default): */
+    float fixed_centre[3];         /* towards the swarm centre (mean position) */
+    uint32_t span;                 /* neighbouring speed groups searched per side (1) */
+    float accel_time;              /* s scaling |a'| - |a| (Eq. 10); 0: the dataset's frame time */
+    float danger_horizon;          /* s of look-ahead for the startled term (0.5) */
+    swcl_noise_desc noise;         /* f_N (default curl, scale 0.2 m, time_scale 1 s) */
+    const swcl_stimulus* stimuli;  /* copied by the call */
+    uint32_t stimulus_count;
+    const float* keypoints;        /* packed xyz, >= 2 points or none: f_CD of Eq. 15 */
+    uint32_t keypoint_count;
+    int32_t keypoints_closed;      /* 1: the curve is a loop (default 1) */
+    int32_t bidirectional;         /* 1: odd agent ids traverse it backwards (default 1) */
+    float keypoint_reach;          /* m within which a keypoint counts as reached (0.05) */
+} swcl_energy_model_desc;
+SWCL_API swcl_energy_model_desc swcl_energy_model_desc_default(void);
+/* Makes the energy model with `dataset` move the swarm from the next step on
+ * (the dataset is kept alive by the model).  On failure the swarm keeps its
+ * previous model. */
+SWCL_API swcl_status swcl_swarm_set_energy_model(swcl_swarm swarm, swcl_dataset dataset,
+                                                 const swcl_energy_model_desc* desc);
+/* Replace the stimuli or keypoints of the swarm's energy model (new keypoints
+ * restart every agent's traversal).  SWCL_ERROR_INVALID_ARGUMENT if the swarm
+ * has no energy model. */
+SWCL_API swcl_status swcl_swarm_energy_set_stimuli(swcl_swarm swarm, const swcl_stimulus* stimuli, uint32_t count);
+SWCL_API swcl_status swcl_swarm_energy_set_keypoints(swcl_swarm swarm, const float* xyz, uint32_t count,
+                                                     int32_t closed);
+/* Per agent (id order): the goal keypoint index, -1 before the first step. */
+SWCL_API swcl_status swcl_swarm_energy_goals(swcl_swarm swarm, int32_t* out_goals, size_t count);
+
 /* ---- scenario files --------------------------------------------------------
  * A JSON description of a run (docs/scenarios.md): model and parameters, agents
  * and their initial distribution, domain, obstacles, goal, steps, dt, seed and
@@ -324,7 +436,7 @@ typedef struct swcl_scenario_info {
     uint64_t seed;
     char name[128];
     char output_dir[1024];
-    char model[32];            /* "field" or "ballistic" */
+    char model[32];            /* "field", "energy" or "ballistic" */
     float min_distance;        /* the field model's MDE distance (0: none) */
 } swcl_scenario_info;
 
