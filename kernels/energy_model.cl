@@ -8,8 +8,9 @@
 // docs/energy-model.md.
 //
 // Built per configuration: the NOISE_* defines of the noise field (f_N, §4.3),
-// EM_MAX_CAND (the most candidates of any agent) and EM_TERMS (the checking
-// variant that writes every term of every candidate and moves nothing).
+// EM_MAX_CAND (the most candidates of any agent), EM_TERMS (the checking
+// variant that writes every term of every candidate and moves nothing) and
+// EM_TAYLOR_OA (Eq. 6 by a second-order expansion, see below).
 #include "noise_field.cl"
 #include "grid_common.cl"
 
@@ -52,7 +53,8 @@ inline uint em_group(float s, __global const float* group_min_speed, uint groups
 // Kernel arguments (EnergyModel::set_step_args):
 //   state: pos, vel (float4, slot order), ids, n;
 //   time: dt, t, step;
-//   dataset: dv, da (float4, sorted by speed), group_start (groups + 1),
+//   dataset (sorted by speed): dv = (v, 0), dvh = (v^, |v|), dah = (a^, |a|)
+//            (unit vectors and lengths precomputed on the host), group_start (groups + 1),
 //            group_min_speed, groups, span (neighbouring groups searched);
 //   centre: float4 (xyz: swarm centre, from energy_centre_*);
 //   w, wd: weights normally and in danger (float8, order W_*);
@@ -62,7 +64,7 @@ inline uint em_group(float s, __global const float* group_min_speed, uint groups
 //   grid, noise.
 __kernel void energy_select(__global const float4* pos, __global const float4* vel, __global const uint* ids,
                             uint n, float dt, float t, uint step,
-                            __global const float4* dv, __global const float4* da,
+                            __global const float4* dv, __global const float4* dvh, __global const float4* dah,
                             __global const uint* group_start, __global const float* group_min_speed,
                             uint groups, uint span,
                             __global const float4* centre, float8 w, float8 wd, float4 radii, float4 extra,
@@ -125,8 +127,23 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
     // is walked once: RN = others within d_rep, AN = others with
     // d_att1 <= d <= d_att2 (current positions; the sets do not depend on the
     // candidate).
-    float rep[EM_MAX_CAND], oa[EM_MAX_CAND];
-    for (uint c = 0; c < nc; ++c) { rep[c] = 0.0f; oa[c] = 0.0f; }
+    float rep[EM_MAX_CAND];
+    for (uint c = 0; c < nc; ++c) rep[c] = 0.0f;
+#ifdef EM_TAYLOR_OA
+    // Eq. 6 summed over AN as a quadratic in the displacement d = v dt:
+    // with q = p_i - p_j, r = |q|, u = q / r, a = rho / d_att1,
+    //   exp(a |q + d| - rho) = f0 (1 + a u.d + (a^2/2 - a/(2r)) (u.d)^2 + a/(2r) |d|^2) + O((a|d|)^3)
+    // (f0 = exp(a r - rho)), so the neighbours are visited once, not once
+    // per candidate.  The host enables it only while a |d| <= 0.4 for the
+    // fastest sample (relative error below 1.6%, docs/energy-model.md).
+    float s0 = 0.0f, s3 = 0.0f;
+    float3 s1 = (float3)(0.0f);
+    float sxx = 0.0f, syy = 0.0f, szz = 0.0f, sxy = 0.0f, sxz = 0.0f, syz = 0.0f;
+    const float a_oa = rho / d_att1;
+#else
+    float oa[EM_MAX_CAND];
+    for (uint c = 0; c < nc; ++c) oa[c] = 0.0f;
+#endif
     uint nrep = 0u, natt = 0u;
     const Grid grid = GRID_MAKE();
     const float r_search = fmax(d_rep, d_att2);
@@ -142,8 +159,19 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
             ++nrep;
         } else if (d >= d_att1 && d <= d_att2) {
             const float3 q = p - pj.xyz;
+#ifdef EM_TAYLOR_OA
+            const float f0 = exp(rho * (d / d_att1 - 1.0f));
+            const float3 u = q / d;  // d >= d_att1 > 0
+            const float k2 = f0 * (0.5f * a_oa * a_oa - 0.5f * a_oa / d);
+            s0 += f0;
+            s1 += (f0 * a_oa) * u;
+            s3 += f0 * 0.5f * a_oa / d;
+            sxx += k2 * u.x * u.x; syy += k2 * u.y * u.y; szz += k2 * u.z * u.z;
+            sxy += k2 * u.x * u.y; sxz += k2 * u.x * u.z; syz += k2 * u.y * u.z;
+#else
             for (uint c = 0; c < nc; ++c)
                 oa[c] += exp(rho * (em_len(q + dv[c0 + c].xyz * dt) / d_att1 - 1.0f));
+#endif
             ++natt;
         }
     }
@@ -153,19 +181,26 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
     uint best_c = 0u;
     for (uint c = 0; c < nc; ++c) {
         const float3 v = dv[c0 + c].xyz;
-        const float3 a = da[c0 + c].xyz;
-        const float3 v_hat = em_unit(v);
+        const float4 vh = dvh[c0 + c], ah = dah[c0 + c];
+        const float3 v_hat = vh.xyz;
         float e[EM_TERM_COUNT];
         e[W_REP] = nrep ? wt.s0 * (rep[c] / (float)nrep) : 0.0f;                    // Eq. 4
-        e[W_OA] = natt ? wt.s1 * (oa[c] / (float)natt) : 0.0f;                      // Eq. 6
+#ifdef EM_TAYLOR_OA
+        const float3 m = v * dt;  // the candidate's displacement
+        const float oa_c = s0 + dot(s1, m) + s3 * dot(m, m) +
+                           (sxx * m.x * m.x + syy * m.y * m.y + szz * m.z * m.z) +
+                           2.0f * (sxy * m.x * m.y + sxz * m.x * m.z + syz * m.y * m.z);
+#else
+        const float oa_c = oa[c];
+#endif
+        e[W_OA] = natt ? wt.s1 * (oa_c / (float)natt) : 0.0f;                       // Eq. 6
         e[W_COS] = wt.s2 * exp(rho * em_len(v_hat - centre_hat));                   // Eq. 7
         e[W_DIR] = wt.s3 * exp(rho * em_len(v_hat - vt_hat));                       // Eq. 9
         // Eq. 10 with a' = (v - v_t) / dt in m/s^2 like the dataset's a; the
         // magnitude difference is taken per data frame (times accel_time =
         // the data's frame time), the scale of the paper's a' = v - v_t.
         const float3 a1 = (v - vt) / dt;
-        e[W_ACC] = wt.s4 * (exp(rho * em_len(em_unit(a1) - em_unit(a))) +
-                            accel_time * fabs(em_len(a1) - em_len(a)));
+        e[W_ACC] = wt.s4 * (exp(rho * em_len(em_unit(a1) - ah.xyz)) + accel_time * fabs(em_len(a1) - ah.w));
         // Eq. 11-12, summed over the stimuli.
         float env = 0.0f;
         for (uint s = 0; s < nstim; ++s) {

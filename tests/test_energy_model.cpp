@@ -60,6 +60,7 @@ EnergyModelConfig all_terms_config() {
     c.d_rep = 0.05f;
     c.d_att1 = 0.08f;
     c.d_att2 = 0.2f;
+    c.exact_attraction = true;  // Eq. 6 as written (the expansion: AttractionExpansion)
     c.stimuli.push_back({Stimulus::Kind::Attract, {0.3f, 0.0f, 0.1f}, {0.0f, 0.1f, 0.0f}, 0.0f});
     c.stimuli.push_back({Stimulus::Kind::Startle, {-0.1f, 0.05f, 0.0f}, {0.5f, 0.0f, 0.0f}, 0.15f});
     c.keypoints = {{0.2f, 0.0f, 0.0f}, {0.0f, 0.2f, 0.0f}, {-0.2f, 0.0f, 0.0f}, {0.0f, -0.2f, 0.1f}};
@@ -144,6 +145,42 @@ TEST(EnergyModel, EveryTermMatchesTheHostReference) {
         EXPECT_GT(with_rep, 5u);
         (void)in_danger;
     }
+}
+
+TEST(EnergyModel, AttractionExpansionIsWithinItsBound) {
+    // The default second-order expansion of Eq. 6 (kernels/energy_model.cl):
+    // E_oa within 1.6% of the exact sum, every other term as exact as before.
+    auto ctx = shared_context();
+    auto data = test_dataset();
+    const uint32_t n = 150;
+    Swarm s(ctx, small_config(n, 31));
+    random_state(s, *data, n, 32, 0.2f);
+    EnergyModelConfig c = all_terms_config();
+    c.exact_attraction = false;
+    c.d_att1 = 0.1f;
+    EnergyModel m(s, c, data);
+    ASSERT_TRUE(m.taylor_attraction());
+    const EnergyTerms t = m.evaluate(s, 2);
+    const ReferenceState r = reference_state(s, m, 2);
+    double worst = 0;
+    uint32_t with_oa = 0;
+    for (uint32_t a = 0; a < n; ++a)
+        for (uint32_t cand = t.first[a]; cand < t.last[a]; ++cand) {
+            const auto e = reference_terms(m.config(), *data, r, a, cand);
+            for (int k = 0; k < 8; ++k) {
+                const float got = t.terms[(size_t(a) * m.max_candidates() + (cand - t.first[a])) * 8 + k];
+                const double tol = k == 1 ? 0.016 * e[k] + 1e-4 : 1e-4 + 2e-4 * std::fabs(e[k]);
+                ASSERT_NEAR(got, e[k], tol) << "agent " << a << " candidate " << cand << " term " << k;
+                if (k == 1 && e[k] > 0) worst = std::max(worst, std::fabs(got - e[k]) / e[k]);
+            }
+            with_oa += e[1] > 0;
+        }
+    EXPECT_GT(with_oa, 100u);
+    std::printf("largest relative error of the expanded E_oa: %.2e\n", worst);
+    // Too coarse a step for the expansion: the exact sum is used.
+    c.d_att1 = 0.02f;
+    c.d_rep = 0.01f;
+    EXPECT_FALSE(EnergyModel(s, c, data).taylor_attraction());
 }
 
 TEST(EnergyModel, ArgminMatchesBruteForceHostSearch) {

@@ -98,16 +98,28 @@ EnergyModel::EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr
                                             : (d.frame_time > 0.0 ? float(d.frame_time) : 0.01f);
     noise_ = std::make_unique<NoiseField>(ctx, config_.noise, &swarm.config().domain_min,
                                           &swarm.config().domain_max);
-    const std::string defines = noise_->defines() + " -DEM_MAX_CAND=" + std::to_string(max_cand_);
+    float vmax = 0.0f;
+    for (const auto& v : d.v) vmax = std::max(vmax, std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
+    taylor_ = !config_.exact_attraction && config_.rho / config_.d_att1 * vmax * swarm.config().dt <= 0.4f;
+    const std::string defines = noise_->defines() + " -DEM_MAX_CAND=" + std::to_string(max_cand_) +
+                                (taylor_ ? " -DEM_TAYLOR_OA" : "");
     select_ = ctx.kernel("energy_model.cl", "energy_select", defines);
     terms_ = ctx.kernel("energy_model.cl", "energy_select", defines + " -DEM_TERMS");
     centre_partial_ = ctx.kernel("energy_model.cl", "energy_centre_partial", defines);
     centre_final_ = ctx.kernel("energy_model.cl", "energy_centre_final", defines);
 
-    std::vector<cl_float4> v(d.size()), a(d.size());
+    // Velocities, and the unit vectors and lengths of v and a that every
+    // agent would otherwise recompute for every candidate.
+    std::vector<cl_float4> v(d.size()), vh(d.size()), ah(d.size());
+    auto unit_len = [](const std::array<float, 3>& x) {
+        const double l = std::sqrt(double(x[0]) * x[0] + double(x[1]) * x[1] + double(x[2]) * x[2]);
+        const double s = l > 0.0 ? 1.0 / l : 0.0;
+        return cl_float4{{float(x[0] * s), float(x[1] * s), float(x[2] * s), float(l)}};
+    };
     for (uint32_t i = 0; i < d.size(); ++i) {
         v[i] = {{d.v[i][0], d.v[i][1], d.v[i][2], 0.0f}};
-        a[i] = {{d.a[i][0], d.a[i][1], d.a[i][2], 0.0f}};
+        vh[i] = unit_len(d.v[i]);
+        ah[i] = unit_len(d.a[i]);
     }
     std::vector<cl_float> gmin(G);
     for (uint32_t g = 0; g < G; ++g) {
@@ -115,9 +127,11 @@ EnergyModel::EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr
         gmin[g] = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);  // as the kernel's em_len
     }
     dv_.allocate(ctx, d.size(), "dataset velocities");
-    da_.allocate(ctx, d.size(), "dataset accelerations");
+    dvh_.allocate(ctx, d.size(), "dataset velocity directions");
+    dah_.allocate(ctx, d.size(), "dataset acceleration directions");
     dv_.upload(ctx, v.data(), v.size());
-    da_.upload(ctx, a.data(), a.size());
+    dvh_.upload(ctx, vh.data(), vh.size());
+    dah_.upload(ctx, ah.data(), ah.size());
     group_start_.allocate(ctx, G + 1, "dataset groups");
     group_start_.upload(ctx, d.group_start.data(), G + 1);
     group_min_speed_.allocate(ctx, G, "dataset group speeds");
@@ -198,7 +212,8 @@ cl_uint EnergyModel::set_common_args(cl::Kernel& k, Swarm& swarm, uint64_t step)
     k.setArg(i++, time);
     k.setArg(i++, cl_uint(step));
     k.setArg(i++, dv_.get());
-    k.setArg(i++, da_.get());
+    k.setArg(i++, dvh_.get());
+    k.setArg(i++, dah_.get());
     k.setArg(i++, group_start_.get());
     k.setArg(i++, group_min_speed_.get());
     k.setArg(i++, cl_uint(dataset_->groups()));

@@ -46,6 +46,10 @@ struct EnergyModelConfig {
     std::array<float, 3> fixed_centre{};
     uint32_t span = 1;         // neighbouring speed groups searched on each side
     float accel_time = 0.0f;   // s, scale of E_amag; 0: the dataset's frame time (0.01 s if unknown)
+    // Eq. 6 exactly for every candidate and neighbour; otherwise (default) a
+    // second-order expansion in v dt, used only where it is accurate to 1.6%
+    // (rho / d_att1 * max speed * dt <= 0.4; kernels/energy_model.cl).
+    bool exact_attraction = false;
     float danger_horizon = 0.5f;  // s, look-ahead of the startled prediction (Eq. 12)
     NoiseConfig noise;         // f_N (curl noise); default: scale 0.2 m, time_scale 1 s
     std::vector<Stimulus> stimuli;
@@ -77,6 +81,7 @@ public:
     const EnergyModelConfig& config() const { return config_; }
     const Dataset& dataset() const { return *dataset_; }
     uint32_t max_candidates() const { return max_cand_; }
+    bool taylor_attraction() const { return taylor_; }
 
     // Replace the stimuli / keypoints from the next step on (validated;
     // unchanged on error).  New keypoints restart every agent's traversal.
@@ -107,8 +112,9 @@ private:
     std::unique_ptr<NoiseField> noise_;
     uint32_t max_cand_ = 0;
     float accel_time_ = 0.01f;
+    bool taylor_ = false;
     cl::Kernel select_, terms_, centre_partial_, centre_final_;
-    DeviceBuffer<cl_float4> dv_, da_, centre_, partial_, stim_, kp_, vel_out_;
+    DeviceBuffer<cl_float4> dv_, dvh_, dah_, centre_, partial_, stim_, kp_, vel_out_;
     DeviceBuffer<cl_uint> group_start_, goal_;
     DeviceBuffer<cl_float> group_min_speed_;
     uint32_t capacity_ = 0;

@@ -1,0 +1,199 @@
+// FASTSWARM benchmark: ms per step of the energy model (aggregation, Table 1
+// weights, k = 300, 10 speed groups) at 37, 300, 500, 10k and 100k agents,
+// beside the paper's Table 2 (i7 + GTX 1060: 37 -> 0.3 ms, 300 -> 2.5 ms,
+// 500 -> 3.7 ms) and the field model (curl-noise paper) at the same N in the
+// same run.  The target on the 2-core PoCL CPU: 10k agents within 10 ms.
+//
+// Agents start in a ball whose radius grows as N^(1/3) (the density of the
+// 300-agent scenario), with a synthetic dataset; each figure is the median
+// step time over --steps steps (enqueue + finish) after --warmup steps.
+//
+//   energy_bench [--sizes 37,300,500,10000,100000] [--steps 20] [--warmup 5]
+//                [--device SELECTOR] [--json PATH] [--exact]
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bench_util.hpp"
+#include "core/philox.hpp"
+#include "data/dataset.hpp"
+#include "device/context.hpp"
+#include "models/energy_model.hpp"
+#include "models/field_model.hpp"
+#include "swarm/swarm.hpp"
+
+#ifndef SWARMCL_BENCH_RESULTS_DIR
+#define SWARMCL_BENCH_RESULTS_DIR "bench/results"
+#endif
+
+namespace {
+
+using namespace swarmcl;
+using namespace swarmcl::bench;
+using Clock = std::chrono::steady_clock;
+
+struct Options {
+    std::vector<uint32_t> sizes{37, 300, 500, 10000, 100000};
+    uint32_t steps = 20, warmup = 5;
+    std::string device, json = std::string(SWARMCL_BENCH_RESULTS_DIR) + "/energy.json";
+    bool exact = false;
+};
+
+struct Row {
+    uint32_t n = 0;
+    double energy_ms = 0, field_ms = 0, paper_ms = -1;
+    bool taylor = false;
+};
+
+double paper_ms(uint32_t n) {  // Table 2
+    if (n == 37) return 0.3;
+    if (n == 300) return 2.5;
+    if (n == 500) return 3.7;
+    return -1;
+}
+
+float ball_radius(uint32_t n) { return 0.5f * std::cbrt(float(n) / 300.0f); }
+
+std::shared_ptr<Swarm> make_swarm(const std::shared_ptr<Context>& ctx, uint32_t n) {
+    const float r = ball_radius(n);
+    SwarmConfig c;
+    c.capacity = n;
+    c.seed = 4;
+    c.dt = 0.01f;
+    c.interaction_radius = 0.4f;
+    for (int a = 0; a < 3; ++a) c.domain_min[a] = -r - 0.5f, c.domain_max[a] = r + 0.5f;
+    auto s = std::make_shared<Swarm>(ctx, c);
+    std::vector<float> p(3 * size_t(n));
+    for (uint32_t id = 0; id < n; ++id) {
+        const auto u = philox_for(7, id, 0, 0);
+        const float cz = 2 * uniform01(u[0]) - 1, phi = 6.2831853f * uniform01(u[1]);
+        const float sz = std::sqrt(std::max(0.0f, 1 - cz * cz)), rad = r * std::cbrt(uniform01(u[2]));
+        p[3 * id] = rad * sz * std::cos(phi);
+        p[3 * id + 1] = rad * sz * std::sin(phi);
+        p[3 * id + 2] = rad * cz;
+    }
+    s->write(Attribute::Position, p.data(), n);
+    return s;
+}
+
+double time_steps(Swarm& s, Context& ctx, const Options& o) {
+    s.step(o.warmup);
+    ctx.queue().finish();
+    std::vector<double> ms;
+    for (uint32_t k = 0; k < o.steps; ++k) {
+        const auto t0 = Clock::now();
+        s.step(1);
+        ctx.queue().finish();
+        ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    }
+    return median(ms);
+}
+
+std::vector<uint32_t> parse_sizes(const std::string& s) {
+    std::vector<uint32_t> out;
+    std::stringstream in(s);
+    std::string item;
+    while (std::getline(in, item, ',')) out.push_back(uint32_t(std::stoul(item)));
+    return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Options o;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        auto next = [&]() -> std::string {
+            if (i + 1 >= argc) {
+                std::fprintf(stderr, "%s needs a value\n", a.c_str());
+                std::exit(2);
+            }
+            return argv[++i];
+        };
+        if (a == "--sizes") o.sizes = parse_sizes(next());
+        else if (a == "--steps") o.steps = uint32_t(std::stoul(next()));
+        else if (a == "--warmup") o.warmup = uint32_t(std::stoul(next()));
+        else if (a == "--device") o.device = next();
+        else if (a == "--json") o.json = next();
+        else if (a == "--exact") o.exact = true;
+        else {
+            std::fprintf(stderr,
+                         "usage: energy_bench [--sizes 37,300,...] [--steps N] [--warmup N] [--device D] "
+                         "[--json PATH] [--exact]\n");
+            return 2;
+        }
+    }
+    const double load_before = load_average();
+    auto ctx = std::make_shared<Context>(o.device, "");
+    const auto& dev = ctx->device();
+    DatasetOptions dopt;
+    auto data = std::make_shared<const Dataset>(synthetic_dataset(dopt));
+    EnergyModelConfig cfg;  // Table 1 aggregation weights, rho = 2.5
+    cfg.has_fixed_centre = true;
+    cfg.exact_attraction = o.exact;
+    std::printf("FASTSWARM energy model, aggregation (Table 1), k = %u, %u speed groups, span %u, dt 0.01 s\n",
+                data->size(), data->groups(), cfg.span);
+    std::printf("device: %s / %s; %u warm-up + %u timed steps; load average %.2f\n", dev.platform_name.c_str(),
+                dev.device_name.c_str(), o.warmup, o.steps, load_before);
+    std::printf("%8s %12s %12s %10s %12s %10s\n", "agents", "energy ms", "paper ms", "vs paper", "field ms",
+                "vs field");
+    std::vector<Row> rows;
+    for (uint32_t n : o.sizes) {
+        Row r;
+        r.n = n;
+        r.paper_ms = paper_ms(n);
+        {
+            auto s = make_swarm(ctx, n);
+            auto m = std::make_shared<EnergyModel>(*s, cfg, data);
+            r.taylor = m->taylor_attraction();
+            s->set_behavior(m);
+            r.energy_ms = time_steps(*s, *ctx, o);
+        }
+        {
+            auto s = make_swarm(ctx, n);
+            FieldModelConfig f;
+            f.noise.time_scale = 2.0f;
+            s->set_behavior(std::make_shared<FieldModel>(*s, f));
+            r.field_ms = time_steps(*s, *ctx, o);
+        }
+        char paper[32] = "-", ratio[32] = "-";
+        if (r.paper_ms > 0) {
+            std::snprintf(paper, sizeof paper, "%.1f", r.paper_ms);
+            std::snprintf(ratio, sizeof ratio, "%.2fx", r.energy_ms / r.paper_ms);
+        }
+        std::printf("%8u %12.3f %12s %10s %12.3f %9.1fx%s\n", n, r.energy_ms, paper, ratio, r.field_ms,
+                    r.energy_ms / r.field_ms, n == 10000 ? (r.energy_ms <= 10.0 ? "  target 10 ms: met" : "  target 10 ms: NOT met") : "");
+        std::fflush(stdout);
+        rows.push_back(r);
+    }
+    const double load_after = load_average();
+    std::ofstream j(o.json);
+    j << "{\n  \"benchmark\": \"energy_bench\",\n  \"date\": \"" << utc_now() << "\",\n";
+    j << "  \"device\": {\"name\": \"" << json_escape(dev.device_name) << "\", \"platform\": \""
+      << json_escape(dev.platform_name) << "\"},\n";
+    j << "  \"load_average\": {\"before\": " << load_before << ", \"after\": " << load_after << "},\n";
+    j << "  \"setup\": {\"scenario\": \"aggregation, Table 1 weights, fixed centre\", \"k\": " << data->size()
+      << ", \"groups\": " << data->groups() << ", \"dt\": 0.01, \"steps\": " << o.steps
+      << ", \"warmup\": " << o.warmup << ", \"exact_attraction\": " << (o.exact ? "true" : "false") << "},\n";
+    j << "  \"rows\": [\n";
+    for (size_t i = 0; i < rows.size(); ++i) {
+        const Row& r = rows[i];
+        j << "    {\"agents\": " << r.n << ", \"energy_ms_per_step\": " << r.energy_ms
+          << ", \"paper_table2_ms\": " << (r.paper_ms > 0 ? std::to_string(r.paper_ms) : "null")
+          << ", \"field_model_ms_per_step\": " << r.field_ms << ", \"taylor_attraction\": "
+          << (r.taylor ? "true" : "false") << "}" << (i + 1 < rows.size() ? "," : "") << "\n";
+    }
+    j << "  ]\n}\n";
+    if (!j) {
+        std::fprintf(stderr, "cannot write %s\n", o.json.c_str());
+        return 1;
+    }
+    std::printf("wrote %s (load average %.2f -> %.2f)\n", o.json.c_str(), load_before, load_after);
+    return 0;
+}
