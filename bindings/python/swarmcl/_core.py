@@ -268,6 +268,29 @@ class Swarm(_Handle):
         """Back to ballistic motion."""
         check(lib.swcl_swarm_clear_model(self._h))
 
+    # FASTSWARM energy model (swarmcl/energy.py, docs/energy-model.md).
+    def set_energy_model(self, dataset, model=None) -> None:
+        """Moves the swarm with the FASTSWARM energy model over ``dataset`` (a
+        Dataset) from the next step; ``model``: an EnergyModel (default: Table 1
+        aggregation)."""
+        from . import energy
+        energy.set_energy_model(self, dataset, model)
+
+    def set_energy_stimuli(self, stimuli) -> None:
+        """Replaces the energy model's stimuli (a list of Stimulus)."""
+        from . import energy
+        energy.set_stimuli(self, stimuli)
+
+    def set_energy_keypoints(self, keypoints, closed: bool = True) -> None:
+        """Replaces the energy model's keypoint curve ((n >= 2, 3) array)."""
+        from . import energy
+        energy.set_keypoints(self, keypoints, closed)
+
+    def energy_goals(self) -> np.ndarray:
+        """Each agent's goal keypoint index (int32, -1 before the first step)."""
+        from . import energy
+        return energy.goals(self)
+
     def take_step_stats(self) -> StepStats:
         """Model statistics since the last call (waits for the device)."""
         out = ffi.new("swcl_step_stats*")

@@ -1,0 +1,299 @@
+"""FASTSWARM from Python: reference datasets and the energy model
+(docs/energy-model.md).
+
+>>> import swarmcl
+>>> with swarmcl.Context() as ctx, swarmcl.Swarm(ctx, agent_count=37, dt=0.01) as s:
+...     data = swarmcl.Dataset.synthetic(k=300)
+...     s.set_energy_model(data, swarmcl.EnergyModel(centre=(0, 0, 0)))
+...     s.step(100)
+
+Defaults of the dataclasses come from the C library's ``*_default()``.
+"""
+
+from __future__ import annotations
+
+import enum
+import os
+from dataclasses import dataclass, field
+from typing import List, Optional, Sequence, Tuple
+
+import numpy as np
+
+from ._core import _Handle, _xyz_in
+from ._native import ffi, lib
+from .descriptors import NoiseDesc, _f32, _tuple3, _vec3
+from .errors import check
+
+__all__ = ["Dataset", "EnergyWeights", "EnergyModel", "Stimulus", "StimulusKind", "TimeFormat"]
+
+Vec3 = Tuple[float, float, float]
+
+_DATASET_DEFAULT = lib.swcl_dataset_desc_default()
+_ENERGY_DEFAULT = lib.swcl_energy_model_desc_default()
+
+
+class TimeFormat(enum.IntEnum):
+    """swcl_time_format of a track CSV's time column."""
+    AUTO = int(lib.SWCL_TIME_AUTO)
+    SECONDS = int(lib.SWCL_TIME_SECONDS)
+    FRAME = int(lib.SWCL_TIME_FRAME)
+    DATETIME = int(lib.SWCL_TIME_DATETIME)
+
+
+class StimulusKind(enum.IntEnum):
+    ATTRACT = int(lib.SWCL_STIMULUS_ATTRACT)
+    STARTLE = int(lib.SWCL_STIMULUS_STARTLE)
+
+
+def _dataset_desc(columns=None, time_format="auto", frame_time=None, unit_scale=None, gap_factor=None,
+                  smoothing=None, k=None, groups=None, seed=None, mean_speed=None):
+    d = ffi.new("swcl_dataset_desc*", lib.swcl_dataset_desc_default())
+    keep = []
+    for role, name in (columns or {}).items():
+        if role not in ("id", "time", "x", "y", "z"):
+            raise ValueError(f"columns: unknown role {role!r} (id, time, x, y, z)")
+        c = ffi.new("char[]", str(name).encode())
+        keep.append(c)
+        setattr(d, "column_" + role, c)
+    if isinstance(time_format, str):
+        try:
+            time_format = TimeFormat[time_format.upper()]
+        except KeyError:
+            raise ValueError(f"time_format: one of auto, seconds, frame, datetime, got {time_format!r}") from None
+    d.time_format = int(time_format)
+    for name, value in (("frame_time", frame_time), ("unit_scale", unit_scale), ("gap_factor", gap_factor),
+                        ("smoothing", smoothing), ("k", k), ("groups", groups), ("seed", seed),
+                        ("synthetic_mean_speed", mean_speed)):
+        if value is not None:
+            setattr(d, name, value)
+    return d, keep
+
+
+class Dataset(_Handle):
+    """The reference dataset D: (velocity, acceleration) samples sorted by
+    speed, in speed groups.  Build it with from_csv / from_tracks /
+    synthetic, or load a file written by save."""
+
+    _kind = "dataset"
+
+    def __init__(self, _handle_ptr):
+        self._adopt(_handle_ptr, lib.swcl_dataset_destroy, "swcl_dataset*")
+
+    @classmethod
+    def _make(cls, fn) -> "Dataset":
+        h = ffi.new("swcl_dataset*")
+        check(fn(h))
+        return cls(h)
+
+    @classmethod
+    def from_csv(cls, path, **options) -> "Dataset":
+        """From a track CSV: ``columns={"id": "id", "time": "datetime", "x": "x_cm", ...}``
+        (names or 0-based indices), ``time_format``, ``frame_time``, ``unit_scale``,
+        ``gap_factor``, ``smoothing``, ``k``, ``groups``, ``seed``."""
+        d, _keep = _dataset_desc(**options)
+        return cls._make(lambda h: lib.swcl_dataset_from_csv(os.fsencode(path), d, h))
+
+    @classmethod
+    def from_tracks(cls, tracks: Sequence[Tuple[Sequence[float], Sequence[Sequence[float]]]],
+                    **options) -> "Dataset":
+        """From tracks given as ``[(times, positions), ...]`` (times in s, positions (n, 3))."""
+        counts, times, xyz = [], [], []
+        for t, p in tracks:
+            t = np.ascontiguousarray(t, dtype=np.float64).ravel()
+            p = _xyz_in(p, "from_tracks")
+            if len(t) != len(p):
+                raise ValueError(f"from_tracks: {len(t)} times but {len(p)} positions")
+            counts.append(len(t))
+            times.append(t)
+            xyz.append(p)
+        c = np.asarray(counts, dtype=np.uint32)
+        t = np.concatenate(times) if times else np.zeros(0)
+        p = np.ascontiguousarray(np.concatenate(xyz) if xyz else np.zeros((0, 3)), dtype=np.float32)
+        d, _keep = _dataset_desc(**options)
+        return cls._make(lambda h: lib.swcl_dataset_from_tracks(
+            ffi.from_buffer("uint32_t[]", c) if c.size else ffi.NULL, len(c),
+            ffi.from_buffer("double[]", t) if t.size else ffi.NULL,
+            ffi.from_buffer("float[]", p) if p.size else ffi.NULL, d, h))
+
+    @classmethod
+    def synthetic(cls, k: Optional[int] = None, groups: Optional[int] = None, seed: Optional[int] = None,
+                  frame_time: Optional[float] = None, mean_speed: Optional[float] = None) -> "Dataset":
+        """From deterministic synthetic tracks (tests and examples without data)."""
+        d, _keep = _dataset_desc(k=k, groups=groups, seed=seed, frame_time=frame_time, mean_speed=mean_speed)
+        return cls._make(lambda h: lib.swcl_dataset_synthetic(d, h))
+
+    @classmethod
+    def load(cls, path) -> "Dataset":
+        return cls._make(lambda h: lib.swcl_dataset_load(os.fsencode(path), h))
+
+    def save(self, path) -> None:
+        check(lib.swcl_dataset_save(self._h, os.fsencode(path)))
+
+    def info(self) -> dict:
+        out = ffi.new("swcl_dataset_info*")
+        out.struct_size = ffi.sizeof("swcl_dataset_info")
+        check(lib.swcl_dataset_get_info(self._h, out))
+        return {"samples": int(out.samples), "groups": int(out.groups), "frame_time": float(out.frame_time)}
+
+    def __len__(self) -> int:
+        return self.info()["samples"]
+
+    def samples(self) -> Tuple[np.ndarray, np.ndarray]:
+        """(velocities, accelerations), each (k, 3) float32, sorted by speed."""
+        n = len(self)
+        v = np.empty((n, 3), dtype=np.float32)
+        a = np.empty((n, 3), dtype=np.float32)
+        check(lib.swcl_dataset_read(self._h, ffi.from_buffer("float[]", v), ffi.from_buffer("float[]", a), n))
+        return v, a
+
+
+def _weights_default(which: str):
+    def factory():
+        w = getattr(_ENERGY_DEFAULT, which)
+        return EnergyWeights(**{k: _f32(getattr(w, k)) for k in EnergyWeights.__dataclass_fields__})
+    return field(default_factory=factory)
+
+
+@dataclass
+class EnergyWeights:
+    """Weights of the energy terms (Table 1 columns)."""
+    rep: float = 1.0
+    oa: float = 1.0
+    cos: float = 0.05
+    dir: float = 1.0
+    acc: float = 1.0
+    env: float = 0.0
+    noise: float = 0.2
+    user: float = 0.0
+
+    def _to_c(self, dst) -> None:
+        for k in EnergyWeights.__dataclass_fields__:
+            setattr(dst, k, float(getattr(self, k)))
+
+
+@dataclass
+class Stimulus:
+    """A stimulus moving as position + velocity * t: 'attract' (a female, a
+    light) or 'startle' (a danger within d_danger)."""
+    kind: str
+    position: Vec3
+    velocity: Vec3 = (0.0, 0.0, 0.0)
+    d_danger: float = 0.3
+
+    def _to_c(self, dst) -> None:
+        kind = self.kind
+        if isinstance(kind, str):
+            try:
+                kind = StimulusKind[kind.upper()]
+            except KeyError:
+                raise ValueError(f"Stimulus.kind: 'attract' or 'startle', got {self.kind!r}") from None
+        dst.kind = int(kind)
+        dst.position = _vec3(self.position, "Stimulus.position")
+        dst.velocity = _vec3(self.velocity, "Stimulus.velocity")
+        dst.d_danger = float(self.d_danger)
+
+
+def _stimuli_c(stimuli):
+    stimuli = list(stimuli or [])
+    if not stimuli:
+        return ffi.NULL, 0
+    arr = ffi.new("swcl_stimulus[]", len(stimuli))
+    for i, s in enumerate(stimuli):
+        if not isinstance(s, Stimulus):
+            raise TypeError(f"stimuli[{i}] must be a Stimulus, got {type(s).__name__}")
+        s._to_c(arr[i])
+    return arr, len(stimuli)
+
+
+def _energy_default(name: str):
+    def factory():
+        c = _ENERGY_DEFAULT
+        if name == "noise":
+            return NoiseDesc._from_c(c.noise)
+        if name in ("keypoints_closed", "bidirectional"):
+            return bool(getattr(c, name))
+        if name == "span":
+            return int(c.span)
+        return _f32(getattr(c, name))
+    return field(default_factory=factory)
+
+
+@dataclass
+class EnergyModel:
+    """swcl_energy_model_desc: the FASTSWARM energy model (defaults: Table 1
+    aggregation, rho = 2.5).  ``centre``: None (the swarm's mean position) or
+    a fixed (x, y, z); ``keypoints``: None or an (n >= 2, 3) array."""
+    weights: EnergyWeights = _weights_default("weights")
+    danger_weights: EnergyWeights = _weights_default("danger_weights")
+    rho: float = _energy_default("rho")
+    d_rep: float = _energy_default("d_rep")
+    d_att1: float = _energy_default("d_att1")
+    d_att2: float = _energy_default("d_att2")
+    centre: Optional[Vec3] = None
+    span: int = _energy_default("span")
+    accel_time: float = _energy_default("accel_time")
+    danger_horizon: float = _energy_default("danger_horizon")
+    noise: NoiseDesc = _energy_default("noise")
+    stimuli: List[Stimulus] = field(default_factory=list)
+    keypoints: Optional[np.ndarray] = None
+    keypoints_closed: bool = _energy_default("keypoints_closed")
+    bidirectional: bool = _energy_default("bidirectional")
+    keypoint_reach: float = _energy_default("keypoint_reach")
+
+    def to_c(self):
+        """A new ``swcl_energy_model_desc*`` and the objects it points into."""
+        keep: list = []
+        p = ffi.new("swcl_energy_model_desc*", lib.swcl_energy_model_desc_default())
+        self.weights._to_c(p.weights)
+        self.danger_weights._to_c(p.danger_weights)
+        for name in ("rho", "d_rep", "d_att1", "d_att2", "accel_time", "danger_horizon", "keypoint_reach"):
+            setattr(p, name, float(getattr(self, name)))
+        p.span = int(self.span)
+        if self.centre is None:
+            p.has_fixed_centre = 0
+        else:
+            p.has_fixed_centre = 1
+            p.fixed_centre = _vec3(self.centre, "EnergyModel.centre")
+        noise = self.noise if self.noise is not None else NoiseDesc()
+        noise._to_c(p.noise, keep)
+        arr, n = _stimuli_c(self.stimuli)
+        keep.append(arr)
+        p.stimuli, p.stimulus_count = arr, n
+        if self.keypoints is not None:
+            kp = _xyz_in(self.keypoints, "EnergyModel.keypoints")
+            keep.append(kp)
+            p.keypoints = ffi.from_buffer("float[]", kp) if kp.size else ffi.NULL
+            p.keypoint_count = len(kp)
+        p.keypoints_closed = 1 if self.keypoints_closed else 0
+        p.bidirectional = 1 if self.bidirectional else 0
+        return p, keep
+
+
+# ---- swarm methods (bound onto Swarm in _core.py) ---------------------------------------
+
+def set_energy_model(swarm, dataset: Dataset, model: Optional[EnergyModel] = None) -> None:
+    if not isinstance(dataset, Dataset):
+        raise TypeError(f"set_energy_model: expected a Dataset, got {type(dataset).__name__}")
+    model = model if model is not None else EnergyModel()
+    if not isinstance(model, EnergyModel):
+        raise TypeError(f"set_energy_model: expected an EnergyModel, got {type(model).__name__}")
+    desc, _keep = model.to_c()
+    check(lib.swcl_swarm_set_energy_model(swarm._h, dataset._h, desc))
+
+
+def set_stimuli(swarm, stimuli: Sequence[Stimulus]) -> None:
+    arr, n = _stimuli_c(stimuli)
+    check(lib.swcl_swarm_energy_set_stimuli(swarm._h, arr, n))
+
+
+def set_keypoints(swarm, keypoints, closed: bool = True) -> None:
+    kp = _xyz_in(keypoints, "set_keypoints")
+    check(lib.swcl_swarm_energy_set_keypoints(swarm._h, ffi.from_buffer("float[]", kp) if kp.size else ffi.NULL,
+                                              len(kp), 1 if closed else 0))
+
+
+def goals(swarm) -> np.ndarray:
+    n = swarm.agent_count
+    out = np.empty(n, dtype=np.int32)
+    check(lib.swcl_swarm_energy_goals(swarm._h, ffi.from_buffer("int32_t[]", out) if n else ffi.NULL, n))
+    return out
