@@ -22,13 +22,24 @@ DATASET = {"type": "synthetic", "k": 300, "groups": 10, "seed": 1}
 
 
 def heart(n, size):
-    # The classic heart curve, sampled at n keypoints, in the x-z plane.
-    pts = []
-    for k in range(n):
-        t = 2 * math.pi * k / n
+    # The classic heart curve in the x-z plane, n keypoints equally spaced
+    # along its length (the parameter crawls near the cusps, so equal
+    # parameter steps would put two keypoints within a keypoint's reach).
+    def at(t):
         x = 16 * math.sin(t) ** 3
         z = 13 * math.cos(t) - 5 * math.cos(2 * t) - 2 * math.cos(3 * t) - math.cos(4 * t)
-        pts.append([round(size * x / 32, 4), 0.0, round(size * z / 32, 4)])
+        return (size * x / 32, size * z / 32)
+    m = 20000
+    dense = [at(2 * math.pi * i / m) for i in range(m + 1)]
+    arc = [0.0]
+    for a, b in zip(dense, dense[1:]):
+        arc.append(arc[-1] + math.dist(a, b))
+    pts, j = [], 0
+    for k in range(n):
+        target = arc[-1] * k / n
+        while arc[j] < target:
+            j += 1
+        pts.append([round(dense[j][0], 4), 0.0, round(dense[j][1], 4)])
     return pts
 
 
@@ -75,7 +86,7 @@ def main():
             "stimuli": [{"type": "attract", "position": [-0.5, 0, 0], "velocity": [0.1, 0, 0]}]},
             1000, dict(ball, radius=0.4)),
         "energy_escaping": scenario("energy_escaping", 100, {
-            "weights": ESCAPING, "danger_weights": ESCAPING_DANGER, "centre": [0, 0, 0],
+            "weights": ESCAPING, "danger_weights": ESCAPING_DANGER, "centre": [0, 0, 0], "danger_horizon": 1.0,
             "stimuli": [{"type": "startle", "position": [-1.5, 0, 0], "velocity": [0.5, 0, 0],
                          "d_danger": 0.3}]},
             1200, ball),

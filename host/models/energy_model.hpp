@@ -50,7 +50,7 @@ struct EnergyModelConfig {
     // second-order expansion in v dt, used only where it is accurate to 1.6%
     // (rho / d_att1 * max speed * dt <= 0.4; kernels/energy_model.cl).
     bool exact_attraction = false;
-    float danger_horizon = 0.5f;  // s, look-ahead of the startled prediction (Eq. 12)
+    float danger_horizon = 1.0f;  // s, look-ahead of the startled prediction (Eq. 12)
     NoiseConfig noise;         // f_N (curl noise); default: scale 0.2 m, time_scale 1 s
     std::vector<Stimulus> stimuli;
     std::vector<std::array<float, 3>> keypoints;  // f_CD (Eq. 15); empty: none

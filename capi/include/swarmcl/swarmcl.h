@@ -380,7 +380,7 @@ typedef struct swcl_energy_model_desc {
     float fixed_centre[3];         /* towards the swarm centre (mean position) */
     uint32_t span;                 /* neighbouring speed groups searched per side (1) */
     float accel_time;              /* s scaling |a'| - |a| (Eq. 10); 0: the dataset's frame time */
-    float danger_horizon;          /* s of look-ahead for the startled term (0.5) */
+    float danger_horizon;          /* s of look-ahead for the startled term (1) */
     swcl_noise_desc noise;         /* f_N (default curl, scale 0.2 m, time_scale 1 s) */
     const swcl_stimulus* stimuli;  /* copied by the call */
     uint32_t stimulus_count;
