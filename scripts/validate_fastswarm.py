@@ -1,0 +1,161 @@
+#!/usr/bin/env python3
+"""Validation of the FASTSWARM energy model against real mosquito tracks (a
+script, not a unit test; docs/energy-model.md, "Validation").
+
+    python3 scripts/validate_fastswarm.py [--data ../shared/data/anopheles-coluzzii-swarm.csv]
+                                          [--seconds 30] [--seed 4]
+
+1. Reads the real tracks (Anopheles coluzzii, 100 Hz, positions in cm) with
+   swarmcl's loader: speed and |a| of every forward-difference sample, and the
+   nearest-neighbour distance of every insect in every frame with two or more.
+2. Builds the reference dataset (k = 300) from the same file.
+3. Runs the aggregation scenario (Table 1 weights) from the most crowded real
+   frame: its insects, positions and velocities; radii from the real
+   nearest-neighbour distances (d_rep = 5th percentile, d_att1 = median,
+   d_att2 = 2 x median), the swarm centre fixed at the tracks' mean position.
+4. Runs the curl-noise field model (model.type "field", seed 4, the
+   aggregation settings of examples/scenarios/aggregation.json with the goal
+   at the same centre) from the same start.
+5. Prints, for both, the L1 distance between the simulated and the real
+   distributions of speed, |a| and nearest-neighbour distance, each z-scored
+   with the real mean and standard deviation (histograms of 40 bins on
+   [-4, 4], outliers in the end bins; 0 = identical, 2 = disjoint).
+
+Skips (exit 0) when the data file is absent.
+"""
+
+import argparse
+import csv
+import os
+import sys
+from collections import defaultdict
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+DEFAULT_DATA = os.path.normpath(os.path.join(HERE, "..", "..", "shared", "data", "anopheles-coluzzii-swarm.csv"))
+COLUMNS = {"id": "id", "time": "datetime", "x": "x_cm", "y": "y_cm", "z": "z_cm"}
+DT = 0.01  # the data's frame time and the simulation step
+
+
+def l1_zscored(sim, real, bins=40, lim=4.0):
+    mu, sd = float(np.mean(real)), float(np.std(real))
+    edges = np.linspace(-lim, lim, bins + 1)
+
+    def hist(x):
+        z = np.clip((np.asarray(x, dtype=np.float64) - mu) / sd, -lim, lim)
+        h, _ = np.histogram(z, edges)
+        return h / max(1, h.sum())
+
+    return float(np.abs(hist(sim) - hist(real)).sum())
+
+
+def nearest(points):
+    d = np.linalg.norm(points[:, None] - points[None], axis=2)
+    np.fill_diagonal(d, np.inf)
+    return d.min(axis=1)
+
+
+def read_frames(path):
+    frames = defaultdict(list)
+    with open(path, newline="") as f:
+        for r in csv.DictReader(f):
+            frames[r["datetime"]].append((r["id"], float(r["x_cm"]) / 100, float(r["y_cm"]) / 100,
+                                          float(r["z_cm"]) / 100))
+    return frames
+
+
+def kinematics(traj):
+    """Speeds and |a| by forward differences of (steps, N, 3) positions."""
+    v = np.diff(traj, axis=0) / DT
+    a = np.diff(v, axis=0) / DT
+    return np.linalg.norm(v[:-1], axis=2).ravel(), np.linalg.norm(a, axis=2).ravel()
+
+
+def run(swarm, steps):
+    traj = [swarm.positions.copy()]
+    nn = []
+    for _ in range(steps):
+        swarm.step(1)
+        p = swarm.positions
+        traj.append(p.copy())
+        nn.append(nearest(p.astype(np.float64)))
+    return np.array(traj, dtype=np.float64), np.concatenate(nn)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--data", default=os.environ.get("SWARMCL_MOSQUITO_CSV", DEFAULT_DATA))
+    ap.add_argument("--seconds", type=float, default=30.0)
+    ap.add_argument("--seed", type=int, default=4)
+    args = ap.parse_args()
+    if not os.path.isfile(args.data):
+        print(f"validate_fastswarm: skipped, no data at {args.data}")
+        return 0
+    import swarmcl
+
+    # ---- the real distributions ---------------------------------------------------
+    every = swarmcl.Dataset.from_csv(args.data, columns=COLUMNS, unit_scale=0.01, k=1 << 24, groups=1)
+    v_real, a_real = every.samples()
+    speed_real = np.linalg.norm(v_real, axis=1)
+    acc_real = np.linalg.norm(a_real, axis=1)
+    frames = read_frames(args.data)
+    nn_real = np.concatenate([nearest(np.array([p[1:] for p in f])) for f in frames.values() if len(f) >= 2])
+    all_pos = np.array([p[1:] for f in frames.values() for p in f])
+    centre = tuple(float(c) for c in all_pos.mean(axis=0))
+    lo, hi = np.percentile(all_pos, 1, axis=0), np.percentile(all_pos, 99, axis=0)
+    p5, p50 = np.percentile(nn_real, [5, 50])
+    print(f"real data: {len(speed_real)} (v, a) samples, {len(nn_real)} nearest-neighbour distances, "
+          f"frame time {every.info()['frame_time']:.4f} s")
+    print(f"  speed median {np.median(speed_real):.3f} m/s, |a| median {np.median(acc_real):.2f} m/s^2, "
+          f"nearest neighbour 5/50/95% {p5:.3f} / {p50:.3f} / {np.percentile(nn_real, 95):.3f} m")
+
+    # ---- the start: the most crowded real frame --------------------------------------
+    t0 = max(frames, key=lambda t: len(frames[t]))
+    start = frames[t0]
+    n = len(start)
+    pos0 = np.array([p[1:] for p in start], dtype=np.float32)
+    times = sorted(frames)
+    nxt = frames[times[times.index(t0) + 1]] if times.index(t0) + 1 < len(times) else []
+    nxt_pos = {p[0]: np.array(p[1:]) for p in nxt}
+    vel0 = np.array([(nxt_pos[p[0]] - np.array(p[1:])) / DT if p[0] in nxt_pos else np.zeros(3) for p in start],
+                    dtype=np.float32)
+    steps = int(round(args.seconds / DT))
+    print(f"start: frame {t0} with {n} insects; {steps} steps of {DT} s; seed {args.seed}")
+    domain = (tuple(float(x) for x in lo - 1.0), tuple(float(x) for x in hi + 1.0))
+
+    dataset = swarmcl.Dataset.from_csv(args.data, columns=COLUMNS, unit_scale=0.01, k=300, seed=args.seed)
+    results = {}
+    with swarmcl.Context() as ctx:
+        model = swarmcl.EnergyModel(d_rep=float(p5), d_att1=float(p50), d_att2=float(2 * p50), centre=centre,
+                                    noise=swarmcl.NoiseDesc(scale=float(p50), time_scale=1.0, seed=args.seed))
+        with swarmcl.Swarm(ctx, capacity=n, seed=args.seed, domain=domain, interaction_radius=float(2 * p50),
+                           dt=DT) as s:
+            s.write_positions(pos0)
+            s.write_velocities(vel0)
+            s.set_energy_model(dataset, model)
+            results["energy (FASTSWARM)"] = run(s, steps)
+        field = swarmcl.FieldModel(
+            noise=swarmcl.NoiseDesc(type="curl", scale=0.4, gain=0.25, seed=7, time_scale=2.0, domain_walls=True,
+                                    region=(tuple(float(x) for x in lo), tuple(float(x) for x in hi))),
+            goal=centre, goal_radius=1.2, goal_speed=1.5, goal_falloff=1.0, min_distance=0.03)
+        with swarmcl.Swarm(ctx, capacity=n, seed=args.seed, domain=domain, interaction_radius=0.4, dt=DT) as s:
+            s.write_positions(pos0)
+            s.write_velocities(vel0)
+            s.set_field_model(field)
+            results["field (curl noise)"] = run(s, steps)
+
+    print("\nL1 distance of z-scored distributions to the real data (0 = identical, 2 = disjoint)")
+    print(f"{'model':22s} {'speed':>8s} {'|a|':>8s} {'nn dist':>8s}   medians: speed, |a|, nn")
+    print(f"{'real':22s} {0.0:8.3f} {0.0:8.3f} {0.0:8.3f}   {np.median(speed_real):.3f} m/s, "
+          f"{np.median(acc_real):.2f} m/s^2, {np.median(nn_real):.3f} m")
+    for name, (traj, nn) in results.items():
+        sp, ac = kinematics(traj)
+        print(f"{name:22s} {l1_zscored(sp, speed_real):8.3f} {l1_zscored(ac, acc_real):8.3f} "
+              f"{l1_zscored(nn, nn_real):8.3f}   {np.median(sp):.3f} m/s, {np.median(ac):.2f} m/s^2, "
+              f"{np.median(nn):.3f} m")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
