@@ -240,3 +240,38 @@ TEST_F(EnergyCapi, ScenarioModelTypeEnergy) {
     EXPECT_EQ(swcl_scenario_create_swarm(sc, ctx_, &none), SWCL_ERROR_IO);
     swcl_scenario_destroy(sc);
 }
+
+TEST_F(EnergyCapi, StartFromTracksContinuesThem) {
+    // Track 1 has a missing frame: its last segment (after the gap) is used.
+    const uint32_t counts[2] = {4, 7};
+    const double t[11] = {0, 0.01, 0.02, 0.03, 0, 0.01, 0.02, 0.05, 0.06, 0.07, 0.08};
+    std::vector<float> xyz;
+    for (int i = 0; i < 4; ++i) xyz.insert(xyz.end(), {0.01f * i, 0, 0});
+    for (int i = 0; i < 7; ++i) xyz.insert(xyz.end(), {0, 0.02f * float(t[4 + i] * 100), 0.1f});
+    swcl_swarm s = make_swarm(0);
+    ASSERT_EQ(swcl_swarm_start_from_tracks(s, counts, 2, t, xyz.data(), nullptr), SWCL_OK) << swcl_last_error();
+    uint32_t n = 0;
+    ASSERT_EQ(swcl_swarm_agent_count(s, &n), SWCL_OK);
+    ASSERT_EQ(n, 2u);
+    float p[6], v[6];
+    ASSERT_EQ(swcl_swarm_read(s, SWCL_ATTRIBUTE_POSITION, p, 2), SWCL_OK);
+    ASSERT_EQ(swcl_swarm_read(s, SWCL_ATTRIBUTE_VELOCITY, v, 2), SWCL_OK);
+    EXPECT_FLOAT_EQ(p[0], 0.03f);
+    EXPECT_NEAR(v[0], 1.0f, 1e-4f);
+    EXPECT_FLOAT_EQ(p[4], 0.16f);
+    EXPECT_NEAR(v[4], 2.0f, 1e-3f);
+    swcl_energy_model_desc d = swcl_energy_model_desc_default();
+    ASSERT_EQ(swcl_swarm_set_energy_model(s, data_, &d), SWCL_OK) << swcl_last_error();
+    ASSERT_EQ(swcl_swarm_step(s, 10), SWCL_OK);
+    // Too many tracks for the capacity; a short track.
+    std::vector<uint32_t> many(300, 3);
+    std::vector<double> tm(900);
+    for (size_t i = 0; i < tm.size(); ++i) tm[i] = 0.01 * double(i % 3);
+    std::vector<float> xm(2700, 0.0f);
+    EXPECT_EQ(swcl_swarm_start_from_tracks(s, many.data(), many.size(), tm.data(), xm.data(), nullptr),
+              SWCL_ERROR_INVALID_ARGUMENT);
+    const uint32_t short_count[1] = {2};
+    EXPECT_EQ(swcl_swarm_start_from_tracks(s, short_count, 1, t, xyz.data(), nullptr), SWCL_ERROR_INVALID_ARGUMENT);
+    ASSERT_EQ(swcl_swarm_agent_count(s, &n), SWCL_OK);
+    EXPECT_EQ(n, 2u);  // unchanged
+}

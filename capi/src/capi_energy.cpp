@@ -6,6 +6,7 @@
 #include "capi_common.hpp"
 #include "capi_noise.hpp"
 #include "data/dataset.hpp"
+#include "data/synthesis.hpp"
 #include "data/tracks.hpp"
 #include "models/energy_model.hpp"
 
@@ -258,6 +259,18 @@ swcl_status swcl_swarm_energy_goals(swcl_swarm swarm, int32_t* out_goals, size_t
         std::vector<uint8_t> back;
         energy_model_of(s).goals(s, goal, back);
         std::copy(goal.begin(), goal.end(), out_goals);
+    });
+}
+
+swcl_status swcl_swarm_start_from_tracks(swcl_swarm swarm, const uint32_t* counts, size_t track_count,
+                                         const double* times, const float* xyz, const swcl_dataset_desc* desc) {
+    return with_swarm(__func__, swarm, [&](Swarm& s) {
+        swcl_dataset_desc d = swcl_dataset_desc_default();
+        if (desc) {
+            check_struct_size(desc, sizeof(swcl_dataset_desc), "desc");
+            d = *desc;
+        }
+        start_from_tracks(s, tracks_from_arrays(counts, track_count, times, xyz, track_options(d)));
     });
 }
 

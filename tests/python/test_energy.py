@@ -121,3 +121,32 @@ def test_scenario_with_energy_model(ctx):
         with sc.create_swarm(ctx) as s:
             s.step(5)
             assert np.isfinite(s.positions).all()
+
+
+def test_trajectory_synthesis_continue_and_mix(ctx, tmp_path):
+    tracks = synthetic_tracks(n_tracks=5, samples=30)
+    data = swarmcl.Dataset.synthetic()
+    with swarmcl.Swarm(ctx, capacity=16, domain=((-1, -1, -1), (1, 1, 1)), dt=0.01) as s:
+        s.start_from_tracks(tracks)
+        assert s.agent_count == 5
+        p0 = s.positions
+        np.testing.assert_allclose(p0, [p[-1] for _, p in tracks], atol=1e-6)
+        np.testing.assert_allclose(s.velocities, [(p[-1] - p[-2]) / 0.01 for _, p in tracks], rtol=1e-4, atol=1e-4)
+        s.set_energy_model(data, swarmcl.EnergyModel(centre=(0, 0, 0)))
+        frames = []
+        for _ in range(20):
+            s.step(1)
+            frames.append(s.positions)
+    frames = np.array(frames)
+    # The continuation starts where the tracks end: one step away.
+    assert np.linalg.norm(frames[0] - p0, axis=1).max() < 0.05
+    out = tmp_path / "mixed.csv"
+    start = tracks[0][0][-1] + 0.01  # the simulated frame 0 follows the last real sample
+    rows = swarmcl.write_mixed_csv(out, tracks, frames, frame_time=0.01, start_time=start)
+    table = np.genfromtxt(out, delimiter=",", names=True)
+    assert rows == len(table) == 5 * 30 + 20 * 5
+    assert set(np.unique(table["id"][table["source"] == 0])) == {5, 6, 7, 8, 9}
+    assert table["frame"][table["source"] == 1].max() == -1  # real samples end just before frame 0
+    with pytest.raises(swarmcl.InvalidArgumentError, match="3 or more"):
+        with swarmcl.Swarm(ctx, capacity=4) as s:
+            s.start_from_tracks([(np.array([0.0, 0.01]), np.zeros((2, 3)))])

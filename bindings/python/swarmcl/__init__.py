@@ -14,7 +14,8 @@ from ._native import constants, ffi, header_path, lib, library_path
 from ._core import NO_AGENT, Context, Recorder, Scenario, Swarm, devices, noise_sample, version
 from .descriptors import (Box, DeviceInfo, DeviceType, FieldModel, NoiseDesc, NoiseType, Plane,
                           Sphere, StepStats)
-from .energy import Dataset, EnergyModel, EnergyWeights, Stimulus, StimulusKind, TimeFormat
+from .energy import (Dataset, EnergyModel, EnergyWeights, Stimulus, StimulusKind, TimeFormat,
+                     write_mixed_csv)
 from .errors import (BuildError, InternalError, InvalidArgumentError, InvalidHandleError, IOError_,
                      NoDeviceError, OpenCLError, OutOfMemoryError, ParseError, SwarmclError)
 
@@ -24,7 +25,7 @@ __all__ = [
     "Context", "Swarm", "Scenario", "Recorder", "devices", "noise_sample", "version", "NO_AGENT",
     "NoiseDesc", "NoiseType", "FieldModel", "Sphere", "Box", "Plane", "DeviceInfo", "DeviceType",
     "StepStats",
-    "Dataset", "EnergyModel", "EnergyWeights", "Stimulus", "StimulusKind", "TimeFormat",
+    "Dataset", "EnergyModel", "EnergyWeights", "Stimulus", "StimulusKind", "TimeFormat", "write_mixed_csv",
     "SwarmclError", "InvalidArgumentError", "InvalidHandleError", "NoDeviceError", "BuildError",
     "OutOfMemoryError", "IOError_", "ParseError", "OpenCLError", "InternalError",
     "ffi", "lib", "constants", "header_path", "library_path",

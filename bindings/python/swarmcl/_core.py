@@ -286,6 +286,13 @@ class Swarm(_Handle):
         from . import energy
         energy.set_keypoints(self, keypoints, closed)
 
+    def start_from_tracks(self, tracks, **options) -> None:
+        """Trajectory synthesis: one agent per track ``[(times, positions), ...]``
+        at its last sample with its last velocity (options as Dataset.from_tracks:
+        unit_scale, gap_factor, smoothing, ...); then step to continue them."""
+        from . import energy
+        energy.start_from_tracks(self, tracks, **options)
+
     def energy_goals(self) -> np.ndarray:
         """Each agent's goal keypoint index (int32, -1 before the first step)."""
         from . import energy

@@ -24,7 +24,8 @@ from ._native import ffi, lib
 from .descriptors import NoiseDesc, _f32, _tuple3, _vec3
 from .errors import check
 
-__all__ = ["Dataset", "EnergyWeights", "EnergyModel", "Stimulus", "StimulusKind", "TimeFormat"]
+__all__ = ["Dataset", "EnergyWeights", "EnergyModel", "Stimulus", "StimulusKind", "TimeFormat",
+           "write_mixed_csv"]
 
 Vec3 = Tuple[float, float, float]
 
@@ -69,6 +70,28 @@ def _dataset_desc(columns=None, time_format="auto", frame_time=None, unit_scale=
     return d, keep
 
 
+def _track_arrays(tracks, what):
+    counts, times, xyz = [], [], []
+    for t, p in tracks:
+        t = np.ascontiguousarray(t, dtype=np.float64).ravel()
+        p = _xyz_in(p, what)
+        if len(t) != len(p):
+            raise ValueError(f"{what}: {len(t)} times but {len(p)} positions")
+        counts.append(len(t))
+        times.append(t)
+        xyz.append(p)
+    c = np.asarray(counts, dtype=np.uint32)
+    t = np.ascontiguousarray(np.concatenate(times) if times else np.zeros(0), dtype=np.float64)
+    p = np.ascontiguousarray(np.concatenate(xyz) if xyz else np.zeros((0, 3)), dtype=np.float32)
+    return c, t, p
+
+
+def _track_pointers(c, t, p):
+    return (ffi.from_buffer("uint32_t[]", c) if c.size else ffi.NULL, len(c),
+            ffi.from_buffer("double[]", t) if t.size else ffi.NULL,
+            ffi.from_buffer("float[]", p) if p.size else ffi.NULL)
+
+
 class Dataset(_Handle):
     """The reference dataset D: (velocity, acceleration) samples sorted by
     speed, in speed groups.  Build it with from_csv / from_tracks /
@@ -97,23 +120,9 @@ class Dataset(_Handle):
     def from_tracks(cls, tracks: Sequence[Tuple[Sequence[float], Sequence[Sequence[float]]]],
                     **options) -> "Dataset":
         """From tracks given as ``[(times, positions), ...]`` (times in s, positions (n, 3))."""
-        counts, times, xyz = [], [], []
-        for t, p in tracks:
-            t = np.ascontiguousarray(t, dtype=np.float64).ravel()
-            p = _xyz_in(p, "from_tracks")
-            if len(t) != len(p):
-                raise ValueError(f"from_tracks: {len(t)} times but {len(p)} positions")
-            counts.append(len(t))
-            times.append(t)
-            xyz.append(p)
-        c = np.asarray(counts, dtype=np.uint32)
-        t = np.concatenate(times) if times else np.zeros(0)
-        p = np.ascontiguousarray(np.concatenate(xyz) if xyz else np.zeros((0, 3)), dtype=np.float32)
+        c, t, p = _track_arrays(tracks, "from_tracks")
         d, _keep = _dataset_desc(**options)
-        return cls._make(lambda h: lib.swcl_dataset_from_tracks(
-            ffi.from_buffer("uint32_t[]", c) if c.size else ffi.NULL, len(c),
-            ffi.from_buffer("double[]", t) if t.size else ffi.NULL,
-            ffi.from_buffer("float[]", p) if p.size else ffi.NULL, d, h))
+        return cls._make(lambda h: lib.swcl_dataset_from_tracks(*_track_pointers(c, t, p), d, h))
 
     @classmethod
     def synthetic(cls, k: Optional[int] = None, groups: Optional[int] = None, seed: Optional[int] = None,
@@ -297,3 +306,58 @@ def goals(swarm) -> np.ndarray:
     out = np.empty(n, dtype=np.int32)
     check(lib.swcl_swarm_energy_goals(swarm._h, ffi.from_buffer("int32_t[]", out) if n else ffi.NULL, n))
     return out
+
+
+def start_from_tracks(swarm, tracks, **options) -> None:
+    c, t, p = _track_arrays(tracks, "start_from_tracks")
+    d, _keep = _dataset_desc(**options)
+    check(lib.swcl_swarm_start_from_tracks(swarm._h, *_track_pointers(c, t, p), d))
+
+
+def write_mixed_csv(path, real_tracks, simulated, frame_time: float, start_time: float = 0.0,
+                    simulated_velocities=None) -> int:
+    """Trajectory synthesis (§5.2.3): real tracks and simulated agents in one
+    CSV, in the recorder's layout (``id,frame,P.x,P.y,P.z,v.x,v.y,v.z``) plus
+    a ``source`` column (1 real, 0 simulated).
+
+    ``real_tracks``: ``[(times, positions), ...]`` (s, m); a sample at time t
+    is frame round((t - start_time) / frame_time).  Real track k gets id k,
+    velocities by forward difference (the last sample repeats the previous).
+    ``simulated``: (frames, N, 3) positions from frame 0 on, ids after the real
+    ones.  Returns the number of rows written."""
+    if not frame_time > 0:
+        raise ValueError("write_mixed_csv: frame_time must be > 0")
+    sim = np.asarray(simulated, dtype=np.float64)
+    if sim.ndim != 3 or sim.shape[2] != 3:
+        raise ValueError(f"write_mixed_csv: simulated must be (frames, N, 3), got {sim.shape}")
+    if simulated_velocities is None:
+        sv = np.zeros_like(sim)
+        if len(sim) > 1:
+            sv[:-1] = np.diff(sim, axis=0) / frame_time
+            sv[-1] = sv[-2]
+    else:
+        sv = np.asarray(simulated_velocities, dtype=np.float64)
+        if sv.shape != sim.shape:
+            raise ValueError("write_mixed_csv: simulated_velocities must match simulated")
+    rows = []
+    for k, (t, p) in enumerate(real_tracks):
+        t = np.asarray(t, dtype=np.float64).ravel()
+        p = np.asarray(p, dtype=np.float64).reshape(-1, 3)
+        v = np.zeros_like(p)
+        if len(p) > 1:
+            v[:-1] = np.diff(p, axis=0) / np.diff(t)[:, None]
+            v[-1] = v[-2]
+        for i in range(len(t)):
+            rows.append((k, int(round((t[i] - start_time) / frame_time)), *p[i], *v[i], 1))
+    base = len(real_tracks)
+    for f in range(len(sim)):
+        for a in range(sim.shape[1]):
+            rows.append((base + a, f, *sim[f, a], *sv[f, a], 0))
+    rows.sort(key=lambda r: (r[1], r[0]))
+    tmp = os.fspath(path) + ".tmp"
+    with open(tmp, "w") as out:
+        out.write("id,frame,P.x,P.y,P.z,v.x,v.y,v.z,source\n")
+        for r in rows:
+            out.write("%d,%d,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d\n" % r)
+    os.replace(tmp, path)  # complete or absent, like the recorder's files
+    return len(rows)

@@ -404,6 +404,14 @@ SWCL_API swcl_status swcl_swarm_energy_set_keypoints(swcl_swarm swarm, const flo
                                                      int32_t closed);
 /* Per agent (id order): the goal keypoint index, -1 before the first step. */
 SWCL_API swcl_status swcl_swarm_energy_goals(swcl_swarm swarm, int32_t* out_goals, size_t count);
+/* Trajectory synthesis (§5.2.3): one agent per track (arrays as in
+ * swcl_dataset_from_tracks; desc: unit_scale, gaps, smoothing; NULL: defaults)
+ * placed at the last sample of the track's last gap-free segment with its last
+ * forward-difference velocity; sets the agent count.  Step on to continue the
+ * tracks. */
+SWCL_API swcl_status swcl_swarm_start_from_tracks(swcl_swarm swarm, const uint32_t* counts, size_t track_count,
+                                                  const double* times, const float* xyz,
+                                                  const swcl_dataset_desc* desc);
 
 /* ---- scenario files --------------------------------------------------------
  * A JSON description of a run (docs/scenarios.md): model and parameters, agents
