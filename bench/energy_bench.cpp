@@ -66,7 +66,7 @@ std::shared_ptr<Swarm> make_swarm(const std::shared_ptr<Context>& ctx, uint32_t 
     c.capacity = n;
     c.seed = 4;
     c.dt = 0.01f;
-    c.interaction_radius = 0.4f;
+    c.interaction_radius = 0.2f;  // d_att2 / 2: a 5x5x5-cell search box hugs the sphere better than 3x3x3
     for (int a = 0; a < 3; ++a) c.domain_min[a] = -r - 0.5f, c.domain_max[a] = r + 0.5f;
     auto s = std::make_shared<Swarm>(ctx, c);
     std::vector<float> p(3 * size_t(n));
