@@ -115,7 +115,7 @@ TEST_F(EnergyScenarios, MalesEndNearTheFemale) {
     start(j);
     const auto& st = j["model"]["stimuli"][0];
     const double dt = j["dt"].get<double>();
-    const uint32_t steps = 600;
+    const uint32_t steps = 400;  // they reach her within 3 s
     const auto p = step(steps);
     double female[3];
     for (int a = 0; a < 3; ++a)
