@@ -50,11 +50,62 @@ inline uint em_group(float s, __global const float* group_min_speed, uint groups
     return g;
 }
 
+// Candidates are evaluated EM_W at a time as float16 lanes: every term is
+// the same arithmetic on each candidate, so the exponentials and square
+// roots run as vector instructions (PoCL does not vectorise the candidate
+// loop of a one-agent work-item by itself; 4-8x fewer instructions, measured
+// in bench/energy_bench.cpp).  The dataset is read from structure-of-arrays
+// planes (EM_P_*, each padded by EM_W zeros so a chunk never reads past its
+// plane); lanes past the agent's candidate range are masked out.
+#define EM_W 16
+typedef float16 emv;
+#define EM_CHUNKS ((EM_MAX_CAND + EM_W - 1) / EM_W)
+#define EM_P_VX 0
+#define EM_P_VY 1
+#define EM_P_VZ 2
+#define EM_P_VHX 3
+#define EM_P_VHY 4
+#define EM_P_VHZ 5
+#define EM_P_AHX 6
+#define EM_P_AHY 7
+#define EM_P_AHZ 8
+#define EM_P_AL 9
+#define EM_LOAD(plane, c) vload16(0, ds + (size_t)(plane) * ds_stride + (c))
+
+// Sum of the 16 lanes in a fixed order (halves, recursively).
+inline float em_hsum(emv v) {
+    const float8 a = v.lo + v.hi;
+    const float4 b = a.lo + a.hi;
+    const float2 c = b.lo + b.hi;
+    return c.x + c.y;
+}
+
+#ifdef EM_TAYLOR_OA
+// One neighbour of AN into the expansion's sums (see energy_select).
+#define EM_TAYLOR_ADD(s0, s1, s3, sxx, syy, szz, sxy, sxz, syz, q, d)                                \
+    {                                                                                                \
+        const float f0 = exp(rho * ((d) / d_att1 - 1.0f));                                           \
+        const float3 u = (q) / (d); /* d >= d_att1 > 0 */                                           \
+        const float k2 = f0 * (0.5f * a_oa * a_oa - 0.5f * a_oa / (d));                              \
+        s0 += f0;                                                                                    \
+        s1 += (f0 * a_oa) * u;                                                                       \
+        s3 += f0 * 0.5f * a_oa / (d);                                                                \
+        sxx += k2 * u.x * u.x; syy += k2 * u.y * u.y; szz += k2 * u.z * u.z;                         \
+        sxy += k2 * u.x * u.y; sxz += k2 * u.x * u.z; syz += k2 * u.y * u.z;                         \
+    }
+#endif
+
+inline emv em_lenv(emv x, emv y, emv z) { return sqrt(x * x + y * y + z * z); }
+
+// |v^ - u| over the lanes' unit vectors (hx, hy, hz) for one direction u.
+inline emv em_dirv(emv hx, emv hy, emv hz, float3 u) { return em_lenv(hx - u.x, hy - u.y, hz - u.z); }
+
 // Kernel arguments (EnergyModel::set_step_args):
 //   state: pos, vel (float4, slot order), ids, n;
 //   time: dt, t, step;
-//   dataset (sorted by speed): dv = (v, 0), dvh = (v^, |v|), dah = (a^, |a|)
-//            (unit vectors and lengths precomputed on the host), group_start (groups + 1),
+//   dataset (sorted by speed): dv = (v, 0); ds = the EM_P_* planes of
+//            v, v^, a^ and |a| (unit vectors and lengths precomputed on the
+//            host), ds_stride floats apart; group_start (groups + 1),
 //            group_min_speed, groups, span (neighbouring groups searched);
 //   centre: float4 (xyz: swarm centre, from energy_centre_*);
 //   w, wd: weights normally and in danger (float8, order W_*);
@@ -64,7 +115,7 @@ inline uint em_group(float s, __global const float* group_min_speed, uint groups
 //   grid, noise.
 __kernel void energy_select(__global const float4* pos, __global const float4* vel, __global const uint* ids,
                             uint n, float dt, float t, uint step,
-                            __global const float4* dv, __global const float4* dvh, __global const float4* dah,
+                            __global const float4* dv, __global const float* ds, uint ds_stride,
                             __global const uint* group_start, __global const float* group_min_speed,
                             uint groups, uint span,
                             __global const float4* centre, float8 w, float8 wd, float4 radii, float4 extra,
@@ -92,6 +143,7 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
     const uint c0 = group_start[g > span ? g - span : 0u];
     const uint c1 = group_start[min(groups, g + span + 1u)];
     const uint nc = c1 - c0;  // <= EM_MAX_CAND (host sizes it)
+    const uint nchunks = (nc + EM_W - 1u) / EM_W;
 
     // Directions the terms compare v^ with.
     const float3 vt_hat = em_unit(vt);
@@ -127,8 +179,8 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
     // is walked once: RN = others within d_rep, AN = others with
     // d_att1 <= d <= d_att2 (current positions; the sets do not depend on the
     // candidate).
-    float rep[EM_MAX_CAND];
-    for (uint c = 0; c < nc; ++c) rep[c] = 0.0f;
+    emv rep[EM_CHUNKS];
+    for (uint k = 0; k < nchunks; ++k) rep[k] = (emv)(0.0f);
 #ifdef EM_TAYLOR_OA
     // Eq. 6 summed over AN as a quadratic in the displacement d = v dt:
     // with q = p_i - p_j, r = |q|, u = q / r, a = rho / d_att1,
@@ -141,93 +193,187 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
     float sxx = 0.0f, syy = 0.0f, szz = 0.0f, sxy = 0.0f, sxz = 0.0f, syz = 0.0f;
     const float a_oa = rho / d_att1;
 #else
-    float oa[EM_MAX_CAND];
-    for (uint c = 0; c < nc; ++c) oa[c] = 0.0f;
+    emv oa[EM_CHUNKS];
+    for (uint k = 0; k < nchunks; ++k) oa[k] = (emv)(0.0f);
 #endif
     uint nrep = 0u, natt = 0u;
+    // One neighbour j at distance d (Eq. 4 for RN, Eq. 6 for AN).
+#ifdef EM_TAYLOR_OA
+#define EM_ATTRACT_SCALAR(q, d) EM_TAYLOR_ADD(s0, s1, s3, sxx, syy, szz, sxy, sxz, syz, (q), (d))
+#else
+#define EM_ATTRACT_SCALAR(q, d)                                                                      \
+    for (uint k = 0; k < nchunks; ++k) {                                                             \
+        const uint c = c0 + k * EM_W;                                                                \
+        const emv x = (q).x + EM_LOAD(EM_P_VX, c) * dt, y = (q).y + EM_LOAD(EM_P_VY, c) * dt,        \
+                  z = (q).z + EM_LOAD(EM_P_VZ, c) * dt;                                              \
+        oa[k] += exp(rho * (em_lenv(x, y, z) / d_att1 - 1.0f));                                      \
+    }
+#endif
+#define EM_NEIGHBOR(jj, pj, d)                                                                       \
+    if ((d) < d_rep) {                                                                               \
+        /* Predicted positions of both agents (j keeps v_j,t). */                                   \
+        const float3 q = p - ((pj).xyz + vel[jj].xyz * dt);                                          \
+        for (uint k = 0; k < nchunks; ++k) {                                                         \
+            const uint c = c0 + k * EM_W;                                                            \
+            const emv x = q.x + EM_LOAD(EM_P_VX, c) * dt, y = q.y + EM_LOAD(EM_P_VY, c) * dt,        \
+                      z = q.z + EM_LOAD(EM_P_VZ, c) * dt;                                            \
+            rep[k] += exp(rho * (1.0f - em_lenv(x, y, z) / d_rep));                                  \
+        }                                                                                            \
+        ++nrep;                                                                                      \
+    } else if ((d) >= d_att1 && (d) <= d_att2) {                                                     \
+        const float3 q = p - (pj).xyz;                                                               \
+        EM_ATTRACT_SCALAR(q, d)                                                                      \
+        ++natt;                                                                                      \
+    }
+#ifdef EM_TAYLOR_OA
+    // The expansion's sums over 16 neighbours at a time (lanes), added up
+    // in a fixed order at the end.
+    emv v0 = (emv)(0.0f), v3 = (emv)(0.0f), v1x = (emv)(0.0f), v1y = (emv)(0.0f), v1z = (emv)(0.0f);
+    emv vxx = (emv)(0.0f), vyy = (emv)(0.0f), vzz = (emv)(0.0f), vxy = (emv)(0.0f), vxz = (emv)(0.0f),
+        vyz = (emv)(0.0f);
+    int16 vatt = (int16)(0);
+#endif
+    const int16 lane = (int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
     const Grid grid = GRID_MAKE();
     const float r_search = fmax(d_rep, d_att2);
-    GRID_FOR_EACH_CANDIDATE(&grid, p4, r_search, j) {
-        if (j == i) continue;
-        const float4 pj = pos[j];
-        const float d = sqrt(dist2(p4, pj));
-        if (d < d_rep) {
-            // Predicted positions of both agents (j keeps v_j,t).
-            const float3 q = p - (pj.xyz + vel[j].xyz * dt);
-            for (uint c = 0; c < nc; ++c)
-                rep[c] += exp(rho * (1.0f - em_len(q + dv[c0 + c].xyz * dt) / d_rep));
-            ++nrep;
-        } else if (d >= d_att1 && d <= d_att2) {
-            const float3 q = p - pj.xyz;
+    int4 blo, bhi;
+    grid_search_box(&grid, p4, r_search, &blo, &bhi);
+    for (int gz = blo.z; gz <= bhi.z; ++gz)
+        for (int gy = blo.y; gy <= bhi.y; ++gy) {
+            int x0, x1;
+            if (!grid_row_x_range(&grid, p4, r_search, gy, gz, &x0, &x1)) continue;
+            const uint2 rng = grid_row_range(&grid, x0, x1, gy, gz);
+            uint j = rng.x;
+            // 16 slots at a time; the last window is moved back to end at
+            // rng.y (lanes before j masked), so it never reads past the row
+            // (only earlier slots, which exist).  Windows before slot 16: one by one.
+            while (j < rng.y && rng.y >= (uint)EM_W) {
+                const uint w0 = min(j, rng.y - (uint)EM_W);
+                __global const float* b = (__global const float*)(pos + w0);
+                const float16 a0 = vload16(0, b), a1 = vload16(1, b), a2 = vload16(2, b), a3 = vload16(3, b);
+                const emv px = (emv)(a0.s048c, a1.s048c, a2.s048c, a3.s048c);
+                const emv py = (emv)(a0.s159d, a1.s159d, a2.s159d, a3.s159d);
+                const emv pz = (emv)(a0.s26ae, a1.s26ae, a2.s26ae, a3.s26ae);
+                const int16 slot = (int16)((int)w0) + lane;
+                const int16 valid = slot >= (int16)((int)j) && slot != (int16)((int)i);
+                const emv qx = p.x - px, qy = p.y - py, qz = p.z - pz;
+                const emv d = sqrt(qx * qx + qy * qy + qz * qz);
+                const int16 near = valid && d < d_rep;
+                const int16 att = valid && d >= d_att1 && d <= d_att2 && !(d < d_rep);
 #ifdef EM_TAYLOR_OA
-            const float f0 = exp(rho * (d / d_att1 - 1.0f));
-            const float3 u = q / d;  // d >= d_att1 > 0
-            const float k2 = f0 * (0.5f * a_oa * a_oa - 0.5f * a_oa / d);
-            s0 += f0;
-            s1 += (f0 * a_oa) * u;
-            s3 += f0 * 0.5f * a_oa / d;
-            sxx += k2 * u.x * u.x; syy += k2 * u.y * u.y; szz += k2 * u.z * u.z;
-            sxy += k2 * u.x * u.y; sxz += k2 * u.x * u.z; syz += k2 * u.y * u.z;
+                const emv f0 = select((emv)(0.0f), exp(rho * (d / d_att1 - 1.0f)), att);
+                const emv inv_d = select((emv)(0.0f), 1.0f / d, att);
+                const emv ux = qx * inv_d, uy = qy * inv_d, uz = qz * inv_d;
+                const emv k2 = f0 * (0.5f * a_oa * a_oa - 0.5f * a_oa * inv_d);
+                v0 += f0;
+                v1x += (f0 * a_oa) * ux; v1y += (f0 * a_oa) * uy; v1z += (f0 * a_oa) * uz;
+                v3 += f0 * 0.5f * a_oa * inv_d;
+                vxx += k2 * ux * ux; vyy += k2 * uy * uy; vzz += k2 * uz * uz;
+                vxy += k2 * ux * uy; vxz += k2 * ux * uz; vyz += k2 * uy * uz;
+                vatt -= att;
+                const int16 one_by_one = near;  // RN: the candidates' sums need each neighbour
 #else
-            for (uint c = 0; c < nc; ++c)
-                oa[c] += exp(rho * (em_len(q + dv[c0 + c].xyz * dt) / d_att1 - 1.0f));
+                const int16 one_by_one = near | att;
 #endif
-            ++natt;
+                if (any(one_by_one)) {
+                    int nl[EM_W];
+                    vstore16(one_by_one, 0, nl);
+                    for (uint l = 0; l < (uint)EM_W; ++l)
+                        if (nl[l]) {
+                            const uint jj = w0 + l;
+                            const float4 pj = pos[jj];
+                            const float dj = sqrt(dist2(p4, pj));
+                            EM_NEIGHBOR(jj, pj, dj)
+                        }
+                }
+                j = w0 + (uint)EM_W;
+            }
+            for (; j < rng.y; ++j) {
+                if (j == i) continue;
+                const float4 pj = pos[j];
+                const float d = sqrt(dist2(p4, pj));
+                EM_NEIGHBOR(j, pj, d)
+            }
         }
+#ifdef EM_TAYLOR_OA
+    s0 += em_hsum(v0);
+    s1 += (float3)(em_hsum(v1x), em_hsum(v1y), em_hsum(v1z));
+    s3 += em_hsum(v3);
+    sxx += em_hsum(vxx); syy += em_hsum(vyy); szz += em_hsum(vzz);
+    sxy += em_hsum(vxy); sxz += em_hsum(vxz); syz += em_hsum(vyz);
+    {
+        int cnt[EM_W];
+        vstore16(vatt, 0, cnt);
+        for (uint l = 0; l < (uint)EM_W; ++l) natt += (uint)cnt[l];
     }
-    GRID_END_FOR
+#endif
 
     float best = INFINITY;
     uint best_c = 0u;
-    for (uint c = 0; c < nc; ++c) {
-        const float3 v = dv[c0 + c].xyz;
-        const float4 vh = dvh[c0 + c], ah = dah[c0 + c];
-        const float3 v_hat = vh.xyz;
-        float e[EM_TERM_COUNT];
-        e[W_REP] = nrep ? wt.s0 * (rep[c] / (float)nrep) : 0.0f;                    // Eq. 4
+    for (uint k = 0; k < nchunks; ++k) {
+        const uint c = c0 + k * EM_W;
+        const emv vx = EM_LOAD(EM_P_VX, c), vy = EM_LOAD(EM_P_VY, c), vz = EM_LOAD(EM_P_VZ, c);
+        const emv hx = EM_LOAD(EM_P_VHX, c), hy = EM_LOAD(EM_P_VHY, c), hz = EM_LOAD(EM_P_VHZ, c);
+        emv e[EM_TERM_COUNT];
+        e[W_REP] = nrep ? wt.s0 * (rep[k] / (float)nrep) : (emv)(0.0f);             // Eq. 4
 #ifdef EM_TAYLOR_OA
-        const float3 m = v * dt;  // the candidate's displacement
-        const float oa_c = s0 + dot(s1, m) + s3 * dot(m, m) +
-                           (sxx * m.x * m.x + syy * m.y * m.y + szz * m.z * m.z) +
-                           2.0f * (sxy * m.x * m.y + sxz * m.x * m.z + syz * m.y * m.z);
+        const emv mx = vx * dt, my = vy * dt, mz = vz * dt;  // the candidates' displacements
+        const emv oa_c = s0 + (s1.x * mx + s1.y * my + s1.z * mz) + s3 * (mx * mx + my * my + mz * mz) +
+                         (sxx * mx * mx + syy * my * my + szz * mz * mz) +
+                         2.0f * (sxy * mx * my + sxz * mx * mz + syz * my * mz);
 #else
-        const float oa_c = oa[c];
+        const emv oa_c = oa[k];
 #endif
-        e[W_OA] = natt ? wt.s1 * (oa_c / (float)natt) : 0.0f;                       // Eq. 6
-        e[W_COS] = wt.s2 * exp(rho * em_len(v_hat - centre_hat));                   // Eq. 7
-        e[W_DIR] = wt.s3 * exp(rho * em_len(v_hat - vt_hat));                       // Eq. 9
+        e[W_OA] = natt ? wt.s1 * (oa_c / (float)natt) : (emv)(0.0f);                // Eq. 6
+        e[W_COS] = wt.s2 * exp(rho * em_dirv(hx, hy, hz, centre_hat));             // Eq. 7
+        e[W_DIR] = wt.s3 * exp(rho * em_dirv(hx, hy, hz, vt_hat));                 // Eq. 9
         // Eq. 10 with a' = (v - v_t) / dt in m/s^2 like the dataset's a; the
         // magnitude difference is taken per data frame (times accel_time =
         // the data's frame time), the scale of the paper's a' = v - v_t.
-        const float3 a1 = (v - vt) / dt;
-        e[W_ACC] = wt.s4 * (exp(rho * em_len(em_unit(a1) - ah.xyz)) + accel_time * fabs(em_len(a1) - ah.w));
+        const emv ax = (vx - vt.x) / dt, ay = (vy - vt.y) / dt, az = (vz - vt.z) / dt;
+        const emv alen = em_lenv(ax, ay, az);
+        const emv ainv = select((emv)(0.0f), 1.0f / alen, alen > 0.0f);  // em_unit: 0 for a zero vector
+        const emv da = em_lenv(ax * ainv - EM_LOAD(EM_P_AHX, c), ay * ainv - EM_LOAD(EM_P_AHY, c),
+                               az * ainv - EM_LOAD(EM_P_AHZ, c));
+        e[W_ACC] = wt.s4 * (exp(rho * da) + accel_time * fabs(alen - EM_LOAD(EM_P_AL, c)));
         // Eq. 11-12, summed over the stimuli.
-        float env = 0.0f;
+        emv env = (emv)(0.0f);
         for (uint s = 0; s < nstim; ++s) {
             const float4 sp = stim[2 * s];
             if (sp.w == STIM_ATTRACT) {
-                env += exp(rho * em_len(v_hat - em_unit(sp.xyz - p)));
+                env += exp(rho * em_dirv(hx, hy, hz, em_unit(sp.xyz - p)));
             } else {
                 const float dd = stim[2 * s + 1].x;
                 // Startled only within d_danger; the prediction looks
                 // `horizon` seconds ahead (at least one step).
-                if (dist2(sp, p4) < dd * dd)
-                    env += exp(rho * (1.0f - em_len(p + v * fmax(dt, horizon) - sp.xyz) / dd));
+                if (dist2(sp, p4) < dd * dd) {
+                    const float h = fmax(dt, horizon);
+                    env += exp(rho * (1.0f - em_lenv(p.x + vx * h - sp.x, p.y + vy * h - sp.y,
+                                                     p.z + vz * h - sp.z) / dd));
+                }
             }
         }
         e[W_ENV] = wt.s5 * env;
-        e[W_N] = wt.s6 * exp(rho * em_len(v_hat - noise_hat));                      // Eq. 13
-        e[W_USER] = wt.s7 * exp(rho * em_len(v_hat - cd_hat));                      // Eq. 14
-        float total = 0.0f;
-        for (int k = 0; k < EM_TERM_COUNT; ++k) total += e[k];
+        e[W_N] = wt.s6 * exp(rho * em_dirv(hx, hy, hz, noise_hat));                // Eq. 13
+        e[W_USER] = wt.s7 * exp(rho * em_dirv(hx, hy, hz, cd_hat));                // Eq. 14
+        emv total = (emv)(0.0f);
+        for (int q = 0; q < EM_TERM_COUNT; ++q) total += e[q];
+        float lanes[EM_W];
+        vstore16(total, 0, lanes);
+        const uint nl = min((uint)EM_W, nc - k * EM_W);
 #ifdef EM_TERMS
-        for (int k = 0; k < EM_TERM_COUNT; ++k)
-            terms[((size_t)id * EM_MAX_CAND + c) * EM_TERM_COUNT + k] = e[k];
-#endif
-        if (total < best) {  // strict: ties keep the lowest sample index
-            best = total;
-            best_c = c;
+        for (int q = 0; q < EM_TERM_COUNT; ++q) {
+            float tl[EM_W];
+            vstore16(e[q], 0, tl);
+            for (uint l = 0; l < nl; ++l)
+                terms[((size_t)id * EM_MAX_CAND + k * EM_W + l) * EM_TERM_COUNT + q] = tl[l];
         }
+#endif
+        for (uint l = 0; l < nl; ++l)
+            if (lanes[l] < best) {  // strict, in index order: ties keep the lowest sample index
+                best = lanes[l];
+                best_c = k * EM_W + l;
+            }
     }
 #ifdef EM_TERMS
     chosen[id] = c0 + best_c;

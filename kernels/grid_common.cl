@@ -81,3 +81,33 @@ inline float dist2(float4 a, float4 b) {
     const float4 d = a - b;
     return d.x * d.x + d.y * d.y + d.z * d.z;
 }
+
+// Rows of the search box trimmed to the ball of radius r around p: row (y, z)
+// can hold an agent within r only if r^2 >= ey^2 + ez^2, where ey (ez) is the
+// distance from p to the row's slab along y (z); border slabs extend to
+// infinity (agents outside the domain are clamped into them).  Then the
+// agent's x lies within rx = sqrt(r^2 - ey^2 - ez^2) of p.x, so the row's
+// cells [cell(p.x - rx), cell(p.x + rx)] hold all of them (cell() is
+// monotone).  Returns false for a row that can hold none.  About half the
+// cells of the box for r = 2 cells.  The slab distances are shrunk by a
+// tolerance far above their float rounding (a few ulp of the coordinates'
+// magnitude), so rounding never drops an agent; r is widened likewise.
+__attribute__((always_inline)) inline float grid_slab_distance(float x, float origin, float cell, int k, int n) {
+    const float lo = k == 0 ? -INFINITY : origin + (float)k * cell;
+    const float hi = k == n - 1 ? INFINITY : origin + (float)(k + 1) * cell;
+    const float tol = 2e-6f * (fabs(x) + fabs(origin) + cell * (float)n);
+    return fmax(0.0f, fmax(lo - x, x - hi) - tol);
+}
+
+__attribute__((always_inline)) inline bool grid_row_x_range(const Grid* g, float4 p, float r, int y, int z, int* x0, int* x1) {
+    const float cell = 1.0f / g->inv_cell;
+    const float ey = grid_slab_distance(p.y, g->origin.y, cell, y, g->dims.y);
+    const float ez = grid_slab_distance(p.z, g->origin.z, cell, z, g->dims.z);
+    const float rr = r * 1.00001f;
+    const float rem = rr * rr - ey * ey - ez * ez;
+    if (rem < 0.0f) return false;
+    const float rx = sqrt(rem);
+    *x0 = grid_axis(p.x - rx, g->origin.x, g->inv_cell, g->dims.x);
+    *x1 = grid_axis(p.x + rx, g->origin.x, g->inv_cell, g->dims.x);
+    return true;
+}

@@ -108,18 +108,24 @@ EnergyModel::EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr
     centre_partial_ = ctx.kernel("energy_model.cl", "energy_centre_partial", defines);
     centre_final_ = ctx.kernel("energy_model.cl", "energy_centre_final", defines);
 
-    // Velocities, and the unit vectors and lengths of v and a that every
-    // agent would otherwise recompute for every candidate.
-    std::vector<cl_float4> v(d.size()), vh(d.size()), ah(d.size());
+    // Velocities (float4, read for the chosen sample), and the planes of
+    // kernels/energy_model.cl (EM_P_*: v, v^, a^, |a|; unit vectors and
+    // lengths that every agent would otherwise recompute for every
+    // candidate), each padded by 16 zeros for the kernel's 16-wide chunks.
+    constexpr uint32_t kPlanes = 10, kLanes = 16;
+    std::vector<cl_float4> v(d.size());
+    ds_stride_ = d.size() + kLanes;
+    std::vector<cl_float> planes(size_t(kPlanes) * ds_stride_, 0.0f);
     auto unit_len = [](const std::array<float, 3>& x) {
         const double l = std::sqrt(double(x[0]) * x[0] + double(x[1]) * x[1] + double(x[2]) * x[2]);
         const double s = l > 0.0 ? 1.0 / l : 0.0;
-        return cl_float4{{float(x[0] * s), float(x[1] * s), float(x[2] * s), float(l)}};
+        return std::array<float, 4>{float(x[0] * s), float(x[1] * s), float(x[2] * s), float(l)};
     };
     for (uint32_t i = 0; i < d.size(); ++i) {
         v[i] = {{d.v[i][0], d.v[i][1], d.v[i][2], 0.0f}};
-        vh[i] = unit_len(d.v[i]);
-        ah[i] = unit_len(d.a[i]);
+        const auto vh = unit_len(d.v[i]), ah = unit_len(d.a[i]);
+        const float row[kPlanes] = {d.v[i][0], d.v[i][1], d.v[i][2], vh[0], vh[1], vh[2], ah[0], ah[1], ah[2], ah[3]};
+        for (uint32_t k = 0; k < kPlanes; ++k) planes[size_t(k) * ds_stride_ + i] = row[k];
     }
     std::vector<cl_float> gmin(G);
     for (uint32_t g = 0; g < G; ++g) {
@@ -127,11 +133,9 @@ EnergyModel::EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr
         gmin[g] = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);  // as the kernel's em_len
     }
     dv_.allocate(ctx, d.size(), "dataset velocities");
-    dvh_.allocate(ctx, d.size(), "dataset velocity directions");
-    dah_.allocate(ctx, d.size(), "dataset acceleration directions");
     dv_.upload(ctx, v.data(), v.size());
-    dvh_.upload(ctx, vh.data(), vh.size());
-    dah_.upload(ctx, ah.data(), ah.size());
+    ds_.allocate(ctx, planes.size(), "dataset planes");
+    ds_.upload(ctx, planes.data(), planes.size());
     group_start_.allocate(ctx, G + 1, "dataset groups");
     group_start_.upload(ctx, d.group_start.data(), G + 1);
     group_min_speed_.allocate(ctx, G, "dataset group speeds");
@@ -212,8 +216,8 @@ cl_uint EnergyModel::set_common_args(cl::Kernel& k, Swarm& swarm, uint64_t step)
     k.setArg(i++, time);
     k.setArg(i++, cl_uint(step));
     k.setArg(i++, dv_.get());
-    k.setArg(i++, dvh_.get());
-    k.setArg(i++, dah_.get());
+    k.setArg(i++, ds_.get());
+    k.setArg(i++, cl_uint(ds_stride_));
     k.setArg(i++, group_start_.get());
     k.setArg(i++, group_min_speed_.get());
     k.setArg(i++, cl_uint(dataset_->groups()));

@@ -111,10 +111,12 @@ private:
     std::shared_ptr<const Dataset> dataset_;
     std::unique_ptr<NoiseField> noise_;
     uint32_t max_cand_ = 0;
+    uint32_t ds_stride_ = 0;  // floats between the dataset planes (kernels/energy_model.cl EM_P_*)
+    DeviceBuffer<cl_float> ds_;
     float accel_time_ = 0.01f;
     bool taylor_ = false;
     cl::Kernel select_, terms_, centre_partial_, centre_final_;
-    DeviceBuffer<cl_float4> dv_, dvh_, dah_, centre_, partial_, stim_, kp_, vel_out_;
+    DeviceBuffer<cl_float4> dv_, centre_, partial_, stim_, kp_, vel_out_;
     DeviceBuffer<cl_uint> group_start_, goal_;
     DeviceBuffer<cl_float> group_min_speed_;
     uint32_t capacity_ = 0;
