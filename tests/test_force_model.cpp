@@ -10,6 +10,8 @@
 #include <random>
 
 #include "core/error.hpp"
+#include "io/scenario.hpp"
+#include "swarmcl/swarmcl.h"
 #include "models/force_model.hpp"
 #include "shapes/shape_library.hpp"
 #include "swarm/swarm.hpp"
@@ -413,4 +415,176 @@ TEST(ForceModelErrors, BadInputIsRejected) {
     expect_invalid(c, "sphere radius");
     // A degenerate mesh never becomes a TriangleMesh.
     EXPECT_THROW(make_mesh({0, 0, 0, 1, 0, 0, 2, 0, 0}, {0, 1, 2}), Error);
+}
+
+// ---- C API -----------------------------------------------------------------
+
+class ForceCApi : public ::testing::Test {
+protected:
+    void SetUp() override {
+        swcl_context_desc d = swcl_context_desc_default();
+        ASSERT_EQ(swcl_context_create(&d, &ctx), SWCL_OK) << swcl_last_error();
+        swcl_swarm_desc s = swcl_swarm_desc_default();
+        s.capacity = 200;
+        s.agent_count = 200;
+        s.seed = 3;
+        for (int a = 0; a < 3; ++a) s.domain_min[a] = -3, s.domain_max[a] = 3;
+        s.interaction_radius = 1.0f;
+        ASSERT_EQ(swcl_swarm_create(ctx, &s, &swarm), SWCL_OK) << swcl_last_error();
+    }
+    void TearDown() override {
+        swcl_swarm_destroy(swarm);
+        swcl_context_destroy(ctx);
+    }
+    swcl_context ctx{};
+    swcl_swarm swarm{};
+};
+
+TEST_F(ForceCApi, DefaultsAreTable1) {
+    const swcl_force_model_desc d = swcl_force_model_desc_default();
+    EXPECT_EQ(d.struct_size, sizeof(d));
+    EXPECT_FLOAT_EQ(d.r_rep, 0.3f);
+    EXPECT_FLOAT_EQ(d.r_ali, 10.0f);
+    EXPECT_FLOAT_EQ(d.r_att, 30.0f);
+    EXPECT_FLOAT_EQ(d.w_rep, 0.2f);
+    EXPECT_FLOAT_EQ(d.w_ali, 3.0f);
+    EXPECT_FLOAT_EQ(d.w_att, 13.0f);
+    EXPECT_FLOAT_EQ(d.w_dis, 4.0f);
+    EXPECT_FLOAT_EQ(d.eta, 0.125f);
+    EXPECT_FLOAT_EQ(d.rho, 0.32f);
+    EXPECT_FLOAT_EQ(d.alpha, 0.7f);
+    EXPECT_FLOAT_EQ(d.max_speed, 0.75f);
+    EXPECT_FLOAT_EQ(d.omega, 0.9f);
+    EXPECT_FLOAT_EQ(d.neighbor_k, 2.0f);
+}
+
+TEST_F(ForceCApi, ShapesKeyframesPathAndTargets) {
+    swcl_force_model_desc d = swcl_force_model_desc_default();
+    d.min_spacing = 0.0f;
+    // A raw-array tetrahedron, then a generated shape.
+    const float v[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+    const uint32_t t[] = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3};
+    swcl_keyframe k[2];
+    std::memset(k, 0, sizeof(k));
+    k[0].vertices = v;
+    k[0].vertex_count = 4;
+    k[0].triangles = t;
+    k[0].triangle_count = 4;
+    k[1].frame = 5;
+    k[1].shape = "heart";
+    k[1].scale = 2.0f;
+    d.keyframes = k;
+    d.keyframe_count = 2;
+    ASSERT_EQ(swcl_swarm_set_force_model(swarm, &d), SWCL_OK) << swcl_last_error();
+    std::vector<float> targets(600);
+    EXPECT_EQ(swcl_swarm_get_force_targets(swarm, targets.data(), 200), SWCL_ERROR_INVALID_ARGUMENT);
+    ASSERT_EQ(swcl_swarm_step(swarm, 1), SWCL_OK) << swcl_last_error();
+    ASSERT_EQ(swcl_swarm_get_force_targets(swarm, targets.data(), 200), SWCL_OK) << swcl_last_error();
+    for (size_t i = 0; i < 200; ++i) {  // on the tetrahedron: in the unit corner, x+y+z <= 1
+        EXPECT_GE(std::min({targets[3 * i], targets[3 * i + 1], targets[3 * i + 2]}), -1e-6f);
+        EXPECT_LE(targets[3 * i] + targets[3 * i + 1] + targets[3 * i + 2], 1.0f + 1e-5f);
+    }
+    ASSERT_EQ(swcl_swarm_step(swarm, 5), SWCL_OK);
+    ASSERT_EQ(swcl_swarm_get_force_targets(swarm, targets.data(), 200), SWCL_OK);
+    float zmax = 0.0f, xmax = 0.0f;
+    for (size_t i = 0; i < 200; ++i) zmax = std::max(zmax, std::fabs(targets[3 * i + 2])), xmax = std::max(xmax, targets[3 * i]);
+    EXPECT_LE(zmax, 0.3f + 1e-5f);  // the heart: 0.3 deep after scaling by 2
+    EXPECT_GT(xmax, 1.5f);
+    // A path moves the targets with the step count.
+    const float path[] = {0, 0, 0, 1, 0, 0, 2, 0, 0, 3, 0, 0};
+    ASSERT_EQ(swcl_swarm_set_force_path(swarm, path, 4, 0.6f), SWCL_OK) << swcl_last_error();
+    ASSERT_EQ(swcl_swarm_step(swarm, 1), SWCL_OK);
+    std::vector<float> moved(600);
+    ASSERT_EQ(swcl_swarm_get_force_targets(swarm, moved.data(), 200), SWCL_OK);
+    // 7 steps at 0.6 m/s and dt 1/60: 0.07 m along x.
+    double dx = 0;
+    for (size_t i = 0; i < 200; ++i) dx += (moved[3 * i] - targets[3 * i]) / 200.0;
+    EXPECT_NEAR(dx, 0.07, 2e-3);
+}
+
+TEST_F(ForceCApi, BadInputChangesNothing) {
+    swcl_force_model_desc d = swcl_force_model_desc_default();
+    d.alpha = 1.2f;
+    EXPECT_EQ(swcl_swarm_set_force_model(swarm, &d), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("alpha"), std::string::npos) << swcl_last_error();
+    // No force model yet: keyframes and path need one.
+    swcl_keyframe k{};
+    k.shape = "sphere";
+    EXPECT_EQ(swcl_swarm_set_force_keyframes(swarm, &k, 1, 0), SWCL_ERROR_INVALID_ARGUMENT);
+    d = swcl_force_model_desc_default();
+    ASSERT_EQ(swcl_swarm_set_force_model(swarm, &d), SWCL_OK) << swcl_last_error();
+    swcl_keyframe two[2] = {k, k};
+    two[0].frame = 9;
+    two[1].frame = 3;
+    EXPECT_EQ(swcl_swarm_set_force_keyframes(swarm, two, 2, 0), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("increasing frame order"), std::string::npos);
+    two[1].shape = "griffin";
+    two[1].frame = 12;
+    EXPECT_EQ(swcl_swarm_set_force_keyframes(swarm, two, 2, 0), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("keyframes[1]"), std::string::npos) << swcl_last_error();
+    const float flat[] = {0, 0, 0, 1, 0, 0, 2, 0, 0};  // collinear: degenerate
+    const uint32_t tri[] = {0, 1, 2};
+    swcl_keyframe bad{};
+    bad.vertices = flat;
+    bad.vertex_count = 3;
+    bad.triangles = tri;
+    bad.triangle_count = 1;
+    EXPECT_EQ(swcl_swarm_set_force_keyframes(swarm, &bad, 1, 0), SWCL_ERROR_INVALID_ARGUMENT);
+    const float path[] = {0, 0, 0, 1, 0, 0, 2, 0, 0};
+    EXPECT_EQ(swcl_swarm_set_force_path(swarm, path, 3, 1.0f), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("at least 4"), std::string::npos);
+    EXPECT_EQ(swcl_swarm_set_force_path(swarm, nullptr, 4, 1.0f), SWCL_ERROR_INVALID_ARGUMENT);
+    // The model in place still runs.
+    EXPECT_EQ(swcl_swarm_step(swarm, 2), SWCL_OK) << swcl_last_error();
+}
+
+// ---- scenario files ----------------------------------------------------------
+
+TEST(ForceScenario, ParsesTheForceModel) {
+    const Scenario s = parse_scenario(R"({"agents": {"count": 50},
+        "obstacles": [{"type": "sphere", "center": [0, 0, 0], "radius": 0.2}],
+        "model": {"type": "force", "alpha": 0.6, "eta": 0.2, "rho": 0.4, "assignment": "curve",
+                  "keyframes": [{"frame": 0, "shape": "moon", "scale": 0.5, "offset": [1, 0, 0]},
+                                {"frame": 10, "mesh": {"vertices": [[0,0,0],[1,0,0],[0,1,0],[0,0,1]],
+                                                       "triangles": [[0,2,1],[0,1,3],[0,3,2],[1,2,3]]}}],
+                  "path": {"points": [[0,0,0],[1,0,0],[2,0,0],[3,0,0]], "speed": 0.5}}})");
+    ASSERT_TRUE(s.force_model.has_value());
+    const ForceModelConfig& c = *s.force_model;
+    EXPECT_FLOAT_EQ(c.alpha, 0.6f);
+    EXPECT_FLOAT_EQ(c.noise.scale, 0.4f);
+    EXPECT_FLOAT_EQ(c.noise.gain, 0.5f);  // eta / rho
+    EXPECT_EQ(c.assignment, Assignment::Curve);
+    ASSERT_EQ(c.keyframes.size(), 2u);
+    EXPECT_EQ(c.keyframes[1].frame, 10u);
+    EXPECT_EQ(c.keyframes[1].mesh.triangle_count(), 4u);
+    EXPECT_GT(bounds(c.keyframes[0].mesh).min[0], 0.5f);  // offset applied
+    EXPECT_EQ(c.path.size(), 12u);
+    EXPECT_EQ(c.obstacles.size(), 1u);
+}
+
+TEST(ForceScenario, BadForceModelsNameTheKey) {
+    auto error_of = [](const std::string& model) {
+        try {
+            parse_scenario(R"({"agents": {"count": 5}, "model": )" + model + "}");
+        } catch (const Error& e) {
+            EXPECT_EQ(e.status(), Status::Parse);
+            return std::string(e.what());
+        }
+        return std::string("parsed");
+    };
+    auto has = [](const std::string& s, const char* what) { return s.find(what) != std::string::npos; };
+    EXPECT_TRUE(has(error_of(R"({"type": "force", "alpha": 1.5})"), "model.alpha"));
+    EXPECT_TRUE(has(error_of(R"({"type": "force", "keyframes": [{"frame": 5, "shape": "sphere"},
+                                                                  {"frame": 2, "shape": "torus"}]})"),
+                    "model.keyframes[1].frame"));
+    EXPECT_TRUE(has(error_of(R"({"type": "force", "keyframes": [{"frame": 0, "shape": "yeti"}]})"),
+                    "model.keyframes[0]"));
+    EXPECT_TRUE(has(error_of(R"({"type": "force", "keyframes": [{"frame": 0}]})"), "model.keyframes[0].shape"));
+    EXPECT_TRUE(has(error_of(R"({"type": "force", "path": {"points": [[0,0,0],[1,0,0],[2,0,0]]}})"),
+                    "model.path.points"));
+    EXPECT_TRUE(has(error_of(R"({"type": "force", "keyframes": [{"frame": 0, "mesh": {"vertices": [[0,0,0],[1,0,0],[2,0,0]],
+                                                                  "triangles": [[0,1,2]]}}]})"),
+                    "model.keyframes[0]"));
+    EXPECT_TRUE(has(error_of(R"({"type": "force", "r_ali": 100})"), "model"));
+    EXPECT_TRUE(has(error_of(R"({"type": "force", "wobble": 1})"), "model.wobble: unknown key"));
 }

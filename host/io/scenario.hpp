@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "models/field_model.hpp"
+#include "models/force_model.hpp"
 #include "swarm/swarm.hpp"
 
 namespace swarmcl {
@@ -28,6 +29,7 @@ struct Scenario {
     SwarmConfig swarm;                    // capacity, agent count, seed, domain, radius, dt
     InitialDistribution initial;
     std::optional<FieldModelConfig> field_model;  // empty: ballistic
+    std::optional<ForceModelConfig> force_model;  // "type": "force" (docs/force-model.md)
     uint32_t steps = 100;
     std::string output_dir = "out";
     uint32_t output_formats = 1;          // ExportFormat mask
