@@ -14,6 +14,7 @@ from ._native import constants, ffi, header_path, lib, library_path
 from ._core import NO_AGENT, Context, Recorder, Scenario, Swarm, devices, noise_sample, version
 from .descriptors import (Box, DeviceInfo, DeviceType, FieldModel, NoiseDesc, NoiseType, Plane,
                           Sphere, StepStats)
+from .force import SHAPES, ForceModel, Keyframe
 from .errors import (BuildError, InternalError, InvalidArgumentError, InvalidHandleError, IOError_,
                      NoDeviceError, OpenCLError, OutOfMemoryError, ParseError, SwarmclError)
 
@@ -22,7 +23,7 @@ __version__ = version()
 __all__ = [
     "Context", "Swarm", "Scenario", "Recorder", "devices", "noise_sample", "version", "NO_AGENT",
     "NoiseDesc", "NoiseType", "FieldModel", "Sphere", "Box", "Plane", "DeviceInfo", "DeviceType",
-    "StepStats",
+    "StepStats", "ForceModel", "Keyframe", "SHAPES",
     "SwarmclError", "InvalidArgumentError", "InvalidHandleError", "NoDeviceError", "BuildError",
     "OutOfMemoryError", "IOError_", "ParseError", "OpenCLError", "InternalError",
     "ffi", "lib", "constants", "header_path", "library_path",
