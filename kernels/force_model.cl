@@ -9,6 +9,10 @@
 // and the comments below.  Plain C++ reference: tests/test_force_model.cpp.
 #include "noise_field.cl"
 #include "grid_common.cl"
+#include "philox.cl"
+
+// Philox stream of the candidate sampling offset (keyed by seed, agent, step).
+#define FM_STREAM_SAMPLE 16u
 
 // Bits of `terms`: which forces are on (all in a run; one at a time in the
 // tests that compare each term with its reference).
@@ -26,7 +30,7 @@
 // indices and back; slot_of maps agent ids to slots (grid order).
 __kernel void force_model_force(__global const float4* pos, __global const float4* vel,
                                 __global const uint* ids, uint n, GRID_PARAMS, float4 zones, float4 weights,
-                                float4 blend, uint terms, uint has_targets, __global const uint* target_of,
+                                float4 blend, uint terms, uint sample_cap, ulong seed, uint has_targets, __global const uint* target_of,
                                 __global const float4* targets, __global const uint* nbr_start,
                                 __global const uint* nbr_index, __global const uint* owner,
                                 __global const uint* slot_of, float4 offset, float t, uint step,
@@ -49,30 +53,61 @@ __kernel void force_model_force(__global const float4* pos, __global const float
     float4 rep = (float4)(0.0f), ali = (float4)(0.0f), att = (float4)(0.0f);
     uint n_rep = 0, n_ali = 0, n_att = 0;
     const float r_rep = zones.x, r_ali = zones.y, r_att = zones.z;
-    if (terms & (FM_REP | FM_ALI | FM_ATT)) {
-        const Grid g = GRID_MAKE();
-        const float r_att2 = r_att * r_att;
-        GRID_FOR_EACH_CANDIDATE(&g, p, r_att, j) {
+    const Grid g = GRID_MAKE();
+    if (terms & FM_REP) {
+        const float r_rep2 = r_rep * r_rep;
+        GRID_FOR_EACH_CANDIDATE(&g, p, r_rep, j) {
             if (j == i) continue;
             const float4 q = (float4)(pos[j].xyz, 0.0f);
             const float d2 = dist2(q, p);
-            if (d2 > r_att2 || d2 == 0.0f) continue;
-            const float4 rij = q - p;
+            if (d2 >= r_rep2 || d2 == 0.0f) continue;
             const float d = sqrt(d2);
-            if (d < r_rep) {
-                rep -= rij / d;
-                ++n_rep;
-            } else if (d < r_ali) {
-                const float4 du = (float4)(vel[j].xyz, 0.0f) - u;
-                const float m = length(du);
-                if (m > 0.0f) ali += du / m;
-                ++n_ali;
-            } else {
-                att += rij / d;
-                ++n_att;
-            }
+            rep -= (q - p) / d;
+            ++n_rep;
         }
         GRID_END_FOR
+    }
+    if (terms & (FM_ALI | FM_ATT)) {
+        // The candidates of the R_att box, row by row.  With a cap (> 0) and
+        // more candidates than the cap, every stride-th candidate from a
+        // Philox offset: an unbiased sample of each zone's neighbours, whose
+        // means Eq. 2 takes (docs/force-model.md); stride 1 is exact.
+        int4 lo, hi;
+        grid_search_box(&g, p, r_att, &lo, &hi);
+        uint total = 0;
+        for (int z = lo.z; z <= hi.z; ++z)
+            for (int y = lo.y; y <= hi.y; ++y) {
+                const uint2 rng = grid_row_range(&g, lo.x, hi.x, y, z);
+                total += rng.y - rng.x;
+            }
+        const uint stride = (sample_cap == 0u || total <= sample_cap) ? 1u : (total + sample_cap - 1u) / sample_cap;
+        const uint phase = stride > 1u ? swcl_rand_u4(seed, id, step, FM_STREAM_SAMPLE, 0u).x % stride : 0u;
+        const float r_rep2 = r_rep * r_rep, r_att2 = r_att * r_att;
+        uint base = 0;
+        for (int z = lo.z; z <= hi.z; ++z)
+            for (int y = lo.y; y <= hi.y; ++y) {
+                const uint2 rng = grid_row_range(&g, lo.x, hi.x, y, z);
+                // First k with (base + k) % stride == phase.
+                const uint k0 = (phase + stride - base % stride) % stride;
+                for (uint j = rng.x + k0; j < rng.y; j += stride) {
+                    if (j == i) continue;
+                    const float4 q = (float4)(pos[j].xyz, 0.0f);
+                    const float d2 = dist2(q, p);
+                    if (d2 > r_att2 || d2 < r_rep2) continue;
+                    const float4 rij = q - p;
+                    const float d = sqrt(d2);
+                    if (d < r_ali) {
+                        const float4 du = (float4)(vel[j].xyz, 0.0f) - u;
+                        const float m = length(du);
+                        if (m > 0.0f) ali += du / m;
+                        ++n_ali;
+                    } else {
+                        att += rij / d;
+                        ++n_att;
+                    }
+                }
+                base += rng.y - rng.x;
+            }
     }
     float4 f_int = (float4)(0.0f);
     if ((terms & FM_REP) && n_rep) f_int += (weights.x / (float)n_rep) * rep;

@@ -74,6 +74,7 @@ swcl_force_model_desc swcl_force_model_desc_default(void) {
     d.omega = c.omega;
     d.neighbor_k = c.neighbor_k;
     d.distance_scale = c.distance_scale;
+    d.neighbor_sample = c.neighbor_sample;
     d.eta = c.noise.gain * c.noise.scale;
     d.rho = c.noise.scale;
     d.noise_seed = c.noise.seed;
@@ -104,6 +105,7 @@ swcl_status swcl_swarm_set_force_model(swcl_swarm swarm, const swcl_force_model_
         c.omega = d.omega;
         c.neighbor_k = d.neighbor_k;
         c.distance_scale = d.distance_scale;
+        c.neighbor_sample = d.neighbor_sample;
         require(std::isfinite(d.rho) && d.rho > 0.0f, "force model rho must be > 0 (Eq. 4)");
         require(std::isfinite(d.eta) && d.eta >= 0.0f, "force model eta must be >= 0 (Eq. 4)");
         c.noise.scale = d.rho;

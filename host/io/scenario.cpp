@@ -245,6 +245,7 @@ ForceModelConfig read_force_model(Obj& o, std::vector<Boundary> obstacles) {
     c.omega = o.positive("omega", c.omega);
     c.neighbor_k = o.positive("neighbor_k", c.neighbor_k);
     c.distance_scale = o.non_negative("distance_scale", c.distance_scale);
+    c.neighbor_sample = uint32_t(o.integer("neighbor_sample", c.neighbor_sample, 0xFFFFFFFFu));
     const float rho = o.positive("rho", c.noise.scale);
     const float eta = o.non_negative("eta", c.noise.gain * c.noise.scale);
     c.noise.scale = rho;

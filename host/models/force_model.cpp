@@ -211,6 +211,8 @@ void ForceModel::enqueue_force(Swarm& swarm, uint64_t step) {
     kf.setArg(i++, cl_float4{{c.w_rep, c.w_ali, c.w_att, c.w_dis}});
     kf.setArg(i++, cl_float4{{c.alpha, c.w_con, dscale, 0.0f}});
     kf.setArg(i++, cl_uint(c.terms));
+    kf.setArg(i++, cl_uint(c.neighbor_sample));
+    kf.setArg(i++, cl_ulong(c.sample_seed));
     kf.setArg(i++, cl_uint(t ? 1 : 0));
     kf.setArg(i++, target_of_buf_.get());
     kf.setArg(i++, target_buf_.get());

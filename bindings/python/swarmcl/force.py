@@ -30,7 +30,7 @@ _ASSIGN = {"nearest": lib.SWCL_ASSIGN_NEAREST, "curve": lib.SWCL_ASSIGN_CURVE}
 def _default(name: str):
     def factory():
         v = getattr(_DEFAULT, name)
-        return int(v) if name.endswith("seed") else _f32(v)
+        return int(v) if name.endswith("seed") or name == "neighbor_sample" else _f32(v)
     return field(default_factory=factory)
 
 
@@ -102,6 +102,7 @@ class ForceModel:
     omega: float = _default("omega")
     neighbor_k: float = _default("neighbor_k")
     distance_scale: float = _default("distance_scale")
+    neighbor_sample: int = _default("neighbor_sample")
     eta: float = _default("eta")
     rho: float = _default("rho")
     noise_seed: int = _default("noise_seed")
@@ -127,6 +128,7 @@ class ForceModel:
                      "neighbor_k", "distance_scale", "eta", "rho", "alpha", "max_speed", "cruise_speed",
                      "min_distance", "min_spacing", "path_speed", "obstacle_range"):
             setattr(p, name, float(getattr(self, name)))
+        p.neighbor_sample = int(self.neighbor_sample)
         p.noise_seed = int(self.noise_seed)
         p.sample_seed = int(self.sample_seed)
         if self.assignment not in _ASSIGN:
