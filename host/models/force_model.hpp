@@ -42,10 +42,11 @@ struct ForceModelConfig {
     float r_rep = 0.3f, r_ali = 10.0f, r_att = 30.0f;  // zone radii, m (Table 1)
     float w_rep = 0.2f, w_ali = 3.0f, w_att = 13.0f;   // Eq. 2 weights (Table 1)
     float w_dis = 4.0f;                                // Eq. 6 (Table 1)
-    // Alignment and attraction look at no more than this many candidates
-    // per agent and step (an evenly strided sample of those within r_att,
-    // offset by Philox); 0: all (exact).  Not in the paper: with
-    // r_att = 30 m every insect otherwise visits the whole swarm.
+    // > 0: alignment and attraction look at this many agents per agent and
+    // step, drawn uniformly from the swarm (Philox); each zone's mean is
+    // estimated from the sampled ones within it.  0: every agent within
+    // r_att (exact).  Not in the paper: with r_att = 30 m every insect
+    // otherwise visits the whole swarm (docs/force-model.md).
     uint32_t neighbor_sample = 0;
     float w_con = 1.0f;       // Eq. 5 has no weight: 1
     float omega = 0.9f;       // Eq. 5: sigma = omega sqrt(A/N) (§5.2: 0.9)

@@ -333,9 +333,10 @@ typedef struct swcl_force_model_desc {
     float omega;                   /* Eq. 5: sigma = omega sqrt(A/N) (0.9) */
     float neighbor_k;              /* Eq. 5 neighbours within k sqrt(A/N), Manhattan (2) */
     float distance_scale;          /* m normalising d in Eq. 6; 0: 2 sqrt(A/N) (default 0) */
-    uint32_t neighbor_sample;      /* > 0: alignment and attraction sample at most this
-                                      many candidates per agent and step (not in the
-                                      paper; docs/force-model.md); 0: all (default) */
+    uint32_t neighbor_sample;      /* > 0: alignment and attraction sample this many
+                                      agents of the swarm per agent and step (not in
+                                      the paper; docs/force-model.md); 0: every agent
+                                      within r_att, exact (default) */
     float eta, rho;                /* Eq. 4 curl noise magnitude and feature size, m
                                       (Table 1: 0.125, 0.32) */
     uint64_t noise_seed;
