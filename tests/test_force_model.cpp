@@ -587,8 +587,15 @@ TEST_F(ForceCApi, BadInputChangesNothing) {
     EXPECT_EQ(swcl_swarm_set_force_path(swarm, path, 3, 1.0f), SWCL_ERROR_INVALID_ARGUMENT);
     EXPECT_NE(std::string(swcl_last_error()).find("at least 4"), std::string::npos);
     EXPECT_EQ(swcl_swarm_set_force_path(swarm, nullptr, 4, 1.0f), SWCL_ERROR_INVALID_ARGUMENT);
-    // The model in place still runs.
+    // The model in place still runs, and reports its MDE counts.
+    d.min_distance = 0.5f;  // 200 agents in a 6 m box: some are closer
+    ASSERT_EQ(swcl_swarm_set_force_model(swarm, &d), SWCL_OK) << swcl_last_error();
     EXPECT_EQ(swcl_swarm_step(swarm, 2), SWCL_OK) << swcl_last_error();
+    swcl_step_stats st;
+    st.struct_size = sizeof(st);
+    ASSERT_EQ(swcl_swarm_take_step_stats(swarm, &st), SWCL_OK);
+    EXPECT_EQ(st.steps, 2u);
+    EXPECT_GT(st.mde_moved_total, 0u);
 }
 
 // ---- scenario files ----------------------------------------------------------

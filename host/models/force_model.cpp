@@ -248,6 +248,20 @@ void ForceModel::advance(Swarm& swarm, uint64_t step) {
             swarm.positions_changed();
         }
     }
+    ++steps_since_read_;
+}
+
+StepStats ForceModel::take_stats(Swarm& swarm) {
+    cl_uint counts[2] = {0, 0};
+    moved_.download(swarm.context(), counts, 2);
+    moved_.fill(swarm.context(), 0u, 2);
+    StepStats s;
+    s.agents = swarm.agent_count();
+    s.mde_moved_last = counts[0];
+    s.mde_moved_total = counts[1];
+    s.steps = steps_since_read_;
+    steps_since_read_ = 0;
+    return s;
 }
 
 }  // namespace swarmcl

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "fields/noise_field.hpp"
+#include "models/field_model.hpp"  // StepStats
 #include "models/min_distance.hpp"
 #include "shapes/bspline_path.hpp"
 #include "shapes/shape_sampling.hpp"
@@ -86,6 +87,10 @@ public:
     void advance(Swarm& swarm, uint64_t step) override;
     const ForceModelConfig& config() const { return config_; }
 
+    // MDE counters since the last call (waits for the device), as
+    // FieldModel::take_stats.
+    StepStats take_stats(Swarm& swarm);
+
     // Only the force of Eq. 1 at the current state, in slot order (tests).
     void compute_forces(Swarm& swarm, uint64_t step);
     DeviceBuffer<cl_float4>& forces() { return force_; }
@@ -117,6 +122,7 @@ private:
     DeviceBuffer<cl_float4> force_, target_buf_, prims_;
     DeviceBuffer<cl_uint> target_of_buf_, owner_buf_, nbr_start_buf_, nbr_index_buf_, moved_;
     uint32_t nprims_ = 0;
+    uint64_t steps_since_read_ = 0;
 };
 
 }  // namespace swarmcl
