@@ -11,7 +11,7 @@
 #include "grid_common.cl"
 #include "philox.cl"
 
-// Philox stream of the candidate sampling offset (keyed by seed, agent, step).
+// Philox stream of the neighbour sample (keyed by seed, agent id, step).
 #define FM_STREAM_SAMPLE 16u
 
 // Bits of `terms`: which forces are on (all in a run; one at a time in the
@@ -49,7 +49,8 @@
 // indices and back; slot_of maps agent ids to slots (grid order).
 __kernel void force_model_force(__global const float4* pos, __global const float4* vel,
                                 __global const uint* ids, uint n, GRID_PARAMS, float4 zones, float4 weights,
-                                float4 blend, uint terms, uint sample_cap, ulong seed, uint has_targets, __global const uint* target_of,
+                                float4 blend, uint terms, uint sample_cap, ulong seed, uint has_targets,
+                                __global const uint* target_of,
                                 __global const float4* targets, __global const uint* nbr_start,
                                 __global const uint* nbr_index, __global const uint* owner,
                                 __global const uint* slot_of, float4 offset, float t, uint step,

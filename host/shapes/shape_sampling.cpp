@@ -195,24 +195,44 @@ std::vector<uint32_t> assign_targets(const std::vector<float>& agents, const std
     KdTree<nanoflann::L2_Simple_Adaptor<float, PointCloud>> tree(3, cloud,
                                                                  nanoflann::KDTreeSingleIndexAdaptorParams(16));
     tree.buildIndex();
-    std::vector<char> taken(n, 0);
-    std::vector<uint32_t> idx;
-    std::vector<float> d2;
+    // Free targets, compacted (swap-remove), for agents whose 64 nearest
+    // targets are all taken: those scan what is left instead of asking the
+    // tree for ever more neighbours.
+    std::vector<uint32_t> free_list(n), where(n);
+    std::iota(free_list.begin(), free_list.end(), 0u);
+    std::iota(where.begin(), where.end(), 0u);
+    auto take = [&](size_t a, uint32_t t) {
+        target_of[a] = t;
+        const uint32_t last = free_list.back();
+        free_list[where[t]] = last;
+        where[last] = where[t];
+        free_list.pop_back();
+        where[t] = uint32_t(-1);
+    };
+    const size_t k = std::min<size_t>(64, n);
+    std::vector<uint32_t> idx(k);
+    std::vector<float> d2(k);
     for (size_t a = 0; a < n; ++a) {
+        const size_t got = tree.knnSearch(&agents[3 * a], k, idx.data(), d2.data());
         bool done = false;
-        for (size_t k = std::min<size_t>(16, n); !done; k = std::min(n, 4 * k)) {
-            idx.resize(k);
-            d2.resize(k);
-            const size_t got = tree.knnSearch(&agents[3 * a], k, idx.data(), d2.data());
-            for (size_t j = 0; j < got && !done; ++j)
-                if (!taken[idx[j]]) {
-                    taken[idx[j]] = 1;
-                    target_of[a] = idx[j];
-                    done = true;
-                }
-            if (k == n) break;
+        for (size_t j = 0; j < got && !done; ++j)
+            if (where[idx[j]] != uint32_t(-1)) {
+                take(a, idx[j]);
+                done = true;
+            }
+        if (done) continue;
+        // Nearest free target by a scan (ties: the lowest index, as the tree).
+        uint32_t best = free_list.front();
+        double best_d = HUGE_VAL;
+        for (uint32_t t : free_list) {
+            double d = 0.0;
+            for (int c = 0; c < 3; ++c) {
+                const double x = double(agents[3 * a + c]) - targets[3 * size_t(t) + c];
+                d += x * x;
+            }
+            if (d < best_d || (d == best_d && t < best)) best_d = d, best = t;
         }
-        if (!done) fail(Status::Internal, "target assignment: no free target left");
+        take(a, best);
     }
     return target_of;
 }
