@@ -29,14 +29,14 @@ def main(out):
             s.step(890)
             shots.append((name, s.positions, np.linalg.norm(s.velocities, axis=1).mean()))
             s.step(10)
-    fig = plt.figure(figsize=(16, 4.4))
+    fig = plt.figure(figsize=(16, 4.6))
     for k, (name, p, speed) in enumerate(shots):
         ax = fig.add_subplot(1, 4, k + 1, projection="3d")
         ax.scatter(p[:, 0], p[:, 1], p[:, 2], s=0.6, c=p[:, 2], cmap="viridis", linewidths=0)
         ax.set_title(f"{name}: step {900 * k + 890}, mean speed {speed:.2f} m/s", fontsize=9)
-        ax.view_init(elev=15, azim=-70)
+        ax.view_init(elev=75 if name == "moon" else 15, azim=-70)
         for axis in (ax.set_xlim, ax.set_ylim, ax.set_zlim):
-            axis(-4.5, 4.5)
+            axis(-3.6, 3.6)
         ax.set_box_aspect((1, 1, 1))
         ax.set_axis_off()
     fig.suptitle("Force model, 3000 insects, Table 1 parameters (neighbor_sample 64)", fontsize=10)
