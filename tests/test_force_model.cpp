@@ -383,12 +383,18 @@ TEST(ForceModelProperties, PathIsFollowedAndNoInsectEntersAnObstacle) {
     auto model = std::make_shared<ForceModel>(*swarm, c);
     swarm->set_behavior(model);
     std::vector<float> p(3 * size_t(n));
+    swarm->step(1);
+    // The gallop's keyframes share one topology: insects keep their targets.
+    const std::vector<uint32_t> first_assignment = model->target_of();
     double worst_inside = -HUGE_VAL, worst_lag = 0.0;
     uint32_t most_near = 0;  // insects within 5 cm of the box at once
     // Centroid of the targets in the shape frame (the path carries it).
     for (int chunk = 0; chunk < 90; ++chunk) {
-        swarm->step(20);
+        swarm->step(chunk == 0 ? 19 : 20);
         swarm->read(Attribute::Position, p.data(), n);
+        // Steps 20k: keyframes at 0, 15, 30, 45 of a 60-step cycle.
+        EXPECT_EQ(model->current_keyframe(), (swarm->step_count() - 1) % 60 / 15);
+        EXPECT_EQ(model->target_of(), first_assignment);
         D3 centroid{0, 0, 0};
         uint32_t near = 0;
         for (uint32_t i = 0; i < n; ++i) {
