@@ -45,15 +45,16 @@
 // zones = (R_rep, R_ali, R_att, sigma of Eq. 5), weights = (w_rep, w_ali,
 // w_att, w_dis), blend = (alpha, w_con, distance scale of Eq. 6, unused),
 // offset = the shape frame's position on the global path (xyz).
-// Target data are by target index; target_of / owner map agent ids to target
-// indices and back; slot_of maps agent ids to slots (grid order).
+// Target data are by target index; target_of maps agent ids to target
+// indices; by_target holds each target's insect position this step
+// (force_model_scatter).
 __kernel void force_model_force(__global const float4* pos, __global const float4* vel,
                                 __global const uint* ids, uint n, GRID_PARAMS, float4 zones, float4 weights,
                                 float4 blend, uint terms, uint sample_cap, ulong seed, uint has_targets,
                                 __global const uint* target_of,
                                 __global const float4* targets, __global const uint* nbr_start,
-                                __global const uint* nbr_index, __global const uint* owner,
-                                __global const uint* slot_of, float4 offset, float t, uint step,
+                                __global const uint* nbr_index, __global const float4* by_target,
+                                float4 offset, float t, uint step,
                                 __global float4* force, NOISE_PARAMS) {
     const uint i = get_global_id(0);
     if (i >= n) return;
@@ -142,7 +143,7 @@ __kernel void force_model_force(__global const float4* pos, __global const float
             float4 con = (float4)(0.0f);
             const float inv2s2 = 1.0f / (2.0f * zones.w * zones.w);
             for (uint k = k0; k < k1; ++k) {
-                const float4 q = (float4)(pos[slot_of[owner[nbr_index[k]]]].xyz, 0.0f);
+                const float4 q = (float4)(by_target[nbr_index[k]].xyz, 0.0f);
                 const float4 dq = p - q;
                 const float m = fabs(dq.x) + fabs(dq.y) + fabs(dq.z);
                 const float l = length(dq);
@@ -168,6 +169,15 @@ __kernel void force_model_force(__global const float4* pos, __global const float
     }
     // §3, Eq. 1.
     force[i] = blend.x * f_int + (1.0f - blend.x) * f_ext;
+}
+
+// The insects' positions by target index (the target of agent ids[i]), so
+// that Eq. 5 reads a target neighbour's insect with one lookup.
+__kernel void force_model_scatter(__global const float4* pos, __global const uint* ids, uint n,
+                                  __global const uint* target_of, __global float4* by_target) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    by_target[target_of[ids[i]]] = pos[i];
 }
 
 // §6, Eq. 9.

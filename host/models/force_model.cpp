@@ -84,6 +84,7 @@ ForceModel::ForceModel(Swarm& swarm, ForceModelConfig config) : config_(std::mov
     force_k_ = noise_->kernel("force_model.cl", "force_model_force");
     integrate_k_ = noise_->kernel("force_model.cl", "force_model_integrate");
     project_k_ = noise_->kernel("force_model.cl", "force_model_project");
+    scatter_k_ = noise_->kernel("force_model.cl", "force_model_scatter");
     if (config_.min_distance > 0.0f) mde_.emplace(ctx, config_.min_distance, config_.noise.seed);
     if (!config_.path.empty()) path_.emplace(config_.path);
     std::vector<cl_float4> prims;
@@ -131,7 +132,7 @@ void ForceModel::prepare(Swarm& swarm) {
     }
     force_.allocate(ctx, n, "force model forces");
     target_of_buf_.allocate(ctx, n, "force model target_of");
-    owner_buf_.allocate(ctx, n, "force model owner");
+    by_target_.allocate(ctx, n, "force model positions by target");
     target_buf_.allocate(ctx, n, "force model targets");
     nbr_start_buf_.allocate(ctx, size_t(n) + 1, "force model target neighbour ranges");
     nbr_index_buf_.allocate(ctx, 1, "force model target neighbours");
@@ -178,10 +179,7 @@ void ForceModel::activate(Swarm& swarm, int k) {
         std::vector<float> where = t.points;
         for (size_t i = 0; i < where.size(); ++i) where[i] += off[i % 3];
         target_of_ = assign_targets(agents, where, config_.assignment);
-        std::vector<uint32_t> owner(n);
-        for (uint32_t a = 0; a < n; ++a) owner[target_of_[a]] = a;
         target_of_buf_.upload(ctx, target_of_.data(), n);
-        owner_buf_.upload(ctx, owner.data(), n);
     }
     active_ = k;
 }
@@ -200,6 +198,11 @@ void ForceModel::enqueue_force(Swarm& swarm, uint64_t step) {
     const float dscale = c.distance_scale > 0.0f ? c.distance_scale : 2.0f * spacing;
     const float dt = swarm.config().dt;
     const Vec3f off = path_offset(step, dt);
+    if (t) {
+        set_args(scatter_k_, swarm.positions().get(), swarm.ids().get(), cl_uint(n), target_of_buf_.get(),
+                 by_target_.get());
+        launch(swarm.context(), scatter_k_, n);
+    }
     cl_uint i = 0;
     cl::Kernel& kf = force_k_;
     kf.setArg(i++, swarm.positions().get());
@@ -218,9 +221,7 @@ void ForceModel::enqueue_force(Swarm& swarm, uint64_t step) {
     kf.setArg(i++, target_buf_.get());
     kf.setArg(i++, nbr_start_buf_.get());
     kf.setArg(i++, nbr_index_buf_.get());
-    kf.setArg(i++, owner_buf_.get());
-    // slot_of is rebuilt after the grid's reorder (only when targets exist).
-    kf.setArg(i++, t ? swarm.slot_of().get() : swarm.ids().get());
+    kf.setArg(i++, by_target_.get());
     kf.setArg(i++, cl_float4{{off[0], off[1], off[2], 0.0f}});
     kf.setArg(i++, float(double(step) * dt));
     kf.setArg(i++, cl_uint(step));

@@ -113,14 +113,14 @@ private:
     std::unique_ptr<NoiseField> noise_;
     std::optional<MinDistance> mde_;
     std::optional<BSplinePath> path_;
-    cl::Kernel force_k_, integrate_k_, project_k_;
+    cl::Kernel force_k_, integrate_k_, project_k_, scatter_k_;
     uint32_t prepared_n_ = 0;
     std::vector<ShapeTargets> targets_;  // per keyframe
     std::vector<bool> same_topology_;    // keyframe k corresponds sample by sample to k-1
     int active_ = -1;
     std::vector<uint32_t> target_of_;
-    DeviceBuffer<cl_float4> force_, target_buf_, prims_;
-    DeviceBuffer<cl_uint> target_of_buf_, owner_buf_, nbr_start_buf_, nbr_index_buf_, moved_;
+    DeviceBuffer<cl_float4> force_, target_buf_, prims_, by_target_;
+    DeviceBuffer<cl_uint> target_of_buf_, nbr_start_buf_, nbr_index_buf_, moved_;
     uint32_t nprims_ = 0;
     uint64_t steps_since_read_ = 0;
 };
