@@ -7,6 +7,7 @@
 #include "io/recorder.hpp"
 #include "io/scenario.hpp"
 #include "models/field_model.hpp"
+#include "models/force_model.hpp"
 
 using namespace swarmcl;
 using namespace swarmcl::capi;
@@ -80,6 +81,10 @@ swcl_status swcl_scenario_get_info(swcl_scenario scenario, swcl_scenario_info* o
         copy_text(info.output_dir, s->output_dir);
         copy_text(info.model, s->field_model ? "field" : s->energy_model ? "energy" : "ballistic");
         info.min_distance = s->field_model ? s->field_model->min_distance : 0.0f;
+        if (s->force_model) {
+            copy_text(info.model, "force");
+            info.min_distance = s->force_model->min_distance;
+        }
         *out = info;
     });
 }
@@ -100,6 +105,7 @@ swcl_status swcl_scenario_create_swarm(swcl_scenario scenario, swcl_context cont
         swarm->write(Attribute::Velocity, vel.data(), n);
         if (s->field_model) swarm->set_behavior(std::make_shared<FieldModel>(*swarm, *s->field_model));
         if (s->energy_model) swarm->set_behavior(make_energy_model(*swarm, *s->energy_model));
+        if (s->force_model) swarm->set_behavior(std::make_shared<ForceModel>(*swarm, *s->force_model));
         out->id = swarms().add(std::move(swarm));
     });
 }

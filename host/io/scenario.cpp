@@ -11,6 +11,7 @@
 #include "core/error.hpp"
 #include "core/philox.hpp"
 #include "io/recorder.hpp"
+#include "shapes/shape_library.hpp"
 
 namespace swarmcl {
 namespace {
@@ -188,6 +189,119 @@ Boundary read_obstacle(const json& j, const std::string& path) {
     return b;
 }
 
+// ---- "type": "force": the shape-constrained force model (docs/force-model.md)
+
+TriangleMesh read_keyframe_mesh(Obj& k) {
+    TriangleMesh mesh;
+    const bool has_shape = k.has("shape"), has_mesh = k.has("mesh");
+    if (has_shape == has_mesh) bad(k.at("shape"), "expected either \"shape\" (a generated shape's name) or \"mesh\"");
+    try {
+        if (has_shape) {
+            mesh = generated_shape(k.string("shape", ""));
+        } else {
+            Obj m(k.child("mesh"), k.at("mesh"));
+            m.allow({"vertices", "triangles"});
+            m.require_key("vertices");
+            m.require_key("triangles");
+            const json& v = m.child("vertices");
+            const json& t = m.child("triangles");
+            if (!v.is_array() || !t.is_array()) bad(m.label(), "expected arrays of [x, y, z] and [i, j, k]");
+            std::vector<float> xyz;
+            std::vector<uint32_t> idx;
+            for (size_t i = 0; i < v.size(); ++i) {
+                const auto p = Obj::to_vec3(v[i], m.at("vertices") + "[" + std::to_string(i) + "]");
+                xyz.insert(xyz.end(), p.begin(), p.end());
+            }
+            for (size_t i = 0; i < t.size(); ++i) {
+                const json& f = t[i];
+                if (!f.is_array() || f.size() != 3) bad(m.at("triangles") + "[" + std::to_string(i) + "]", "expected 3 indices");
+                for (const json& x : f) {
+                    if (!x.is_number_unsigned() || x.get<uint64_t>() > 0xFFFFFFFFu)
+                        bad(m.at("triangles") + "[" + std::to_string(i) + "]", "expected 3 integers >= 0");
+                    idx.push_back(uint32_t(x.get<uint64_t>()));
+                }
+            }
+            mesh = make_mesh(xyz, idx);
+        }
+    } catch (const Error& e) {
+        if (e.status() == Status::Parse) throw;
+        bad(k.label(), e.what());
+    }
+    const float scale = k.positive("scale", 1.0f);
+    const auto offset = k.vec3("offset", {0, 0, 0});
+    return transformed(mesh, {scale, scale, scale}, offset);
+}
+
+ForceModelConfig read_force_model(Obj& o, std::vector<Boundary> obstacles) {
+    ForceModelConfig c;
+    c.r_rep = o.positive("r_rep", c.r_rep);
+    c.r_ali = o.positive("r_ali", c.r_ali);
+    c.r_att = o.positive("r_att", c.r_att);
+    c.w_rep = o.non_negative("w_rep", c.w_rep);
+    c.w_ali = o.non_negative("w_ali", c.w_ali);
+    c.w_att = o.non_negative("w_att", c.w_att);
+    c.w_dis = o.non_negative("w_dis", c.w_dis);
+    c.w_con = o.non_negative("w_con", c.w_con);
+    c.omega = o.positive("omega", c.omega);
+    c.neighbor_k = o.positive("neighbor_k", c.neighbor_k);
+    c.distance_scale = o.non_negative("distance_scale", c.distance_scale);
+    c.neighbor_sample = uint32_t(o.integer("neighbor_sample", c.neighbor_sample, 0xFFFFFFFFu));
+    const float rho = o.positive("rho", c.noise.scale);
+    const float eta = o.non_negative("eta", c.noise.gain * c.noise.scale);
+    c.noise.scale = rho;
+    c.noise.gain = eta / rho;  // Eq. 4 in metres (ForceModelConfig::noise)
+    c.noise.seed = o.integer("noise_seed", c.noise.seed, std::numeric_limits<uint64_t>::max());
+    c.alpha = float(o.number("alpha", c.alpha, 0.0, 1.0, "in [0, 1]"));
+    c.max_speed = o.positive("max_speed", c.max_speed);
+    c.cruise_speed = o.non_negative("cruise_speed", c.cruise_speed);
+    c.min_distance = o.non_negative("min_distance", c.min_distance);
+    c.min_spacing = o.non_negative("min_spacing", c.min_spacing);
+    const std::string assignment = o.string("assignment", "nearest");
+    if (assignment == "nearest") c.assignment = Assignment::Nearest;
+    else if (assignment == "curve") c.assignment = Assignment::Curve;
+    else bad(o.at("assignment"), "expected \"nearest\" or \"curve\"");
+    c.sample_seed = o.integer("sample_seed", c.sample_seed, std::numeric_limits<uint64_t>::max());
+    if (o.has("keyframes")) {
+        const json& list = o.child("keyframes");
+        if (!list.is_array()) bad(o.at("keyframes"), "expected an array of {\"frame\", \"shape\" or \"mesh\"}");
+        for (size_t i = 0; i < list.size(); ++i) {
+            Obj k(list[i], o.at("keyframes") + "[" + std::to_string(i) + "]");
+            k.allow({"frame", "shape", "mesh", "scale", "offset"});
+            const uint64_t frame = k.integer("frame", 0, 0xFFFFFFFFu);
+            if (i > 0 && frame <= c.keyframes.back().frame)
+                bad(k.at("frame"), "keyframes must be in strictly increasing frame order");
+            c.keyframes.push_back({frame, read_keyframe_mesh(k)});
+            k.finish();
+        }
+    }
+    c.keyframe_period = o.integer("keyframe_period", 0, 0xFFFFFFFFu);
+    if (o.has("path")) {
+        Obj p(o.child("path"), o.at("path"));
+        p.allow({"points", "speed"});
+        p.require_key("points");
+        const json& pts = p.child("points");
+        if (!pts.is_array() || pts.size() < 4) bad(p.at("points"), "expected at least 4 [x, y, z] control points");
+        for (size_t i = 0; i < pts.size(); ++i) {
+            const auto v = Obj::to_vec3(pts[i], p.at("points") + "[" + std::to_string(i) + "]");
+            c.path.insert(c.path.end(), v.begin(), v.end());
+        }
+        c.path_speed = p.non_negative("speed", c.path_speed);
+        p.finish();
+    }
+    for (size_t i = 0; i < obstacles.size(); ++i)
+        if (obstacles[i].kind == Boundary::Kind::Plane)
+            bad("obstacles[" + std::to_string(i) + "]", "the force model takes sphere and box obstacles");
+    c.obstacles = std::move(obstacles);
+    c.obstacle_range = o.positive("obstacle_range", c.obstacle_range);
+    o.finish();
+    try {
+        validate(c);
+    } catch (const Error& e) {
+        bad("model", e.what());
+    }
+    return c;
+}
+
 void read_model(const json& j, Scenario& s, std::vector<Boundary> obstacles) {
     Obj o(j, "model");
     const std::string type = o.string("type", "field");
@@ -203,7 +317,11 @@ void read_model(const json& j, Scenario& s, std::vector<Boundary> obstacles) {
         s.energy_model = std::move(e);
         return;
     }
-    if (type != "field") bad("model.type", "expected \"field\", \"energy\" or \"ballistic\"");
+    if (type == "force") {
+        s.force_model = read_force_model(o, std::move(obstacles));
+        return;
+    }
+    if (type != "field") bad("model.type", "expected \"field\", \"force\", \"energy\" or \"ballistic\"");
     FieldModelConfig c;
     if (o.has("noise")) c.noise = read_noise(o.child("noise"), "model.noise");
     c.noise.boundaries = std::move(obstacles);

@@ -11,6 +11,7 @@
 
 #include "models/field_model.hpp"
 #include "io/scenario_energy.hpp"
+#include "models/force_model.hpp"
 #include "swarm/swarm.hpp"
 
 namespace swarmcl {
@@ -30,6 +31,7 @@ struct Scenario {
     InitialDistribution initial;
     std::optional<FieldModelConfig> field_model;  // empty: ballistic
     std::optional<EnergyScenario> energy_model;   // model.type "energy" (FASTSWARM)
+    std::optional<ForceModelConfig> force_model;  // "type": "force" (docs/force-model.md)
     uint32_t steps = 100;
     std::string output_dir = "out";
     uint32_t output_formats = 1;          // ExportFormat mask

@@ -16,6 +16,7 @@ from .descriptors import (Box, DeviceInfo, DeviceType, FieldModel, NoiseDesc, No
                           Sphere, StepStats)
 from .energy import (Dataset, EnergyModel, EnergyWeights, Stimulus, StimulusKind, TimeFormat,
                      write_mixed_csv)
+from .force import SHAPES, ForceModel, Keyframe
 from .errors import (BuildError, InternalError, InvalidArgumentError, InvalidHandleError, IOError_,
                      NoDeviceError, OpenCLError, OutOfMemoryError, ParseError, SwarmclError)
 
@@ -26,6 +27,7 @@ __all__ = [
     "NoiseDesc", "NoiseType", "FieldModel", "Sphere", "Box", "Plane", "DeviceInfo", "DeviceType",
     "StepStats",
     "Dataset", "EnergyModel", "EnergyWeights", "Stimulus", "StimulusKind", "TimeFormat", "write_mixed_csv",
+    "ForceModel", "Keyframe", "SHAPES",
     "SwarmclError", "InvalidArgumentError", "InvalidHandleError", "NoDeviceError", "BuildError",
     "OutOfMemoryError", "IOError_", "ParseError", "OpenCLError", "InternalError",
     "ffi", "lib", "constants", "header_path", "library_path",

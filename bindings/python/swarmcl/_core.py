@@ -264,6 +264,37 @@ class Swarm(_Handle):
         desc, _keep = model.to_c()
         check(lib.swcl_swarm_set_field_model(self._h, desc))
 
+    # ---- the force model (docs/force-model.md) -----------------------------------------
+
+    def set_force_model(self, model) -> None:
+        """Moves the swarm with the shape-constrained force model from the next step."""
+        from .force import ForceModel
+        if not isinstance(model, ForceModel):
+            raise TypeError(f"set_force_model: expected a ForceModel, got {type(model).__name__}")
+        desc, _keep = model.to_c()
+        check(lib.swcl_swarm_set_force_model(self._h, desc))
+
+    def set_force_keyframes(self, keyframes, period: int = 0) -> None:
+        """Replaces the force model's keyframes (a list of Keyframe)."""
+        from .force import keyframes_to_c
+        keep: list = []
+        arr, count = keyframes_to_c(list(keyframes), keep)
+        check(lib.swcl_swarm_set_force_keyframes(self._h, arr, count, int(period)))
+
+    def set_force_path(self, points, speed: float) -> None:
+        """Replaces the force model's path: B-spline control points (K >= 4, 3), m/s."""
+        from .force import path_to_c
+        keep: list = []
+        ptr, count = path_to_c(points, keep)
+        check(lib.swcl_swarm_set_force_path(self._h, ptr, count, float(speed)))
+
+    def force_targets(self, out: Optional[np.ndarray] = None) -> np.ndarray:
+        """Each agent's current target point (N, 3) float32, agent-id order."""
+        n = self.agent_count
+        out = _out_array(out, (n, 3), np.float32, "force_targets")
+        check(lib.swcl_swarm_get_force_targets(self._h, _fptr(out), n))
+        return out
+
     def clear_model(self) -> None:
         """Back to ballistic motion."""
         check(lib.swcl_swarm_clear_model(self._h))

@@ -413,6 +413,89 @@ SWCL_API swcl_status swcl_swarm_start_from_tracks(swcl_swarm swarm, const uint32
                                                   const double* times, const float* xyz,
                                                   const swcl_dataset_desc* desc);
 
+/* ---- the force model ------------------------------------------------------
+ * The shape-constrained flying insects paper (Chen et al. 2019): each step
+ *   F = alpha F_internal + (1 - alpha) F_external                     (Eq. 1)
+ *   F_internal = three-zone interaction (Eq. 2-3) + curl noise (Eq. 4)
+ *   F_external = shape-constrained force (Eq. 5) + distance force (Eq. 6-7)
+ * towards target points sampled on the current keyframe's mesh (one per
+ * agent), then u += F dt with |u| <= max_speed (and >= cruise_speed), the
+ * obstacle ramp (Eq. 8-9), r += u dt, and optional MDE.  The shape's frame
+ * can follow a B-spline path.  Defaults are Table 1's values;
+ * docs/force-model.md lists where the paper was vague and what was chosen. */
+
+typedef enum swcl_assignment {
+    SWCL_ASSIGN_NEAREST = 0,  /* each agent (in id order) takes the nearest free target */
+    SWCL_ASSIGN_CURVE = 1     /* both sets ordered along a Hilbert curve, matched by rank */
+} swcl_assignment;
+
+/* A target mesh from `frame` on: a generated shape by name ("sphere", "torus",
+ * "moon", "star", "heart", "mammoth", "shark", "horse", "horse:<phase>") or,
+ * with shape NULL, packed xyz vertices and triangle indices (copied).  The
+ * mesh is then scaled by `scale` (0: 1) and moved by `offset`. */
+typedef struct swcl_keyframe {
+    uint32_t frame;
+    const char* shape;
+    const float* vertices;
+    uint32_t vertex_count;
+    const uint32_t* triangles;
+    uint32_t triangle_count;
+    float scale;
+    float offset[3];
+} swcl_keyframe;
+
+typedef struct swcl_force_model_desc {
+    uint32_t struct_size;
+    float r_rep, r_ali, r_att;     /* zone radii, m (Table 1: 0.3, 10, 30) */
+    float w_rep, w_ali, w_att;     /* Eq. 2 weights (Table 1: 0.2, 3, 13) */
+    float w_dis;                   /* Eq. 6 weight (Table 1: 4) */
+    float w_con;                   /* Eq. 5 weight (1) */
+    float omega;                   /* Eq. 5: sigma = omega sqrt(A/N) (0.9) */
+    float neighbor_k;              /* Eq. 5 neighbours within k sqrt(A/N), Manhattan (2) */
+    float distance_scale;          /* m normalising d in Eq. 6; 0: 2 sqrt(A/N) (default 0) */
+    uint32_t neighbor_sample;      /* > 0: alignment and attraction sample this many
+                                      agents of the swarm per agent and step (not in
+                                      the paper; docs/force-model.md); 0: every agent
+                                      within r_att, exact (default) */
+    float eta, rho;                /* Eq. 4 curl noise magnitude and feature size, m
+                                      (Table 1: 0.125, 0.32) */
+    uint64_t noise_seed;
+    float alpha;                   /* Eq. 1, in [0, 1] (Table 1: 0.7) */
+    float max_speed;               /* m/s (Table 1: 0.75) */
+    float cruise_speed;            /* m/s, slower agents are sped up to it (0.375;
+                                      0: off, as the paper) */
+    float min_distance;            /* MDE threshold, m; 0: off (default 0) */
+    float min_spacing;             /* meshes scaled so sqrt(A/N) >= this, m (0.3 = r_rep;
+                                      0: meshes as given) */
+    swcl_assignment assignment;    /* default NEAREST */
+    uint64_t sample_seed;          /* stratified sampling */
+    const swcl_keyframe* keyframes;  /* strictly increasing frames (copied) */
+    uint32_t keyframe_count;
+    uint32_t keyframe_period;      /* > 0: the keyframes repeat every this many steps */
+    const float* path;             /* B-spline control points, packed xyz (>= 4), copied */
+    uint32_t path_point_count;     /* 0: no path */
+    float path_speed;              /* m/s along the path */
+    const swcl_boundary* obstacles;  /* spheres and boxes (Eq. 8-9), copied */
+    uint32_t obstacle_count;
+    float obstacle_range;          /* L of Eq. 9, m (default 1) */
+} swcl_force_model_desc;
+
+SWCL_API swcl_force_model_desc swcl_force_model_desc_default(void);
+/* Makes the force model move the swarm from the next step on (target meshes
+ * are sampled here).  On failure the swarm keeps its previous model. */
+SWCL_API swcl_status swcl_swarm_set_force_model(swcl_swarm swarm, const swcl_force_model_desc* desc);
+/* Replace the keyframes or the path of the swarm's force model (the rest of
+ * its parameters stay); SWCL_ERROR_INVALID_ARGUMENT if the swarm has none. */
+SWCL_API swcl_status swcl_swarm_set_force_keyframes(swcl_swarm swarm, const swcl_keyframe* keyframes,
+                                                    uint32_t count, uint32_t period);
+SWCL_API swcl_status swcl_swarm_set_force_path(swcl_swarm swarm, const float* points, uint32_t count,
+                                               float speed);
+/* The target points of the current keyframe (packed xyz, in the shape frame
+ * plus the path offset of the swarm's current step) for agent ids 0..count-1:
+ * where each agent is heading. */
+SWCL_API swcl_status swcl_swarm_get_force_targets(swcl_swarm swarm, float* out_xyz, size_t count);
+
+
 /* ---- scenario files --------------------------------------------------------
  * A JSON description of a run (docs/scenarios.md): model and parameters, agents
  * and their initial distribution, domain, obstacles, goal, steps, dt, seed and
@@ -444,7 +527,7 @@ typedef struct swcl_scenario_info {
     uint64_t seed;
     char name[128];
     char output_dir[1024];
-    char model[32];            /* "field", "energy" or "ballistic" */
+    char model[32];            /* "field", "force", "energy" or "ballistic" */
     float min_distance;        /* the field model's MDE distance (0: none) */
 } swcl_scenario_info;
 

@@ -1,0 +1,268 @@
+#include "models/force_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "core/error.hpp"
+#include "swarm/swarm.hpp"
+
+namespace swarmcl {
+namespace {
+
+// curl_noise.cl SWCL_PRIM_* (the noise module packs its boundaries alike).
+constexpr float kPrimSphere = 2.0f, kPrimBox = 3.0f;
+
+void require_finite_positive(float v, const char* name, bool allow_zero = false) {
+    require(std::isfinite(v) && (allow_zero ? v >= 0.0f : v > 0.0f),
+            std::string("force model ") + name + (allow_zero ? " must be a finite number >= 0" : " must be > 0"));
+}
+
+}  // namespace
+
+ForceModelConfig::ForceModelConfig() {
+    noise.type = NoiseType::Curl;
+    noise.scale = 0.32f;   // rho (Table 1)
+    noise.gain = 0.125f / 0.32f;  // eta / rho (Table 1; see the header)
+}
+
+void validate(const ForceModelConfig& c) {
+    require_finite_positive(c.r_rep, "r_rep");
+    require(std::isfinite(c.r_ali) && std::isfinite(c.r_att) && c.r_rep <= c.r_ali && c.r_ali <= c.r_att,
+            "force model zone radii must satisfy 0 < r_rep <= r_ali <= r_att (§4.1)");
+    require_finite_positive(c.w_rep, "w_rep", true);
+    require_finite_positive(c.w_ali, "w_ali", true);
+    require_finite_positive(c.w_att, "w_att", true);
+    require_finite_positive(c.w_dis, "w_dis", true);
+    require_finite_positive(c.w_con, "w_con", true);
+    require_finite_positive(c.omega, "omega");
+    require_finite_positive(c.neighbor_k, "neighbor_k");
+    require_finite_positive(c.distance_scale, "distance_scale", true);
+    require(std::isfinite(c.alpha) && c.alpha >= 0.0f && c.alpha <= 1.0f,
+            "force model alpha must lie in [0, 1] (Eq. 1)");
+    require_finite_positive(c.max_speed, "max_speed");
+    require(std::isfinite(c.cruise_speed) && c.cruise_speed >= 0.0f && c.cruise_speed <= c.max_speed,
+            "force model cruise_speed must lie in [0, max_speed]");
+    require_finite_positive(c.min_distance, "min_distance", true);
+    require_finite_positive(c.min_spacing, "min_spacing", true);
+    require_finite_positive(c.obstacle_range, "obstacle_range");
+    require_finite_positive(c.path_speed, "path_speed", true);
+    require((c.terms & ~uint32_t(kForceAll)) == 0, "force model terms: unknown bits");
+    for (size_t k = 1; k < c.keyframes.size(); ++k)
+        require(c.keyframes[k].frame > c.keyframes[k - 1].frame,
+                "force model keyframes must be in strictly increasing frame order (keyframe " + std::to_string(k) +
+                    " at frame " + std::to_string(c.keyframes[k].frame) + " follows frame " +
+                    std::to_string(c.keyframes[k - 1].frame) + ")");
+    for (size_t k = 0; k < c.keyframes.size(); ++k)
+        require(c.keyframes[k].mesh.triangle_count() > 0 && surface_area(c.keyframes[k].mesh) > 0.0,
+                "force model keyframe " + std::to_string(k) + ": empty or degenerate mesh");
+    if (c.keyframe_period > 0)
+        require(!c.keyframes.empty() && c.keyframes.back().frame < c.keyframe_period,
+                "force model keyframe_period must exceed the last keyframe's frame");
+    if (!c.path.empty()) BSplinePath check(c.path);  // >= 4 control points, finite
+    for (size_t k = 0; k < c.obstacles.size(); ++k) {
+        const Boundary& b = c.obstacles[k];
+        const std::string name = "force model obstacle " + std::to_string(k);
+        for (float v : b.center) require(std::isfinite(v), name + ": centre must be finite");
+        if (b.kind == Boundary::Kind::Sphere) {
+            require(std::isfinite(b.radius) && b.radius > 0.0f, name + ": sphere radius must be > 0");
+        } else if (b.kind == Boundary::Kind::Box) {
+            for (float h : b.half_extents)
+                require(std::isfinite(h) && h > 0.0f, name + ": box half extents must be > 0");
+            require(std::isfinite(b.radius) && b.radius >= 0.0f, name + ": box rounding must be >= 0");
+        } else {
+            fail(Status::InvalidArgument, name + ": only spheres and boxes are obstacles of the force model");
+        }
+    }
+    NoiseField::validate(c.noise);
+}
+
+ForceModel::ForceModel(Swarm& swarm, ForceModelConfig config) : config_(std::move(config)) {
+    validate(config_);
+    Context& ctx = swarm.context();
+    noise_ = std::make_unique<NoiseField>(ctx, config_.noise, &swarm.config().domain_min, &swarm.config().domain_max);
+    force_k_ = noise_->kernel("force_model.cl", "force_model_force");
+    integrate_k_ = noise_->kernel("force_model.cl", "force_model_integrate");
+    project_k_ = noise_->kernel("force_model.cl", "force_model_project");
+    scatter_k_ = noise_->kernel("force_model.cl", "force_model_scatter");
+    if (config_.min_distance > 0.0f) mde_.emplace(ctx, config_.min_distance, config_.noise.seed);
+    if (!config_.path.empty()) path_.emplace(config_.path);
+    std::vector<cl_float4> prims;
+    for (const Boundary& b : config_.obstacles) {
+        const auto& c = b.center;
+        if (b.kind == Boundary::Kind::Sphere) {
+            prims.push_back(cl_float4{{c[0], c[1], c[2], kPrimSphere}});
+            prims.push_back(cl_float4{{b.radius, 0.0f, 0.0f, 0.0f}});
+        } else {
+            // swcl_dist_box wants a rounding 0 < rr <= min half extent.
+            const auto& h = b.half_extents;
+            const float rr = std::max(1e-4f, std::min({b.radius, h[0], h[1], h[2]}));
+            prims.push_back(cl_float4{{c[0], c[1], c[2], kPrimBox}});
+            prims.push_back(cl_float4{{h[0], h[1], h[2], rr}});
+        }
+    }
+    nprims_ = uint32_t(prims.size() / 2);
+    prims_.allocate(ctx, std::max<size_t>(prims.size(), 2), "force model obstacles");
+    prims_.upload(ctx, prims.data(), prims.size());
+    moved_.allocate(ctx, 2, "MDE counters");
+    moved_.fill(ctx, 0u, 2);
+    prepare(swarm);
+}
+
+void ForceModel::prepare(Swarm& swarm) {
+    const uint32_t n = swarm.agent_count();
+    if (n == prepared_n_ && (n > 0 || targets_.empty())) return;
+    prepared_n_ = n;
+    targets_.clear();
+    same_topology_.clear();
+    active_ = -1;
+    if (n == 0) return;
+    Context& ctx = swarm.context();
+    const auto& c = config_;
+    for (size_t k = 0; k < c.keyframes.size(); ++k) {
+        const TriangleMesh& m = c.keyframes[k].mesh;
+        // Keyframes of one animation (same vertex and triangle counts) keep
+        // the first one's samples by barycentric coordinates: each insect
+        // keeps its target and the shape deforms without reassignment.
+        const bool same = k > 0 && m.vertices.size() == c.keyframes[k - 1].mesh.vertices.size() &&
+                          m.triangle_count() == c.keyframes[k - 1].mesh.triangle_count();
+        same_topology_.push_back(same);
+        targets_.push_back(make_targets(m, n, c.sample_seed + k, c.min_spacing, c.neighbor_k,
+                                        same ? &targets_.back().samples : nullptr));
+    }
+    force_.allocate(ctx, n, "force model forces");
+    target_of_buf_.allocate(ctx, n, "force model target_of");
+    by_target_.allocate(ctx, n, "force model positions by target");
+    target_buf_.allocate(ctx, n, "force model targets");
+    nbr_start_buf_.allocate(ctx, size_t(n) + 1, "force model target neighbour ranges");
+    nbr_index_buf_.allocate(ctx, 1, "force model target neighbours");
+}
+
+int ForceModel::keyframe_at(uint64_t step) const {
+    const auto& kf = config_.keyframes;
+    if (kf.empty()) return -1;
+    const uint64_t s = config_.keyframe_period ? step % config_.keyframe_period : step;
+    int found = -1;
+    for (size_t k = 0; k < kf.size(); ++k)
+        if (kf[k].frame <= s) found = int(k);
+    // A repeating cycle before its first keyframe is still in its last one.
+    if (found < 0 && config_.keyframe_period && step >= config_.keyframe_period) found = int(kf.size()) - 1;
+    return found;
+}
+
+Vec3f ForceModel::path_offset(uint64_t step, float dt) const {
+    if (!path_) return {0.0f, 0.0f, 0.0f};
+    return path_->at_length(double(config_.path_speed) * double(step) * dt);
+}
+
+void ForceModel::activate(Swarm& swarm, int k) {
+    Context& ctx = swarm.context();
+    const ShapeTargets& t = targets_[size_t(k)];
+    const uint32_t n = swarm.agent_count();
+    std::vector<cl_float4> pts(n);
+    for (uint32_t i = 0; i < n; ++i) pts[i] = cl_float4{{t.points[3 * i], t.points[3 * i + 1], t.points[3 * i + 2], 0}};
+    target_buf_.upload(ctx, pts.data(), n);
+    nbr_start_buf_.upload(ctx, t.nbr_start.data(), t.nbr_start.size());
+    nbr_index_buf_.reserve(ctx, std::max<size_t>(t.nbr_index.size(), 1), "force model target neighbours");
+    nbr_index_buf_.upload(ctx, t.nbr_index.data(), t.nbr_index.size());
+    // A keyframe of the same animation as the active one keeps the
+    // assignment (its targets correspond); otherwise assign anew from the
+    // insects' current positions to the targets where they will be.
+    const bool keep = active_ >= 0 && !target_of_.empty() &&
+                      ((k == active_ + 1 && same_topology_[size_t(k)]) ||
+                       (k == 0 && active_ == int(targets_.size()) - 1 && config_.keyframe_period &&
+                        std::all_of(same_topology_.begin() + 1, same_topology_.end(), [](bool b) { return b; })));
+    if (!keep) {
+        std::vector<float> agents(3 * size_t(n));
+        swarm.read(Attribute::Position, agents.data(), n);
+        const Vec3f off = path_offset(swarm.step_count(), swarm.config().dt);
+        std::vector<float> where = t.points;
+        for (size_t i = 0; i < where.size(); ++i) where[i] += off[i % 3];
+        target_of_ = assign_targets(agents, where, config_.assignment);
+        target_of_buf_.upload(ctx, target_of_.data(), n);
+    }
+    active_ = k;
+}
+
+void ForceModel::enqueue_force(Swarm& swarm, uint64_t step) {
+    prepare(swarm);
+    const uint32_t n = swarm.agent_count();
+    if (n == 0) return;
+    const int k = keyframe_at(step);
+    if (k != active_ && k >= 0) activate(swarm, k);
+    swarm.ensure_grid();
+    const auto& c = config_;
+    const ShapeTargets* t = current_targets();
+    const float spacing = t ? float(t->spacing) : 1.0f;
+    const float sigma = c.omega * spacing;
+    const float dscale = c.distance_scale > 0.0f ? c.distance_scale : 2.0f * spacing;
+    const float dt = swarm.config().dt;
+    const Vec3f off = path_offset(step, dt);
+    if (t) {
+        set_args(scatter_k_, swarm.positions().get(), swarm.ids().get(), cl_uint(n), target_of_buf_.get(),
+                 by_target_.get());
+        launch(swarm.context(), scatter_k_, n);
+    }
+    cl_uint i = 0;
+    cl::Kernel& kf = force_k_;
+    kf.setArg(i++, swarm.positions().get());
+    kf.setArg(i++, swarm.velocities().get());
+    kf.setArg(i++, swarm.ids().get());
+    kf.setArg(i++, n);
+    i = swarm.grid().set_grid_args(kf, i);
+    kf.setArg(i++, cl_float4{{c.r_rep, c.r_ali, c.r_att, sigma}});
+    kf.setArg(i++, cl_float4{{c.w_rep, c.w_ali, c.w_att, c.w_dis}});
+    kf.setArg(i++, cl_float4{{c.alpha, c.w_con, dscale, 0.0f}});
+    kf.setArg(i++, cl_uint(c.terms));
+    kf.setArg(i++, cl_uint(c.neighbor_sample));
+    kf.setArg(i++, cl_ulong(c.sample_seed));
+    kf.setArg(i++, cl_uint(t ? 1 : 0));
+    kf.setArg(i++, target_of_buf_.get());
+    kf.setArg(i++, target_buf_.get());
+    kf.setArg(i++, nbr_start_buf_.get());
+    kf.setArg(i++, nbr_index_buf_.get());
+    kf.setArg(i++, by_target_.get());
+    kf.setArg(i++, cl_float4{{off[0], off[1], off[2], 0.0f}});
+    kf.setArg(i++, float(double(step) * dt));
+    kf.setArg(i++, cl_uint(step));
+    kf.setArg(i++, force_.get());
+    noise_->set_args(kf, i);
+    launch(swarm.context(), kf, n);
+}
+
+void ForceModel::compute_forces(Swarm& swarm, uint64_t step) { enqueue_force(swarm, step); }
+
+void ForceModel::advance(Swarm& swarm, uint64_t step) {
+    enqueue_force(swarm, step);
+    const uint32_t n = swarm.agent_count();
+    if (n == 0) return;
+    Context& ctx = swarm.context();
+    set_args(integrate_k_, swarm.positions().get(), swarm.velocities().get(), force_.get(), cl_uint(n),
+             swarm.config().dt, config_.max_speed, config_.cruise_speed, prims_.get(), cl_uint(nprims_), config_.obstacle_range);
+    launch(ctx, integrate_k_, n);
+    swarm.positions_changed();
+    if (mde_) {
+        mde_->apply(swarm, moved_);
+        if (nprims_) {
+            set_args(project_k_, swarm.positions().get(), cl_uint(n), prims_.get(), cl_uint(nprims_));
+            launch(ctx, project_k_, n);
+            swarm.positions_changed();
+        }
+    }
+    ++steps_since_read_;
+}
+
+StepStats ForceModel::take_stats(Swarm& swarm) {
+    cl_uint counts[2] = {0, 0};
+    moved_.download(swarm.context(), counts, 2);
+    moved_.fill(swarm.context(), 0u, 2);
+    StepStats s;
+    s.agents = swarm.agent_count();
+    s.mde_moved_last = counts[0];
+    s.mde_moved_total = counts[1];
+    s.steps = steps_since_read_;
+    steps_since_read_ = 0;
+    return s;
+}
+
+}  // namespace swarmcl

@@ -1,0 +1,240 @@
+// The force model of the shape-constrained flying insects paper (Chen et al.
+// 2019): per agent the union force of Eq. 1,
+//   F = alpha F_internal + (1 - alpha) F_external,
+//   F_internal = F_rep + F_ali + F_att (§4.1, Eq. 2-3) + F_cur (§4.2, Eq. 4),
+//   F_external = F_con (§5.2, Eq. 5) + F_dis (§5.3, Eq. 6-7),
+// then a Newton step with a speed limit and the obstacle ramp of §6
+// (Eq. 8-9).  Built per noise configuration (NOISE_* defines, like
+// field_model.cl).  Choices where the paper is vague: docs/force-model.md
+// and the comments below.  Plain C++ reference: tests/test_force_model.cpp.
+#include "noise_field.cl"
+#include "grid_common.cl"
+#include "philox.cl"
+
+// Philox stream of the neighbour sample (keyed by seed, agent id, step).
+#define FM_STREAM_SAMPLE 16u
+
+// Bits of `terms`: which forces are on (all in a run; one at a time in the
+// tests that compare each term with its reference).
+#define FM_REP 1u
+#define FM_ALI 2u
+#define FM_ATT 4u
+#define FM_CUR 8u
+#define FM_CON 16u
+#define FM_DIS 32u
+
+// One candidate j of the alignment and attraction zones (Eq. 2-3): skipped
+// outside R_att and inside R_rep (the repulsion loop has those).
+#define FM_ALI_ATT(j)                                                         \
+    {                                                                         \
+        const float4 q = (float4)(pos[j].xyz, 0.0f);                          \
+        const float d2 = dist2(q, p);                                         \
+        if (d2 <= r_att2 && d2 >= r_rep2) {                                   \
+            if (d2 < r_ali2) {                                                \
+                const float4 du = (float4)(vel[j].xyz, 0.0f) - u;             \
+                const float m2 = dot(du, du);                                 \
+                if (m2 > 0.0f) ali += du * rsqrt(m2);                         \
+                ++n_ali;                                                      \
+            } else {                                                          \
+                att += (q - p) * rsqrt(d2);                                   \
+                ++n_att;                                                      \
+            }                                                                 \
+        }                                                                     \
+    }
+
+// zones = (R_rep, R_ali, R_att, sigma of Eq. 5), weights = (w_rep, w_ali,
+// w_att, w_dis), blend = (alpha, w_con, distance scale of Eq. 6, unused),
+// offset = the shape frame's position on the global path (xyz).
+// Target data are by target index; target_of maps agent ids to target
+// indices; by_target holds each target's insect position this step
+// (force_model_scatter).
+__kernel void force_model_force(__global const float4* pos, __global const float4* vel,
+                                __global const uint* ids, uint n, GRID_PARAMS, float4 zones, float4 weights,
+                                float4 blend, uint terms, uint sample_cap, ulong seed, uint has_targets,
+                                __global const uint* target_of,
+                                __global const float4* targets, __global const uint* nbr_start,
+                                __global const uint* nbr_index, __global const float4* by_target,
+                                float4 offset, float t, uint step,
+                                __global float4* force, NOISE_PARAMS) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    const float4 p = (float4)(pos[i].xyz, 0.0f);
+    const float4 u = (float4)(vel[i].xyz, 0.0f);
+    const uint id = ids[i];
+
+    // §4.1, Eq. 2-3: each neighbour counts in exactly one zone (S = -1, 0, 1
+    // below R_rep, below R_ali, up to R_att); each zone's sum is averaged over
+    // its own neighbours.  S = +-1 leaves the unit direction r_ij/|r_ij|
+    // (towards the neighbour for attraction, away for repulsion); S = 0
+    // leaves the unit velocity difference.  The paper's u_ij = u_i - u_j
+    // would steer an insect away from its neighbours' velocity
+    // (anti-alignment, against the zone's name and the paper's ref. 5), so
+    // alignment uses u_j - u_i.  Coincident agents (r_ij = 0) have no
+    // direction and are skipped; equal velocities add 0 but count.
+    float4 rep = (float4)(0.0f), ali = (float4)(0.0f), att = (float4)(0.0f);
+    uint n_rep = 0, n_ali = 0, n_att = 0;
+    const float r_rep = zones.x, r_ali = zones.y, r_att = zones.z;
+    const Grid g = GRID_MAKE();
+    if (terms & FM_REP) {
+        const float r_rep2 = r_rep * r_rep;
+        GRID_FOR_EACH_CANDIDATE(&g, p, r_rep, j) {
+            if (j == i) continue;
+            const float4 q = (float4)(pos[j].xyz, 0.0f);
+            const float d2 = dist2(q, p);
+            if (d2 >= r_rep2 || d2 == 0.0f) continue;
+            rep -= (q - p) * rsqrt(d2);
+            ++n_rep;
+        }
+        GRID_END_FOR
+    }
+    if (terms & (FM_ALI | FM_ATT)) {
+        const float r_rep2 = r_rep * r_rep, r_ali2 = r_ali * r_ali, r_att2 = r_att * r_att;
+        if (sample_cap == 0u) {
+            // Exact: every agent of the R_att box.
+            GRID_FOR_EACH_CANDIDATE(&g, p, r_att, j) {
+                if (j == i) continue;
+                FM_ALI_ATT(j);
+            }
+            GRID_END_FOR
+        } else {
+            // Sampled (not in the paper; docs/force-model.md): sample_cap
+            // agents of the whole swarm, j = start + k * stride (mod n) with
+            // start and stride drawn per agent and step by Philox (keyed by
+            // seed, agent id, step): every agent is equally likely to be
+            // sampled, and slots being in cell order, a large stride spreads
+            // the sample over the swarm.  Those within R_att count in their
+            // zone, so each zone's mean in Eq. 2 is estimated from its sampled
+            // neighbours, at O(cap) per agent instead of the O(N) that
+            // R_att = 30 m costs when the swarm is smaller than that.
+            const uint4 r = swcl_rand_u4(seed, id, step, FM_STREAM_SAMPLE, 0u);
+            uint j = (uint)(((ulong)r.x * (ulong)n) >> 32);
+            const uint stride = n > 1u ? 1u + (uint)(((ulong)r.y * (ulong)(n - 1u)) >> 32) : 0u;
+            for (uint k = 0; k < sample_cap; ++k) {
+                if (j != i) FM_ALI_ATT(j);
+                j += stride;
+                if (j >= n) j -= n;
+            }
+        }
+    }
+
+    float4 f_int = (float4)(0.0f);
+    if ((terms & FM_REP) && n_rep) f_int += (weights.x / (float)n_rep) * rep;
+    if ((terms & FM_ALI) && n_ali) f_int += (weights.y / (float)n_ali) * ali;
+    if ((terms & FM_ATT) && n_att) f_int += (weights.z / (float)n_att) * att;
+    // §4.2, Eq. 4: curl of the Perlin potential (p(s1), p(s2), p(s3))(r / rho)
+    // * eta, from the noise module with scale = rho and gain = eta / rho (the
+    // module takes the curl in noise coordinates, Eq. 4 in metres).
+    if (terms & FM_CUR) {
+        float cx, cy, cz;
+        NOISE_VELOCITY_S(p.x, p.y, p.z, t, id, step, &cx, &cy, &cz);
+        f_int += (float4)(cx, cy, cz, 0.0f);
+    }
+
+    float4 f_ext = (float4)(0.0f);
+    if (has_targets) {
+        const uint tgt = target_of[id];
+        // §5.2, Eq. 5 on the insects: the sample neighbours of this insect's
+        // target are the targets of other insects; their current positions
+        // push this insect away with a Gaussian of the Manhattan distance,
+        // spreading the swarm over the surface ("we use F_con to scatter the
+        // insects along the mesh").  sigma is a length (docs/force-model.md).
+        if (terms & FM_CON) {
+            const uint k0 = nbr_start[tgt], k1 = nbr_start[tgt + 1];
+            float4 con = (float4)(0.0f);
+            const float inv2s2 = 1.0f / (2.0f * zones.w * zones.w);
+            for (uint k = k0; k < k1; ++k) {
+                const float4 q = (float4)(by_target[nbr_index[k]].xyz, 0.0f);
+                const float4 dq = p - q;
+                const float m = fabs(dq.x) + fabs(dq.y) + fabs(dq.z);
+                const float l = length(dq);
+                if (l > 0.0f) con += dq / l * exp(-m * m * inv2s2);
+            }
+            if (k1 > k0) f_ext += (blend.y / (float)(k1 - k0)) * con;
+        }
+        // §5.3, Eq. 6-7: the harmonic distance force along the unit vector to
+        // the target, with d normalised by the distance scale and clamped to
+        // 1 (the paper's H(d) = 0 beyond 1 would leave far insects with no
+        // pull at all).  4 (d - 0.5)^(1/3) + 0.5 is positive (towards the
+        // target) above d = 0.498 and negative below: insects hover about
+        // their target instead of sitting on it.
+        if (terms & FM_DIS) {
+            const float4 s = (float4)(targets[tgt].xyz + offset.xyz, 0.0f);
+            const float4 rs = s - p;
+            const float dd = length(rs);
+            if (dd > 0.0f) {
+                const float dn = fmin(dd / blend.z, 1.0f);
+                f_ext += (weights.w * (4.0f * cbrt(dn - 0.5f) + 0.5f) / dd) * rs;
+            }
+        }
+    }
+    // §3, Eq. 1.
+    force[i] = blend.x * f_int + (1.0f - blend.x) * f_ext;
+}
+
+// The insects' positions by target index (the target of agent ids[i]), so
+// that Eq. 5 reads a target neighbour's insect with one lookup.
+__kernel void force_model_scatter(__global const float4* pos, __global const uint* ids, uint n,
+                                  __global const uint* target_of, __global float4* by_target) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    by_target[target_of[ids[i]]] = pos[i];
+}
+
+// §6, Eq. 9.
+inline float fm_ramp(float x) {
+    if (x >= 1.0f) return 1.0f;
+    const float x3 = x * x * x;
+    return 1.875f * x - 1.25f * x3 + 0.375f * x3 * x * x;
+}
+
+// Unit outward normal and distance of obstacle k (curl_noise.cl primitives).
+inline float fm_obstacle(__global const float4* prims, uint k, float4 p, float4* nrm) {
+    const swcl_dist b = swcl_prim_dist(prims[2 * k], prims[2 * k + 1], 0, p.xyz);
+    const float gl = length(b.g);
+    *nrm = gl > 0.0f ? (float4)(b.g / gl, 0.0f) : (float4)(0.0f, 0.0f, 1.0f, 0.0f);
+    return b.d;
+}
+
+// Newton step (unit mass): u += F dt, |u| <= max_speed (§6), then near each
+// obstacle the avoidance velocity of Eq. 8 with ramp(D / L) (Eq. 9), then
+// r += u dt.  Eq. 8 as printed keeps ramp u + (1 - ramp) n (n.u), which at
+// the surface (ramp 0) is the *normal* part only: the opposite of its stated
+// goal u.n = 0 (Bridson's formula is for the potential, not the velocity).
+// We remove the part of the normal velocity that points into the obstacle,
+// scaled by 1 - ramp: u_a = u - (1 - ramp) n min(n.u, 0).  At the surface
+// the insect slides tangentially; moving away is never slowed.
+__kernel void force_model_integrate(__global float4* pos, __global float4* vel, __global const float4* force,
+                                    uint n, float dt, float max_speed, float cruise_speed,
+                                    __global const float4* prims, uint nprims, float range) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    float4 p = (float4)(pos[i].xyz, 0.0f);
+    float4 u = (float4)(vel[i].xyz, 0.0f) + dt * force[i];
+    const float s = length(u);
+    if (s > max_speed) u *= max_speed / s;
+    else if (s < cruise_speed && s > 0.0f) u *= cruise_speed / s;
+    for (uint k = 0; k < nprims; ++k) {
+        float4 nrm;
+        const float d = fm_obstacle(prims, k, p, &nrm);
+        if (d < range) {
+            const float un = dot(nrm, u);
+            if (un < 0.0f) u -= (1.0f - fm_ramp(fmax(d, 0.0f) / range)) * un * nrm;
+        }
+    }
+    vel[i] = u;
+    pos[i] = p + dt * u;
+}
+
+// Puts back on the surface any insect that a later stage (minimum distance
+// enforcement) pushed into an obstacle.
+__kernel void force_model_project(__global float4* pos, uint n, __global const float4* prims, uint nprims) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    float4 p = (float4)(pos[i].xyz, 0.0f);
+    for (uint k = 0; k < nprims; ++k) {
+        float4 nrm;
+        const float d = fm_obstacle(prims, k, p, &nrm);
+        if (d < 0.0f) p -= d * nrm;
+    }
+    pos[i] = p;
+}
