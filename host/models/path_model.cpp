@@ -1,0 +1,138 @@
+#include "models/path_model.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "core/error.hpp"
+#include "swarm/swarm.hpp"
+
+namespace swarmcl {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+PathModel::PathModel(Swarm& swarm, PathModelConfig config) : config_(std::move(config)), ctx_(swarm.context()) {
+    const auto t0 = std::chrono::steady_clock::now();
+    auto& c = config_;
+    require(std::isfinite(c.speed) && c.speed >= 0.0f, "path model speed (s0) must be a finite number >= 0");
+    require(std::isfinite(c.min_distance) && c.min_distance >= 0.0f,
+            "path model min_distance must be a finite number >= 0 (0: off)");
+    require(!c.groups.empty() && c.groups.size() <= 64, "path model needs 1 to 64 groups, each with its goals");
+    if (!c.has_grid_box) {
+        c.grid_min = swarm.config().domain_min;
+        c.grid_max = swarm.config().domain_max;
+    }
+    grid_ = make_grid(c.grid_min, c.grid_max, c.resolution, "path model grid", uint64_t(1) << 26);
+    // §5.1: obstacles -> signed distance -> repulsion; Eq. 4/7 slowness.
+    if (!c.obstacles.empty()) {
+        const SdfGrid sdf = compute_sdf(ctx_, merged(c.obstacles), grid_);
+        phi_ = sdf.phi;
+    }
+    slowness_ = cost_slowness(grid_, phi_, c.weights);
+    for (size_t g = 0; g < c.groups.size(); ++g) {
+        try {
+            check_goals(grid_, c.groups[g].goals, slowness_);
+        } catch (const Error& e) {
+            throw Error(e.status(), "path model group " + std::to_string(g) + ": " + e.what());
+        }
+    }
+    NoiseConfig nc = c.noise;
+    noise_ = std::make_unique<NoiseField>(ctx_, nc, &swarm.config().domain_min, &swarm.config().domain_max);
+    // The mesh shapes the curl noise when the kernel can assemble it (curl,
+    // analytic derivatives, procedural); other noise types are used as they are.
+    bool mesh_noise = false;
+    std::vector<float> phi_upload(phi_);
+    for (float& v : phi_upload)
+        if (std::isfinite(v)) mesh_noise = true;
+        else v = 1e20f;  // no mesh in reach: "far"
+    mesh_noise = mesh_noise && nc.type == NoiseType::Curl && !nc.finite_difference && !nc.baked;
+    std::string defines = noise_->defines();
+    if (mesh_noise) {
+        // The procedural curl path of noise_field.cl with every boundary, no wide kernels.
+        defines = "-DNOISE_KIND=0 -DNOISE_TIMED=" + std::string(nc.time_scale > 0 ? "1" : "0") + " -DPATH_MESH=1";
+    }
+    advance_ = ctx_.kernel("path_model.cl", "path_model_advance", defines);
+    phi_dev_.allocate(ctx_, phi_upload.empty() ? 1 : phi_upload.size(), "path model signed distance");
+    if (!phi_upload.empty()) phi_dev_.upload(ctx_, phi_upload.data(), phi_upload.size());
+    dirs_.allocate(ctx_, grid_.count() * c.groups.size(), "path model directions");
+    std::vector<cl_uint> ends(c.groups.size());
+    uint64_t end = 0;
+    for (size_t g = 0; g < c.groups.size(); ++g) {
+        end += c.groups[g].agents;
+        ends[g] = cl_uint(std::min<uint64_t>(end, 0xFFFFFFFFu));
+    }
+    group_end_.allocate(ctx_, ends.size(), "path model groups");
+    group_end_.upload(ctx_, ends.data(), ends.size());
+    costs_.resize(c.groups.size());
+    for (uint32_t g = 0; g < c.groups.size(); ++g) {
+        costs_[g] = solve_cost(grid_, slowness_, c.groups[g].goals, c.second_order);
+        upload_directions(g);
+    }
+    if (c.min_distance > 0.0f) mde_.emplace(ctx_, c.min_distance, nc.seed);
+    moved_.allocate(ctx_, 2, "MDE counters");
+    moved_.fill(ctx_, 0u, 2);
+    ctx_.queue().finish();
+    preprocess_seconds_ = seconds_since(t0);
+}
+
+void PathModel::upload_directions(uint32_t group) {
+    std::vector<cl_float4> d(grid_.count());
+    direction_field(grid_, costs_[group], phi_, reinterpret_cast<float*>(d.data()));
+    ctx_.queue().enqueueWriteBuffer(dirs_.get(), CL_TRUE, size_t(group) * grid_.count() * sizeof(cl_float4),
+                                    d.size() * sizeof(cl_float4), d.data());
+}
+
+double PathModel::set_goals(uint32_t group, std::vector<Goal> goals) {
+    const auto t0 = std::chrono::steady_clock::now();
+    require(group < config_.groups.size(), "path model: group " + std::to_string(group) + " does not exist");
+    std::vector<double> cost = solve_cost(grid_, slowness_, goals, config_.second_order);  // validates
+    costs_[group] = std::move(cost);
+    config_.groups[group].goals = std::move(goals);
+    upload_directions(group);
+    return seconds_since(t0);
+}
+
+void PathModel::advance(Swarm& swarm, uint64_t step) {
+    const uint32_t n = swarm.agent_count();
+    const float dt = swarm.config().dt;
+    cl_uint i = 0;
+    advance_.setArg(i++, swarm.positions().get());
+    advance_.setArg(i++, swarm.velocities().get());
+    advance_.setArg(i++, swarm.ids().get());
+    advance_.setArg(i++, n);
+    advance_.setArg(i++, dt);
+    advance_.setArg(i++, float(double(step) * dt));
+    advance_.setArg(i++, cl_uint(step));
+    i = noise_->set_args(advance_, i);
+    advance_.setArg(i++, dirs_.get());
+    advance_.setArg(i++, cl_int4{{cl_int(grid_.dims[0]), cl_int(grid_.dims[1]), cl_int(grid_.dims[2]), 0}});
+    advance_.setArg(i++, cl_float4{{float(grid_.origin[0]), float(grid_.origin[1]), float(grid_.origin[2]), float(grid_.h)}});
+    advance_.setArg(i++, group_end_.get());
+    advance_.setArg(i++, cl_uint(config_.groups.size()));
+    advance_.setArg(i++, config_.speed);
+    advance_.setArg(i++, phi_dev_.get());
+    launch(ctx_, advance_, n);
+    swarm.positions_changed();
+    if (mde_) mde_->apply(swarm, moved_);
+    ++steps_since_read_;
+}
+
+StepStats PathModel::take_stats(Swarm& swarm) {
+    cl_uint counts[2] = {0, 0};
+    moved_.download(ctx_, counts, 2);
+    moved_.fill(ctx_, 0u, 2);
+    StepStats s;
+    s.agents = swarm.agent_count();
+    s.mde_moved_last = counts[0];
+    s.mde_moved_total = counts[1];
+    s.steps = steps_since_read_;
+    steps_since_read_ = 0;
+    return s;
+}
+
+}  // namespace swarmcl
