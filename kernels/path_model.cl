@@ -88,7 +88,7 @@ inline swcl_dist path_mesh_dist(__global const float* phi, int4 dims, float4 ori
 __kernel void path_model_advance(__global float4* pos, __global float4* vel, __global const uint* ids, uint n,
                                  float dt, float t, uint step, NOISE_PARAMS, __global const float4* dirs,
                                  int4 dims, float4 origin_h, __global const uint* group_end, uint ngroups,
-                                 float s0, __global const float* phi) {
+                                 float s0, __global const float* phi, float inv_falloff_cost) {
     const uint i = get_global_id(0);
     if (i >= n) return;
     const float4 p4 = pos[i];
@@ -123,7 +123,9 @@ __kernel void path_model_advance(__global float4* pos, __global float4* vel, __g
     uint g = 0;
     while (g + 1 < ngroups && agent >= group_end[g]) ++g;
     const float4 d = path_trilinear(dirs + (size_t)g * dims.x * dims.y * dims.z, dims, origin_h, p4.xyz);
-    vx += s0 * d.x; vy += s0 * d.y; vz += s0 * d.z;
+    // Optional goal ramp (host: goal_falloff): d.w is the cost C, 0 in the goal.
+    const float k = inv_falloff_cost > 0.0f ? s0 * fmin(1.0f, d.w * inv_falloff_cost) : s0;
+    vx += k * d.x; vy += k * d.y; vz += k * d.z;
     vel[i] = (float4)(vx, vy, vz, 0.0f);
     pos[i] = (float4)(p4.x + vx * dt, p4.y + vy * dt, p4.z + vz * dt, 0.0f);
 }

@@ -78,8 +78,9 @@ swcl_status swcl_scenario_get_info(swcl_scenario scenario, swcl_scenario_info* o
         info.seed = s->swarm.seed;
         copy_text(info.name, s->name);
         copy_text(info.output_dir, s->output_dir);
-        copy_text(info.model, s->field_model ? "field" : "ballistic");
-        info.min_distance = s->field_model ? s->field_model->min_distance : 0.0f;
+        copy_text(info.model, s->field_model ? "field" : s->path_model ? "path" : "ballistic");
+        info.min_distance = s->field_model ? s->field_model->min_distance
+                                           : s->path_model ? s->path_model->min_distance : 0.0f;
         *out = info;
     });
 }
@@ -99,6 +100,7 @@ swcl_status swcl_scenario_create_swarm(swcl_scenario scenario, swcl_context cont
         for (size_t i = 0; i < vel.size(); ++i) vel[i] = s->initial.velocity[i % 3];
         swarm->write(Attribute::Velocity, vel.data(), n);
         if (s->field_model) swarm->set_behavior(std::make_shared<FieldModel>(*swarm, *s->field_model));
+        if (s->path_model) swarm->set_behavior(std::make_shared<PathModel>(*swarm, *s->path_model));
         out->id = swarms().add(std::move(swarm));
     });
 }

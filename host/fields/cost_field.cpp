@@ -145,7 +145,7 @@ void direction_field(const Grid3& grid, const std::vector<double>& C, const std:
                 }
                 const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
                 for (int a = 0; a < 3; ++a) o[a] = len > 0 ? float(v[a] / len) : 0.0f;
-                o[3] = std::isfinite(C[c]) ? float(C[c]) : -1.0f;
+                o[3] = std::isfinite(C[c]) ? float(C[c]) : 1e30f;
             }
 }
 

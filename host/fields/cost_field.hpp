@@ -47,7 +47,7 @@ std::vector<double> solve_cost(const Grid3& grid, const std::vector<double>& slo
 // both neighbours are finite and one-sided ones otherwise; where that
 // vanishes (a plateau) towards the lowest neighbour; 0 inside goals (C = 0).
 // Inside obstacles (C = inf) the direction leads out: +grad phi.  xyz per cell
-// in out[4c..4c+2], out[4c+3] = C (or -1 where C is infinite).
+// in out[4c..4c+2], out[4c+3] = C (1e30 where C is infinite).
 void direction_field(const Grid3& grid, const std::vector<double>& cost, const std::vector<float>& phi,
                      float* out);
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "models/field_model.hpp"
+#include "models/path_model.hpp"
 #include "swarm/swarm.hpp"
 
 namespace swarmcl {
@@ -28,6 +29,7 @@ struct Scenario {
     SwarmConfig swarm;                    // capacity, agent count, seed, domain, radius, dt
     InitialDistribution initial;
     std::optional<FieldModelConfig> field_model;  // empty: ballistic
+    std::optional<PathModelConfig> path_model;    // "model": {"type": "path"} (docs/path-field.md)
     uint32_t steps = 100;
     std::string output_dir = "out";
     uint32_t output_formats = 1;          // ExportFormat mask
@@ -42,7 +44,9 @@ struct Scenario {
 // Parses and validates; Error(Parse) with "line L, column C" for malformed
 // JSON and the key path ("model.noise.scale: expected a number > 0") for
 // everything else.  Unknown keys are errors.
-Scenario parse_scenario(const std::string& json_text);
+// OBJ obstacle files are read relative to `base_dir` (load_scenario: the
+// scenario file's folder) unless absolute.
+Scenario parse_scenario(const std::string& json_text, const std::string& base_dir = "");
 Scenario load_scenario(const std::string& path);
 
 }  // namespace swarmcl

@@ -20,9 +20,13 @@ PathModel::PathModel(Swarm& swarm, PathModelConfig config) : config_(std::move(c
     const auto t0 = std::chrono::steady_clock::now();
     auto& c = config_;
     require(std::isfinite(c.speed) && c.speed >= 0.0f, "path model speed (s0) must be a finite number >= 0");
+    require(std::isfinite(c.goal_falloff) && c.goal_falloff >= 0.0f, "path model goal_falloff must be a finite number >= 0");
     require(std::isfinite(c.min_distance) && c.min_distance >= 0.0f,
             "path model min_distance must be a finite number >= 0 (0: off)");
     require(!c.groups.empty() && c.groups.size() <= 64, "path model needs 1 to 64 groups, each with its goals");
+    require(c.waypoints.empty() || c.waypoint_every > 0, "path model waypoint_every must be >= 1");
+    for (const auto& w : c.waypoints)
+        require(std::isfinite(w[0]) && std::isfinite(w[1]) && std::isfinite(w[2]), "path model waypoints must be finite");
     if (!c.has_grid_box) {
         c.grid_min = swarm.config().domain_min;
         c.grid_max = swarm.config().domain_max;
@@ -94,10 +98,22 @@ double PathModel::set_goals(uint32_t group, std::vector<Goal> goals) {
     costs_[group] = std::move(cost);
     config_.groups[group].goals = std::move(goals);
     upload_directions(group);
-    return seconds_since(t0);
+    const double t = seconds_since(t0);
+    ++recomputes_;
+    recompute_seconds_ += t;
+    return t;
 }
 
 void PathModel::advance(Swarm& swarm, uint64_t step) {
+    if (!config_.waypoints.empty() && step > 0 && step % config_.waypoint_every == 0) {
+        const auto& w = config_.waypoints[(step / config_.waypoint_every - 1) % config_.waypoints.size()];
+        std::vector<Goal> goals = config_.groups[0].goals;
+        // The first goal moves to the waypoint, the others keep their offsets to it.
+        const std::array<float, 3> shift{w[0] - goals[0].center[0], w[1] - goals[0].center[1], w[2] - goals[0].center[2]};
+        for (Goal& g : goals)
+            for (int a = 0; a < 3; ++a) g.center[a] += shift[a];
+        set_goals(0, std::move(goals));
+    }
     const uint32_t n = swarm.agent_count();
     const float dt = swarm.config().dt;
     cl_uint i = 0;
@@ -116,6 +132,8 @@ void PathModel::advance(Swarm& swarm, uint64_t step) {
     advance_.setArg(i++, cl_uint(config_.groups.size()));
     advance_.setArg(i++, config_.speed);
     advance_.setArg(i++, phi_dev_.get());
+    // The ramp compares the cost with A * falloff (cost per metre of free path: A).
+    advance_.setArg(i++, config_.goal_falloff > 0.0f ? float(1.0 / (config_.weights.A * config_.goal_falloff)) : 0.0f);
     launch(ctx_, advance_, n);
     swarm.positions_changed();
     if (mde_) mde_->apply(swarm, moved_);

@@ -34,8 +34,16 @@ struct PathModelConfig {
     CostWeights weights;                 // A, B of Eq. 4
     bool second_order = false;           // fast marching order
     float speed = 1.5f;                  // s0 of Eq. 8, m/s (Table 1, two blocks)
+    // Our addition: V_g grows from 0 at a goal to s0 over this many metres of
+    // path (cost / A), so arriving insects are not pressed onto the goal's
+    // surface (0: at once, the paper's Eq. 8).
+    float goal_falloff = 0.0f;
     float min_distance = 0.0f;           // MDE threshold, m; 0: off
     std::vector<PathGroup> groups;       // at least one, each with a goal
+    // Chasing (§7) in a scenario: every `waypoint_every` steps group 0's
+    // goals move (their centres) to the next waypoint, cyclically.
+    std::vector<std::array<float, 3>> waypoints;
+    uint32_t waypoint_every = 60;
 };
 
 class PathModel : public Behavior {
@@ -56,6 +64,9 @@ public:
     const std::vector<float>& sdf() const { return phi_; }                 // empty: no obstacles
     const std::vector<double>& cost(uint32_t group) const { return costs_.at(group); }
     double preprocess_seconds() const { return preprocess_seconds_; }
+    // Cost field recomputations after a goal moved, and their total time.
+    uint32_t recomputes() const { return recomputes_; }
+    double recompute_seconds() const { return recompute_seconds_; }
 
 private:
     void upload_directions(uint32_t group);
@@ -74,6 +85,8 @@ private:
     DeviceBuffer<cl_uint> group_end_, moved_;
     uint64_t steps_since_read_ = 0;
     double preprocess_seconds_ = 0.0;
+    uint32_t recomputes_ = 0;
+    double recompute_seconds_ = 0.0;
 };
 
 }  // namespace swarmcl
