@@ -264,8 +264,10 @@ TriangleMesh read_mesh_obstacle(const json& j, const std::string& path, const st
             bad(o.at("type"), "expected \"box\", \"sphere\", \"cylinder\" or \"mesh\" (an OBJ file)");
         }
     } catch (const Error& e) {
-        if (e.status() == Status::Parse && std::string(e.what()).rfind(path, 0) == 0) throw;
-        fail(e.status() == Status::Io ? Status::Io : Status::Parse, path + ": " + e.what());
+        // A scenario error, whatever the mesh's own status (an unreadable
+        // OBJ file is a bad value in the scenario too).
+        if (std::string(e.what()).rfind(path, 0) == 0) throw;
+        fail(Status::Parse, path + ": " + e.what());
     }
     o.finish();
     return m;
