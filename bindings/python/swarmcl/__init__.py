@@ -14,6 +14,8 @@ from ._native import constants, ffi, header_path, lib, library_path
 from ._core import NO_AGENT, Context, Recorder, Scenario, Swarm, devices, noise_sample, version
 from .descriptors import (Box, DeviceInfo, DeviceType, FieldModel, NoiseDesc, NoiseType, Plane,
                           Sphere, StepStats)
+from .path import (BoxObstacle, CylinderObstacle, Goal, MeshObstacle, ObjObstacle, PathGroup, PathInfo,
+                   PathModel, SphereObstacle)
 from .errors import (BuildError, InternalError, InvalidArgumentError, InvalidHandleError, IOError_,
                      NoDeviceError, OpenCLError, OutOfMemoryError, ParseError, SwarmclError)
 
@@ -23,6 +25,8 @@ __all__ = [
     "Context", "Swarm", "Scenario", "Recorder", "devices", "noise_sample", "version", "NO_AGENT",
     "NoiseDesc", "NoiseType", "FieldModel", "Sphere", "Box", "Plane", "DeviceInfo", "DeviceType",
     "StepStats",
+    "PathModel", "PathGroup", "PathInfo", "Goal", "MeshObstacle", "ObjObstacle", "BoxObstacle",
+    "SphereObstacle", "CylinderObstacle",
     "SwarmclError", "InvalidArgumentError", "InvalidHandleError", "NoDeviceError", "BuildError",
     "OutOfMemoryError", "IOError_", "ParseError", "OpenCLError", "InternalError",
     "ffi", "lib", "constants", "header_path", "library_path",
