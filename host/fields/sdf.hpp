@@ -1,10 +1,11 @@
 // Signed distance from a grid's cell centres to obstacle meshes (curl-noise
 // paper §5.1, Eq. 5): negative inside, exact within a narrow band of the
-// surface (OpenCL, kernels/sdf.cl), extended beyond it by fast marching
-// (host, double).  The sign comes from angle-weighted pseudonormals
-// (Baerentzen & Aanaes 2005, the paper's [BA05]) near the surface and is
-// carried outwards by the march, so a mesh with a small hole still has an
-// inside; far from every mesh, cells the band does not reach stay positive.
+// surface (OpenCL, kernels/sdf.cl), extended beyond it by propagating the
+// band's closest surface points (host, a vector distance transform).  The
+// sign comes from angle-weighted pseudonormals (Baerentzen & Aanaes 2005,
+// the paper's [BA05]) near the surface and travels with the closest points,
+// so a mesh with a small hole still has an inside.  With no mesh within the
+// band of any cell (a mesh outside the grid), every cell is +inf.
 #pragma once
 #include <array>
 #include <vector>
