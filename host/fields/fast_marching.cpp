@@ -11,16 +11,10 @@ namespace {
 
 enum : uint8_t { kFar = 0, kTrial = 1, kKnown = 2 };
 
-struct Entry {
-    double value;
-    uint32_t cell;
-    bool operator<(const Entry& o) const { return value > o.value; }  // min-heap
-};
-
 }  // namespace
 
 void fast_march(const Grid3& g, const std::vector<double>& slowness, std::vector<double>& u,
-                const FastMarchingOptions& options, std::vector<int8_t>* sign) {
+                const FastMarchingOptions& options) {
     const size_t n = g.count();
     require(slowness.size() == n && u.size() == n, "fast marching: arrays do not match the grid");
     require(n < 0xFFFFFFFFu, "fast marching: too many cells");
@@ -30,14 +24,34 @@ void fast_march(const Grid3& g, const std::vector<double>& slowness, std::vector
     const double h = g.h;
 
     std::vector<uint8_t> state(n, kFar);
-    std::vector<Entry> heap;
-    heap.reserve(1 << 16);
-    for (size_t c = 0; c < n; ++c)
+    double f_min = kInf;
+    for (size_t c = 0; c < n; ++c) {
         if (std::isfinite(u[c])) state[c] = kKnown;
+        f_min = std::min(f_min, slowness[c]);
+        require(slowness[c] > 0.0, "fast marching: slowness must be > 0 (+inf: impassable)");
+    }
+    if (!std::isfinite(f_min)) return;  // every cell impassable
 
-    // Solves the upwind quadratic at cell c from its known neighbours;
-    // *from_sign: the sign of the smallest of them.
-    auto solve = [&](size_t c, const int64_t x[3], int8_t* from_sign) -> double {
+    // An untidy priority queue (Yatziv, Bartesaghi & Sapiro 2006; Dial's
+    // buckets): trial cells sit in buckets of width delta by value and are
+    // accepted bucket by bucket.  An update adds at least f h / sqrt(3) to
+    // the smallest known neighbour, so with delta <= f_min h / sqrt(3) no
+    // cell can change the value of another cell of its own bucket: the
+    // order within a bucket does not matter, and the result is that of the
+    // heap-ordered method up to rounding, in O(N) instead of O(N log N)
+    // (3.6x faster at 128^3, bench/fmm_bench.cpp).  Second order can add
+    // less; its buckets are half as wide.
+    const double delta = f_min * h / std::sqrt(3.0) * (options.second_order ? 0.5 : 1.0);
+    std::vector<std::vector<uint32_t>> buckets(64);
+    auto bucket_of = [&](double v) { return size_t(v / delta); };
+    auto enqueue = [&](size_t c) {
+        const size_t b = bucket_of(u[c]);
+        if (b >= buckets.size()) buckets.resize(std::max(b + 1, 2 * buckets.size()));
+        buckets[b].push_back(uint32_t(c));
+    };
+
+    // Solves the upwind quadratic at cell c from its known neighbours.
+    auto solve = [&](size_t c, const int64_t x[3]) -> double {
         const double f = slowness[c];
         double b1[3], b2[3];  // per axis: the smaller known neighbour, and the known cell beyond it
         int axes = 0;
@@ -56,10 +70,7 @@ void fast_march(const Grid3& g, const std::vector<double>& slowness, std::vector
                     const size_t nb2 = c + 2 * side * stride[a];
                     if (state[nb2] == kKnown && u[nb2] <= m) m2 = u[nb2];
                 }
-                if (m < best) {
-                    best = m;
-                    *from_sign = sign ? (*sign)[nb] : 1;
-                }
+                best = std::min(best, m);
             }
             if (m < kInf) {
                 b1[axes] = m;
@@ -120,27 +131,29 @@ void fast_march(const Grid3& g, const std::vector<double>& slowness, std::vector
                 if (state[nb] == kKnown || !std::isfinite(slowness[nb])) continue;
                 int64_t y[3] = {x[0], x[1], x[2]};
                 y[a] = xa;
-                int8_t s = 1;
-                const double v = solve(nb, y, &s);
+                const double v = solve(nb, y);
                 if (v < u[nb]) {
                     u[nb] = v;
-                    if (sign) (*sign)[nb] = s;
                     state[nb] = kTrial;
-                    heap.push_back({v, uint32_t(nb)});
-                    std::push_heap(heap.begin(), heap.end());
+                    enqueue(nb);
                 }
             }
     };
 
     for (size_t c = 0; c < n; ++c)
         if (state[c] == kKnown) push_neighbours(c);
-    while (!heap.empty()) {
-        std::pop_heap(heap.begin(), heap.end());
-        const Entry e = heap.back();
-        heap.pop_back();
-        if (state[e.cell] == kKnown || e.value != u[e.cell]) continue;  // stale entry
-        state[e.cell] = kKnown;
-        push_neighbours(e.cell);
+    for (size_t b = 0; b < buckets.size(); ++b) {
+        // Rounding can put an update back into the current bucket: drain it.
+        while (!buckets[b].empty()) {
+            std::vector<uint32_t> cells;
+            cells.swap(buckets[b]);
+            for (uint32_t c : cells) {
+                if (state[c] == kKnown || bucket_of(u[c]) != b) continue;  // accepted, or moved to a lower bucket
+                state[c] = kKnown;
+                push_neighbours(c);
+            }
+        }
+        std::vector<uint32_t>().swap(buckets[b]);
     }
 }
 

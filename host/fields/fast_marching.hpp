@@ -1,7 +1,7 @@
 // Fast marching (Sethian 1996) for the eikonal equation |grad u| = f on a
 // Grid3, in double on the host (DESIGN.md: doubles where accuracy needs
 // them).  Used for the minimum cost field of the curl-noise paper (§5.2,
-// Eq. 7) and for the signed distance beyond its exact narrow band.
+// Eq. 7).
 #pragma once
 #include <cstdint>
 #include <limits>
@@ -18,11 +18,8 @@ struct FastMarchingOptions {
 // u: in: the known values (finite) and +inf elsewhere; out: the solution.
 // slowness: f per cell (> 0); +inf marks an impassable cell, which keeps
 // u = +inf.  Cells the front never reaches keep +inf.
-// sign (optional, per cell): each cell reached takes the sign of the known
-// neighbour it is solved from first (for a signed distance: the side it
-// lies on); known cells keep theirs.
 void fast_march(const Grid3& grid, const std::vector<double>& slowness, std::vector<double>& u,
-                const FastMarchingOptions& options = {}, std::vector<int8_t>* sign = nullptr);
+                const FastMarchingOptions& options = {});
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
