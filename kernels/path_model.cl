@@ -11,6 +11,11 @@
 #ifndef PATH_MESH
 #define PATH_MESH 0
 #endif
+// -DPATH_BAKED=1: the mesh-aware curl noise was baked onto a grid of nodes
+// (path_noise_bake) and is read back trilinearly (noise_baked_sample_s).
+#ifndef PATH_BAKED
+#define PATH_BAKED 0
+#endif
 
 // Trilinear read of a cell-centred float4 grid (origin_h: min corner, cell
 // edge), clamped to its border.
@@ -83,39 +88,64 @@ inline swcl_dist path_mesh_dist(__global const float* phi, int4 dims, float4 ori
     s.ho = (float3)(hyz, hxz, hxy) * (ih * ih);
     return s;
 }
+
+// V_l at (x, y, z): curl noise (NOISE_KIND == NOISE_CURL, analytic
+// derivatives) with every analytic boundary, then the mesh (Eq. 2 once more).
+inline void path_noise_mesh(NOISE_PARAMS, __global const float* phi, int4 dims, float4 origin_h, float x, float y,
+                            float z, float t, float* vx, float* vy, float* vz) {
+    const float scale = noise_shape.x, gain = noise_shape.y, d0 = noise_shape.z;
+    swcl_pj N;
+    swcl_noise_potential_s(x, y, z, t, NOISE_TIMED, 1.0f / scale, gain, noise_shape.w, noise_off0, noise_off1,
+                           noise_off2, &N);
+    swcl_modulate_prims_s(&N, x, y, z, d0, noise_prims, 0u, noise_nprims);
+    // The B-spline reaches 2 cells: farther than d0 + 2 sqrt(3) cells from
+    // the mesh, Eq. 2 is the identity; skip the 64 taps.
+    const float3 p = (float3)(x, y, z);
+    const float3 u = clamp((p - origin_h.xyz) / origin_h.w, (float3)(0.0f), convert_float3(dims.xyz - (int3)(1)));
+    const int3 c = convert_int3(u);
+    if (phi[c.x + dims.x * (c.y + dims.y * c.z)] < d0 + 3.5f * origin_h.w) {
+        float3 psi;
+        swcl_mat3 J;
+        swcl_pj_get(&N, &psi, &J);
+        swcl_modulate(path_mesh_dist(phi, dims, origin_h, p), d0, &psi, &J);
+        swcl_pj_set(&N, psi, J);
+    }
+    swcl_pj_curl(&N, scale, vx, vy, vz);
+}
+
+// Bakes path_noise_mesh onto the nodes vl_min + (i, j, k) * vl_cell (static noise).
+__kernel void path_noise_bake(NOISE_PARAMS, __global const float* phi, int4 dims, float4 origin_h,
+                              float4 vl_min, float4 vl_cell, int4 vl_dims, __global float4* out) {
+    const uint i = get_global_id(0);
+    const uint n = (uint)(vl_dims.x * vl_dims.y * vl_dims.z);
+    if (i >= n) return;
+    const uint nx = (uint)vl_dims.x, ny = (uint)vl_dims.y;
+    float vx, vy, vz;
+    path_noise_mesh(noise_type, noise_flags, noise_shape, noise_fd_step, noise_seed, noise_off0, noise_off1,
+                    noise_off2, noise_prims, noise_nprims, noise_baked, noise_bake_min, noise_bake_cell,
+                    noise_bake_dims, phi, dims, origin_h, vl_min.x + vl_cell.x * (float)(i % nx),
+                    vl_min.y + vl_cell.y * (float)((i / nx) % ny), vl_min.z + vl_cell.z * (float)(i / (nx * ny)),
+                    0.0f, &vx, &vy, &vz);
+    out[i] = (float4)(vx, vy, vz, 0.0f);
+}
 #endif
 
 __kernel void path_model_advance(__global float4* pos, __global float4* vel, __global const uint* ids, uint n,
                                  float dt, float t, uint step, NOISE_PARAMS, __global const float4* dirs,
                                  int4 dims, float4 origin_h, __global const uint* group_end, uint ngroups,
-                                 float s0, __global const float* phi, float inv_falloff_cost) {
+                                 float s0, __global const float* phi, float inv_falloff_cost,
+                                 __global const float4* vl, float4 vl_min, float4 vl_cell, int4 vl_dims) {
     const uint i = get_global_id(0);
     if (i >= n) return;
     const float4 p4 = pos[i];
     const uint agent = ids[i];
     float vx, vy, vz;
-#if PATH_MESH
-    {
-        // NOISE_KIND == NOISE_CURL, not baked, analytic derivatives (host).
-        const float scale = noise_shape.x, gain = noise_shape.y, d0 = noise_shape.z;
-        swcl_pj N;
-        swcl_noise_potential_s(p4.x, p4.y, p4.z, t, NOISE_TIMED, 1.0f / scale, gain, noise_shape.w, noise_off0,
-                               noise_off1, noise_off2, &N);
-        swcl_modulate_prims_s(&N, p4.x, p4.y, p4.z, d0, noise_prims, 0u, noise_nprims);
-        // The B-spline reaches 2 cells: farther than d0 + 2 sqrt(3) cells
-        // from the mesh, Eq. 2 is the identity; skip the 64 taps.
-        const float3 u = clamp((p4.xyz - origin_h.xyz) / origin_h.w, (float3)(0.0f),
-                               convert_float3(dims.xyz - (int3)(1)));
-        const int3 c = convert_int3(u);
-        if (phi[c.x + dims.x * (c.y + dims.y * c.z)] < d0 + 3.5f * origin_h.w) {
-            float3 psi;
-            swcl_mat3 J;
-            swcl_pj_get(&N, &psi, &J);
-            swcl_modulate(path_mesh_dist(phi, dims, origin_h, p4.xyz), d0, &psi, &J);
-            swcl_pj_set(&N, psi, J);
-        }
-        swcl_pj_curl(&N, scale, &vx, &vy, &vz);
-    }
+#if PATH_BAKED
+    noise_baked_sample_s(vl, vl_min, vl_cell, vl_dims, p4.x, p4.y, p4.z, &vx, &vy, &vz);
+#elif PATH_MESH
+    path_noise_mesh(noise_type, noise_flags, noise_shape, noise_fd_step, noise_seed, noise_off0, noise_off1,
+                    noise_off2, noise_prims, noise_nprims, noise_baked, noise_bake_min, noise_bake_cell,
+                    noise_bake_dims, phi, dims, origin_h, p4.x, p4.y, p4.z, t, &vx, &vy, &vz);
 #else
     NOISE_VELOCITY_S(p4.x, p4.y, p4.z, t, agent, step, &vx, &vy, &vz);
 #endif

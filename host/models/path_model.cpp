@@ -45,22 +45,22 @@ PathModel::PathModel(Swarm& swarm, PathModelConfig config) : config_(std::move(c
             throw Error(e.status(), "path model group " + std::to_string(g) + ": " + e.what());
         }
     }
-    NoiseConfig nc = c.noise;
-    noise_ = std::make_unique<NoiseField>(ctx_, nc, &swarm.config().domain_min, &swarm.config().domain_max);
-    // The mesh shapes the curl noise when the kernel can assemble it (curl,
-    // analytic derivatives, procedural); other noise types are used as they are.
-    bool mesh_noise = false;
+    // The mesh shapes the curl noise when the kernel can assemble it (curl
+    // with analytic derivatives); other noise types are used as they are.
     std::vector<float> phi_upload(phi_);
+    bool any_mesh = false;
     for (float& v : phi_upload)
-        if (std::isfinite(v)) mesh_noise = true;
+        if (std::isfinite(v)) any_mesh = true;
         else v = 1e20f;  // no mesh in reach: "far"
-    mesh_noise = mesh_noise && nc.type == NoiseType::Curl && !nc.finite_difference && !nc.baked;
+    const bool mesh_noise = any_mesh && c.noise.type == NoiseType::Curl && !c.noise.finite_difference;
+    NoiseConfig nc = c.noise;
+    if (mesh_noise) nc.baked = false;  // baked below, with the mesh
+    noise_ = std::make_unique<NoiseField>(ctx_, nc, &swarm.config().domain_min, &swarm.config().domain_max);
     std::string defines = noise_->defines();
     if (mesh_noise) {
         // The procedural curl path of noise_field.cl with every boundary, no wide kernels.
         defines = "-DNOISE_KIND=0 -DNOISE_TIMED=" + std::string(nc.time_scale > 0 ? "1" : "0") + " -DPATH_MESH=1";
     }
-    advance_ = ctx_.kernel("path_model.cl", "path_model_advance", defines);
     phi_dev_.allocate(ctx_, phi_upload.empty() ? 1 : phi_upload.size(), "path model signed distance");
     if (!phi_upload.empty()) phi_dev_.upload(ctx_, phi_upload.data(), phi_upload.size());
     dirs_.allocate(ctx_, grid_.count() * c.groups.size(), "path model directions");
@@ -77,11 +77,40 @@ PathModel::PathModel(Swarm& swarm, PathModelConfig config) : config_(std::move(c
         costs_[g] = solve_cost(grid_, slowness_, c.groups[g].goals, c.second_order);
         upload_directions(g);
     }
+    vl_.allocate(ctx_, 1, "baked local field");
+    if (mesh_noise && c.noise.baked) {
+        bake_local_field(defines);
+        defines += " -DPATH_BAKED=1";
+    }
+    advance_ = ctx_.kernel("path_model.cl", "path_model_advance", defines);
     if (c.min_distance > 0.0f) mde_.emplace(ctx_, c.min_distance, nc.seed);
     moved_.allocate(ctx_, 2, "MDE counters");
     moved_.fill(ctx_, 0u, 2);
     ctx_.queue().finish();
     preprocess_seconds_ = seconds_since(t0);
+}
+
+void PathModel::bake_local_field(const std::string& defines) {
+    // The nodes of the noise's bake grid over its region (NoiseField::bake).
+    const NoiseConfig& nc = noise_->config();
+    for (int a = 0; a < 3; ++a) {
+        vl_min_.s[a] = nc.region_min[a];
+        vl_cell_.s[a] = (nc.region_max[a] - nc.region_min[a]) / float(nc.bake_resolution[a] - 1);
+        vl_dims_.s[a] = cl_int(nc.bake_resolution[a]);
+    }
+    vl_cell_.s[3] = 1.0f;
+    const size_t nodes = size_t(nc.bake_resolution[0]) * nc.bake_resolution[1] * nc.bake_resolution[2];
+    vl_.allocate(ctx_, nodes, "baked local field");
+    cl::Kernel k = ctx_.kernel("path_model.cl", "path_noise_bake", defines);
+    cl_uint i = noise_->set_args(k, 0);
+    k.setArg(i++, phi_dev_.get());
+    k.setArg(i++, cl_int4{{cl_int(grid_.dims[0]), cl_int(grid_.dims[1]), cl_int(grid_.dims[2]), 0}});
+    k.setArg(i++, cl_float4{{float(grid_.origin[0]), float(grid_.origin[1]), float(grid_.origin[2]), float(grid_.h)}});
+    k.setArg(i++, vl_min_);
+    k.setArg(i++, vl_cell_);
+    k.setArg(i++, vl_dims_);
+    k.setArg(i++, vl_.get());
+    launch(ctx_, k, nodes);
 }
 
 void PathModel::upload_directions(uint32_t group) {
@@ -134,6 +163,10 @@ void PathModel::advance(Swarm& swarm, uint64_t step) {
     advance_.setArg(i++, phi_dev_.get());
     // The ramp compares the cost with A * falloff (cost per metre of free path: A).
     advance_.setArg(i++, config_.goal_falloff > 0.0f ? float(1.0 / (config_.weights.A * config_.goal_falloff)) : 0.0f);
+    advance_.setArg(i++, vl_.get());
+    advance_.setArg(i++, vl_min_);
+    advance_.setArg(i++, vl_cell_);
+    advance_.setArg(i++, vl_dims_);
     launch(ctx_, advance_, n);
     swarm.positions_changed();
     if (mde_) mde_->apply(swarm, moved_);

@@ -26,7 +26,7 @@ struct PathGroup {
 };
 
 struct PathModelConfig {
-    NoiseConfig noise;                   // V_l (Eq. 1-3); the meshes join its boundaries
+    NoiseConfig noise;                   // V_l (Eq. 1-3); the meshes join its boundaries (baked: with them)
     std::vector<TriangleMesh> obstacles; // §5.1 obstacles, merged into one signed distance grid
     bool has_grid_box = false;           // false: the swarm's domain
     std::array<float, 3> grid_min{}, grid_max{};
@@ -70,6 +70,7 @@ public:
 
 private:
     void upload_directions(uint32_t group);
+    void bake_local_field(const std::string& defines);
 
     PathModelConfig config_;
     Context& ctx_;
@@ -82,6 +83,10 @@ private:
     cl::Kernel advance_;
     DeviceBuffer<cl_float4> dirs_;
     DeviceBuffer<cl_float> phi_dev_;
+    // The mesh-aware curl noise baked on the noise's bake grid (noise.baked).
+    DeviceBuffer<cl_float4> vl_;
+    cl_float4 vl_min_{}, vl_cell_{{1, 1, 1, 1}};
+    cl_int4 vl_dims_{{2, 2, 2, 0}};
     DeviceBuffer<cl_uint> group_end_, moved_;
     uint64_t steps_since_read_ = 0;
     double preprocess_seconds_ = 0.0;
