@@ -159,3 +159,39 @@ __kernel void path_model_advance(__global float4* pos, __global float4* vel, __g
     vel[i] = (float4)(vx, vy, vz, 0.0f);
     pos[i] = (float4)(p4.x + vx * dt, p4.y + vy * dt, p4.z + vz * dt, 0.0f);
 }
+
+#if PATH_BAKED && defined(NOISE_WIDE)
+// path_model_advance on SWCL_W consecutive agents per work-item (CPU
+// devices, baked local field; noise_field.cl's explicit-width helpers): the
+// scalar kernel's arithmetic in the same order, so the same results.
+__kernel void path_model_advance_w(__global float4* pos, __global float4* vel, __global const uint* ids, uint n,
+                                   float dt, float t, uint step, NOISE_PARAMS, __global const float4* dirs,
+                                   int4 dims, float4 origin_h, __global const uint* group_end, uint ngroups,
+                                   float s0, __global const float* phi, float inv_falloff_cost,
+                                   __global const float4* vl, float4 vl_min, float4 vl_cell, int4 vl_dims) {
+    const uint base = get_global_id(0) * SWCL_W;
+    if (base >= n) return;
+    __global float* pp = (__global float*)pos;
+    swcl_fw px, py, pz;
+    noise_load_xyz_w(pp, base, n, &px, &py, &pz);
+    swcl_fw vx, vy, vz;
+    noise_baked_sample_w(vl, vl_min, vl_cell, vl_dims, px, py, pz, &vx, &vy, &vz);
+    const size_t cells = (size_t)dims.x * dims.y * dims.z;
+#define PATH_VG_LANE_(k)                                                                                     \
+    {                                                                                                        \
+        const uint agent = ids[min(base + (uint)SWCL_LANE_I(k), n - 1)];                                     \
+        uint g = 0;                                                                                          \
+        while (g + 1 < ngroups && agent >= group_end[g]) ++g;                                                \
+        const float4 d = path_trilinear(dirs + g * cells, dims, origin_h,                                    \
+                                        (float3)(SWCL_LANE(px, k), SWCL_LANE(py, k), SWCL_LANE(pz, k)));     \
+        const float kk = inv_falloff_cost > 0.0f ? s0 * fmin(1.0f, d.w * inv_falloff_cost) : s0;            \
+        SWCL_LANE(vx, k) += kk * d.x;                                                                        \
+        SWCL_LANE(vy, k) += kk * d.y;                                                                        \
+        SWCL_LANE(vz, k) += kk * d.z;                                                                        \
+    }
+    SWCL_EACH_LANE(PATH_VG_LANE_)
+#undef PATH_VG_LANE_
+    noise_store_w((__global float*)vel, base, n, vx, vy, vz);
+    noise_store_w(pp, base, n, px + vx * dt, py + vy * dt, pz + vz * dt);
+}
+#endif

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes examples/scenarios/meshes/hamlet.obj: a few houses (box bodies with
+"""Writes examples/meshes/hamlet.obj: a few houses (box bodies with
 gabled roofs) for the migratory-locusts scenario of the curl-noise paper (§7,
 Fig. 1 left).  The project generates its own obstacle meshes; run this again
 to regenerate the file (it is deterministic)."""
@@ -47,4 +47,4 @@ def main(path):
 
 if __name__ == "__main__":
     here = os.path.dirname(os.path.abspath(__file__))
-    main(sys.argv[1] if len(sys.argv) > 1 else os.path.join(here, "..", "examples", "scenarios", "meshes", "hamlet.obj"))
+    main(sys.argv[1] if len(sys.argv) > 1 else os.path.join(here, "..", "examples", "meshes", "hamlet.obj"))

@@ -132,6 +132,17 @@ TEST_F(PathCApi, BadInputKeepsThePreviousModel) {
     }
     {
         swcl_path_model_desc d = desc();
+        obstacle.triangle_count = 0;
+        refused(d, SWCL_ERROR_INVALID_ARGUMENT, "no triangles");
+    }
+    {
+        swcl_path_model_desc d = desc();
+        d.noise.baked = 1;
+        d.noise.time_scale = 1.0f;  // a time-varying noise cannot be baked
+        refused(d, SWCL_ERROR_INVALID_ARGUMENT, "baked");
+    }
+    {
+        swcl_path_model_desc d = desc();
         goal.center[0] = 0.0f;  // inside the cube
         goal.radius = 0.05f;
         refused(d, SWCL_ERROR_INVALID_ARGUMENT, "inside an obstacle");

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <random>
 
 #include "core/error.hpp"
@@ -387,4 +388,33 @@ TEST(PathModel, BakedMeshNoiseMatchesProcedural) {
     }
     EXPECT_GT(norm / a.size(), 0.1);
     EXPECT_LT(diff / norm, 0.05);
+}
+
+// On CPU devices the baked path runs SWCL_W agents per work-item: the same
+// arithmetic as the one-agent kernel, so bitwise the same run.
+TEST(PathModel, WideKernelMatchesTheScalarOne) {
+    auto ctx = test::shared_context();
+    auto run = [&](const char* width) {
+        setenv("SWARMCL_NOISE_WIDTH", width, 1);
+        SwarmConfig sc = test::cube_config(1000, -1, 1, 0.1f);
+        sc.agent_count = 1000;  // not a multiple of 16: the last work-item is partial
+        sc.seed = 8;
+        Swarm swarm(ctx, sc);
+        PathModelConfig pc;
+        pc.noise.baked = true;
+        pc.noise.bake_resolution = {33, 33, 33};
+        pc.obstacles.push_back(box_mesh({0, 0, 0}, {0.3f, 0.3f, 0.3f}));
+        pc.resolution = {24, 24, 24};
+        pc.goal_falloff = 0.5f;
+        pc.groups.push_back({600, {point_goal(0.9f, 0.9f, 0.9f)}});
+        pc.groups.push_back({0, {point_goal(-0.9f, -0.9f, 0.9f)}});
+        swarm.set_behavior(std::make_shared<PathModel>(swarm, pc));
+        swarm.step(5);
+        std::vector<float> p(3000);
+        swarm.read(Attribute::Position, p.data(), 1000);
+        return p;
+    };
+    const auto scalar = run("1"), wide = run("16");
+    unsetenv("SWARMCL_NOISE_WIDTH");
+    EXPECT_EQ(scalar, wide);
 }

@@ -54,6 +54,8 @@ PathModel::PathModel(Swarm& swarm, PathModelConfig config) : config_(std::move(c
         else v = 1e20f;  // no mesh in reach: "far"
     const bool mesh_noise = any_mesh && c.noise.type == NoiseType::Curl && !c.noise.finite_difference;
     NoiseConfig nc = c.noise;
+    if (!nc.has_region()) nc.region_min = swarm.config().domain_min, nc.region_max = swarm.config().domain_max;
+    NoiseField::validate(nc);  // as given (what can be baked), before the mesh-aware bake takes over
     if (mesh_noise) nc.baked = false;  // baked below, with the mesh
     noise_ = std::make_unique<NoiseField>(ctx_, nc, &swarm.config().domain_min, &swarm.config().domain_max);
     std::string defines = noise_->defines();
@@ -81,8 +83,11 @@ PathModel::PathModel(Swarm& swarm, PathModelConfig config) : config_(std::move(c
     if (mesh_noise && c.noise.baked) {
         bake_local_field(defines);
         defines += " -DPATH_BAKED=1";
+        // CPU devices: SWCL_W agents per work-item (path_model_advance_w).
+        width_ = noise_->preferred_width();
+        if (width_ > 1) defines += " -DNOISE_WIDTH=" + std::to_string(width_);
     }
-    advance_ = ctx_.kernel("path_model.cl", "path_model_advance", defines);
+    advance_ = ctx_.kernel("path_model.cl", width_ > 1 ? "path_model_advance_w" : "path_model_advance", defines);
     if (c.min_distance > 0.0f) mde_.emplace(ctx_, c.min_distance, nc.seed);
     moved_.allocate(ctx_, 2, "MDE counters");
     moved_.fill(ctx_, 0u, 2);
@@ -167,7 +172,7 @@ void PathModel::advance(Swarm& swarm, uint64_t step) {
     advance_.setArg(i++, vl_min_);
     advance_.setArg(i++, vl_cell_);
     advance_.setArg(i++, vl_dims_);
-    launch(ctx_, advance_, n);
+    launch(ctx_, advance_, (size_t(n) + width_ - 1) / width_);
     swarm.positions_changed();
     if (mde_) mde_->apply(swarm, moved_);
     ++steps_since_read_;

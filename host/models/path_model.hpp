@@ -81,6 +81,7 @@ private:
     std::unique_ptr<NoiseField> noise_;
     std::optional<MinDistance> mde_;
     cl::Kernel advance_;
+    uint32_t width_ = 1;  // agents per work-item of advance_
     DeviceBuffer<cl_float4> dirs_;
     DeviceBuffer<cl_float> phi_dev_;
     // The mesh-aware curl noise baked on the noise's bake grid (noise.baked).
