@@ -214,13 +214,12 @@ SdfGrid compute_sdf(Context& ctx, const TriangleMesh& mesh, const Grid3& grid, d
                  cl_int4{{cl_int(grid.dims[0]), cl_int(grid.dims[1]), cl_int(grid.dims[2]), 0}},
                  cl_int4{{bricks[0], bricks[1], bricks[2], 0}},
                  cl_float4{{float(grid.origin[0]), float(grid.origin[1]), float(grid.origin[2]), float(h)}},
-                 float(band));
-        k.setArg(9, dphi.get());
-        k.setArg(10, dclosest.get());
+                 float(band), dphi.get(), dclosest.get());
         launch(ctx, k, active.size() * size_t(kBrick * kBrick * kBrick));
         dphi.download(ctx, out.phi.data(), n);
         closest.resize(n);
-        // Only band cells are read back (phi finite); the rest stays unset.
+        // Only band cells (phi finite) hold a point; extend_beyond_band
+        // writes the others before it reads them.
         dclosest.download(ctx, closest.data(), n);
     }
 
