@@ -418,3 +418,30 @@ TEST(PathModel, WideKernelMatchesTheScalarOne) {
     unsetenv("SWARMCL_NOISE_WIDTH");
     EXPECT_EQ(scalar, wide);
 }
+
+// Chasing in a scenario: every `waypoint_every` steps group 0's goals move to
+// the next waypoint (cyclically) and its cost field is recomputed.
+TEST(PathModel, WaypointsMoveTheGoal) {
+    auto ctx = test::shared_context();
+    SwarmConfig sc = test::cube_config(20, -1, 1, 0.1f);
+    sc.agent_count = 20;
+    Swarm swarm(ctx, sc);
+    PathModelConfig pc;
+    pc.resolution = {16, 16, 16};
+    pc.groups.push_back({0, {sphere_goal(0.5f, 0, 0, 0.2f), point_goal(0.6f, 0.1f, 0)}});
+    pc.waypoints = {{-0.5f, 0.5f, 0.0f}, {0.0f, -0.5f, 0.5f}};
+    pc.waypoint_every = 4;
+    auto model = std::make_shared<PathModel>(swarm, pc);
+    swarm.set_behavior(model);
+    swarm.step(4);  // steps 0-3: no move yet
+    EXPECT_EQ(model->recomputes(), 0u);
+    swarm.step(1);  // step 4: first waypoint
+    EXPECT_EQ(model->recomputes(), 1u);
+    const auto& g = model->config().groups[0].goals;
+    EXPECT_EQ(g[0].center, (std::array<float, 3>{-0.5f, 0.5f, 0.0f}));
+    EXPECT_NEAR(g[1].center[0], -0.4f, 1e-6);  // the second goal keeps its offset
+    swarm.step(8);  // steps 5-12: waypoints 2 (step 8) and 1 again (step 12)
+    EXPECT_EQ(model->recomputes(), 3u);
+    EXPECT_EQ(model->config().groups[0].goals[0].center, (std::array<float, 3>{-0.5f, 0.5f, 0.0f}));
+    EXPECT_GT(model->recompute_seconds(), 0.0);
+}
