@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "core/handle_registry.hpp"
 #include "device/context.hpp"
+#include "fields/noise_field.hpp"
 #include "swarm/swarm.hpp"
 #include "swarmcl/swarmcl.h"
 
@@ -19,6 +20,10 @@ void clear_last_error();
 const std::string& last_error();
 swcl_status status_from_opencl(int err);
 const char* opencl_error_name(int err);
+
+// A noise descriptor as the host's configuration (capi_noise.cpp; also used
+// by the path model, capi_path.cpp).
+NoiseConfig noise_config_from(const swcl_noise_desc& d);
 
 HandleRegistry<Context>& contexts();
 HandleRegistry<Swarm>& swarms();

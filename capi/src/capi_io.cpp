@@ -79,12 +79,15 @@ swcl_status swcl_scenario_get_info(swcl_scenario scenario, swcl_scenario_info* o
         info.seed = s->swarm.seed;
         copy_text(info.name, s->name);
         copy_text(info.output_dir, s->output_dir);
-        copy_text(info.model, s->field_model ? "field" : s->energy_model ? "energy" : "ballistic");
-        info.min_distance = s->field_model ? s->field_model->min_distance : 0.0f;
-        if (s->force_model) {
-            copy_text(info.model, "force");
-            info.min_distance = s->force_model->min_distance;
-        }
+        copy_text(info.model, s->field_model    ? "field"
+                              : s->path_model   ? "path"
+                              : s->force_model  ? "force"
+                              : s->energy_model ? "energy"
+                                                : "ballistic");
+        info.min_distance = s->field_model ? s->field_model->min_distance
+                            : s->path_model ? s->path_model->min_distance
+                            : s->force_model ? s->force_model->min_distance
+                                             : 0.0f;
         *out = info;
     });
 }
@@ -104,6 +107,7 @@ swcl_status swcl_scenario_create_swarm(swcl_scenario scenario, swcl_context cont
         for (size_t i = 0; i < vel.size(); ++i) vel[i] = s->initial.velocity[i % 3];
         swarm->write(Attribute::Velocity, vel.data(), n);
         if (s->field_model) swarm->set_behavior(std::make_shared<FieldModel>(*swarm, *s->field_model));
+        if (s->path_model) swarm->set_behavior(std::make_shared<PathModel>(*swarm, *s->path_model));
         if (s->energy_model) swarm->set_behavior(make_energy_model(*swarm, *s->energy_model));
         if (s->force_model) swarm->set_behavior(std::make_shared<ForceModel>(*swarm, *s->force_model));
         out->id = swarms().add(std::move(swarm));

@@ -1,12 +1,14 @@
 // Noise fields and the field model.
 #include <cstring>
 #include <mutex>
+#include <optional>
 
 #include "capi_common.hpp"
 #include "capi_noise.hpp"
 #include "fields/noise_field.hpp"
 #include "models/field_model.hpp"
 #include "models/force_model.hpp"
+#include "models/path_model.hpp"
 
 using namespace swarmcl;
 using namespace swarmcl::capi;
@@ -125,17 +127,14 @@ swcl_status swcl_swarm_take_step_stats(swcl_swarm swarm, swcl_step_stats* out) {
         std::memset(&r, 0, sizeof(r));
         r.struct_size = sizeof(r);
         r.agents = s.agent_count();
-        if (auto* model = dynamic_cast<FieldModel*>(s.behavior())) {
-            const StepStats st = model->take_stats(s);
-            r.mde_moved_last = st.mde_moved_last;
-            r.mde_moved_total = st.mde_moved_total;
-            r.steps = st.steps;
-        }
-        if (auto* model = dynamic_cast<ForceModel*>(s.behavior())) {  // the force model's MDE
-            const StepStats st = model->take_stats(s);
-            r.mde_moved_last = st.mde_moved_last;
-            r.mde_moved_total = st.mde_moved_total;
-            r.steps = st.steps;
+        std::optional<StepStats> st;
+        if (auto* model = dynamic_cast<FieldModel*>(s.behavior())) st = model->take_stats(s);
+        if (auto* model = dynamic_cast<PathModel*>(s.behavior())) st = model->take_stats(s);
+        if (auto* model = dynamic_cast<ForceModel*>(s.behavior())) st = model->take_stats(s);
+        if (st) {
+            r.mde_moved_last = st->mde_moved_last;
+            r.mde_moved_total = st->mde_moved_total;
+            r.steps = st->steps;
         }
         *out = r;
     });

@@ -71,6 +71,9 @@ public:
     // without obstacles or finite differences, baked); $SWARMCL_NOISE_WIDTH
     // = 1, 8 or 16 overrides the device default (docs/noise.md).
     uint32_t width() const;
+    // The device's (or $SWARMCL_NOISE_WIDTH's) width for kernels that have an
+    // explicit-width variant whatever this field's boundaries (1, 8 or 16).
+    uint32_t preferred_width() const { return preferred_width_; }
 
     // Samples at n packed xyz points into out (packed xyz); point i counts as
     // agent i for the random noise types.

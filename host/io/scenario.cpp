@@ -10,6 +10,7 @@
 
 #include "core/error.hpp"
 #include "core/philox.hpp"
+#include "io/obj_loader.hpp"
 #include "io/recorder.hpp"
 #include "shapes/shape_library.hpp"
 
@@ -302,6 +303,161 @@ ForceModelConfig read_force_model(Obj& o, std::vector<Boundary> obstacles) {
     return c;
 }
 
+// ---- the path model ("model": {"type": "path"}, docs/path-field.md) --------
+
+Goal read_goal(const json& j, const std::string& path) {
+    Obj o(j, path);
+    Goal g;
+    const std::string type = o.string("type", "point");
+    if (type == "point") {
+        o.allow({"type", "center"});
+        g.kind = Goal::Kind::Point;
+    } else if (type == "sphere") {
+        o.allow({"type", "center", "radius"});
+        g.kind = Goal::Kind::Sphere;
+        o.require_key("radius");
+        g.radius = o.positive("radius", 0.0f);
+    } else if (type == "box") {
+        o.allow({"type", "center", "half_extents"});
+        g.kind = Goal::Kind::Box;
+        g.half_extents = o.required_vec3("half_extents");
+        for (float h : g.half_extents)
+            if (!(h > 0.0f)) bad(o.at("half_extents"), "expected 3 numbers > 0");
+    } else {
+        bad(o.at("type"), "expected \"point\", \"sphere\" or \"box\"");
+    }
+    g.center = o.required_vec3("center");
+    o.finish();
+    return g;
+}
+
+std::vector<Goal> read_goals(const json& j, const std::string& path) {
+    if (!j.is_array() || j.empty()) bad(path, "expected a non-empty array of goals");
+    std::vector<Goal> out;
+    for (size_t i = 0; i < j.size(); ++i) out.push_back(read_goal(j[i], path + "[" + std::to_string(i) + "]"));
+    return out;
+}
+
+// Obstacles of the path model are meshes: boxes, spheres, cylinders (the
+// shared primitives) and OBJ files.
+TriangleMesh read_mesh_obstacle(const json& j, const std::string& path, const std::string& base_dir) {
+    Obj o(j, path);
+    o.require_key("type");
+    const std::string type = o.string("type", "");
+    TriangleMesh m;
+    try {
+        if (type == "box") {
+            o.allow({"type", "center", "half_extents", "edge_radius"});
+            const auto c = o.required_vec3("center"), h = o.required_vec3("half_extents");
+            for (float v : h)
+                if (!(v > 0.0f)) bad(o.at("half_extents"), "expected 3 numbers > 0");
+            o.non_negative("edge_radius", 0.0f);  // the field model's rounding; meshes keep sharp edges
+            m = box_mesh(c, h);
+        } else if (type == "sphere") {
+            o.allow({"type", "center", "radius"});
+            const auto c = o.required_vec3("center");
+            o.require_key("radius");
+            m = sphere_mesh(c, o.positive("radius", 0.0f), 24, 48);
+        } else if (type == "cylinder") {
+            o.allow({"type", "base", "radius", "height"});
+            const auto b = o.required_vec3("base");
+            o.require_key("radius");
+            o.require_key("height");
+            const float r = o.positive("radius", 0.0f), h = o.positive("height", 0.0f);
+            m = cylinder_mesh(b, r, h, 48);
+        } else if (type == "mesh") {
+            o.allow({"type", "file", "scale", "offset"});
+            o.require_key("file");
+            std::string file = o.string("file", "");
+            if (file.empty()) bad(o.at("file"), "expected an OBJ file name");
+            if (file[0] != '/' && !base_dir.empty()) file = base_dir + "/" + file;
+            const auto scale = o.vec3("scale", {1, 1, 1}), offset = o.vec3("offset", {0, 0, 0});
+            m = transformed(load_obj(file), scale, offset);
+        } else {
+            bad(o.at("type"), "expected \"box\", \"sphere\", \"cylinder\" or \"mesh\" (an OBJ file)");
+        }
+    } catch (const Error& e) {
+        // A scenario error, whatever the mesh's own status (an unreadable
+        // OBJ file is a bad value in the scenario too).
+        if (std::string(e.what()).rfind(path, 0) == 0) throw;
+        fail(Status::Parse, path + ": " + e.what());
+    }
+    o.finish();
+    return m;
+}
+
+void read_path_model(Obj& o, Scenario& s, const json* obstacles, const std::string& base_dir) {
+    PathModelConfig c;
+    if (o.has("noise")) c.noise = read_noise(o.child("noise"), "model.noise");
+    if (obstacles)
+        for (size_t i = 0; i < obstacles->size(); ++i)
+            c.obstacles.push_back(read_mesh_obstacle((*obstacles)[i], "obstacles[" + std::to_string(i) + "]", base_dir));
+    if (o.has("grid")) {
+        Obj g(o.child("grid"), "model.grid");
+        g.allow({"resolution", "min", "max"});
+        if (g.has("resolution")) {
+            const auto r = Obj::to_vec3(g.child("resolution"), g.at("resolution"));
+            for (int a = 0; a < 3; ++a) {
+                if (r[a] < 2 || r[a] > 4096 || r[a] != std::floor(r[a]))
+                    bad(g.at("resolution"), "expected 3 integers in [2, 4096]");
+                c.resolution[a] = uint32_t(r[a]);
+            }
+        }
+        if (g.has("min") || g.has("max")) {
+            c.has_grid_box = true;
+            c.grid_min = g.required_vec3("min");
+            c.grid_max = g.required_vec3("max");
+            for (int a = 0; a < 3; ++a)
+                if (!(c.grid_min[a] < c.grid_max[a])) bad(g.at("min"), "must be below model.grid.max on every axis");
+        }
+        g.finish();
+    }
+    if (o.has("cost")) {
+        Obj k(o.child("cost"), "model.cost");
+        k.allow({"A", "B", "second_order"});
+        c.weights.A = k.positive("A", float(c.weights.A));
+        c.weights.B = k.non_negative("B", float(c.weights.B));
+        c.second_order = k.boolean("second_order", c.second_order);
+        k.finish();
+    }
+    c.speed = o.non_negative("speed", c.speed);
+    c.goal_falloff = o.non_negative("goal_falloff", c.goal_falloff);
+    c.min_distance = o.non_negative("min_distance", c.min_distance);
+    if (o.has("groups")) {
+        const json& gs = o.child("groups");
+        if (!gs.is_array() || gs.empty() || gs.size() > 64) bad("model.groups", "expected an array of 1 to 64 groups");
+        for (size_t i = 0; i < gs.size(); ++i) {
+            const std::string at = "model.groups[" + std::to_string(i) + "]";
+            Obj g(gs[i], at);
+            g.allow({"agents", "goals"});
+            PathGroup pg;
+            pg.agents = uint32_t(g.integer("agents", 0, 0xFFFFFFFEu));
+            g.require_key("goals");
+            pg.goals = read_goals(g.child("goals"), at + ".goals");
+            g.finish();
+            c.groups.push_back(std::move(pg));
+        }
+        if (o.has("goals")) bad("model.goals", "give either goals (one group) or groups, not both");
+    } else {
+        o.require_key("goals");
+        c.groups.push_back({0, read_goals(o.child("goals"), "model.goals")});
+    }
+    if (o.has("moving_goal")) {
+        Obj m(o.child("moving_goal"), "model.moving_goal");
+        m.allow({"waypoints", "every"});
+        m.require_key("waypoints");
+        const json& w = m.child("waypoints");
+        if (!w.is_array() || w.empty()) bad(m.at("waypoints"), "expected a non-empty array of [x, y, z]");
+        for (size_t i = 0; i < w.size(); ++i)
+            c.waypoints.push_back(Obj::to_vec3(w[i], m.at("waypoints") + "[" + std::to_string(i) + "]"));
+        c.waypoint_every = uint32_t(m.integer("every", 60, 0xFFFFFFFFu));
+        if (c.waypoint_every == 0) bad(m.at("every"), "expected an integer >= 1");
+        m.finish();
+    }
+    o.finish();
+    s.path_model = std::move(c);
+}
+
 void read_model(const json& j, Scenario& s, std::vector<Boundary> obstacles) {
     Obj o(j, "model");
     const std::string type = o.string("type", "field");
@@ -321,7 +477,8 @@ void read_model(const json& j, Scenario& s, std::vector<Boundary> obstacles) {
         s.force_model = read_force_model(o, std::move(obstacles));
         return;
     }
-    if (type != "field") bad("model.type", "expected \"field\", \"force\", \"energy\" or \"ballistic\"");
+    if (type != "field")
+        bad("model.type", "expected \"field\", \"path\", \"force\", \"energy\" or \"ballistic\"");
     FieldModelConfig c;
     if (o.has("noise")) c.noise = read_noise(o.child("noise"), "model.noise");
     c.noise.boundaries = std::move(obstacles);
@@ -421,7 +578,7 @@ std::string position_of(const std::string& text, size_t byte) {
 
 }  // namespace
 
-Scenario parse_scenario(const std::string& text) {
+Scenario parse_scenario(const std::string& text, const std::string& base_dir) {
     json root;
     try {
         root = json::parse(text);
@@ -460,17 +617,27 @@ Scenario parse_scenario(const std::string& text) {
     top.require_key("agents");
     read_agents(top.child("agents"), s);
     std::vector<Boundary> obstacles;
+    // The path model reads its obstacles as meshes (read_path_model).
+    const bool path_model = root.contains("model") && root["model"].is_object() && root["model"].contains("type") &&
+                            root["model"]["type"] == "path";
     if (top.has("obstacles")) {
         const json& list = top.child("obstacles");
         if (!list.is_array()) bad("obstacles", "expected an array");
-        for (size_t i = 0; i < list.size(); ++i) obstacles.push_back(read_obstacle(list[i], "obstacles[" + std::to_string(i) + "]"));
+        for (size_t i = 0; i < list.size() && !path_model; ++i)
+            obstacles.push_back(read_obstacle(list[i], "obstacles[" + std::to_string(i) + "]"));
     }
-    if (top.has("model")) read_model(top.child("model"), s, std::move(obstacles));
+    if (path_model) {
+        Obj m(top.child("model"), "model");
+        m.string("type", "");
+        read_path_model(m, s, top.has("obstacles") ? &top.child("obstacles") : nullptr, base_dir);
+    } else if (top.has("model")) read_model(top.child("model"), s, std::move(obstacles));
     else if (!obstacles.empty()) bad("obstacles", "obstacles need a model (\"model\": {\"type\": \"field\"})");
     if (top.has("output")) read_output(top.child("output"), s);
     top.finish();
-    if (s.energy_model) {
-        auto noise = s.energy_model->config.noise;
+    for (const NoiseConfig* model_noise : {s.energy_model ? &s.energy_model->config.noise : nullptr,
+                                           s.path_model ? &s.path_model->noise : nullptr}) {
+        if (!model_noise) continue;
+        auto noise = *model_noise;
         if (!noise.has_region()) noise.region_min = s.swarm.domain_min, noise.region_max = s.swarm.domain_max;
         try {
             NoiseField::validate(noise);
@@ -499,7 +666,8 @@ Scenario load_scenario(const std::string& path) {
     text << in.rdbuf();
     if (in.bad()) fail(Status::Io, "cannot read scenario file '" + path + "'");
     try {
-        return parse_scenario(text.str());
+        const auto slash = path.find_last_of('/');
+        return parse_scenario(text.str(), slash == std::string::npos ? "" : path.substr(0, slash));
     } catch (const Error& e) {
         fail(e.status(), path + ": " + e.what());
     }

@@ -12,6 +12,7 @@
 #include "models/field_model.hpp"
 #include "io/scenario_energy.hpp"
 #include "models/force_model.hpp"
+#include "models/path_model.hpp"
 #include "swarm/swarm.hpp"
 
 namespace swarmcl {
@@ -32,6 +33,7 @@ struct Scenario {
     std::optional<FieldModelConfig> field_model;  // empty: ballistic
     std::optional<EnergyScenario> energy_model;   // model.type "energy" (FASTSWARM)
     std::optional<ForceModelConfig> force_model;  // "type": "force" (docs/force-model.md)
+    std::optional<PathModelConfig> path_model;    // "model": {"type": "path"} (docs/path-field.md)
     uint32_t steps = 100;
     std::string output_dir = "out";
     uint32_t output_formats = 1;          // ExportFormat mask
@@ -46,7 +48,9 @@ struct Scenario {
 // Parses and validates; Error(Parse) with "line L, column C" for malformed
 // JSON and the key path ("model.noise.scale: expected a number > 0") for
 // everything else.  Unknown keys are errors.
-Scenario parse_scenario(const std::string& json_text);
+// OBJ obstacle files are read relative to `base_dir` (load_scenario: the
+// scenario file's folder) unless absolute.
+Scenario parse_scenario(const std::string& json_text, const std::string& base_dir = "");
 Scenario load_scenario(const std::string& path);
 
 }  // namespace swarmcl

@@ -17,6 +17,8 @@ from .descriptors import (Box, DeviceInfo, DeviceType, FieldModel, NoiseDesc, No
 from .energy import (Dataset, EnergyModel, EnergyWeights, Stimulus, StimulusKind, TimeFormat,
                      write_mixed_csv)
 from .force import SHAPES, ForceModel, Keyframe
+from .path import (BoxObstacle, CylinderObstacle, Goal, MeshObstacle, ObjObstacle, PathGroup, PathInfo,
+                   PathModel, SphereObstacle)
 from .errors import (BuildError, InternalError, InvalidArgumentError, InvalidHandleError, IOError_,
                      NoDeviceError, OpenCLError, OutOfMemoryError, ParseError, SwarmclError)
 
@@ -28,6 +30,8 @@ __all__ = [
     "StepStats",
     "Dataset", "EnergyModel", "EnergyWeights", "Stimulus", "StimulusKind", "TimeFormat", "write_mixed_csv",
     "ForceModel", "Keyframe", "SHAPES",
+    "PathModel", "PathGroup", "PathInfo", "Goal", "MeshObstacle", "ObjObstacle", "BoxObstacle",
+    "SphereObstacle", "CylinderObstacle",
     "SwarmclError", "InvalidArgumentError", "InvalidHandleError", "NoDeviceError", "BuildError",
     "OutOfMemoryError", "IOError_", "ParseError", "OpenCLError", "InternalError",
     "ffi", "lib", "constants", "header_path", "library_path",

@@ -294,6 +294,35 @@ class Swarm(_Handle):
         out = _out_array(out, (n, 3), np.float32, "force_targets")
         check(lib.swcl_swarm_get_force_targets(self._h, _fptr(out), n))
         return out
+    # ---- the path model (bindings/python/swarmcl/path.py) -----------------------------
+
+    def set_path_model(self, model) -> None:
+        """Preprocesses and moves the swarm with the curl-noise paper's path model."""
+        from .path import PathModel
+        if not isinstance(model, PathModel):
+            raise TypeError(f"set_path_model: expected a PathModel, got {type(model).__name__}")
+        desc, _keep = model.to_c()
+        check(lib.swcl_swarm_set_path_model(self._h, desc))
+
+    def set_path_goals(self, group: int, goals) -> float:
+        """Moves a group's goals (its cost field is recomputed); returns the seconds it took."""
+        from .path import _goals_to_c
+        keep: list = []
+        arr, n = _goals_to_c(goals, keep)
+        seconds = ffi.new("double*")
+        check(lib.swcl_swarm_set_path_goals(self._h, group, arr, n, seconds))
+        return float(seconds[0])
+
+    def path_info(self):
+        """The path grid and preprocessing times (PathInfo)."""
+        from .path import PathInfo
+        out = ffi.new("swcl_path_info*")
+        out.struct_size = ffi.sizeof("swcl_path_info")
+        check(lib.swcl_swarm_get_path_info(self._h, out))
+        return PathInfo(grid=tuple(int(out.grid[a]) for a in range(3)), cell=float(out.cell),
+                        grid_min=tuple(float(out.grid_min[a]) for a in range(3)),
+                        preprocess_seconds=float(out.preprocess_seconds), groups=int(out.groups),
+                        recomputes=int(out.recomputes), recompute_seconds=float(out.recompute_seconds))
 
     def clear_model(self) -> None:
         """Back to ballistic motion."""

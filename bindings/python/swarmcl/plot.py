@@ -98,6 +98,25 @@ def _draw_scene(ax, scenario: dict):
     goal = (scenario.get("model") or {}).get("goal")
     if goal:
         _sphere_wire(ax, goal["center"], max(goal.get("radius", 0.0), 0.05), "tab:green", 0.25)
+    # The path model: its goals (one group, or per group), and cylinder obstacles.
+    model = scenario.get("model") or {}
+    goals = list(model.get("goals", []))
+    for group in model.get("groups", []):
+        goals += group.get("goals", [])
+    for g in goals:
+        if g.get("type") == "box":
+            c, h = np.asarray(g["center"], float), np.asarray(g["half_extents"], float)
+            _box_edges(ax, c - h, c + h, "tab:green", 0.6)
+        else:
+            _sphere_wire(ax, g["center"], max(g.get("radius", 0.0), 0.05), "tab:green", 0.25)
+    for ob in scenario.get("obstacles", []):
+        if ob.get("type") == "cylinder":
+            b = np.asarray(ob["base"], float)
+            r, height = float(ob["radius"]), float(ob["height"])
+            t = np.linspace(0, 2 * np.pi, 25)
+            for z in (b[2], b[2] + height):
+                ax.plot(b[0] + r * np.cos(t), b[1] + r * np.sin(t), np.full_like(t, z), color="tab:red", lw=1.0)
+            ax.plot([b[0], b[0]], [b[1] + r, b[1] + r], [b[2], b[2] + height], color="tab:red", lw=1.0)
 
 
 def _limits(ax, run: Run):

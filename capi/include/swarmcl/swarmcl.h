@@ -292,6 +292,103 @@ typedef struct swcl_step_stats {
 /* Model statistics since the last call (waits for the device). */
 SWCL_API swcl_status swcl_swarm_take_step_stats(swcl_swarm swarm, swcl_step_stats* out);
 
+/* ---- the path model ---------------------------------------------------------
+ * The curl-noise paper's full model (§5-6, Eq. 9; docs/path-field.md): obstacle
+ * meshes -> signed distance grid (Eq. 5) -> repulsion (Eq. 6) -> minimum cost
+ * field C by fast marching (|grad C| = A + B g, Eq. 4/7) towards the goals ->
+ * global velocity -grad C/|grad C| * s0 (Eq. 8), added to the curl noise whose
+ * boundaries now include the meshes; position update; MDE.  Agents form
+ * groups (consecutive agent ids), each with its own goals and cost field.
+ * Preprocessing happens in swcl_swarm_set_path_model. */
+
+typedef enum swcl_goal_type {
+    SWCL_GOAL_POINT = 0,   /* center */
+    SWCL_GOAL_SPHERE = 1,  /* center, radius */
+    SWCL_GOAL_BOX = 2      /* center, half_extents */
+} swcl_goal_type;
+
+typedef struct swcl_goal {
+    swcl_goal_type type;
+    float center[3];
+    float radius;
+    float half_extents[3];
+} swcl_goal;
+
+typedef enum swcl_obstacle_type {
+    SWCL_OBSTACLE_MESH = 0,      /* vertices (packed xyz), indices (3 per triangle) */
+    SWCL_OBSTACLE_OBJ = 1,       /* path of a Wavefront OBJ file */
+    SWCL_OBSTACLE_BOX = 2,       /* center, half_extents */
+    SWCL_OBSTACLE_SPHERE = 3,    /* center, radius */
+    SWCL_OBSTACLE_CYLINDER = 4   /* center = centre of the bottom cap, radius, height (along +z) */
+} swcl_obstacle_type;
+
+/* A mesh obstacle; the arrays and the path are copied by the call.  Degenerate
+ * triangles are skipped; NaN coordinates and out-of-range indices are errors. */
+typedef struct swcl_obstacle {
+    swcl_obstacle_type type;
+    const float* vertices;
+    uint32_t vertex_count;
+    const uint32_t* indices;
+    uint32_t triangle_count;
+    const char* path;
+    float center[3];
+    float half_extents[3];
+    float radius;
+    float height;
+} swcl_obstacle;
+
+typedef struct swcl_path_group {
+    uint32_t agents;               /* consecutive agent ids; the last group takes the rest */
+    const swcl_goal* goals;
+    uint32_t goal_count;
+} swcl_path_group;
+
+typedef struct swcl_path_model_desc {
+    uint32_t struct_size;
+    swcl_noise_desc noise;         /* V_l; default curl, scale 0.4, gain 0.25 (Table 1) */
+    const swcl_obstacle* obstacles;
+    uint32_t obstacle_count;
+    float grid_min[3];             /* the path grid; all zero: the swarm's domain */
+    float grid_max[3];
+    uint32_t resolution[3];        /* cells per axis at most, cubic cells (default 64) */
+    float cost_a;                  /* A of Eq. 4 (default 0.6, §5) */
+    float cost_b;                  /* B of Eq. 4 (default 0.4) */
+    int32_t second_order;          /* 1: second-order fast marching (default 0) */
+    float speed;                   /* s0 of Eq. 8, m/s (default 1.5, Table 1) */
+    float goal_falloff;            /* m of path over which V_g grows from 0 at a goal to s0
+                                      (default 0: at once, as the paper) */
+    float min_distance;            /* MDE threshold, m; 0: off (default 0) */
+    const swcl_goal* goals;        /* one group: every agent, these goals */
+    uint32_t goal_count;
+    const swcl_path_group* groups; /* or several groups (group_count > 0 replaces goals) */
+    uint32_t group_count;
+} swcl_path_model_desc;
+
+SWCL_API swcl_path_model_desc swcl_path_model_desc_default(void);
+/* Preprocesses and makes the path model move the swarm.  Bad meshes, goals
+ * outside the grid or inside an obstacle, grids of 0 or too many cells: an
+ * error status, and the swarm keeps its previous model. */
+SWCL_API swcl_status swcl_swarm_set_path_model(swcl_swarm swarm, const swcl_path_model_desc* desc);
+/* Moves a group's goals (chasing, §7): its cost field is recomputed;
+ * out_seconds (may be NULL) receives the time it took. */
+SWCL_API swcl_status swcl_swarm_set_path_goals(swcl_swarm swarm, uint32_t group, const swcl_goal* goals,
+                                               uint32_t goal_count, double* out_seconds);
+
+typedef struct swcl_path_info {
+    uint32_t struct_size;
+    uint32_t grid[3];              /* cells per axis */
+    float cell;                    /* cell edge, m */
+    float grid_min[3];
+    double preprocess_seconds;     /* signed distance + cost fields + uploads */
+    uint32_t groups;
+    uint32_t recomputes;           /* cost fields recomputed after a goal moved */
+    double recompute_seconds;      /* their total time */
+} swcl_path_info;
+
+/* out->struct_size must be set by the caller; SWCL_ERROR_INVALID_ARGUMENT when
+ * the swarm has no path model. */
+SWCL_API swcl_status swcl_swarm_get_path_info(swcl_swarm swarm, swcl_path_info* out);
+
 
 /* ---- FASTSWARM: data-driven energy model ---------------------------------
  * Xiang et al., "FASTSWARM" (docs/energy-model.md).  A reference dataset D of
@@ -527,7 +624,7 @@ typedef struct swcl_scenario_info {
     uint64_t seed;
     char name[128];
     char output_dir[1024];
-    char model[32];            /* "field", "force", "energy" or "ballistic" */
+    char model[32];            /* "field", "path", "force", "energy" or "ballistic" */
     float min_distance;        /* the field model's MDE distance (0: none) */
 } swcl_scenario_info;
 

@@ -1,0 +1,181 @@
+"""The path model (swcl_path_model_desc, docs/path-field.md): obstacle meshes,
+goals, groups, and the descriptor whose defaults come from
+swcl_path_model_desc_default() (the curl-noise paper's values)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import List, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from ._native import ffi, lib
+from .descriptors import NoiseDesc, Vec3, _f32, _vec3
+
+__all__ = ["Goal", "MeshObstacle", "ObjObstacle", "BoxObstacle", "SphereObstacle", "CylinderObstacle",
+           "PathGroup", "PathModel", "PathInfo"]
+
+_DEFAULT = lib.swcl_path_model_desc_default()
+
+
+@dataclass
+class Goal:
+    """A goal region: kind 'point' | 'sphere' (radius) | 'box' (half_extents)."""
+    center: Vec3
+    kind: str = "point"
+    radius: float = 0.0
+    half_extents: Vec3 = (0.0, 0.0, 0.0)
+
+    def _to_c(self, dst) -> None:
+        kinds = {"point": lib.SWCL_GOAL_POINT, "sphere": lib.SWCL_GOAL_SPHERE, "box": lib.SWCL_GOAL_BOX}
+        if self.kind not in kinds:
+            raise ValueError(f"Goal.kind must be 'point', 'sphere' or 'box', got {self.kind!r}")
+        dst.type = kinds[self.kind]
+        dst.center = _vec3(self.center, "Goal.center")
+        dst.radius = self.radius
+        dst.half_extents = _vec3(self.half_extents, "Goal.half_extents")
+
+
+@dataclass
+class MeshObstacle:
+    """A triangle mesh: vertices (V, 3) and triangle indices (T, 3), copied by the call."""
+    vertices: np.ndarray
+    indices: np.ndarray
+
+
+@dataclass
+class ObjObstacle:
+    """A Wavefront OBJ file."""
+    path: str
+
+
+@dataclass
+class BoxObstacle:
+    center: Vec3
+    half_extents: Vec3
+
+
+@dataclass
+class SphereObstacle:
+    center: Vec3
+    radius: float
+
+
+@dataclass
+class CylinderObstacle:
+    """Along +z from ``base`` (the bottom cap's centre)."""
+    base: Vec3
+    radius: float
+    height: float
+
+
+Obstacle = Union[MeshObstacle, ObjObstacle, BoxObstacle, SphereObstacle, CylinderObstacle]
+
+
+def _obstacle_to_c(o: Obstacle, dst, keep: list) -> None:
+    if isinstance(o, MeshObstacle):
+        v = np.ascontiguousarray(o.vertices, dtype=np.float32).reshape(-1, 3)
+        i = np.ascontiguousarray(o.indices, dtype=np.uint32).reshape(-1, 3)
+        keep += [v, i]
+        dst.type = lib.SWCL_OBSTACLE_MESH
+        dst.vertices = ffi.cast("const float*", v.ctypes.data)
+        dst.vertex_count = len(v)
+        dst.indices = ffi.cast("const uint32_t*", i.ctypes.data)
+        dst.triangle_count = len(i)
+    elif isinstance(o, ObjObstacle):
+        path = ffi.new("char[]", str(o.path).encode())
+        keep.append(path)
+        dst.type = lib.SWCL_OBSTACLE_OBJ
+        dst.path = path
+    elif isinstance(o, BoxObstacle):
+        dst.type = lib.SWCL_OBSTACLE_BOX
+        dst.center = _vec3(o.center, "BoxObstacle.center")
+        dst.half_extents = _vec3(o.half_extents, "BoxObstacle.half_extents")
+    elif isinstance(o, SphereObstacle):
+        dst.type = lib.SWCL_OBSTACLE_SPHERE
+        dst.center = _vec3(o.center, "SphereObstacle.center")
+        dst.radius = o.radius
+    elif isinstance(o, CylinderObstacle):
+        dst.type = lib.SWCL_OBSTACLE_CYLINDER
+        dst.center = _vec3(o.base, "CylinderObstacle.base")
+        dst.radius = o.radius
+        dst.height = o.height
+    else:
+        raise TypeError(f"unknown obstacle {type(o).__name__}")
+
+
+def _goals_to_c(goals: Sequence[Goal], keep: list):
+    goals = list(goals)
+    if not goals:
+        return ffi.NULL, 0
+    arr = ffi.new("swcl_goal[]", len(goals))
+    for k, g in enumerate(goals):
+        if not isinstance(g, Goal):
+            raise TypeError(f"goals[{k}] must be a Goal, got {type(g).__name__}")
+        g._to_c(arr[k])
+    keep.append(arr)
+    return arr, len(goals)
+
+
+@dataclass
+class PathGroup:
+    """Agents with consecutive ids (the last group takes the rest) and their goals."""
+    agents: int
+    goals: List[Goal]
+
+
+@dataclass
+class PathModel:
+    """swcl_path_model_desc: noise + obstacles + goals (one group) or groups."""
+    goals: List[Goal] = field(default_factory=list)
+    groups: List[PathGroup] = field(default_factory=list)
+    obstacles: List[Obstacle] = field(default_factory=list)
+    noise: NoiseDesc = field(default_factory=lambda: NoiseDesc._from_c(_DEFAULT.noise))
+    grid: Optional[Tuple[Vec3, Vec3]] = None     # None: the swarm's domain
+    resolution: Tuple[int, int, int] = tuple(int(r) for r in _DEFAULT.resolution)
+    cost_a: float = _f32(_DEFAULT.cost_a)
+    cost_b: float = _f32(_DEFAULT.cost_b)
+    second_order: bool = bool(_DEFAULT.second_order)
+    speed: float = _f32(_DEFAULT.speed)
+    goal_falloff: float = _f32(_DEFAULT.goal_falloff)
+    min_distance: float = _f32(_DEFAULT.min_distance)
+
+    def to_c(self):
+        keep: list = []
+        p = ffi.new("swcl_path_model_desc*", lib.swcl_path_model_desc_default())
+        noise = self.noise if self.noise is not None else NoiseDesc()
+        noise._to_c(p.noise, keep)
+        if self.obstacles:
+            arr = ffi.new("swcl_obstacle[]", len(self.obstacles))
+            for k, o in enumerate(self.obstacles):
+                _obstacle_to_c(o, arr[k], keep)
+            keep.append(arr)
+            p.obstacles, p.obstacle_count = arr, len(self.obstacles)
+        if self.grid is not None:
+            p.grid_min = _vec3(self.grid[0], "PathModel.grid[0]")
+            p.grid_max = _vec3(self.grid[1], "PathModel.grid[1]")
+        p.resolution = tuple(int(r) for r in self.resolution)
+        p.cost_a, p.cost_b = self.cost_a, self.cost_b
+        p.second_order = 1 if self.second_order else 0
+        p.speed, p.goal_falloff, p.min_distance = self.speed, self.goal_falloff, self.min_distance
+        p.goals, p.goal_count = _goals_to_c(self.goals, keep)
+        if self.groups:
+            arr = ffi.new("swcl_path_group[]", len(self.groups))
+            for k, g in enumerate(self.groups):
+                arr[k].agents = int(g.agents)
+                arr[k].goals, arr[k].goal_count = _goals_to_c(g.goals, keep)
+            keep.append(arr)
+            p.groups, p.group_count = arr, len(self.groups)
+        return p, keep
+
+
+@dataclass(frozen=True)
+class PathInfo:
+    """swcl_path_info: the path grid and preprocessing times."""
+    grid: Tuple[int, int, int]
+    cell: float
+    grid_min: Vec3
+    preprocess_seconds: float
+    groups: int
+    recomputes: int
+    recompute_seconds: float

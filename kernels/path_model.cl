@@ -1,0 +1,197 @@
+// The curl-noise paper's governing field (Eq. 9, §6): each agent moves by
+//   V = curl N (boundary-aware curl noise, Eq. 1-3; boundaries include the
+//       obstacle meshes through their signed distance grid)
+//     + s0 * (-grad C / |grad C|) (the global field, Eq. 8, sampled trilinearly)
+// then p += V dt; minimum distance enforcement runs after (min_distance.cl).
+// Built per noise configuration like noise_field.cl, plus -DPATH_MESH=1 when
+// obstacle meshes shape the curl noise (the curl noise is then assembled
+// here from curl_noise.cl's pieces, the mesh last).
+#include "noise_field.cl"
+
+#ifndef PATH_MESH
+#define PATH_MESH 0
+#endif
+// -DPATH_BAKED=1: the mesh-aware curl noise was baked onto a grid of nodes
+// (path_noise_bake) and is read back trilinearly (noise_baked_sample_s).
+#ifndef PATH_BAKED
+#define PATH_BAKED 0
+#endif
+
+// Trilinear read of a cell-centred float4 grid (origin_h: min corner, cell
+// edge), clamped to its border.
+inline float4 path_trilinear(__global const float4* grid, int4 dims, float4 origin_h, float3 p) {
+    const float3 u = clamp((p - origin_h.xyz) / origin_h.w - (float3)(0.5f), (float3)(0.0f),
+                           convert_float3(dims.xyz - (int3)(1)));
+    const int3 i0 = min(convert_int3(u), dims.xyz - (int3)(2));
+    const float3 w = u - convert_float3(i0);
+    const int sy = dims.x, sz = dims.x * dims.y;
+    __global const float4* c = grid + (i0.x + sy * i0.y + sz * i0.z);
+    const float4 x00 = mix(c[0], c[1], w.x), x10 = mix(c[sy], c[sy + 1], w.x);
+    const float4 x01 = mix(c[sz], c[sz + 1], w.x), x11 = mix(c[sz + sy], c[sz + sy + 1], w.x);
+    return mix(mix(x00, x10, w.y), mix(x01, x11, w.y), w.z);
+}
+
+#if PATH_MESH
+// The mesh distance as a boundary of Eq. 2 (curl_noise.cl's plug-in): d, its
+// gradient and Hessian from the tricubic B-spline of the cell-centred signed
+// distance grid, a C^2 interpolant (so curl N stays continuous and exactly
+// divergence-free; the B-spline smooths edges by about one cell).
+inline void path_bspline(float t, float* w, float* dw, float* ddw) {
+    const float s = 1.0f - t, t2 = t * t, t3 = t2 * t;
+    w[0] = s * s * s / 6.0f;
+    w[1] = (3.0f * t3 - 6.0f * t2 + 4.0f) / 6.0f;
+    w[2] = (-3.0f * t3 + 3.0f * t2 + 3.0f * t + 1.0f) / 6.0f;
+    w[3] = t3 / 6.0f;
+    dw[0] = -0.5f * s * s;
+    dw[1] = 1.5f * t2 - 2.0f * t;
+    dw[2] = -1.5f * t2 + t + 0.5f;
+    dw[3] = 0.5f * t2;
+    ddw[0] = s; ddw[1] = 3.0f * t - 2.0f; ddw[2] = 1.0f - 3.0f * t; ddw[3] = t;
+}
+
+inline swcl_dist path_mesh_dist(__global const float* phi, int4 dims, float4 origin_h, float3 p) {
+    const float3 u = (p - origin_h.xyz) / origin_h.w - (float3)(0.5f);
+    const float3 f = floor(u);
+    const int3 i0 = convert_int3(f);
+    float wx[4], dwx[4], ddwx[4], wy[4], dwy[4], ddwy[4], wz[4], dwz[4], ddwz[4];
+    path_bspline(u.x - f.x, wx, dwx, ddwx);
+    path_bspline(u.y - f.y, wy, dwy, ddwy);
+    path_bspline(u.z - f.z, wz, dwz, ddwz);
+    float d = 0, gx = 0, gy = 0, gz = 0, hxx = 0, hyy = 0, hzz = 0, hxy = 0, hxz = 0, hyz = 0;
+    for (int c = 0; c < 4; ++c) {
+        const int z = clamp(i0.z - 1 + c, 0, dims.z - 1);
+        for (int b = 0; b < 4; ++b) {
+            const int y = clamp(i0.y - 1 + b, 0, dims.y - 1);
+            __global const float* row = phi + (size_t)dims.x * (y + (size_t)dims.y * z);
+            float r = 0, rx = 0, rxx = 0;
+            for (int a = 0; a < 4; ++a) {
+                const float v = row[clamp(i0.x - 1 + a, 0, dims.x - 1)];
+                r += wx[a] * v; rx += dwx[a] * v; rxx += ddwx[a] * v;
+            }
+            d += wy[b] * wz[c] * r;
+            gx += wy[b] * wz[c] * rx;
+            gy += dwy[b] * wz[c] * r;
+            gz += wy[b] * dwz[c] * r;
+            hxx += wy[b] * wz[c] * rxx;
+            hyy += ddwy[b] * wz[c] * r;
+            hzz += wy[b] * ddwz[c] * r;
+            hxy += dwy[b] * wz[c] * rx;
+            hxz += wy[b] * dwz[c] * rx;
+            hyz += dwy[b] * dwz[c] * r;
+        }
+    }
+    const float ih = 1.0f / origin_h.w;
+    swcl_dist s;
+    s.d = d;
+    s.g = (float3)(gx, gy, gz) * ih;
+    s.hd = (float3)(hxx, hyy, hzz) * (ih * ih);
+    s.ho = (float3)(hyz, hxz, hxy) * (ih * ih);
+    return s;
+}
+
+// V_l at (x, y, z): curl noise (NOISE_KIND == NOISE_CURL, analytic
+// derivatives) with every analytic boundary, then the mesh (Eq. 2 once more).
+inline void path_noise_mesh(NOISE_PARAMS, __global const float* phi, int4 dims, float4 origin_h, float x, float y,
+                            float z, float t, float* vx, float* vy, float* vz) {
+    const float scale = noise_shape.x, gain = noise_shape.y, d0 = noise_shape.z;
+    swcl_pj N;
+    swcl_noise_potential_s(x, y, z, t, NOISE_TIMED, 1.0f / scale, gain, noise_shape.w, noise_off0, noise_off1,
+                           noise_off2, &N);
+    swcl_modulate_prims_s(&N, x, y, z, d0, noise_prims, 0u, noise_nprims);
+    // The B-spline reaches 2 cells: farther than d0 + 2 sqrt(3) cells from
+    // the mesh, Eq. 2 is the identity; skip the 64 taps.
+    const float3 p = (float3)(x, y, z);
+    const float3 u = clamp((p - origin_h.xyz) / origin_h.w, (float3)(0.0f), convert_float3(dims.xyz - (int3)(1)));
+    const int3 c = convert_int3(u);
+    if (phi[c.x + dims.x * (c.y + dims.y * c.z)] < d0 + 3.5f * origin_h.w) {
+        float3 psi;
+        swcl_mat3 J;
+        swcl_pj_get(&N, &psi, &J);
+        swcl_modulate(path_mesh_dist(phi, dims, origin_h, p), d0, &psi, &J);
+        swcl_pj_set(&N, psi, J);
+    }
+    swcl_pj_curl(&N, scale, vx, vy, vz);
+}
+
+// Bakes path_noise_mesh onto the nodes vl_min + (i, j, k) * vl_cell (static noise).
+__kernel void path_noise_bake(NOISE_PARAMS, __global const float* phi, int4 dims, float4 origin_h,
+                              float4 vl_min, float4 vl_cell, int4 vl_dims, __global float4* out) {
+    const uint i = get_global_id(0);
+    const uint n = (uint)(vl_dims.x * vl_dims.y * vl_dims.z);
+    if (i >= n) return;
+    const uint nx = (uint)vl_dims.x, ny = (uint)vl_dims.y;
+    float vx, vy, vz;
+    path_noise_mesh(noise_type, noise_flags, noise_shape, noise_fd_step, noise_seed, noise_off0, noise_off1,
+                    noise_off2, noise_prims, noise_nprims, noise_baked, noise_bake_min, noise_bake_cell,
+                    noise_bake_dims, phi, dims, origin_h, vl_min.x + vl_cell.x * (float)(i % nx),
+                    vl_min.y + vl_cell.y * (float)((i / nx) % ny), vl_min.z + vl_cell.z * (float)(i / (nx * ny)),
+                    0.0f, &vx, &vy, &vz);
+    out[i] = (float4)(vx, vy, vz, 0.0f);
+}
+#endif
+
+__kernel void path_model_advance(__global float4* pos, __global float4* vel, __global const uint* ids, uint n,
+                                 float dt, float t, uint step, NOISE_PARAMS, __global const float4* dirs,
+                                 int4 dims, float4 origin_h, __global const uint* group_end, uint ngroups,
+                                 float s0, __global const float* phi, float inv_falloff_cost,
+                                 __global const float4* vl, float4 vl_min, float4 vl_cell, int4 vl_dims) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    const float4 p4 = pos[i];
+    const uint agent = ids[i];
+    float vx, vy, vz;
+#if PATH_BAKED
+    noise_baked_sample_s(vl, vl_min, vl_cell, vl_dims, p4.x, p4.y, p4.z, &vx, &vy, &vz);
+#elif PATH_MESH
+    path_noise_mesh(noise_type, noise_flags, noise_shape, noise_fd_step, noise_seed, noise_off0, noise_off1,
+                    noise_off2, noise_prims, noise_nprims, noise_baked, noise_bake_min, noise_bake_cell,
+                    noise_bake_dims, phi, dims, origin_h, p4.x, p4.y, p4.z, t, &vx, &vy, &vz);
+#else
+    NOISE_VELOCITY_S(p4.x, p4.y, p4.z, t, agent, step, &vx, &vy, &vz);
+#endif
+    // The agent's group: groups own consecutive id ranges (group_end).
+    uint g = 0;
+    while (g + 1 < ngroups && agent >= group_end[g]) ++g;
+    const float4 d = path_trilinear(dirs + (size_t)g * dims.x * dims.y * dims.z, dims, origin_h, p4.xyz);
+    // Optional goal ramp (host: goal_falloff): d.w is the cost C, 0 in the goal.
+    const float k = inv_falloff_cost > 0.0f ? s0 * fmin(1.0f, d.w * inv_falloff_cost) : s0;
+    vx += k * d.x; vy += k * d.y; vz += k * d.z;
+    vel[i] = (float4)(vx, vy, vz, 0.0f);
+    pos[i] = (float4)(p4.x + vx * dt, p4.y + vy * dt, p4.z + vz * dt, 0.0f);
+}
+
+#if PATH_BAKED && defined(NOISE_WIDE)
+// path_model_advance on SWCL_W consecutive agents per work-item (CPU
+// devices, baked local field; noise_field.cl's explicit-width helpers): the
+// scalar kernel's arithmetic in the same order, so the same results.
+__kernel void path_model_advance_w(__global float4* pos, __global float4* vel, __global const uint* ids, uint n,
+                                   float dt, float t, uint step, NOISE_PARAMS, __global const float4* dirs,
+                                   int4 dims, float4 origin_h, __global const uint* group_end, uint ngroups,
+                                   float s0, __global const float* phi, float inv_falloff_cost,
+                                   __global const float4* vl, float4 vl_min, float4 vl_cell, int4 vl_dims) {
+    const uint base = get_global_id(0) * SWCL_W;
+    if (base >= n) return;
+    __global float* pp = (__global float*)pos;
+    swcl_fw px, py, pz;
+    noise_load_xyz_w(pp, base, n, &px, &py, &pz);
+    swcl_fw vx, vy, vz;
+    noise_baked_sample_w(vl, vl_min, vl_cell, vl_dims, px, py, pz, &vx, &vy, &vz);
+    const size_t cells = (size_t)dims.x * dims.y * dims.z;
+#define PATH_VG_LANE_(k)                                                                                     \
+    {                                                                                                        \
+        const uint agent = ids[min(base + (uint)SWCL_LANE_I(k), n - 1)];                                     \
+        uint g = 0;                                                                                          \
+        while (g + 1 < ngroups && agent >= group_end[g]) ++g;                                                \
+        const float4 d = path_trilinear(dirs + g * cells, dims, origin_h,                                    \
+                                        (float3)(SWCL_LANE(px, k), SWCL_LANE(py, k), SWCL_LANE(pz, k)));     \
+        const float kk = inv_falloff_cost > 0.0f ? s0 * fmin(1.0f, d.w * inv_falloff_cost) : s0;            \
+        SWCL_LANE(vx, k) += kk * d.x;                                                                        \
+        SWCL_LANE(vy, k) += kk * d.y;                                                                        \
+        SWCL_LANE(vz, k) += kk * d.z;                                                                        \
+    }
+    SWCL_EACH_LANE(PATH_VG_LANE_)
+#undef PATH_VG_LANE_
+    noise_store_w((__global float*)vel, base, n, vx, vy, vz);
+    noise_store_w(pp, base, n, px + vx * dt, py + vy * dt, pz + vz * dt);
+}
+#endif

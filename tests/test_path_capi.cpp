@@ -1,0 +1,226 @@
+// The path model through the C API and scenario files: defaults from the
+// paper, a run on a mesh given as arrays, moving goals, and bad input
+// (NaN vertices, bad OBJ files, goals outside the grid or inside an
+// obstacle, grids of 0 cells) that leaves the swarm with its previous model.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "io/scenario.hpp"
+#include "swarmcl/swarmcl.h"
+
+namespace {
+
+class PathCApi : public ::testing::Test {
+protected:
+    void SetUp() override {
+        swcl_context_desc d = swcl_context_desc_default();
+        ASSERT_EQ(swcl_context_create(&d, &ctx), SWCL_OK) << swcl_last_error();
+        swcl_swarm_desc s = swcl_swarm_desc_default();
+        s.capacity = 64;
+        s.agent_count = 64;
+        s.seed = 3;
+        ASSERT_EQ(swcl_swarm_create(ctx, &s, &swarm), SWCL_OK) << swcl_last_error();
+    }
+    void TearDown() override {
+        swcl_swarm_destroy(swarm);
+        swcl_context_destroy(ctx);
+    }
+    // A unit cube mesh as arrays, and a goal beside it (the default domain is [-1, 1]^3).
+    swcl_path_model_desc desc() {
+        swcl_path_model_desc d = swcl_path_model_desc_default();
+        d.resolution[0] = d.resolution[1] = d.resolution[2] = 24;
+        obstacle = swcl_obstacle{};
+        obstacle.type = SWCL_OBSTACLE_MESH;
+        obstacle.vertices = cube_xyz;
+        obstacle.vertex_count = 8;
+        obstacle.indices = cube_idx;
+        obstacle.triangle_count = 12;
+        d.obstacles = &obstacle;
+        d.obstacle_count = 1;
+        goal = swcl_goal{};
+        goal.type = SWCL_GOAL_SPHERE;
+        goal.center[0] = 0.8f;
+        goal.radius = 0.15f;
+        d.goals = &goal;
+        d.goal_count = 1;
+        return d;
+    }
+    swcl_context ctx{};
+    swcl_swarm swarm{};
+    swcl_obstacle obstacle{};
+    swcl_goal goal{};
+    float cube_xyz[24] = {-.2f, -.2f, -.2f, .2f, -.2f, -.2f, -.2f, .2f, -.2f, .2f, .2f, -.2f,
+                          -.2f, -.2f, .2f,  .2f, -.2f, .2f,  -.2f, .2f, .2f,  .2f, .2f, .2f};
+    uint32_t cube_idx[36] = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
+                             2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5};
+};
+
+}  // namespace
+
+TEST_F(PathCApi, DefaultsAreThePapers) {
+    const swcl_path_model_desc d = swcl_path_model_desc_default();
+    EXPECT_EQ(d.struct_size, sizeof(d));
+    EXPECT_FLOAT_EQ(d.cost_a, 0.6f);   // §5
+    EXPECT_FLOAT_EQ(d.cost_b, 0.4f);
+    EXPECT_FLOAT_EQ(d.speed, 1.5f);    // Table 1
+    EXPECT_FLOAT_EQ(d.noise.scale, 0.4f);
+    EXPECT_FLOAT_EQ(d.noise.gain, 0.25f);
+    EXPECT_EQ(d.second_order, 0);
+    EXPECT_EQ(d.resolution[0], 64u);
+}
+
+TEST_F(PathCApi, RunsMovesGoalsAndReportsStats) {
+    swcl_path_model_desc d = desc();
+    d.min_distance = 0.01f;
+    ASSERT_EQ(swcl_swarm_set_path_model(swarm, &d), SWCL_OK) << swcl_last_error();
+    swcl_path_info info{};
+    info.struct_size = sizeof(info);
+    ASSERT_EQ(swcl_swarm_get_path_info(swarm, &info), SWCL_OK);
+    EXPECT_EQ(info.grid[0], 24u);
+    EXPECT_NEAR(info.cell, 2.0f / 24, 1e-6);
+    EXPECT_GT(info.preprocess_seconds, 0.0);
+    ASSERT_EQ(swcl_swarm_step(swarm, 20), SWCL_OK);
+    swcl_step_stats st{};
+    st.struct_size = sizeof(st);
+    ASSERT_EQ(swcl_swarm_take_step_stats(swarm, &st), SWCL_OK);
+    EXPECT_EQ(st.steps, 20u);
+    swcl_goal g{};
+    g.type = SWCL_GOAL_POINT;
+    g.center[0] = -0.8f;
+    double seconds = -1;
+    ASSERT_EQ(swcl_swarm_set_path_goals(swarm, 0, &g, 1, &seconds), SWCL_OK) << swcl_last_error();
+    EXPECT_GT(seconds, 0.0);
+    ASSERT_EQ(swcl_swarm_get_path_info(swarm, &info), SWCL_OK);
+    EXPECT_EQ(info.recomputes, 1u);
+    g.center[0] = 5.0f;  // outside the grid
+    EXPECT_EQ(swcl_swarm_set_path_goals(swarm, 0, &g, 1, nullptr), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("outside the grid"), std::string::npos);
+    EXPECT_EQ(swcl_swarm_set_path_goals(swarm, 1, &g, 1, nullptr), SWCL_ERROR_INVALID_ARGUMENT);
+    std::vector<float> p(3 * 64);
+    ASSERT_EQ(swcl_swarm_step(swarm, 5), SWCL_OK);
+    ASSERT_EQ(swcl_swarm_read(swarm, SWCL_ATTRIBUTE_POSITION, p.data(), 64), SWCL_OK);
+    for (float v : p) EXPECT_TRUE(std::isfinite(v));
+}
+
+TEST_F(PathCApi, BadInputKeepsThePreviousModel) {
+    swcl_path_model_desc good = desc();
+    ASSERT_EQ(swcl_swarm_set_path_model(swarm, &good), SWCL_OK) << swcl_last_error();
+    auto refused = [&](swcl_path_model_desc d, swcl_status want, const char* words) {
+        EXPECT_EQ(swcl_swarm_set_path_model(swarm, &d), want) << words;
+        EXPECT_NE(std::string(swcl_last_error()).find(words), std::string::npos) << swcl_last_error();
+        swcl_path_info info{};
+        info.struct_size = sizeof(info);
+        EXPECT_EQ(swcl_swarm_get_path_info(swarm, &info), SWCL_OK);
+        EXPECT_EQ(info.grid[0], 24u);  // still the first model
+    };
+    {
+        swcl_path_model_desc d = desc();
+        cube_xyz[4] = NAN;
+        refused(d, SWCL_ERROR_INVALID_ARGUMENT, "vertex 1");
+        cube_xyz[4] = -.2f;
+    }
+    {
+        swcl_path_model_desc d = desc();
+        cube_idx[7] = 99;
+        refused(d, SWCL_ERROR_INVALID_ARGUMENT, "index 99");
+        cube_idx[7] = 5;
+    }
+    {
+        swcl_path_model_desc d = desc();
+        obstacle.triangle_count = 0;
+        refused(d, SWCL_ERROR_INVALID_ARGUMENT, "no triangles");
+    }
+    {
+        swcl_path_model_desc d = desc();
+        d.noise.baked = 1;
+        d.noise.time_scale = 1.0f;  // a time-varying noise cannot be baked
+        refused(d, SWCL_ERROR_INVALID_ARGUMENT, "baked");
+    }
+    {
+        swcl_path_model_desc d = desc();
+        goal.center[0] = 0.0f;  // inside the cube
+        goal.radius = 0.05f;
+        refused(d, SWCL_ERROR_INVALID_ARGUMENT, "inside an obstacle");
+    }
+    {
+        swcl_path_model_desc d = desc();
+        goal.center[0] = 3.0f;
+        refused(d, SWCL_ERROR_INVALID_ARGUMENT, "outside the grid");
+    }
+    {
+        swcl_path_model_desc d = desc();
+        d.resolution[1] = 0;
+        refused(d, SWCL_ERROR_INVALID_ARGUMENT, "resolution");
+        d.resolution[1] = 100000;
+        d.resolution[0] = 100000;
+        refused(d, SWCL_ERROR_INVALID_ARGUMENT, "limit");
+    }
+    {
+        swcl_path_model_desc d = desc();
+        d.goal_count = 0;
+        refused(d, SWCL_ERROR_INVALID_ARGUMENT, "goal");
+    }
+    {
+        swcl_path_model_desc d = desc();
+        obstacle.type = SWCL_OBSTACLE_OBJ;
+        obstacle.path = "/nonexistent/mesh.obj";
+        refused(d, SWCL_ERROR_IO, "/nonexistent/mesh.obj");
+    }
+    {
+        const std::string path = ::testing::TempDir() + "swarmcl_bad.obj";
+        std::ofstream(path) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n";
+        swcl_path_model_desc d = desc();
+        obstacle.type = SWCL_OBSTACLE_OBJ;
+        obstacle.path = path.c_str();
+        refused(d, SWCL_ERROR_PARSE, ":4:");
+        std::remove(path.c_str());
+    }
+    swcl_swarm none{};
+    swcl_path_model_desc d = desc();
+    EXPECT_EQ(swcl_swarm_set_path_model(none, &d), SWCL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(swcl_swarm_set_path_model(swarm, nullptr), SWCL_ERROR_INVALID_ARGUMENT);
+}
+
+TEST(PathScenario, ExamplesBuildAndKeysAreChecked) {
+    using namespace swarmcl;
+    const std::string dir = std::string(SWARMCL_SOURCE_DIR) + "/examples/scenarios/";
+    for (const char* name : {"path-two-blocks", "path-chasing", "path-aggregation", "path-phototaxis", "path-locusts"}) {
+        SCOPED_TRACE(name);
+        const Scenario s = load_scenario(dir + name + ".json");
+        ASSERT_TRUE(s.path_model.has_value());
+        EXPECT_FALSE(s.path_model->groups.empty());
+    }
+    EXPECT_EQ(load_scenario(dir + "path-locusts.json").path_model->obstacles.size(), 2u);  // the OBJ hamlet and the ground
+    const std::string head = R"({"name": "t", "domain": {"min": [0,0,0], "max": [4,2,1]}, "agents": {"count": 4},)";
+    auto error = [&](const std::string& tail) -> std::string {
+        try {
+            parse_scenario(head + tail);
+        } catch (const Error& e) {
+            return e.what();
+        }
+        return "";
+    };
+    EXPECT_EQ(error(R"("model": {"type": "path", "goals": [{"center": [1,1,0.5]}]}})"), "");
+    EXPECT_NE(error(R"("model": {"type": "path"}})").find("model.goals: missing"), std::string::npos);
+    EXPECT_NE(error(R"("model": {"type": "path", "goals": [{"type": "cone", "center": [1,1,1]}]}})").find("model.goals[0].type"),
+              std::string::npos);
+    EXPECT_NE(error(R"("obstacles": [{"type": "mesh"}], "model": {"type": "path", "goals": [{"center": [1,1,1]}]}})")
+                  .find("obstacles[0].file: missing"),
+              std::string::npos);
+    EXPECT_NE(error(R"("obstacles": [{"type": "mesh", "file": "/nonexistent.obj"}], "model": {"type": "path", "goals": [{"center": [1,1,1]}]}})")
+                  .find("obstacles[0]"),
+              std::string::npos);
+    EXPECT_NE(error(R"("model": {"type": "path", "grid": {"resolution": [0, 4, 4]}, "goals": [{"center": [1,1,1]}]}})")
+                  .find("model.grid.resolution"),
+              std::string::npos);
+    EXPECT_NE(error(R"("model": {"type": "path", "goals": [{"center": [1,1,1]}], "groups": [{"goals": [{"center": [1,1,1]}]}]}})")
+                  .find("model.goals"),
+              std::string::npos);
+    EXPECT_NE(error(R"("model": {"type": "path", "goals": [{"center": [1,1,1]}], "speeed": 1}})").find("model.speeed: unknown key"),
+              std::string::npos);
+}
