@@ -385,7 +385,7 @@ void run_field_model(const Options& o, const std::shared_ptr<swarmcl::Context>& 
     }
     for (int stage = 0; stage < 6; ++stage) add(names[stage], t[size_t(stage)]);
     std::printf("   (swarm has %u agents after %llu steps)\n", swarm.agent_count(), (unsigned long long)swarm.step_count());
-    res.mde_moved_last = full[1]->take_stats(swarm).mde_moved_last;
+    res.mde_moved_last = full[1]->take_stats(swarm)->mde_moved_last;
 }
 
 // ---- JSON ---------------------------------------------------------------------------

@@ -99,7 +99,7 @@ Run run(std::shared_ptr<Context> ctx, const Scenario& s, uint32_t steps, uint32_
     swarm.step(steps);
     swarm.context().queue().finish();
     const double t = since(t0);
-    const StepStats st = model->take_stats(swarm);
+    const StepStats st = *model->take_stats(swarm);
     r.steps_per_s = steps / t;
     r.ms_per_step = 1000.0 * t / steps;
     r.mde_share = st.steps ? double(st.mde_moved_total) / (double(st.steps) * n) : 0.0;

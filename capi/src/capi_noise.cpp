@@ -7,8 +7,6 @@
 #include "capi_noise.hpp"
 #include "fields/noise_field.hpp"
 #include "models/field_model.hpp"
-#include "models/force_model.hpp"
-#include "models/path_model.hpp"
 
 using namespace swarmcl;
 using namespace swarmcl::capi;
@@ -128,9 +126,7 @@ swcl_status swcl_swarm_take_step_stats(swcl_swarm swarm, swcl_step_stats* out) {
         r.struct_size = sizeof(r);
         r.agents = s.agent_count();
         std::optional<StepStats> st;
-        if (auto* model = dynamic_cast<FieldModel*>(s.behavior())) st = model->take_stats(s);
-        if (auto* model = dynamic_cast<PathModel*>(s.behavior())) st = model->take_stats(s);
-        if (auto* model = dynamic_cast<ForceModel*>(s.behavior())) st = model->take_stats(s);
+        if (s.behavior()) st = s.behavior()->take_stats(s);
         if (st) {
             r.mde_moved_last = st->mde_moved_last;
             r.mde_moved_total = st->mde_moved_total;

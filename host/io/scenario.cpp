@@ -10,6 +10,7 @@
 
 #include "core/error.hpp"
 #include "core/philox.hpp"
+#include "io/json_object.hpp"
 #include "io/obj_loader.hpp"
 #include "io/recorder.hpp"
 #include "shapes/shape_library.hpp"
@@ -19,118 +20,16 @@ namespace {
 
 using json = nlohmann::json;
 
-[[noreturn]] void bad(const std::string& path, const std::string& what) { fail(Status::Parse, path + ": " + what); }
-
-// One JSON object being read: typed getters that name the key path in their
-// errors, and a check that no unknown key is left over.
-class Obj {
-public:
-    Obj(const json& j, std::string path) : j_(j), path_(std::move(path)) {
-        if (!j_.is_object()) bad(label(), "expected an object");
-    }
-    ~Obj() = default;
-
-    bool has(const char* key) {
-        seen_.insert(key);
-        return j_.contains(key);
-    }
-    std::string at(const char* key) const { return path_.empty() ? key : path_ + "." + key; }
-
-    double number(const char* key, double def, double lo, double hi, const char* range) {
-        if (!has(key)) return def;
-        const json& v = j_[key];
-        if (!v.is_number()) bad(at(key), std::string("expected a number ") + range);
-        const double x = v.get<double>();
-        if (!std::isfinite(x) || x < lo || x > hi) bad(at(key), std::string("expected a number ") + range);
-        return x;
-    }
-    float positive(const char* key, float def) {
-        const double x = number(key, def, 0.0, std::numeric_limits<float>::max(), "> 0");
-        // > 0 as a float too: 1e-320 is a positive double but 0 as a float.
-        if (!(float(x) > 0.0f)) bad(at(key), "expected a number > 0");
-        return float(x);
-    }
-    float non_negative(const char* key, float def) {
-        return float(number(key, def, 0.0, std::numeric_limits<float>::max(), ">= 0"));
-    }
-    uint64_t integer(const char* key, uint64_t def, uint64_t hi) {
-        if (!has(key)) return def;
-        const json& v = j_[key];
-        if (!v.is_number_integer() || (v.is_number_integer() && !v.is_number_unsigned() && v.get<int64_t>() < 0) ||
-            v.get<uint64_t>() > hi)
-            bad(at(key), "expected an integer in [0, " + std::to_string(hi) + "]");
-        return v.get<uint64_t>();
-    }
-    bool boolean(const char* key, bool def) {
-        if (!has(key)) return def;
-        if (!j_[key].is_boolean()) bad(at(key), "expected true or false");
-        return j_[key].get<bool>();
-    }
-    std::string string(const char* key, const std::string& def) {
-        if (!has(key)) return def;
-        if (!j_[key].is_string()) bad(at(key), "expected a string");
-        return j_[key].get<std::string>();
-    }
-    std::array<float, 3> vec3(const char* key, std::array<float, 3> def) {
-        if (!has(key)) return def;
-        return to_vec3(j_[key], at(key));
-    }
-    std::array<float, 3> required_vec3(const char* key) {
-        require_key(key);
-        return vec3(key, {});
-    }
-    const json& child(const char* key) {
-        seen_.insert(key);
-        return j_[key];
-    }
-    // Reports a key not in `keys` as unknown before any value is read, so a
-    // typo of a required key says "unknown key", not "missing".
-    void allow(std::initializer_list<const char*> keys) const {
-        for (auto it = j_.begin(); it != j_.end(); ++it) {
-            bool known = false;
-            for (const char* k : keys) known = known || it.key() == k;
-            if (!known) bad(at(it.key().c_str()), "unknown key");
-        }
-    }
-    void require_key(const char* key) {
-        if (!has(key)) bad(at(key), "missing");
-    }
-    // Unknown keys: a typo must not be silently ignored.
-    void finish() const {
-        for (auto it = j_.begin(); it != j_.end(); ++it)
-            if (!seen_.count(it.key())) bad(at(it.key().c_str()), "unknown key");
-    }
-    std::string label() const { return path_.empty() ? "(top level)" : path_; }
-
-    static std::array<float, 3> to_vec3(const json& v, const std::string& path) {
-        if (!v.is_array() || v.size() != 3) bad(path, "expected an array of 3 numbers");
-        std::array<float, 3> out{};
-        for (int a = 0; a < 3; ++a) {
-            // Finite as a float too: 1e39 is a finite double but inf as a float.
-            if (!v[a].is_number() || !std::isfinite(v[a].get<double>()) ||
-                std::fabs(v[a].get<double>()) > std::numeric_limits<float>::max())
-                bad(path, "expected an array of 3 finite numbers");
-            out[a] = float(v[a].get<double>());
-        }
-        return out;
-    }
-
-private:
-    const json& j_;
-    std::string path_;
-    std::set<std::string> seen_;
-};
-
 const char* kNoiseTypes[] = {"curl", "perlin", "white", "gaussian"};
 
 NoiseConfig read_noise(const json& j, const std::string& path) {
-    Obj o(j, path);
+    JsonObject o(j, path);
     NoiseConfig c;
     const std::string type = o.string("type", "curl");
     bool known = false;
     for (int t = 0; t < 4; ++t)
         if (type == kNoiseTypes[t]) c.type = NoiseType(t), known = true;
-    if (!known) bad(o.at("type"), "expected one of \"curl\", \"perlin\", \"white\", \"gaussian\"");
+    if (!known) bad_json(o.at("type"), "expected one of \"curl\", \"perlin\", \"white\", \"gaussian\"");
     c.scale = o.positive("scale", c.scale);
     c.gain = o.non_negative("gain", c.gain);
     c.seed = o.integer("seed", c.seed, std::numeric_limits<uint64_t>::max());
@@ -142,13 +41,13 @@ NoiseConfig read_noise(const json& j, const std::string& path) {
         const json& r = o.child("bake_resolution");
         if (r.is_number_integer()) {
             const auto v = r.get<int64_t>();
-            if (v < 2 || v > 4096) bad(o.at("bake_resolution"), "expected an integer in [2, 4096] or 3 of them");
+            if (v < 2 || v > 4096) bad_json(o.at("bake_resolution"), "expected an integer in [2, 4096] or 3 of them");
             c.bake_resolution = {uint32_t(v), uint32_t(v), uint32_t(v)};
         } else {
-            const auto v = Obj::to_vec3(r, o.at("bake_resolution"));
+            const auto v = JsonObject::to_vec3(r, o.at("bake_resolution"));
             for (int a = 0; a < 3; ++a) {
                 if (v[a] < 2 || v[a] > 4096 || v[a] != std::floor(v[a]))
-                    bad(o.at("bake_resolution"), "expected an integer in [2, 4096] or 3 of them");
+                    bad_json(o.at("bake_resolution"), "expected an integer in [2, 4096] or 3 of them");
                 c.bake_resolution[a] = uint32_t(v[a]);
             }
         }
@@ -159,7 +58,7 @@ NoiseConfig read_noise(const json& j, const std::string& path) {
 }
 
 Boundary read_obstacle(const json& j, const std::string& path) {
-    Obj o(j, path);
+    JsonObject o(j, path);
     Boundary b;
     o.require_key("type");
     const std::string type = o.string("type", "");
@@ -175,16 +74,16 @@ Boundary read_obstacle(const json& j, const std::string& path) {
         b.center = o.required_vec3("center");
         b.half_extents = o.required_vec3("half_extents");
         for (float h : b.half_extents)
-            if (!(h > 0.0f)) bad(o.at("half_extents"), "expected 3 numbers > 0");
+            if (!(h > 0.0f)) bad_json(o.at("half_extents"), "expected 3 numbers > 0");
         b.radius = o.non_negative("edge_radius", 0.0f);
     } else if (type == "plane") {
         o.allow({"type", "normal", "offset"});
         b.kind = Boundary::Kind::Plane;
         b.normal = o.required_vec3("normal");
-        if (b.normal[0] == 0 && b.normal[1] == 0 && b.normal[2] == 0) bad(o.at("normal"), "must not be zero");
+        if (b.normal[0] == 0 && b.normal[1] == 0 && b.normal[2] == 0) bad_json(o.at("normal"), "must not be zero");
         b.offset = float(o.number("offset", 0.0, -1e30, 1e30, "(finite)"));
     } else {
-        bad(o.at("type"), "expected \"sphere\", \"box\" or \"plane\" (mesh obstacles come with the path-field model)");
+        bad_json(o.at("type"), "expected \"sphere\", \"box\" or \"plane\" (mesh obstacles come with the path-field model)");
     }
     o.finish();
     return b;
@@ -192,33 +91,33 @@ Boundary read_obstacle(const json& j, const std::string& path) {
 
 // ---- "type": "force": the shape-constrained force model (docs/force-model.md)
 
-TriangleMesh read_keyframe_mesh(Obj& k) {
+TriangleMesh read_keyframe_mesh(JsonObject& k) {
     TriangleMesh mesh;
     const bool has_shape = k.has("shape"), has_mesh = k.has("mesh");
-    if (has_shape == has_mesh) bad(k.at("shape"), "expected either \"shape\" (a generated shape's name) or \"mesh\"");
+    if (has_shape == has_mesh) bad_json(k.at("shape"), "expected either \"shape\" (a generated shape's name) or \"mesh\"");
     try {
         if (has_shape) {
             mesh = generated_shape(k.string("shape", ""));
         } else {
-            Obj m(k.child("mesh"), k.at("mesh"));
+            JsonObject m(k.child("mesh"), k.at("mesh"));
             m.allow({"vertices", "triangles"});
             m.require_key("vertices");
             m.require_key("triangles");
             const json& v = m.child("vertices");
             const json& t = m.child("triangles");
-            if (!v.is_array() || !t.is_array()) bad(m.label(), "expected arrays of [x, y, z] and [i, j, k]");
+            if (!v.is_array() || !t.is_array()) bad_json(m.label(), "expected arrays of [x, y, z] and [i, j, k]");
             std::vector<float> xyz;
             std::vector<uint32_t> idx;
             for (size_t i = 0; i < v.size(); ++i) {
-                const auto p = Obj::to_vec3(v[i], m.at("vertices") + "[" + std::to_string(i) + "]");
+                const auto p = JsonObject::to_vec3(v[i], m.at("vertices") + "[" + std::to_string(i) + "]");
                 xyz.insert(xyz.end(), p.begin(), p.end());
             }
             for (size_t i = 0; i < t.size(); ++i) {
                 const json& f = t[i];
-                if (!f.is_array() || f.size() != 3) bad(m.at("triangles") + "[" + std::to_string(i) + "]", "expected 3 indices");
+                if (!f.is_array() || f.size() != 3) bad_json(m.at("triangles") + "[" + std::to_string(i) + "]", "expected 3 indices");
                 for (const json& x : f) {
                     if (!x.is_number_unsigned() || x.get<uint64_t>() > 0xFFFFFFFFu)
-                        bad(m.at("triangles") + "[" + std::to_string(i) + "]", "expected 3 integers >= 0");
+                        bad_json(m.at("triangles") + "[" + std::to_string(i) + "]", "expected 3 integers >= 0");
                     idx.push_back(uint32_t(x.get<uint64_t>()));
                 }
             }
@@ -226,14 +125,14 @@ TriangleMesh read_keyframe_mesh(Obj& k) {
         }
     } catch (const Error& e) {
         if (e.status() == Status::Parse) throw;
-        bad(k.label(), e.what());
+        bad_json(k.label(), e.what());
     }
     const float scale = k.positive("scale", 1.0f);
     const auto offset = k.vec3("offset", {0, 0, 0});
     return transformed(mesh, {scale, scale, scale}, offset);
 }
 
-ForceModelConfig read_force_model(Obj& o, std::vector<Boundary> obstacles) {
+ForceModelConfig read_force_model(JsonObject& o, std::vector<Boundary> obstacles) {
     ForceModelConfig c;
     c.r_rep = o.positive("r_rep", c.r_rep);
     c.r_ali = o.positive("r_ali", c.r_ali);
@@ -260,30 +159,30 @@ ForceModelConfig read_force_model(Obj& o, std::vector<Boundary> obstacles) {
     const std::string assignment = o.string("assignment", "nearest");
     if (assignment == "nearest") c.assignment = Assignment::Nearest;
     else if (assignment == "curve") c.assignment = Assignment::Curve;
-    else bad(o.at("assignment"), "expected \"nearest\" or \"curve\"");
+    else bad_json(o.at("assignment"), "expected \"nearest\" or \"curve\"");
     c.sample_seed = o.integer("sample_seed", c.sample_seed, std::numeric_limits<uint64_t>::max());
     if (o.has("keyframes")) {
         const json& list = o.child("keyframes");
-        if (!list.is_array()) bad(o.at("keyframes"), "expected an array of {\"frame\", \"shape\" or \"mesh\"}");
+        if (!list.is_array()) bad_json(o.at("keyframes"), "expected an array of {\"frame\", \"shape\" or \"mesh\"}");
         for (size_t i = 0; i < list.size(); ++i) {
-            Obj k(list[i], o.at("keyframes") + "[" + std::to_string(i) + "]");
+            JsonObject k(list[i], o.at("keyframes") + "[" + std::to_string(i) + "]");
             k.allow({"frame", "shape", "mesh", "scale", "offset"});
             const uint64_t frame = k.integer("frame", 0, 0xFFFFFFFFu);
             if (i > 0 && frame <= c.keyframes.back().frame)
-                bad(k.at("frame"), "keyframes must be in strictly increasing frame order");
+                bad_json(k.at("frame"), "keyframes must be in strictly increasing frame order");
             c.keyframes.push_back({frame, read_keyframe_mesh(k)});
             k.finish();
         }
     }
     c.keyframe_period = o.integer("keyframe_period", 0, 0xFFFFFFFFu);
     if (o.has("path")) {
-        Obj p(o.child("path"), o.at("path"));
+        JsonObject p(o.child("path"), o.at("path"));
         p.allow({"points", "speed"});
         p.require_key("points");
         const json& pts = p.child("points");
-        if (!pts.is_array() || pts.size() < 4) bad(p.at("points"), "expected at least 4 [x, y, z] control points");
+        if (!pts.is_array() || pts.size() < 4) bad_json(p.at("points"), "expected at least 4 [x, y, z] control points");
         for (size_t i = 0; i < pts.size(); ++i) {
-            const auto v = Obj::to_vec3(pts[i], p.at("points") + "[" + std::to_string(i) + "]");
+            const auto v = JsonObject::to_vec3(pts[i], p.at("points") + "[" + std::to_string(i) + "]");
             c.path.insert(c.path.end(), v.begin(), v.end());
         }
         c.path_speed = p.non_negative("speed", c.path_speed);
@@ -291,14 +190,14 @@ ForceModelConfig read_force_model(Obj& o, std::vector<Boundary> obstacles) {
     }
     for (size_t i = 0; i < obstacles.size(); ++i)
         if (obstacles[i].kind == Boundary::Kind::Plane)
-            bad("obstacles[" + std::to_string(i) + "]", "the force model takes sphere and box obstacles");
+            bad_json("obstacles[" + std::to_string(i) + "]", "the force model takes sphere and box obstacles");
     c.obstacles = std::move(obstacles);
     c.obstacle_range = o.positive("obstacle_range", c.obstacle_range);
     o.finish();
     try {
         validate(c);
     } catch (const Error& e) {
-        bad("model", e.what());
+        bad_json("model", e.what());
     }
     return c;
 }
@@ -306,7 +205,7 @@ ForceModelConfig read_force_model(Obj& o, std::vector<Boundary> obstacles) {
 // ---- the path model ("model": {"type": "path"}, docs/path-field.md) --------
 
 Goal read_goal(const json& j, const std::string& path) {
-    Obj o(j, path);
+    JsonObject o(j, path);
     Goal g;
     const std::string type = o.string("type", "point");
     if (type == "point") {
@@ -322,9 +221,9 @@ Goal read_goal(const json& j, const std::string& path) {
         g.kind = Goal::Kind::Box;
         g.half_extents = o.required_vec3("half_extents");
         for (float h : g.half_extents)
-            if (!(h > 0.0f)) bad(o.at("half_extents"), "expected 3 numbers > 0");
+            if (!(h > 0.0f)) bad_json(o.at("half_extents"), "expected 3 numbers > 0");
     } else {
-        bad(o.at("type"), "expected \"point\", \"sphere\" or \"box\"");
+        bad_json(o.at("type"), "expected \"point\", \"sphere\" or \"box\"");
     }
     g.center = o.required_vec3("center");
     o.finish();
@@ -332,7 +231,7 @@ Goal read_goal(const json& j, const std::string& path) {
 }
 
 std::vector<Goal> read_goals(const json& j, const std::string& path) {
-    if (!j.is_array() || j.empty()) bad(path, "expected a non-empty array of goals");
+    if (!j.is_array() || j.empty()) bad_json(path, "expected a non-empty array of goals");
     std::vector<Goal> out;
     for (size_t i = 0; i < j.size(); ++i) out.push_back(read_goal(j[i], path + "[" + std::to_string(i) + "]"));
     return out;
@@ -341,7 +240,7 @@ std::vector<Goal> read_goals(const json& j, const std::string& path) {
 // Obstacles of the path model are meshes: boxes, spheres, cylinders (the
 // shared primitives) and OBJ files.
 TriangleMesh read_mesh_obstacle(const json& j, const std::string& path, const std::string& base_dir) {
-    Obj o(j, path);
+    JsonObject o(j, path);
     o.require_key("type");
     const std::string type = o.string("type", "");
     TriangleMesh m;
@@ -350,7 +249,7 @@ TriangleMesh read_mesh_obstacle(const json& j, const std::string& path, const st
             o.allow({"type", "center", "half_extents", "edge_radius"});
             const auto c = o.required_vec3("center"), h = o.required_vec3("half_extents");
             for (float v : h)
-                if (!(v > 0.0f)) bad(o.at("half_extents"), "expected 3 numbers > 0");
+                if (!(v > 0.0f)) bad_json(o.at("half_extents"), "expected 3 numbers > 0");
             o.non_negative("edge_radius", 0.0f);  // the field model's rounding; meshes keep sharp edges
             m = box_mesh(c, h);
         } else if (type == "sphere") {
@@ -369,12 +268,12 @@ TriangleMesh read_mesh_obstacle(const json& j, const std::string& path, const st
             o.allow({"type", "file", "scale", "offset"});
             o.require_key("file");
             std::string file = o.string("file", "");
-            if (file.empty()) bad(o.at("file"), "expected an OBJ file name");
+            if (file.empty()) bad_json(o.at("file"), "expected an OBJ file name");
             if (file[0] != '/' && !base_dir.empty()) file = base_dir + "/" + file;
             const auto scale = o.vec3("scale", {1, 1, 1}), offset = o.vec3("offset", {0, 0, 0});
             m = transformed(load_obj(file), scale, offset);
         } else {
-            bad(o.at("type"), "expected \"box\", \"sphere\", \"cylinder\" or \"mesh\" (an OBJ file)");
+            bad_json(o.at("type"), "expected \"box\", \"sphere\", \"cylinder\" or \"mesh\" (an OBJ file)");
         }
     } catch (const Error& e) {
         // A scenario error, whatever the mesh's own status (an unreadable
@@ -386,20 +285,20 @@ TriangleMesh read_mesh_obstacle(const json& j, const std::string& path, const st
     return m;
 }
 
-void read_path_model(Obj& o, Scenario& s, const json* obstacles, const std::string& base_dir) {
+void read_path_model(JsonObject& o, Scenario& s, const json* obstacles, const std::string& base_dir) {
     PathModelConfig c;
     if (o.has("noise")) c.noise = read_noise(o.child("noise"), "model.noise");
     if (obstacles)
         for (size_t i = 0; i < obstacles->size(); ++i)
             c.obstacles.push_back(read_mesh_obstacle((*obstacles)[i], "obstacles[" + std::to_string(i) + "]", base_dir));
     if (o.has("grid")) {
-        Obj g(o.child("grid"), "model.grid");
+        JsonObject g(o.child("grid"), "model.grid");
         g.allow({"resolution", "min", "max"});
         if (g.has("resolution")) {
-            const auto r = Obj::to_vec3(g.child("resolution"), g.at("resolution"));
+            const auto r = JsonObject::to_vec3(g.child("resolution"), g.at("resolution"));
             for (int a = 0; a < 3; ++a) {
                 if (r[a] < 2 || r[a] > 4096 || r[a] != std::floor(r[a]))
-                    bad(g.at("resolution"), "expected 3 integers in [2, 4096]");
+                    bad_json(g.at("resolution"), "expected 3 integers in [2, 4096]");
                 c.resolution[a] = uint32_t(r[a]);
             }
         }
@@ -408,12 +307,12 @@ void read_path_model(Obj& o, Scenario& s, const json* obstacles, const std::stri
             c.grid_min = g.required_vec3("min");
             c.grid_max = g.required_vec3("max");
             for (int a = 0; a < 3; ++a)
-                if (!(c.grid_min[a] < c.grid_max[a])) bad(g.at("min"), "must be below model.grid.max on every axis");
+                if (!(c.grid_min[a] < c.grid_max[a])) bad_json(g.at("min"), "must be below model.grid.max on every axis");
         }
         g.finish();
     }
     if (o.has("cost")) {
-        Obj k(o.child("cost"), "model.cost");
+        JsonObject k(o.child("cost"), "model.cost");
         k.allow({"A", "B", "second_order"});
         c.weights.A = k.positive("A", float(c.weights.A));
         c.weights.B = k.non_negative("B", float(c.weights.B));
@@ -425,10 +324,10 @@ void read_path_model(Obj& o, Scenario& s, const json* obstacles, const std::stri
     c.min_distance = o.non_negative("min_distance", c.min_distance);
     if (o.has("groups")) {
         const json& gs = o.child("groups");
-        if (!gs.is_array() || gs.empty() || gs.size() > 64) bad("model.groups", "expected an array of 1 to 64 groups");
+        if (!gs.is_array() || gs.empty() || gs.size() > 64) bad_json("model.groups", "expected an array of 1 to 64 groups");
         for (size_t i = 0; i < gs.size(); ++i) {
             const std::string at = "model.groups[" + std::to_string(i) + "]";
-            Obj g(gs[i], at);
+            JsonObject g(gs[i], at);
             g.allow({"agents", "goals"});
             PathGroup pg;
             pg.agents = uint32_t(g.integer("agents", 0, 0xFFFFFFFEu));
@@ -437,21 +336,21 @@ void read_path_model(Obj& o, Scenario& s, const json* obstacles, const std::stri
             g.finish();
             c.groups.push_back(std::move(pg));
         }
-        if (o.has("goals")) bad("model.goals", "give either goals (one group) or groups, not both");
+        if (o.has("goals")) bad_json("model.goals", "give either goals (one group) or groups, not both");
     } else {
         o.require_key("goals");
         c.groups.push_back({0, read_goals(o.child("goals"), "model.goals")});
     }
     if (o.has("moving_goal")) {
-        Obj m(o.child("moving_goal"), "model.moving_goal");
+        JsonObject m(o.child("moving_goal"), "model.moving_goal");
         m.allow({"waypoints", "every"});
         m.require_key("waypoints");
         const json& w = m.child("waypoints");
-        if (!w.is_array() || w.empty()) bad(m.at("waypoints"), "expected a non-empty array of [x, y, z]");
+        if (!w.is_array() || w.empty()) bad_json(m.at("waypoints"), "expected a non-empty array of [x, y, z]");
         for (size_t i = 0; i < w.size(); ++i)
-            c.waypoints.push_back(Obj::to_vec3(w[i], m.at("waypoints") + "[" + std::to_string(i) + "]"));
+            c.waypoints.push_back(JsonObject::to_vec3(w[i], m.at("waypoints") + "[" + std::to_string(i) + "]"));
         c.waypoint_every = uint32_t(m.integer("every", 60, 0xFFFFFFFFu));
-        if (c.waypoint_every == 0) bad(m.at("every"), "expected an integer >= 1");
+        if (c.waypoint_every == 0) bad_json(m.at("every"), "expected an integer >= 1");
         m.finish();
     }
     o.finish();
@@ -459,11 +358,11 @@ void read_path_model(Obj& o, Scenario& s, const json* obstacles, const std::stri
 }
 
 void read_model(const json& j, Scenario& s, std::vector<Boundary> obstacles) {
-    Obj o(j, "model");
+    JsonObject o(j, "model");
     const std::string type = o.string("type", "field");
     if (type == "ballistic") {
         o.finish();
-        if (!obstacles.empty()) bad("obstacles", "a ballistic model ignores obstacles: remove them or use \"field\"");
+        if (!obstacles.empty()) bad_json("obstacles", "a ballistic model ignores obstacles: remove them or use \"field\"");
         return;
     }
     if (type == "energy") {  // FASTSWARM: host/io/scenario_energy.cpp reads the rest
@@ -478,12 +377,12 @@ void read_model(const json& j, Scenario& s, std::vector<Boundary> obstacles) {
         return;
     }
     if (type != "field")
-        bad("model.type", "expected \"field\", \"path\", \"force\", \"energy\" or \"ballistic\"");
+        bad_json("model.type", "expected \"field\", \"path\", \"force\", \"energy\" or \"ballistic\"");
     FieldModelConfig c;
     if (o.has("noise")) c.noise = read_noise(o.child("noise"), "model.noise");
     c.noise.boundaries = std::move(obstacles);
     if (o.has("goal")) {
-        Obj g(o.child("goal"), "model.goal");
+        JsonObject g(o.child("goal"), "model.goal");
         g.allow({"center", "radius", "speed", "falloff"});
         c.has_goal = true;
         c.goal = g.required_vec3("center");
@@ -498,26 +397,26 @@ void read_model(const json& j, Scenario& s, std::vector<Boundary> obstacles) {
 }
 
 void read_agents(const json& j, Scenario& s) {
-    Obj o(j, "agents");
+    JsonObject o(j, "agents");
     o.allow({"count", "capacity", "velocity", "initial"});
     o.require_key("count");
     const uint64_t count = o.integer("count", 0, 0xFFFFFFFEu);
     const uint64_t capacity = o.integer("capacity", std::max<uint64_t>(count, 1), 0xFFFFFFFEu);
-    if (capacity < count || capacity == 0) bad(o.at("capacity"), "expected an integer >= agents.count and > 0");
+    if (capacity < count || capacity == 0) bad_json(o.at("capacity"), "expected an integer >= agents.count and > 0");
     s.swarm.agent_count = 0;  // placed from `initial` after creation
     s.swarm.capacity = uint32_t(capacity);
     s.initial.velocity = o.vec3("velocity", {0, 0, 0});
     s.initial.min = s.swarm.domain_min;
     s.initial.max = s.swarm.domain_max;
     if (o.has("initial")) {
-        Obj d(o.child("initial"), "agents.initial");
+        JsonObject d(o.child("initial"), "agents.initial");
         const std::string type = d.string("type", "uniform");
         if (type == "uniform") {
             s.initial.kind = InitialDistribution::Kind::Uniform;
             s.initial.min = d.vec3("min", s.initial.min);
             s.initial.max = d.vec3("max", s.initial.max);
             for (int a = 0; a < 3; ++a)
-                if (!(s.initial.min[a] <= s.initial.max[a])) bad(d.at("min"), "must not exceed agents.initial.max");
+                if (!(s.initial.min[a] <= s.initial.max[a])) bad_json(d.at("min"), "must not exceed agents.initial.max");
         } else if (type == "sphere") {
             d.allow({"type", "center", "radius"});
             s.initial.kind = InitialDistribution::Kind::Sphere;
@@ -530,13 +429,13 @@ void read_agents(const json& j, Scenario& s) {
             d.require_key("positions");
             const json& p = d.child("positions");
             if (!p.is_array() || p.size() != count)
-                bad(d.at("positions"), "expected an array of agents.count (" + std::to_string(count) + ") [x, y, z]");
+                bad_json(d.at("positions"), "expected an array of agents.count (" + std::to_string(count) + ") [x, y, z]");
             for (size_t i = 0; i < p.size(); ++i) {
-                const auto v = Obj::to_vec3(p[i], d.at("positions") + "[" + std::to_string(i) + "]");
+                const auto v = JsonObject::to_vec3(p[i], d.at("positions") + "[" + std::to_string(i) + "]");
                 s.initial.points.insert(s.initial.points.end(), v.begin(), v.end());
             }
         } else {
-            bad(d.at("type"), "expected \"uniform\", \"sphere\" or \"points\"");
+            bad_json(d.at("type"), "expected \"uniform\", \"sphere\" or \"points\"");
         }
         d.finish();
     }
@@ -545,12 +444,12 @@ void read_agents(const json& j, Scenario& s) {
 }
 
 void read_output(const json& j, Scenario& s) {
-    Obj o(j, "output");
+    JsonObject o(j, "output");
     s.output_dir = o.string("dir", s.output_dir);
-    if (s.output_dir.empty()) bad(o.at("dir"), "expected a non-empty folder name");
+    if (s.output_dir.empty()) bad_json(o.at("dir"), "expected a non-empty folder name");
     if (o.has("formats")) {
         const json& f = o.child("formats");
-        if (!f.is_array() || f.empty()) bad(o.at("formats"), "expected a non-empty array of \"csv\", \"npy\", \"vtp\"");
+        if (!f.is_array() || f.empty()) bad_json(o.at("formats"), "expected a non-empty array of \"csv\", \"npy\", \"vtp\"");
         s.output_formats = 0;
         for (size_t i = 0; i < f.size(); ++i) {
             const std::string at = o.at("formats") + "[" + std::to_string(i) + "]";
@@ -558,11 +457,11 @@ void read_output(const json& j, Scenario& s) {
             if (name == "csv") s.output_formats |= kExportCsv;
             else if (name == "npy") s.output_formats |= kExportNpy;
             else if (name == "vtp") s.output_formats |= kExportVtp;
-            else bad(at, "expected \"csv\", \"npy\" or \"vtp\"");
+            else bad_json(at, "expected \"csv\", \"npy\" or \"vtp\"");
         }
     }
     s.output_every = uint32_t(o.integer("every", s.output_every, 0xFFFFFFFFu));
-    if (s.output_every == 0) bad(o.at("every"), "expected an integer >= 1");
+    if (s.output_every == 0) bad_json(o.at("every"), "expected an integer >= 1");
     o.finish();
 }
 
@@ -595,23 +494,23 @@ Scenario parse_scenario(const std::string& text, const std::string& base_dir) {
     }
     Scenario s;
     s.source = text;
-    Obj top(root, "");
+    JsonObject top(root, "");
     s.name = top.string("name", s.name);
     // The name names the output files (and swcl_scenario_info.name[128]).
     if (s.name.empty() || s.name.size() > 127 || s.name == "." || s.name == ".." ||
         s.name.find_first_of(std::string("/\\\0", 3)) != std::string::npos)
-        bad("name", "expected 1 to 127 characters without '/', '\\' or NUL (it names the output files)");
+        bad_json("name", "expected 1 to 127 characters without '/', '\\' or NUL (it names the output files)");
     s.swarm.seed = top.integer("seed", 0, std::numeric_limits<uint64_t>::max());
     s.swarm.dt = top.positive("dt", s.swarm.dt);
     s.steps = uint32_t(top.integer("steps", s.steps, 100000000));
     s.swarm.interaction_radius = top.positive("interaction_radius", s.swarm.interaction_radius);
     if (top.has("domain")) {
-        Obj d(top.child("domain"), "domain");
+        JsonObject d(top.child("domain"), "domain");
         d.allow({"min", "max"});
         s.swarm.domain_min = d.required_vec3("min");
         s.swarm.domain_max = d.required_vec3("max");
         for (int a = 0; a < 3; ++a)
-            if (!(s.swarm.domain_min[a] < s.swarm.domain_max[a])) bad("domain.min", "must be below domain.max on every axis");
+            if (!(s.swarm.domain_min[a] < s.swarm.domain_max[a])) bad_json("domain.min", "must be below domain.max on every axis");
         d.finish();
     }
     top.require_key("agents");
@@ -622,16 +521,16 @@ Scenario parse_scenario(const std::string& text, const std::string& base_dir) {
                             root["model"]["type"] == "path";
     if (top.has("obstacles")) {
         const json& list = top.child("obstacles");
-        if (!list.is_array()) bad("obstacles", "expected an array");
+        if (!list.is_array()) bad_json("obstacles", "expected an array");
         for (size_t i = 0; i < list.size() && !path_model; ++i)
             obstacles.push_back(read_obstacle(list[i], "obstacles[" + std::to_string(i) + "]"));
     }
     if (path_model) {
-        Obj m(top.child("model"), "model");
+        JsonObject m(top.child("model"), "model");
         m.string("type", "");
         read_path_model(m, s, top.has("obstacles") ? &top.child("obstacles") : nullptr, base_dir);
     } else if (top.has("model")) read_model(top.child("model"), s, std::move(obstacles));
-    else if (!obstacles.empty()) bad("obstacles", "obstacles need a model (\"model\": {\"type\": \"field\"})");
+    else if (!obstacles.empty()) bad_json("obstacles", "obstacles need a model (\"model\": {\"type\": \"field\"})");
     if (top.has("output")) read_output(top.child("output"), s);
     top.finish();
     for (const NoiseConfig* model_noise : {s.energy_model ? &s.energy_model->config.noise : nullptr,
@@ -642,7 +541,7 @@ Scenario parse_scenario(const std::string& text, const std::string& base_dir) {
         try {
             NoiseField::validate(noise);
         } catch (const Error& e) {
-            bad("model.noise", e.what());
+            bad_json("model.noise", e.what());
         }
     }
     if (s.field_model) {
@@ -653,7 +552,7 @@ Scenario parse_scenario(const std::string& text, const std::string& base_dir) {
         try {
             NoiseField::validate(noise);
         } catch (const Error& e) {
-            bad("model.noise", e.what());
+            bad_json("model.noise", e.what());
         }
     }
     return s;

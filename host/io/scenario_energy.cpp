@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
+#include "io/json_object.hpp"
 #include "swarm/swarm.hpp"
 
 namespace swarmcl {
@@ -14,84 +15,8 @@ namespace {
 
 using json = nlohmann::json;
 
-[[noreturn]] void bad(const std::string& path, const std::string& what) { fail(Status::Parse, path + ": " + what); }
-
-// Typed reads of one object with key-path errors; unknown keys are errors.
-class Reader {
-public:
-    Reader(const json& j, std::string path, std::set<std::string> skip = {})
-        : j_(j), path_(std::move(path)), seen_(std::move(skip)) {
-        if (!j_.is_object()) bad(path_, "expected an object");
-    }
-    std::string at(const std::string& key) const { return path_ + "." + key; }
-    bool has(const std::string& key) {
-        seen_.insert(key);
-        return j_.contains(key);
-    }
-    double number(const std::string& key, double def, double lo, double hi, const char* range) {
-        if (!has(key)) return def;
-        const json& v = j_[key];
-        if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() < lo || v.get<double>() > hi)
-            bad(at(key), std::string("expected a number ") + range);
-        return v.get<double>();
-    }
-    float non_negative(const std::string& key, float def) {
-        return float(number(key, def, 0.0, std::numeric_limits<float>::max(), ">= 0"));
-    }
-    float positive(const std::string& key, float def) {
-        const float x = non_negative(key, def);
-        if (!(x > 0.0f)) bad(at(key), "expected a number > 0");
-        return x;
-    }
-    uint64_t integer(const std::string& key, uint64_t def, uint64_t lo, uint64_t hi) {
-        if (!has(key)) return def;
-        const json& v = j_[key];
-        if (!v.is_number_unsigned() || v.get<uint64_t>() < lo || v.get<uint64_t>() > hi)
-            bad(at(key), "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-        return v.get<uint64_t>();
-    }
-    bool boolean(const std::string& key, bool def) {
-        if (!has(key)) return def;
-        if (!j_[key].is_boolean()) bad(at(key), "expected true or false");
-        return j_[key].get<bool>();
-    }
-    std::string string(const std::string& key, const std::string& def) {
-        if (!has(key)) return def;
-        if (!j_[key].is_string()) bad(at(key), "expected a string");
-        return j_[key].get<std::string>();
-    }
-    std::array<float, 3> vec3(const std::string& key, std::array<float, 3> def) {
-        if (!has(key)) return def;
-        return to_vec3(j_[key], at(key));
-    }
-    const json& child(const std::string& key) {
-        seen_.insert(key);
-        return j_[key];
-    }
-    void finish() const {
-        for (auto it = j_.begin(); it != j_.end(); ++it)
-            if (!seen_.count(it.key())) bad(at(it.key()), "unknown key");
-    }
-    static std::array<float, 3> to_vec3(const json& v, const std::string& path) {
-        if (!v.is_array() || v.size() != 3) bad(path, "expected an array of 3 numbers");
-        std::array<float, 3> out{};
-        for (int a = 0; a < 3; ++a) {
-            if (!v[a].is_number() || !std::isfinite(v[a].get<double>()) ||
-                std::fabs(v[a].get<double>()) > std::numeric_limits<float>::max())
-                bad(path, "expected an array of 3 finite numbers");
-            out[a] = float(v[a].get<double>());
-        }
-        return out;
-    }
-
-private:
-    const json& j_;
-    std::string path_;
-    std::set<std::string> seen_;
-};
-
 EnergyWeights read_weights(const json& j, const std::string& path, EnergyWeights w) {
-    Reader r(j, path);
+    JsonObject r(j, path);
     w.rep = r.non_negative("rep", w.rep);
     w.oa = r.non_negative("oa", w.oa);
     w.cos = r.non_negative("cos", w.cos);
@@ -105,7 +30,7 @@ EnergyWeights read_weights(const json& j, const std::string& path, EnergyWeights
 }
 
 void read_dataset(const json& j, const std::string& path, EnergyScenario& e) {
-    Reader r(j, path);
+    JsonObject r(j, path);
     const std::string type = r.string("type", "synthetic");
     if (type == "synthetic") {
         e.source = EnergyScenario::Source::Synthetic;
@@ -113,16 +38,16 @@ void read_dataset(const json& j, const std::string& path, EnergyScenario& e) {
         e.synthetic_mean_speed = r.positive("mean_speed", e.synthetic_mean_speed);
     } else if (type == "file" || type == "tracks") {
         e.source = type == "file" ? EnergyScenario::Source::File : EnergyScenario::Source::Tracks;
-        if (!r.has("path")) bad(r.at("path"), "missing");
+        if (!r.has("path")) bad_json(r.at("path"), "missing");
         e.path = r.string("path", "");
-        if (e.path.empty()) bad(r.at("path"), "expected a file name");
+        if (e.path.empty()) bad_json(r.at("path"), "expected a file name");
     } else {
-        bad(r.at("type"), "expected \"synthetic\", \"file\" or \"tracks\"");
+        bad_json(r.at("type"), "expected \"synthetic\", \"file\" or \"tracks\"");
     }
     if (type == "tracks") {
         TrackLoadOptions& t = e.tracks;
         if (r.has("columns")) {
-            Reader c(r.child("columns"), r.at("columns"));
+            JsonObject c(r.child("columns"), r.at("columns"));
             t.columns.id = c.string("id", t.columns.id);
             t.columns.time = c.string("time", t.columns.time);
             t.columns.x = c.string("x", t.columns.x);
@@ -135,19 +60,19 @@ void read_dataset(const json& j, const std::string& path, EnergyScenario& e) {
         else if (tf == "seconds") t.time_format = TimeFormat::Seconds;
         else if (tf == "frame") t.time_format = TimeFormat::Frame;
         else if (tf == "datetime") t.time_format = TimeFormat::DateTime;
-        else bad(r.at("time_format"), "expected \"auto\", \"seconds\", \"frame\" or \"datetime\"");
+        else bad_json(r.at("time_format"), "expected \"auto\", \"seconds\", \"frame\" or \"datetime\"");
         t.frame_time = r.number("frame_time", t.frame_time, 0.0, 10.0, "in [0, 10] s (0: estimate)");
         t.unit_scale = r.number("unit_scale", t.unit_scale, 1e-9, 1e9, "in [1e-9, 1e9]");
         t.gap_factor = r.number("gap_factor", t.gap_factor, 1.0, 1e6, ">= 1");
         t.smoothing = uint32_t(r.integer("smoothing", t.smoothing, 0, 1000));
         if (t.time_format == TimeFormat::Frame && !(t.frame_time > 0.0))
-            bad(r.at("frame_time"), "time_format \"frame\" needs frame_time > 0");
+            bad_json(r.at("frame_time"), "time_format \"frame\" needs frame_time > 0");
     }
     if (type != "file") {
         e.dataset.k = uint32_t(r.integer("k", e.dataset.k, 1, 1u << 24));
         e.dataset.groups = uint32_t(r.integer("groups", e.dataset.groups, 1, 1u << 24));
         e.dataset.seed = r.integer("seed", e.dataset.seed, 0, std::numeric_limits<uint64_t>::max());
-        if (e.dataset.groups > e.dataset.k) bad(r.at("groups"), "expected at most k groups");
+        if (e.dataset.groups > e.dataset.k) bad_json(r.at("groups"), "expected at most k groups");
     }
     r.finish();
 }
@@ -156,7 +81,7 @@ void read_dataset(const json& j, const std::string& path, EnergyScenario& e) {
 
 EnergyScenario read_energy_scenario(const json& j, const std::string& path) {
     EnergyScenario e;
-    Reader r(j, path, {"type", "noise"});
+    JsonObject r(j, path, {"type", "noise"});
     EnergyModelConfig& c = e.config;
     if (r.has("dataset")) read_dataset(r.child("dataset"), r.at("dataset"), e);
     if (r.has("weights")) c.weights = read_weights(r.child("weights"), r.at("weights"), c.weights);
@@ -175,16 +100,16 @@ EnergyScenario read_energy_scenario(const json& j, const std::string& path) {
     c.danger_horizon = r.non_negative("danger_horizon", c.danger_horizon);
     if (r.has("stimuli")) {
         const json& list = r.child("stimuli");
-        if (!list.is_array()) bad(r.at("stimuli"), "expected an array");
+        if (!list.is_array()) bad_json(r.at("stimuli"), "expected an array");
         for (size_t i = 0; i < list.size(); ++i) {
             const std::string sp = r.at("stimuli") + "[" + std::to_string(i) + "]";
-            Reader s(list[i], sp);
+            JsonObject s(list[i], sp);
             Stimulus st;
             const std::string kind = s.string("type", "attract");
             if (kind == "attract") st.kind = Stimulus::Kind::Attract;
             else if (kind == "startle") st.kind = Stimulus::Kind::Startle;
-            else bad(s.at("type"), "expected \"attract\" or \"startle\"");
-            if (!s.has("position")) bad(s.at("position"), "missing");
+            else bad_json(s.at("type"), "expected \"attract\" or \"startle\"");
+            if (!s.has("position")) bad_json(s.at("position"), "missing");
             st.position = s.vec3("position", {});
             st.velocity = s.vec3("velocity", {0, 0, 0});
             st.d_danger = s.positive("d_danger", st.d_danger);
@@ -195,9 +120,9 @@ EnergyScenario read_energy_scenario(const json& j, const std::string& path) {
     if (r.has("keypoints")) {
         const json& list = r.child("keypoints");
         if (!list.is_array() || list.size() < 2)
-            bad(r.at("keypoints"), "expected an array of at least 2 [x, y, z] keypoints");
+            bad_json(r.at("keypoints"), "expected an array of at least 2 [x, y, z] keypoints");
         for (size_t i = 0; i < list.size(); ++i)
-            c.keypoints.push_back(Reader::to_vec3(list[i], r.at("keypoints") + "[" + std::to_string(i) + "]"));
+            c.keypoints.push_back(JsonObject::to_vec3(list[i], r.at("keypoints") + "[" + std::to_string(i) + "]"));
     }
     c.keypoints_closed = r.boolean("keypoints_closed", c.keypoints_closed);
     c.bidirectional = r.boolean("bidirectional", c.bidirectional);
@@ -210,7 +135,7 @@ EnergyScenario read_energy_scenario(const json& j, const std::string& path) {
         check.noise = NoiseConfig{};
         EnergyModel::validate(check);
     } catch (const Error& err) {
-        bad(path, err.what());
+        bad_json(path, err.what());
     }
     return e;
 }

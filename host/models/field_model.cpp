@@ -8,7 +8,8 @@
 
 namespace swarmcl {
 
-FieldModel::FieldModel(Swarm& swarm, FieldModelConfig config) : config_(std::move(config)) {
+FieldModel::FieldModel(Swarm& swarm, FieldModelConfig config)
+    : config_(std::move(config)), counters_(swarm.context()) {
     const auto& c = config_;
     if (c.has_goal) {
         for (int a = 0; a < 3; ++a) require(std::isfinite(c.goal[a]), "field model goal must be finite");
@@ -26,8 +27,6 @@ FieldModel::FieldModel(Swarm& swarm, FieldModelConfig config) : config_(std::mov
     // work-item).
     width_ = noise_->width();
     advance_ = noise_->kernel("field_model.cl", width_ > 1 ? "field_model_advance_w" : "field_model_advance");
-    moved_.allocate(ctx, 2, "MDE counters");
-    moved_.fill(ctx, 0u, 2);
 }
 
 void FieldModel::advance(Swarm& swarm, uint64_t step) {
@@ -48,21 +47,9 @@ void FieldModel::advance(Swarm& swarm, uint64_t step) {
     advance_.setArg(i++, c.goal_falloff);
     launch(swarm.context(), advance_, (size_t(n) + width_ - 1) / width_);
     swarm.positions_changed();
-    if (mde_) mde_->apply(swarm, moved_);
-    ++steps_since_read_;
+    if (mde_) mde_->apply(swarm, counters_.device());
+    counters_.count_step();
 }
 
-StepStats FieldModel::take_stats(Swarm& swarm) {
-    cl_uint counts[2] = {0, 0};
-    moved_.download(swarm.context(), counts, 2);
-    moved_.fill(swarm.context(), 0u, 2);
-    StepStats s;
-    s.agents = swarm.agent_count();
-    s.mde_moved_last = counts[0];
-    s.mde_moved_total = counts[1];
-    s.steps = steps_since_read_;
-    steps_since_read_ = 0;
-    return s;
-}
 
 }  // namespace swarmcl

@@ -22,14 +22,6 @@ struct FieldModelConfig {
     float min_distance = 0.0f;  // MDE threshold, m; 0: no enforcement
 };
 
-// MDE counts read back from the device (only when asked for).
-struct StepStats {
-    uint32_t agents = 0;
-    uint32_t mde_moved_last = 0;   // agents moved by MDE in the last step
-    uint64_t mde_moved_total = 0;  // summed over steps since the last read
-    uint64_t steps = 0;            // steps since the last read
-};
-
 class FieldModel : public Behavior {
 public:
     // Validates; the noise region defaults to the swarm's domain.
@@ -39,7 +31,7 @@ public:
     const FieldModelConfig& config() const { return config_; }
 
     // Reads and resets the counters (waits for the device).
-    StepStats take_stats(Swarm& swarm);
+    std::optional<StepStats> take_stats(Swarm& swarm) override { return counters_.take(swarm); }
 
 private:
     FieldModelConfig config_;
@@ -47,8 +39,7 @@ private:
     std::optional<MinDistance> mde_;
     cl::Kernel advance_;
     uint32_t width_ = 1;  // agents per work-item of advance_ (NoiseField::width)
-    DeviceBuffer<cl_uint> moved_;
-    uint64_t steps_since_read_ = 0;
+    MdeCounters counters_;
 };
 
 }  // namespace swarmcl

@@ -77,7 +77,8 @@ void validate(const ForceModelConfig& c) {
     NoiseField::validate(c.noise);
 }
 
-ForceModel::ForceModel(Swarm& swarm, ForceModelConfig config) : config_(std::move(config)) {
+ForceModel::ForceModel(Swarm& swarm, ForceModelConfig config)
+    : config_(std::move(config)), counters_(swarm.context()) {
     validate(config_);
     Context& ctx = swarm.context();
     noise_ = std::make_unique<NoiseField>(ctx, config_.noise, &swarm.config().domain_min, &swarm.config().domain_max);
@@ -104,8 +105,6 @@ ForceModel::ForceModel(Swarm& swarm, ForceModelConfig config) : config_(std::mov
     nprims_ = uint32_t(prims.size() / 2);
     prims_.allocate(ctx, std::max<size_t>(prims.size(), 2), "force model obstacles");
     prims_.upload(ctx, prims.data(), prims.size());
-    moved_.allocate(ctx, 2, "MDE counters");
-    moved_.fill(ctx, 0u, 2);
     prepare(swarm);
 }
 
@@ -242,27 +241,15 @@ void ForceModel::advance(Swarm& swarm, uint64_t step) {
     launch(ctx, integrate_k_, n);
     swarm.positions_changed();
     if (mde_) {
-        mde_->apply(swarm, moved_);
+        mde_->apply(swarm, counters_.device());
         if (nprims_) {
             set_args(project_k_, swarm.positions().get(), cl_uint(n), prims_.get(), cl_uint(nprims_));
             launch(ctx, project_k_, n);
             swarm.positions_changed();
         }
     }
-    ++steps_since_read_;
+    counters_.count_step();
 }
 
-StepStats ForceModel::take_stats(Swarm& swarm) {
-    cl_uint counts[2] = {0, 0};
-    moved_.download(swarm.context(), counts, 2);
-    moved_.fill(swarm.context(), 0u, 2);
-    StepStats s;
-    s.agents = swarm.agent_count();
-    s.mde_moved_last = counts[0];
-    s.mde_moved_total = counts[1];
-    s.steps = steps_since_read_;
-    steps_since_read_ = 0;
-    return s;
-}
 
 }  // namespace swarmcl

@@ -12,7 +12,6 @@
 #include <vector>
 
 #include "fields/noise_field.hpp"
-#include "models/field_model.hpp"  // StepStats
 #include "models/min_distance.hpp"
 #include "shapes/bspline_path.hpp"
 #include "shapes/shape_sampling.hpp"
@@ -87,9 +86,8 @@ public:
     void advance(Swarm& swarm, uint64_t step) override;
     const ForceModelConfig& config() const { return config_; }
 
-    // MDE counters since the last call (waits for the device), as
-    // FieldModel::take_stats.
-    StepStats take_stats(Swarm& swarm);
+    // MDE counters since the last call (waits for the device).
+    std::optional<StepStats> take_stats(Swarm& swarm) override { return counters_.take(swarm); }
 
     // Only the force of Eq. 1 at the current state, in slot order (tests).
     void compute_forces(Swarm& swarm, uint64_t step);
@@ -120,9 +118,9 @@ private:
     int active_ = -1;
     std::vector<uint32_t> target_of_;
     DeviceBuffer<cl_float4> force_, target_buf_, prims_, by_target_;
-    DeviceBuffer<cl_uint> target_of_buf_, nbr_start_buf_, nbr_index_buf_, moved_;
+    DeviceBuffer<cl_uint> target_of_buf_, nbr_start_buf_, nbr_index_buf_;
     uint32_t nprims_ = 0;
-    uint64_t steps_since_read_ = 0;
+    MdeCounters counters_;
 };
 
 }  // namespace swarmcl

@@ -4,6 +4,21 @@
 
 namespace swarmcl {
 
+MdeCounters::MdeCounters(Context& ctx) : moved_(ctx, 2, "MDE counters") { moved_.fill(ctx, 0u, 2); }
+
+StepStats MdeCounters::take(Swarm& swarm) {
+    cl_uint counts[2] = {0, 0};
+    moved_.download(swarm.context(), counts, 2);
+    moved_.fill(swarm.context(), 0u, 2);
+    StepStats s;
+    s.agents = swarm.agent_count();
+    s.mde_moved_last = counts[0];
+    s.mde_moved_total = counts[1];
+    s.steps = steps_;
+    steps_ = 0;
+    return s;
+}
+
 MinDistance::MinDistance(Context& ctx, float d_min, uint64_t seed)
     : d_min_(d_min), seed_(seed), kernel_(ctx.kernel("min_distance.cl", "min_distance_enforce")) {}
 

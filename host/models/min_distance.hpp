@@ -4,10 +4,27 @@
 #include <cstdint>
 
 #include "device/buffer.hpp"
+#include "swarm/behavior.hpp"
 
 namespace swarmcl {
 
 class Swarm;
+
+// The MDE counters a model keeps between reads: agents moved in the last pass
+// and summed over passes (on the device, written by MinDistance::apply), and
+// the steps since the last read (host).
+class MdeCounters {
+public:
+    explicit MdeCounters(Context& ctx);
+    DeviceBuffer<cl_uint>& device() { return moved_; }
+    void count_step() { ++steps_; }
+    // Reads and resets them (waits for the device).
+    StepStats take(Swarm& swarm);
+
+private:
+    DeviceBuffer<cl_uint> moved_;
+    uint64_t steps_ = 0;
+};
 
 class MinDistance {
 public:

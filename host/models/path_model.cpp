@@ -16,7 +16,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 }  // namespace
 
-PathModel::PathModel(Swarm& swarm, PathModelConfig config) : config_(std::move(config)), ctx_(swarm.context()) {
+PathModel::PathModel(Swarm& swarm, PathModelConfig config)
+    : config_(std::move(config)), ctx_(swarm.context()), counters_(swarm.context()) {
     const auto t0 = std::chrono::steady_clock::now();
     auto& c = config_;
     require(std::isfinite(c.speed) && c.speed >= 0.0f, "path model speed (s0) must be a finite number >= 0");
@@ -89,8 +90,6 @@ PathModel::PathModel(Swarm& swarm, PathModelConfig config) : config_(std::move(c
     }
     advance_ = ctx_.kernel("path_model.cl", width_ > 1 ? "path_model_advance_w" : "path_model_advance", defines);
     if (c.min_distance > 0.0f) mde_.emplace(ctx_, c.min_distance, nc.seed);
-    moved_.allocate(ctx_, 2, "MDE counters");
-    moved_.fill(ctx_, 0u, 2);
     ctx_.queue().finish();
     preprocess_seconds_ = seconds_since(t0);
 }
@@ -174,21 +173,9 @@ void PathModel::advance(Swarm& swarm, uint64_t step) {
     advance_.setArg(i++, vl_dims_);
     launch(ctx_, advance_, (size_t(n) + width_ - 1) / width_);
     swarm.positions_changed();
-    if (mde_) mde_->apply(swarm, moved_);
-    ++steps_since_read_;
+    if (mde_) mde_->apply(swarm, counters_.device());
+    counters_.count_step();
 }
 
-StepStats PathModel::take_stats(Swarm& swarm) {
-    cl_uint counts[2] = {0, 0};
-    moved_.download(ctx_, counts, 2);
-    moved_.fill(ctx_, 0u, 2);
-    StepStats s;
-    s.agents = swarm.agent_count();
-    s.mde_moved_last = counts[0];
-    s.mde_moved_total = counts[1];
-    s.steps = steps_since_read_;
-    steps_since_read_ = 0;
-    return s;
-}
 
 }  // namespace swarmcl

@@ -13,7 +13,6 @@
 #include "fields/cost_field.hpp"
 #include "fields/noise_field.hpp"
 #include "fields/sdf.hpp"
-#include "models/field_model.hpp"  // StepStats
 #include "models/min_distance.hpp"
 #include "shapes/triangle_mesh.hpp"
 #include "swarm/behavior.hpp"
@@ -53,7 +52,7 @@ public:
     PathModel(Swarm& swarm, PathModelConfig config);
 
     void advance(Swarm& swarm, uint64_t step) override;
-    StepStats take_stats(Swarm& swarm);
+    std::optional<StepStats> take_stats(Swarm& swarm) override { return counters_.take(swarm); }
 
     // Replaces group `group`'s goals and recomputes its cost field (chasing,
     // §7); returns the seconds it took.  Validated first: an error changes nothing.
@@ -88,8 +87,8 @@ private:
     DeviceBuffer<cl_float4> vl_;
     cl_float4 vl_min_{}, vl_cell_{{1, 1, 1, 1}};
     cl_int4 vl_dims_{{2, 2, 2, 0}};
-    DeviceBuffer<cl_uint> group_end_, moved_;
-    uint64_t steps_since_read_ = 0;
+    DeviceBuffer<cl_uint> group_end_;
+    MdeCounters counters_;
     double preprocess_seconds_ = 0.0;
     uint32_t recomputes_ = 0;
     double recompute_seconds_ = 0.0;
