@@ -16,22 +16,6 @@
 
 using namespace swarmcl;
 
-namespace {
-
-double signed_volume(const TriangleMesh& m) {
-    double v = 0.0;
-    for (size_t t = 0; t < m.triangle_count(); ++t) {
-        const auto c = m.corners(t);
-        v += (double(c[0][0]) * (double(c[1][1]) * c[2][2] - double(c[1][2]) * c[2][1]) -
-              double(c[0][1]) * (double(c[1][0]) * c[2][2] - double(c[1][2]) * c[2][0]) +
-              double(c[0][2]) * (double(c[1][0]) * c[2][1] - double(c[1][1]) * c[2][0])) /
-             6.0;
-    }
-    return v;
-}
-
-}  // namespace
-
 TEST(ShapeLibrary, EveryShapeIsAValidOutwardMesh) {
     for (const std::string name : {"sphere", "torus", "moon", "star", "heart", "mammoth", "shark", "horse",
                                    "horse:0.25"}) {

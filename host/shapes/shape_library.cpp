@@ -10,19 +10,6 @@ namespace {
 
 constexpr float kPi = 3.14159265358979f;
 
-// Signed volume (divergence theorem): > 0 for an outward-oriented closed mesh.
-double signed_volume(const TriangleMesh& m) {
-    double v = 0.0;
-    for (size_t t = 0; t < m.triangle_count(); ++t) {
-        const auto c = m.corners(t);
-        v += (double(c[0][0]) * (double(c[1][1]) * c[2][2] - double(c[1][2]) * c[2][1]) -
-              double(c[0][1]) * (double(c[1][0]) * c[2][2] - double(c[1][2]) * c[2][0]) +
-              double(c[0][2]) * (double(c[1][0]) * c[2][1] - double(c[1][1]) * c[2][0])) /
-             6.0;
-    }
-    return v;
-}
-
 // Validated mesh from packed arrays, flipped if it came out inward.
 TriangleMesh build(const std::vector<float>& xyz, std::vector<uint32_t> idx) {
     TriangleMesh m = make_mesh(xyz, idx);

@@ -77,6 +77,17 @@ double surface_area(const TriangleMesh& mesh) {
     return a;
 }
 
+double signed_volume(const TriangleMesh& mesh) {
+    double v = 0.0;
+    for (size_t t = 0; t < mesh.triangle_count(); ++t) {
+        const auto c = mesh.corners(t);
+        v += (double(c[0][0]) * (double(c[1][1]) * c[2][2] - double(c[1][2]) * c[2][1]) -
+              double(c[0][1]) * (double(c[1][0]) * c[2][2] - double(c[1][2]) * c[2][0]) +
+              double(c[0][2]) * (double(c[1][0]) * c[2][1] - double(c[1][1]) * c[2][0])) / 6.0;
+    }
+    return v;
+}
+
 MeshBounds bounds(const TriangleMesh& mesh) {
     MeshBounds b;
     if (mesh.vertices.empty()) return b;

@@ -43,6 +43,8 @@ TriangleMesh make_mesh(const std::vector<float>& xyz, const std::vector<uint32_t
 
 double triangle_area(const Vec3f& a, const Vec3f& b, const Vec3f& c);
 double surface_area(const TriangleMesh& mesh);
+// Enclosed volume by the divergence theorem: > 0 for a closed, outward-oriented mesh.
+double signed_volume(const TriangleMesh& mesh);
 MeshBounds bounds(const TriangleMesh& mesh);
 
 // x -> scale * x + offset, per axis.
