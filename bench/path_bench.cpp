@@ -49,11 +49,11 @@ struct Table1 {
 // 3.82 (chasing), 1550.4/66.2 = 23.4 (aggregation), 2331.0/1988.1 = 1.17
 // (phototaxis); locusts has only its speedup, 53.9 (-1: not given).
 const Table1 kPaper[] = {
-    {"path-two-blocks", "two blocks (300)", 0.417, 219.4, 1477.1, 0.36},
-    {"path-chasing", "chasing (100)", 0.729, 587.9, 2247.2, 0.54},
-    {"path-aggregation", "aggregation (1000)", 0.235, 66.2, 1550.4, 0.03},
-    {"path-phototaxis", "phototaxis (30)", 2.660, 1988.1, 2331.0, 0.01},
-    {"path-locusts", "locusts (5000)", 19.405, -1, -1, 0.68},
+    {"path_two_blocks", "two blocks (300)", 0.417, 219.4, 1477.1, 0.36},
+    {"path_chasing", "chasing (100)", 0.729, 587.9, 2247.2, 0.54},
+    {"path_aggregation", "aggregation (1000)", 0.235, 66.2, 1550.4, 0.03},
+    {"path_phototaxis", "phototaxis (30)", 2.660, 1988.1, 2331.0, 0.01},
+    {"path_locusts", "locusts (5000)", 19.405, -1, -1, 0.68},
 };
 
 struct Run {
@@ -182,7 +182,7 @@ int main(int argc, char** argv) {
     // 0.25 m (the scenario's 1 m suits 5000 insects: with 1M it would hold
     // ~100 per cell, and MDE's search would dominate).
     if (million > 0) {
-        const Scenario s = load_scenario(std::string(SWARMCL_SCENARIO_DIR) + "/path-locusts.json");
+        const Scenario s = load_scenario(std::string(SWARMCL_SCENARIO_DIR) + "/path_locusts.json");
         const Run r = run(ctx, s, 10, million, 0.25f);
         Scenario no_mde = s;
         no_mde.path_model->min_distance = 0.0f;

@@ -189,13 +189,13 @@ TEST_F(PathCApi, BadInputKeepsThePreviousModel) {
 TEST(PathScenario, ExamplesBuildAndKeysAreChecked) {
     using namespace swarmcl;
     const std::string dir = std::string(SWARMCL_SOURCE_DIR) + "/examples/scenarios/";
-    for (const char* name : {"path-two-blocks", "path-chasing", "path-aggregation", "path-phototaxis", "path-locusts"}) {
+    for (const char* name : {"path_two_blocks", "path_chasing", "path_aggregation", "path_phototaxis", "path_locusts"}) {
         SCOPED_TRACE(name);
         const Scenario s = load_scenario(dir + name + ".json");
         ASSERT_TRUE(s.path_model.has_value());
         EXPECT_FALSE(s.path_model->groups.empty());
     }
-    EXPECT_EQ(load_scenario(dir + "path-locusts.json").path_model->obstacles.size(), 2u);  // the OBJ hamlet and the ground
+    EXPECT_EQ(load_scenario(dir + "path_locusts.json").path_model->obstacles.size(), 2u);  // the OBJ hamlet and the ground
     const std::string head = R"({"name": "t", "domain": {"min": [0,0,0], "max": [4,2,1]}, "agents": {"count": 4},)";
     auto error = [&](const std::string& tail) -> std::string {
         try {
