@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <cstring>
 #include <random>
 
 #include "core/error.hpp"
@@ -758,6 +760,52 @@ TEST_F(ForceCApi, ShapesKeyframesPathAndTargets) {
     EXPECT_NEAR(dx, 0.07, 2e-3);
 }
 
+TEST_F(ForceCApi, TargetsTurnWithThePathUnlessOrientIsOff) {
+    // A horse (2.6 m long along +x, 0.6 m wide) on a path along +y: the
+    // targets returned are turned a quarter (long along y) by default, and
+    // only moved with path_orient 0.
+    const float path[] = {0, 0, 0, 0, 1, 0, 0, 2, 0, 0, 3, 0};
+    swcl_keyframe k{};
+    k.shape = "horse";
+    auto extents = [&](uint32_t orient, uint32_t struct_size) {
+        swcl_force_model_desc d = swcl_force_model_desc_default();
+        EXPECT_EQ(d.path_orient, 1u);
+        d.struct_size = struct_size;
+        d.path_orient = orient;
+        d.min_spacing = 0.0f;
+        d.keyframes = &k;
+        d.keyframe_count = 1;
+        d.path = path;
+        d.path_point_count = 4;
+        d.path_speed = 0.5f;
+        EXPECT_EQ(swcl_swarm_set_force_model(swarm, &d), SWCL_OK) << swcl_last_error();
+        EXPECT_EQ(swcl_swarm_step(swarm, 1), SWCL_OK) << swcl_last_error();
+        std::vector<float> t(600);
+        EXPECT_EQ(swcl_swarm_get_force_targets(swarm, t.data(), 200), SWCL_OK) << swcl_last_error();
+        std::array<float, 2> lo{1e9f, 1e9f}, hi{-1e9f, -1e9f};
+        for (size_t i = 0; i < 200; ++i)
+            for (int a = 0; a < 2; ++a) lo[a] = std::min(lo[a], t[3 * i + a]), hi[a] = std::max(hi[a], t[3 * i + a]);
+        return std::array<float, 2>{hi[0] - lo[0], hi[1] - lo[1]};
+    };
+    const auto turned = extents(1, sizeof(swcl_force_model_desc));
+    EXPECT_GT(turned[1], 2.0f);
+    EXPECT_LT(turned[0], 1.0f);
+    const auto moved = extents(0, sizeof(swcl_force_model_desc));
+    EXPECT_GT(moved[0], 2.0f);
+    EXPECT_LT(moved[1], 1.0f);
+    // A descriptor of the first version (struct_size ending before
+    // path_orient) is accepted and gets the default: turned.
+    const auto old = extents(0, offsetof(swcl_force_model_desc, path_orient));
+    EXPECT_GT(old[1], 2.0f);
+    swcl_force_model_desc d = swcl_force_model_desc_default();
+    d.path_orient = 2;
+    EXPECT_EQ(swcl_swarm_set_force_model(swarm, &d), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("path_orient"), std::string::npos) << swcl_last_error();
+    d = swcl_force_model_desc_default();
+    d.struct_size = offsetof(swcl_force_model_desc, path_orient) - 4;
+    EXPECT_EQ(swcl_swarm_set_force_model(swarm, &d), SWCL_ERROR_INVALID_ARGUMENT);
+}
+
 TEST_F(ForceCApi, BadInputChangesNothing) {
     swcl_force_model_desc d = swcl_force_model_desc_default();
     d.alpha = 1.2f;
@@ -822,7 +870,11 @@ TEST(ForceScenario, ParsesTheForceModel) {
     EXPECT_EQ(c.keyframes[1].mesh.triangle_count(), 4u);
     EXPECT_GT(bounds(c.keyframes[0].mesh).min[0], 0.5f);  // offset applied
     EXPECT_EQ(c.path.size(), 12u);
+    EXPECT_TRUE(c.path_orient);  // default: the shape turns with the path
     EXPECT_EQ(c.obstacles.size(), 1u);
+    const Scenario off = parse_scenario(R"({"agents": {"count": 5}, "model": {"type": "force",
+        "path": {"points": [[0,0,0],[1,0,0],[2,0,0],[3,0,0]], "orient": false}}})");
+    EXPECT_FALSE(off.force_model->path_orient);
 }
 
 TEST(ForceScenario, BadForceModelsNameTheKey) {
@@ -845,6 +897,9 @@ TEST(ForceScenario, BadForceModelsNameTheKey) {
     EXPECT_TRUE(has(error_of(R"({"type": "force", "keyframes": [{"frame": 0}]})"), "model.keyframes[0].shape"));
     EXPECT_TRUE(has(error_of(R"({"type": "force", "path": {"points": [[0,0,0],[1,0,0],[2,0,0]]}})"),
                     "model.path.points"));
+    EXPECT_TRUE(has(error_of(R"({"type": "force", "path": {"points": [[0,0,0],[1,0,0],[2,0,0],[3,0,0]],
+                                                           "orient": 1}})"),
+                    "model.path.orient"));
     EXPECT_TRUE(has(error_of(R"({"type": "force", "keyframes": [{"frame": 0, "mesh": {"vertices": [[0,0,0],[1,0,0],[2,0,0]],
                                                                   "triangles": [[0,1,2]]}}]})"),
                     "model.keyframes[0]"));
