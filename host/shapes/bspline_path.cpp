@@ -17,6 +17,7 @@ BSplinePath::BSplinePath(const std::vector<float>& xyz) {
     for (int k = 0; k < 2; ++k) ctrl_.push_back({xyz[0], xyz[1], xyz[2]});
     for (size_t i = 0; i < n; ++i) ctrl_.push_back({xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]});
     for (int k = 0; k < 2; ++k) ctrl_.push_back({xyz[3 * n - 3], xyz[3 * n - 2], xyz[3 * n - 1]});
+    for (float v : xyz) scale_ = std::max(scale_, double(std::fabs(v)));
     // Arc-length table: 64 chords per segment, inverted by linear
     // interpolation (error O(h^2) of the chord length).
     const size_t samples = 64 * (ctrl_.size() - 3);
@@ -122,15 +123,12 @@ BSplinePath::D3 BSplinePath::tangent_at_parameter(double u) const {
     const double basis[3][4] = {{-(1 - t) * (1 - t) / 2, (3 * t2 - 4 * t) / 2, (1 + 2 * t - 3 * t2) / 2, t2 / 2},
                                 {1 - t, 3 * t - 2, 1 - 3 * t, t},
                                 {-1, 3, -3, 1}};
-    double scale = 1.0;
-    for (const D3& c : ctrl_)
-        for (double v : c) scale = std::max(scale, std::fabs(v));
     for (const auto& b : basis) {
         D3 d{};
         for (int a = 0; a < 3; ++a)
             d[a] = b[0] * ctrl_[k][a] + b[1] * ctrl_[k + 1][a] + b[2] * ctrl_[k + 2][a] + b[3] * ctrl_[k + 3][a];
         const double l = std::sqrt(dot(d, d));
-        if (l > 1e-12 * scale) return {d[0] / l, d[1] / l, d[2] / l};
+        if (l > 1e-12 * scale_) return {d[0] / l, d[1] / l, d[2] / l};
     }
     return {1.0, 0.0, 0.0};  // all control points equal: no direction, keep the shape's own
 }

@@ -51,6 +51,7 @@ private:
     std::vector<double> table_s_, table_u_;    // arc length at samples of u
     std::vector<D3> table_up_;                 // rotation-minimising up at the samples
     double length_ = 0.0;
+    double scale_ = 1.0;                       // max(1, |control coordinates|): derivative "zero" threshold
 };
 
 }  // namespace swarmcl
