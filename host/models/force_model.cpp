@@ -178,7 +178,7 @@ std::vector<float> ForceModel::placed(const std::vector<float>& xyz, uint64_t st
         for (size_t r = 0; r < 3; ++r)
             out[i + r] = p.rotated ? float(p.rotation[r][0] * xyz[i] + p.rotation[r][1] * xyz[i + 1] +
                                            p.rotation[r][2] * xyz[i + 2] + p.offset[r])
-                                   : xyz[i + r] + p.offset[r];  // exactly the translation of old
+                                   : xyz[i + r] + p.offset[r];  // translation only, bit for bit as before path_orient
     return out;
 }
 
