@@ -44,7 +44,8 @@
 
 // zones = (R_rep, R_ali, R_att, sigma of Eq. 5), weights = (w_rep, w_ali,
 // w_att, w_dis), blend = (alpha, w_con, distance scale of Eq. 6, unused),
-// offset = the shape frame's position on the global path (xyz).
+// frame_x/y/z = the rows of [R | offset], the shape frame's placement on the
+// global path (§6): a target p of the shape is at R p + offset.
 // Target data are by target index; target_of maps agent ids to target
 // indices; by_target holds each target's insect position this step
 // (force_model_scatter).
@@ -54,7 +55,7 @@ __kernel void force_model_force(__global const float4* pos, __global const float
                                 __global const uint* target_of,
                                 __global const float4* targets, __global const uint* nbr_start,
                                 __global const uint* nbr_index, __global const float4* by_target,
-                                float4 offset, float t, uint step,
+                                float4 frame_x, float4 frame_y, float4 frame_z, float t, uint step,
                                 __global float4* force, NOISE_PARAMS) {
     const uint i = get_global_id(0);
     if (i >= n) return;
@@ -158,7 +159,9 @@ __kernel void force_model_force(__global const float4* pos, __global const float
         // target) above d = 0.498 and negative below: insects hover about
         // their target instead of sitting on it.
         if (terms & FM_DIS) {
-            const float4 s = (float4)(targets[tgt].xyz + offset.xyz, 0.0f);
+            const float3 tp = targets[tgt].xyz;
+            const float4 s = (float4)(dot(frame_x.xyz, tp) + frame_x.w, dot(frame_y.xyz, tp) + frame_y.w,
+                                      dot(frame_z.xyz, tp) + frame_z.w, 0.0f);
             const float4 rs = s - p;
             const float dd = length(rs);
             if (dd > 0.0f) {

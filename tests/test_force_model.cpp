@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <cstring>
 #include <random>
 
 #include "core/error.hpp"
@@ -388,7 +390,6 @@ TEST(ForceModelProperties, PathIsFollowedAndNoInsectEntersAnObstacle) {
     const std::vector<uint32_t> first_assignment = model->target_of();
     double worst_inside = -HUGE_VAL, worst_lag = 0.0;
     uint32_t most_near = 0;  // insects within 5 cm of the box at once
-    // Centroid of the targets in the shape frame (the path carries it).
     for (int chunk = 0; chunk < 90; ++chunk) {
         swarm->step(chunk == 0 ? 19 : 20);
         swarm->read(Attribute::Position, p.data(), n);
@@ -408,11 +409,11 @@ TEST(ForceModelProperties, PathIsFollowedAndNoInsectEntersAnObstacle) {
             near += inside > -0.05;
         }
         most_near = std::max(most_near, near);
-        const ShapeTargets& t = *model->current_targets();
+        // Centroid of the targets placed on the path (moved and turned).
+        const std::vector<float> t =
+            model->placed(model->current_targets()->points, swarm->step_count(), swarm->config().dt);
         D3 tc{0, 0, 0};
-        for (uint32_t i = 0; i < n; ++i) add(tc, at(t.points, i), 1.0 / n);
-        const Vec3f off = model->path_offset(swarm->step_count(), swarm->config().dt);
-        add(tc, {off[0], off[1], off[2]}, 1.0);
+        for (uint32_t i = 0; i < n; ++i) add(tc, at(t, i), 1.0 / n);
         if (chunk >= 10) worst_lag = std::max(worst_lag, norm(sub(centroid, tc)));
     }
     std::printf("[ path ] worst centroid lag %.3f m, deepest inside the box %.4f m, up to %u insects at the box\n",
@@ -420,6 +421,204 @@ TEST(ForceModelProperties, PathIsFollowedAndNoInsectEntersAnObstacle) {
     EXPECT_GT(most_near, 10u);  // the obstacle was in the way
     EXPECT_LT(worst_lag, 0.35);
     EXPECT_LE(worst_inside, 0.0);
+}
+
+// ---- the shape's frame follows the path (§6) ---------------------------------
+
+namespace {
+
+using M3 = std::array<D3, 3>;  // rows
+
+D3 column(const M3& m, int c) { return {m[0][c], m[1][c], m[2][c]}; }
+double angle_deg(D3 a, D3 b) {
+    const double c = (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) / (norm(a) * norm(b));
+    return std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / M_PI;
+}
+
+// The linear map A minimising sum |A q_i - w_i|^2 over the centred point
+// sets (q in the shape frame, w placed): A = (sum w q^T) (sum q q^T)^-1.  A
+// rigid placement is recovered exactly, without assuming it is one.
+M3 fitted_map(const std::vector<float>& q, const std::vector<float>& w) {
+    const size_t n = q.size() / 3;
+    D3 cq{0, 0, 0}, cw{0, 0, 0};
+    for (size_t i = 0; i < n; ++i) add(cq, at(q, i), 1.0 / n), add(cw, at(w, i), 1.0 / n);
+    M3 wq{}, qq{};
+    for (size_t i = 0; i < n; ++i) {
+        const D3 a = sub(at(q, i), cq), b = sub(at(w, i), cw);
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c) wq[r][c] += b[r] * a[c], qq[r][c] += a[r] * a[c];
+    }
+    // qq^-1 by cofactors.
+    const double det = qq[0][0] * (qq[1][1] * qq[2][2] - qq[1][2] * qq[2][1]) -
+                       qq[0][1] * (qq[1][0] * qq[2][2] - qq[1][2] * qq[2][0]) +
+                       qq[0][2] * (qq[1][0] * qq[2][1] - qq[1][1] * qq[2][0]);
+    M3 inv{};
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) {
+            const int r1 = (c + 1) % 3, r2 = (c + 2) % 3, c1 = (r + 1) % 3, c2 = (r + 2) % 3;
+            inv[r][c] = (qq[r1][c1] * qq[r2][c2] - qq[r1][c2] * qq[r2][c1]) / det;
+        }
+    M3 a{};
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c)
+            for (int k = 0; k < 3; ++k) a[r][c] += wq[r][k] * inv[k][c];
+    return a;
+}
+
+// Rotation angle (degrees) of b a^T for rotations a, b.
+double turn_deg(const M3& a, const M3& b) {
+    double tr = 0.0;
+    for (int r = 0; r < 3; ++r)
+        for (int k = 0; k < 3; ++k) tr += b[r][k] * a[r][k];
+    return std::acos(std::clamp((tr - 1.0) / 2.0, -1.0, 1.0)) * 180.0 / M_PI;
+}
+
+// The path's unit tangent at arc length s by central differences of the
+// (separately tested) arc-length positions.
+D3 path_direction(const BSplinePath& path, double s, double h = 1e-3) {
+    const double a = std::max(0.0, s - h), b = std::min(path.length(), s + h);
+    const Vec3f p = path.at_length(a), q = path.at_length(b);
+    const D3 d{double(q[0]) - p[0], double(q[1]) - p[1], double(q[2]) - p[2]};
+    return {d[0] / norm(d), d[1] / norm(d), d[2] / norm(d)};
+}
+
+// A horse (facing +x, up +z) on `path`, distance force only.
+ForceModelConfig horse_on(std::vector<float> path, float speed, bool orient = true) {
+    ForceModelConfig c;
+    c.min_spacing = 0.0f;
+    c.terms = kForceDistance;
+    c.keyframes.push_back({0, horse_mesh(0.0f)});
+    c.path = std::move(path);
+    c.path_speed = speed;
+    c.path_orient = orient;
+    return c;
+}
+
+}  // namespace
+
+TEST(ForcePathFrame, StraightPathAlongYTurnsTheShapeAboutZ) {
+    // A shape facing +x on a path along +y: a quarter turn about z,
+    // (x, y, z) -> (-y, x, z), then the path offset; the device's distance
+    // force heads for those rotated targets.
+    const uint32_t n = 300;
+    auto swarm = make_swarm(n, -4.0f, 4.0f, 1.0f, 21);
+    const ForceModelConfig c = horse_on({0, 0, 0, 0, 1, 0, 0, 2, 0, 0, 3, 0}, 0.6f);
+    auto model = std::make_shared<ForceModel>(*swarm, c);
+    const uint64_t step = 90;  // 0.9 m along the path
+    const float dt = swarm->config().dt;
+    const auto got = forces_by_id(*swarm, *model, step);
+    const ShapeTargets& t = *model->current_targets();
+    const Vec3f off = model->path_offset(step, dt);
+    EXPECT_NEAR(off[1], 0.9f, 2e-3f);
+    const std::vector<float> placed = model->placed(t.points, step, dt);
+    double worst = 0.0;
+    for (uint32_t i = 0; i < n; ++i) {
+        const D3 p = at(t.points, i);
+        const D3 want{-p[1] + off[0], p[0] + off[1], p[2] + off[2]};
+        worst = std::max(worst, norm(sub(at(placed, i), want)));
+    }
+    EXPECT_LT(worst, 1e-5);
+    // The kernel's distance force (Eq. 6-7) towards the rotated targets.
+    std::vector<float> pos(3 * size_t(n));
+    swarm->read(Attribute::Position, pos.data(), n);  // by agent id
+    const double scale = 2.0 * t.spacing;
+    std::vector<D3> want(n);
+    for (uint32_t a = 0; a < n; ++a) {
+        const D3 p = at(t.points, model->target_of()[a]);
+        const D3 rs = sub({-p[1] + off[0], p[0] + off[1], p[2] + off[2]}, at(pos, a));
+        const double d = norm(rs), dn = std::min(d / scale, 1.0);
+        D3 f{0, 0, 0};
+        add(f, rs, c.w_dis * (4.0 * std::cbrt(dn - 0.5) + 0.5) / d);
+        for (int k = 0; k < 3; ++k) want[a][k] = (1.0 - c.alpha) * f[k];
+    }
+    expect_close(got, want, "distance force towards rotated targets");
+}
+
+TEST(ForcePathFrame, ForwardAxisFollowsACurvedPathWithoutFlipping) {
+    // A quarter circle of radius 3 in the xy plane (counter-clockwise from
+    // (3, 0, 0)), then a path that turns from horizontal to straight up,
+    // where "tangent + world up" would be singular.
+    const uint32_t n = 240;
+    std::vector<float> arc;
+    for (int k = 0; k <= 6; ++k) {
+        const double a = M_PI / 2 * k / 6;
+        arc.insert(arc.end(), {float(3 * std::cos(a)), float(3 * std::sin(a)), 0.0f});
+    }
+    const std::vector<float> climb = {0, 0, 0, 1, 0, 0, 2, 0, 0, 3, 0, 0.5f, 3, 0, 1.5f, 3, 0.2f, 3, 3, 0.4f, 4};
+    for (const auto& path : {arc, climb}) {
+        const bool planar = path == arc;
+        auto swarm = make_swarm(n, -4.0f, 4.0f, 1.0f, 22);
+        const ForceModelConfig c = horse_on(path, 0.5f);
+        auto model = std::make_shared<ForceModel>(*swarm, c);
+        model->compute_forces(*swarm, 0);
+        const BSplinePath curve(path);
+        const float dt = swarm->config().dt;
+        const std::vector<float>& q = model->current_targets()->points;
+        M3 prev{};
+        double worst_axis = 0.0, worst_turn_excess = 0.0, worst_up = 0.0;
+        D3 prev_tangent{};
+        const int samples = 80;
+        for (int k = 0; k <= samples; ++k) {
+            // Steps spread over the whole path (path_speed 0.5 m/s).
+            const uint64_t step = uint64_t(std::llround(curve.length() * k / samples / (0.5 * dt)));
+            const M3 r = fitted_map(q, model->placed(q, step, dt));
+            // A proper rotation: orthonormal with determinant +1.
+            for (int a = 0; a < 3; ++a)
+                for (int b = 0; b < 3; ++b) {
+                    const D3 ca = column(r, a), cb = column(r, b);
+                    EXPECT_NEAR(ca[0] * cb[0] + ca[1] * cb[1] + ca[2] * cb[2], a == b ? 1.0 : 0.0, 1e-4);
+                }
+            const double s = std::min(curve.length(), 0.5 * dt * double(step));
+            const D3 tangent = path_direction(curve, s);
+            worst_axis = std::max(worst_axis, angle_deg(column(r, 0), tangent));  // forward +x
+            if (planar) worst_up = std::max(worst_up, angle_deg(column(r, 2), {0, 0, 1}));
+            if (k > 0) {
+                // No flip and no spin about the tangent: consecutive frames
+                // turn by no more than the tangent does (rotation-minimising).
+                worst_turn_excess =
+                    std::max(worst_turn_excess, turn_deg(prev, r) - angle_deg(prev_tangent, tangent));
+            }
+            prev = r;
+            prev_tangent = tangent;
+        }
+        std::printf("[ frame ] %s: forward axis within %.3f deg of the tangent, frame turn beyond the tangent's "
+                    "%.3f deg, up off +z %.3f deg\n",
+                    planar ? "quarter circle" : "climb", worst_axis, worst_turn_excess, worst_up);
+        EXPECT_LT(worst_axis, 2.0);
+        EXPECT_LT(worst_turn_excess, 0.5);
+        EXPECT_LT(worst_up, 1e-3);  // a horizontal path keeps the shape upright (0 for the climb)
+    }
+}
+
+TEST(ForcePathFrame, VerticalStartPitchesTheShape) {
+    // A path that starts straight up has no "world up" normal to it: the
+    // shape is pitched nose up (+x to +z, +z to -x).
+    const BSplinePath up({0, 0, 0, 0, 0, 1, 0, 0, 2, 0, 0, 3});
+    const BSplinePath::Frame f = up.frame_at_length(0.0);
+    EXPECT_NEAR(f.tangent[2], 1.0, 1e-9);
+    EXPECT_NEAR(f.up[0], -1.0, 1e-9);
+    const BSplinePath::Frame g = up.frame_at_length(2.0);
+    EXPECT_NEAR(g.up[0], -1.0, 1e-9);  // a straight path does not twist the frame
+}
+
+TEST(ForcePathFrame, OrientOffIsTheTranslationOnly) {
+    const uint32_t n = 200;
+    const std::vector<float> path = {0, 0, 0, 2, 0, 0, 2, 2, 0, 0, 2, 1, -2, 4, 2};
+    for (bool orient : {false, true}) {
+        auto swarm = make_swarm(n, -4.0f, 4.0f, 1.0f, 23);
+        auto model = std::make_shared<ForceModel>(*swarm, horse_on(path, 0.4f, orient));
+        model->compute_forces(*swarm, 0);
+        const std::vector<float>& q = model->current_targets()->points;
+        const float dt = swarm->config().dt;
+        size_t same = 0;
+        for (uint64_t step : {0u, 100u, 333u, 700u}) {
+            const Vec3f off = model->path_offset(step, dt);
+            const std::vector<float> placed = model->placed(q, step, dt);
+            for (size_t i = 0; i < q.size(); ++i) same += placed[i] == q[i] + off[i % 3];
+        }
+        if (orient) EXPECT_LT(same, 4 * q.size() / 2);  // turned on the curve
+        else EXPECT_EQ(same, 4 * q.size());              // exactly today's targets
+    }
 }
 
 TEST(ForceModelProperties, SameSeedSameRun) {
@@ -561,6 +760,52 @@ TEST_F(ForceCApi, ShapesKeyframesPathAndTargets) {
     EXPECT_NEAR(dx, 0.07, 2e-3);
 }
 
+TEST_F(ForceCApi, TargetsTurnWithThePathUnlessOrientIsOff) {
+    // A horse (2.6 m long along +x, 0.6 m wide) on a path along +y: the
+    // targets returned are turned a quarter (long along y) by default, and
+    // only moved with path_orient 0.
+    const float path[] = {0, 0, 0, 0, 1, 0, 0, 2, 0, 0, 3, 0};
+    swcl_keyframe k{};
+    k.shape = "horse";
+    auto extents = [&](uint32_t orient, uint32_t struct_size) {
+        swcl_force_model_desc d = swcl_force_model_desc_default();
+        EXPECT_EQ(d.path_orient, 1u);
+        d.struct_size = struct_size;
+        d.path_orient = orient;
+        d.min_spacing = 0.0f;
+        d.keyframes = &k;
+        d.keyframe_count = 1;
+        d.path = path;
+        d.path_point_count = 4;
+        d.path_speed = 0.5f;
+        EXPECT_EQ(swcl_swarm_set_force_model(swarm, &d), SWCL_OK) << swcl_last_error();
+        EXPECT_EQ(swcl_swarm_step(swarm, 1), SWCL_OK) << swcl_last_error();
+        std::vector<float> t(600);
+        EXPECT_EQ(swcl_swarm_get_force_targets(swarm, t.data(), 200), SWCL_OK) << swcl_last_error();
+        std::array<float, 2> lo{1e9f, 1e9f}, hi{-1e9f, -1e9f};
+        for (size_t i = 0; i < 200; ++i)
+            for (int a = 0; a < 2; ++a) lo[a] = std::min(lo[a], t[3 * i + a]), hi[a] = std::max(hi[a], t[3 * i + a]);
+        return std::array<float, 2>{hi[0] - lo[0], hi[1] - lo[1]};
+    };
+    const auto turned = extents(1, sizeof(swcl_force_model_desc));
+    EXPECT_GT(turned[1], 2.0f);
+    EXPECT_LT(turned[0], 1.0f);
+    const auto moved = extents(0, sizeof(swcl_force_model_desc));
+    EXPECT_GT(moved[0], 2.0f);
+    EXPECT_LT(moved[1], 1.0f);
+    // A descriptor of the first version (struct_size ending before
+    // path_orient) is accepted and gets the default: turned.
+    const auto old = extents(0, offsetof(swcl_force_model_desc, path_orient));
+    EXPECT_GT(old[1], 2.0f);
+    swcl_force_model_desc d = swcl_force_model_desc_default();
+    d.path_orient = 2;
+    EXPECT_EQ(swcl_swarm_set_force_model(swarm, &d), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("path_orient"), std::string::npos) << swcl_last_error();
+    d = swcl_force_model_desc_default();
+    d.struct_size = offsetof(swcl_force_model_desc, path_orient) - 4;
+    EXPECT_EQ(swcl_swarm_set_force_model(swarm, &d), SWCL_ERROR_INVALID_ARGUMENT);
+}
+
 TEST_F(ForceCApi, BadInputChangesNothing) {
     swcl_force_model_desc d = swcl_force_model_desc_default();
     d.alpha = 1.2f;
@@ -625,7 +870,11 @@ TEST(ForceScenario, ParsesTheForceModel) {
     EXPECT_EQ(c.keyframes[1].mesh.triangle_count(), 4u);
     EXPECT_GT(bounds(c.keyframes[0].mesh).min[0], 0.5f);  // offset applied
     EXPECT_EQ(c.path.size(), 12u);
+    EXPECT_TRUE(c.path_orient);  // default: the shape turns with the path
     EXPECT_EQ(c.obstacles.size(), 1u);
+    const Scenario off = parse_scenario(R"({"agents": {"count": 5}, "model": {"type": "force",
+        "path": {"points": [[0,0,0],[1,0,0],[2,0,0],[3,0,0]], "orient": false}}})");
+    EXPECT_FALSE(off.force_model->path_orient);
 }
 
 TEST(ForceScenario, BadForceModelsNameTheKey) {
@@ -648,6 +897,9 @@ TEST(ForceScenario, BadForceModelsNameTheKey) {
     EXPECT_TRUE(has(error_of(R"({"type": "force", "keyframes": [{"frame": 0}]})"), "model.keyframes[0].shape"));
     EXPECT_TRUE(has(error_of(R"({"type": "force", "path": {"points": [[0,0,0],[1,0,0],[2,0,0]]}})"),
                     "model.path.points"));
+    EXPECT_TRUE(has(error_of(R"({"type": "force", "path": {"points": [[0,0,0],[1,0,0],[2,0,0],[3,0,0]],
+                                                           "orient": 1}})"),
+                    "model.path.orient"));
     EXPECT_TRUE(has(error_of(R"({"type": "force", "keyframes": [{"frame": 0, "mesh": {"vertices": [[0,0,0],[1,0,0],[2,0,0]],
                                                                   "triangles": [[0,1,2]]}}]})"),
                     "model.keyframes[0]"));

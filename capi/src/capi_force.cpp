@@ -1,6 +1,7 @@
 // The force model (shape-constrained flying insects): descriptor, keyframes,
 // path, targets.
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <string>
 
@@ -86,12 +87,14 @@ swcl_force_model_desc swcl_force_model_desc_default(void) {
     d.assignment = SWCL_ASSIGN_NEAREST;
     d.sample_seed = c.sample_seed;
     d.obstacle_range = c.obstacle_range;
+    d.path_orient = c.path_orient ? 1u : 0u;
     return d;
 }
 
 swcl_status swcl_swarm_set_force_model(swcl_swarm swarm, const swcl_force_model_desc* desc) {
     return with_swarm(__func__, swarm, [&](Swarm& s) {
-        check_struct_size(desc, sizeof(swcl_force_model_desc), "desc");
+        // The first version of the descriptor ended before path_orient.
+        check_struct_size(desc, offsetof(swcl_force_model_desc, path_orient), "desc");
         const swcl_force_model_desc& d = *desc;
         ForceModelConfig c;
         c.r_rep = d.r_rep;
@@ -140,6 +143,10 @@ swcl_status swcl_swarm_set_force_model(swcl_swarm swarm, const swcl_force_model_
             c.obstacles.push_back(o);
         }
         c.obstacle_range = d.obstacle_range;
+        if (d.struct_size >= offsetof(swcl_force_model_desc, path_orient) + sizeof(d.path_orient)) {
+            require(d.path_orient <= 1u, "force model path_orient must be 0 or 1");
+            c.path_orient = d.path_orient != 0;
+        }
         install(s, std::move(c));
     });
 }
@@ -172,9 +179,9 @@ swcl_status swcl_swarm_get_force_targets(swcl_swarm swarm, float* out_xyz, size_
         const ShapeTargets* t = m.current_targets();
         require(t != nullptr && m.target_of().size() == s.agent_count(),
                 "no keyframe is active yet (targets appear at the first keyframe's frame, after a step)");
-        const Vec3f off = m.path_offset(s.step_count(), s.config().dt);
+        const std::vector<float> placed = m.placed(t->points, s.step_count(), s.config().dt);
         for (size_t a = 0; a < count; ++a)
-            for (int k = 0; k < 3; ++k) out_xyz[3 * a + k] = t->points[3 * size_t(m.target_of()[a]) + k] + off[k];
+            for (int k = 0; k < 3; ++k) out_xyz[3 * a + k] = placed[3 * size_t(m.target_of()[a]) + k];
     });
 }
 

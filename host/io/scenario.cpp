@@ -177,7 +177,7 @@ ForceModelConfig read_force_model(JsonObject& o, std::vector<Boundary> obstacles
     c.keyframe_period = o.integer("keyframe_period", 0, 0xFFFFFFFFu);
     if (o.has("path")) {
         JsonObject p(o.child("path"), o.at("path"));
-        p.allow({"points", "speed"});
+        p.allow({"points", "speed", "orient"});
         p.require_key("points");
         const json& pts = p.child("points");
         if (!pts.is_array() || pts.size() < 4) bad_json(p.at("points"), "expected at least 4 [x, y, z] control points");
@@ -186,6 +186,7 @@ ForceModelConfig read_force_model(JsonObject& o, std::vector<Boundary> obstacles
             c.path.insert(c.path.end(), v.begin(), v.end());
         }
         c.path_speed = p.non_negative("speed", c.path_speed);
+        c.path_orient = p.boolean("orient", c.path_orient);
         p.finish();
     }
     for (size_t i = 0; i < obstacles.size(); ++i)

@@ -154,6 +154,33 @@ Vec3f ForceModel::path_offset(uint64_t step, float dt) const {
     return path_->at_length(double(config_.path_speed) * double(step) * dt);
 }
 
+ForceModel::Placement ForceModel::placement(uint64_t step, float dt) const {
+    Placement p;
+    p.offset = path_offset(step, dt);
+    if (!path_ || !config_.path_orient) return p;
+    // §6: the shape's frame follows the path.  The generated animals face +x
+    // with +z up (shapes/shape_library.cpp); R takes +x to the tangent T, +z
+    // to the frame's up U and +y to U x T (a proper rotation: T x (U x T) = U).
+    const BSplinePath::Frame f = path_->frame_at_length(double(config_.path_speed) * double(step) * dt);
+    const auto& t = f.tangent;
+    const auto& u = f.up;
+    const std::array<double, 3> l{u[1] * t[2] - u[2] * t[1], u[2] * t[0] - u[0] * t[2], u[0] * t[1] - u[1] * t[0]};
+    for (int r = 0; r < 3; ++r) p.rotation[size_t(r)] = {t[size_t(r)], l[size_t(r)], u[size_t(r)]};
+    p.rotated = true;
+    return p;
+}
+
+std::vector<float> ForceModel::placed(const std::vector<float>& xyz, uint64_t step, float dt) const {
+    const Placement p = placement(step, dt);
+    std::vector<float> out(xyz.size());
+    for (size_t i = 0; i + 2 < xyz.size(); i += 3)
+        for (size_t r = 0; r < 3; ++r)
+            out[i + r] = p.rotated ? float(p.rotation[r][0] * xyz[i] + p.rotation[r][1] * xyz[i + 1] +
+                                           p.rotation[r][2] * xyz[i + 2] + p.offset[r])
+                                   : xyz[i + r] + p.offset[r];  // translation only, bit for bit as before path_orient
+    return out;
+}
+
 void ForceModel::activate(Swarm& swarm, int k) {
     Context& ctx = swarm.context();
     const ShapeTargets& t = targets_[size_t(k)];
@@ -174,9 +201,7 @@ void ForceModel::activate(Swarm& swarm, int k) {
     if (!keep) {
         std::vector<float> agents(3 * size_t(n));
         swarm.read(Attribute::Position, agents.data(), n);
-        const Vec3f off = path_offset(swarm.step_count(), swarm.config().dt);
-        std::vector<float> where = t.points;
-        for (size_t i = 0; i < where.size(); ++i) where[i] += off[i % 3];
+        const std::vector<float> where = placed(t.points, swarm.step_count(), swarm.config().dt);
         target_of_ = assign_targets(agents, where, config_.assignment);
         target_of_buf_.upload(ctx, target_of_.data(), n);
     }
@@ -196,7 +221,11 @@ void ForceModel::enqueue_force(Swarm& swarm, uint64_t step) {
     const float sigma = c.omega * spacing;
     const float dscale = c.distance_scale > 0.0f ? c.distance_scale : 2.0f * spacing;
     const float dt = swarm.config().dt;
-    const Vec3f off = path_offset(step, dt);
+    const Placement place = placement(step, dt);
+    cl_float4 frame[3];  // rows of [R | offset] (kernels/force_model.cl)
+    for (size_t r = 0; r < 3; ++r)
+        frame[r] = cl_float4{{float(place.rotation[r][0]), float(place.rotation[r][1]), float(place.rotation[r][2]),
+                              place.offset[r]}};
     if (t) {
         set_args(scatter_k_, swarm.positions().get(), swarm.ids().get(), cl_uint(n), target_of_buf_.get(),
                  by_target_.get());
@@ -221,7 +250,7 @@ void ForceModel::enqueue_force(Swarm& swarm, uint64_t step) {
     kf.setArg(i++, nbr_start_buf_.get());
     kf.setArg(i++, nbr_index_buf_.get());
     kf.setArg(i++, by_target_.get());
-    kf.setArg(i++, cl_float4{{off[0], off[1], off[2], 0.0f}});
+    for (const cl_float4& row : frame) kf.setArg(i++, row);
     kf.setArg(i++, float(double(step) * dt));
     kf.setArg(i++, cl_uint(step));
     kf.setArg(i++, force_.get());

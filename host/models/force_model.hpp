@@ -6,6 +6,7 @@
 // target meshes (morphing) and a global B-spline path.  Kernels:
 // kernels/force_model.cl; choices: docs/force-model.md.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -69,6 +70,10 @@ struct ForceModelConfig {
     uint64_t keyframe_period = 0;      // > 0: the keyframes repeat every this many steps
     std::vector<float> path;           // B-spline control points (packed xyz), empty: none
     float path_speed = 0.0f;           // m/s along the path
+    // The shape's frame follows the path (§6): its forward axis +x turned to
+    // the path's tangent, its up +z to the path's rotation-minimising up
+    // (BSplinePath::frame_at_length).  false: translated only.
+    bool path_orient = true;
     std::vector<Boundary> obstacles;   // spheres and boxes (Eq. 8-9)
     float obstacle_range = 1.0f;       // L of Eq. 9, m
     uint32_t terms = kForceAll;
@@ -94,12 +99,22 @@ public:
     DeviceBuffer<cl_float4>& forces() { return force_; }
 
     // The keyframe in effect at `step` (-1: none yet), the current targets
-    // (shape frame, without the path offset), target_of[agent id], and the
-    // path offset at `step`.
+    // (shape frame, without the path's placement), target_of[agent id], and
+    // the path offset at `step`.
     int keyframe_at(uint64_t step) const;
     const ShapeTargets* current_targets() const { return active_ < 0 ? nullptr : &targets_[size_t(active_)]; }
     const std::vector<uint32_t>& target_of() const { return target_of_; }
     Vec3f path_offset(uint64_t step, float dt) const;
+    // Where the shape frame is at `step`: a point p of it is at R p + offset
+    // (R the identity without a path or with path_orient off).
+    struct Placement {
+        std::array<std::array<double, 3>, 3> rotation{{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};  // rows
+        Vec3f offset{0.0f, 0.0f, 0.0f};
+        bool rotated = false;
+    };
+    Placement placement(uint64_t step, float dt) const;
+    // Packed shape-frame points placed by placement(step, dt).
+    std::vector<float> placed(const std::vector<float>& shape_xyz, uint64_t step, float dt) const;
     uint32_t current_keyframe() const { return uint32_t(active_); }
 
 private:

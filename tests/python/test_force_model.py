@@ -67,3 +67,20 @@ def test_scenario_with_the_force_model(ctx):
     with sc.create_swarm(ctx) as s:
         s.step(3)
         assert s.force_targets().shape == (64, 3)
+
+
+def test_shape_turns_with_the_path_unless_orient_is_off(ctx):
+    # A horse (long along +x) on a path along +y: turned a quarter by default.
+    assert swarmcl.ForceModel().path_orient is True
+    path = [[0, 0, 0], [0, 1, 0], [0, 2, 0], [0, 3, 0]]
+    extents = {}
+    for orient in (True, False):
+        model = swarmcl.ForceModel(min_spacing=0.0, keyframes=[swarmcl.Keyframe(0, "horse")],
+                                   path=path, path_speed=0.5, path_orient=orient)
+        with swarmcl.Swarm(ctx, agent_count=200, seed=3, domain=DOMAIN, interaction_radius=1.0) as s:
+            s.set_force_model(model)
+            s.step(1)
+            t = s.force_targets()
+            extents[orient] = t.max(axis=0) - t.min(axis=0)
+    assert extents[True][1] > 2.0 and extents[True][0] < 1.0
+    assert extents[False][0] > 2.0 and extents[False][1] < 1.0

@@ -90,7 +90,9 @@ class ForceModel:
     """swcl_force_model_desc: zone radii and weights (Eq. 2-3), curl noise
     (eta, rho: Eq. 4), shape forces (Eq. 5-7), the union weight alpha (Eq. 1),
     speeds, MDE, keyframes, path and obstacles (spheres and boxes, Eq. 8-9).
-    ``assignment``: 'nearest' or 'curve'."""
+    ``assignment``: 'nearest' or 'curve'.  ``path_orient`` (default True):
+    the shape's frame turns with the path (forward +x along the tangent);
+    False: it is translated only."""
     r_rep: float = _default("r_rep")
     r_ali: float = _default("r_ali")
     r_att: float = _default("r_att")
@@ -119,6 +121,7 @@ class ForceModel:
     path_speed: float = 0.0
     obstacles: list = field(default_factory=list)
     obstacle_range: float = _default("obstacle_range")
+    path_orient: bool = field(default_factory=lambda: bool(_DEFAULT.path_orient))
 
     def to_c(self):
         """A new ``swcl_force_model_desc*`` and the objects it points into."""
@@ -145,4 +148,5 @@ class ForceModel:
             _boundary_to_c(b, obs[i])
         p.obstacles = obs
         p.obstacle_count = len(self.obstacles)
+        p.path_orient = 1 if self.path_orient else 0
         return p, keep

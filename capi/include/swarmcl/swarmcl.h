@@ -575,6 +575,12 @@ typedef struct swcl_force_model_desc {
     const swcl_boundary* obstacles;  /* spheres and boxes (Eq. 8-9), copied */
     uint32_t obstacle_count;
     float obstacle_range;          /* L of Eq. 9, m (default 1) */
+    /* Added after the first version (a struct_size that ends before it reads
+     * as the default): */
+    uint32_t path_orient;          /* 1 (default): the shape's frame turns with the path,
+                                      its forward axis +x along the tangent and its +z
+                                      up along a rotation-minimising frame; 0: the
+                                      frame is translated only */
 } swcl_force_model_desc;
 
 SWCL_API swcl_force_model_desc swcl_force_model_desc_default(void);
@@ -587,9 +593,10 @@ SWCL_API swcl_status swcl_swarm_set_force_keyframes(swcl_swarm swarm, const swcl
                                                     uint32_t count, uint32_t period);
 SWCL_API swcl_status swcl_swarm_set_force_path(swcl_swarm swarm, const float* points, uint32_t count,
                                                float speed);
-/* The target points of the current keyframe (packed xyz, in the shape frame
- * plus the path offset of the swarm's current step) for agent ids 0..count-1:
- * where each agent is heading. */
+/* The target points of the current keyframe (packed xyz, the shape frame
+ * placed on the path at the swarm's current step: moved, and turned with it
+ * unless path_orient is 0) for agent ids 0..count-1: where each agent is
+ * heading. */
 SWCL_API swcl_status swcl_swarm_get_force_targets(swcl_swarm swarm, float* out_xyz, size_t count);
 
 
