@@ -15,6 +15,14 @@ Context::Context(const std::string& selector, const std::string& build_options)
     if (!build_options.empty()) options_ += " " + build_options;
 }
 
+Context::~Context() {
+    try {
+        queue_.finish();
+    } catch (...) {
+        // Nothing to report to: a failed wait leaves the release to OpenCL.
+    }
+}
+
 cl::Program Context::program(const std::string& file, const std::string& defines) {
     std::lock_guard<std::mutex> lock(programs_mutex_);
     const std::string key = defines.empty() ? file : file + '\n' + defines;

@@ -15,6 +15,12 @@ class Context {
 public:
     // selector as in select_device(); build_options appended to swarmcl's own.
     Context(const std::string& selector, const std::string& build_options);
+    // Waits for the queue first: commands still queued (PoCL compiles a
+    // kernel for its launch size when the command runs) must not outlive
+    // the context, nor run while the process exits.
+    ~Context();
+    Context(const Context&) = delete;
+    Context& operator=(const Context&) = delete;
 
     const DeviceEntry& device() const { return device_; }
     cl::Context& cl_context() { return context_; }
