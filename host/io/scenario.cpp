@@ -191,9 +191,11 @@ ForceModelConfig read_force_model(JsonObject& o, std::vector<Boundary> obstacles
     }
     for (size_t i = 0; i < obstacles.size(); ++i)
         if (obstacles[i].kind == Boundary::Kind::Plane)
-            bad_json("obstacles[" + std::to_string(i) + "]", "the force model takes sphere and box obstacles");
+            bad_json("obstacles[" + std::to_string(i) + "]",
+                     "the force model takes sphere, box, cylinder and mesh (OBJ file) obstacles");
     c.obstacles = std::move(obstacles);
     c.obstacle_range = o.positive("obstacle_range", c.obstacle_range);
+    c.mesh_cell = o.non_negative("mesh_cell", c.mesh_cell);  // mesh obstacles' grid (0: obstacle_range / 4)
     o.finish();
     try {
         validate(c);
@@ -520,17 +522,35 @@ Scenario parse_scenario(const std::string& text, const std::string& base_dir) {
     // The path model reads its obstacles as meshes (read_path_model).
     const bool path_model = root.contains("model") && root["model"].is_object() && root["model"].contains("type") &&
                             root["model"]["type"] == "path";
+    // The force model also takes the path model's mesh obstacles ("mesh": an
+    // OBJ file, "cylinder"); its spheres and boxes stay analytic.
+    const bool force_model = root.contains("model") && root["model"].is_object() &&
+                             root["model"].contains("type") && root["model"]["type"] == "force";
+    std::vector<TriangleMesh> force_meshes;
     if (top.has("obstacles")) {
         const json& list = top.child("obstacles");
         if (!list.is_array()) bad_json("obstacles", "expected an array");
-        for (size_t i = 0; i < list.size() && !path_model; ++i)
-            obstacles.push_back(read_obstacle(list[i], "obstacles[" + std::to_string(i) + "]"));
+        for (size_t i = 0; i < list.size() && !path_model; ++i) {
+            const std::string where = "obstacles[" + std::to_string(i) + "]";
+            const bool mesh_type = list[i].is_object() && list[i].contains("type") &&
+                                   (list[i]["type"] == "mesh" || list[i]["type"] == "cylinder");
+            if (force_model && mesh_type) force_meshes.push_back(read_mesh_obstacle(list[i], where, base_dir));
+            else obstacles.push_back(read_obstacle(list[i], where));
+        }
     }
     if (path_model) {
         JsonObject m(top.child("model"), "model");
         m.string("type", "");
         read_path_model(m, s, top.has("obstacles") ? &top.child("obstacles") : nullptr, base_dir);
     } else if (top.has("model")) read_model(top.child("model"), s, std::move(obstacles));
+    if (s.force_model && !force_meshes.empty()) {
+        s.force_model->mesh_obstacles = std::move(force_meshes);
+        try {
+            validate(*s.force_model);
+        } catch (const Error& e) {
+            bad_json("obstacles", e.what());
+        }
+    }
     else if (!obstacles.empty()) bad_json("obstacles", "obstacles need a model (\"model\": {\"type\": \"field\"})");
     if (top.has("output")) read_output(top.child("output"), s);
     top.finish();
