@@ -399,6 +399,8 @@ TEST_F(ForceMeshCApi, MeshesObjFilesAndPrimitivesAndBadInputChangesNothing) {
     ASSERT_EQ(swcl_swarm_set_force_model(swarm, &b), SWCL_OK) << swcl_last_error();
     ASSERT_EQ(swcl_swarm_step(swarm, 1), SWCL_OK) << swcl_last_error();
     EXPECT_LT(first_target_x(), -15.0f);
+    std::vector<float> p(3 * 100);  // waits for the steps before the context goes
+    ASSERT_EQ(swcl_swarm_read(swarm, SWCL_ATTRIBUTE_POSITION, p.data(), 100), SWCL_OK) << swcl_last_error();
 }
 
 // ---- scenario files --------------------------------------------------------------
@@ -423,6 +425,11 @@ TEST(ForceMeshScenario, MeshAndCylinderObstaclesAndRelativeObjPaths) {
     auto swarm = make_swarm(20, 2);
     swarm->set_behavior(std::make_shared<ForceModel>(*swarm, c));
     swarm->step(3);
+    // Wait for the steps (a kernel still compiling when the process exits
+    // can crash PoCL's worker thread) and check they moved finite insects.
+    std::vector<float> p(3 * 20);
+    swarm->read(Attribute::Position, p.data(), 20);
+    for (float v : p) EXPECT_TRUE(std::isfinite(v));
 }
 
 TEST(ForceMeshScenario, BadMeshObstaclesNameTheKey) {
