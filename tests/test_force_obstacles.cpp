@@ -452,3 +452,43 @@ TEST(ForceMeshScenario, BadMeshObstaclesNameTheKey) {
                 "raise mesh_cell");
     parse_error(R"({"type": "plane", "normal": [0, 0, 1]})", "", "obstacles[0]");
 }
+
+// ---- OBJ files as keyframes (scenario files only; see docs/force-model.md) -----
+
+TEST(ForceMeshScenario, ObjKeyframesAreReadRelativeToTheScenario) {
+    write_file("swarmcl_force_kf_box.obj", kBoxObj);
+    std::string dir = ::testing::TempDir();
+    if (!dir.empty() && dir.back() == '/') dir.pop_back();
+    const Scenario s = parse_scenario(R"({"agents": {"count": 30}, "model": {"type": "force", "min_spacing": 0,
+        "keyframes": [{"frame": 0, "shape": "sphere"},
+                      {"frame": 20, "obj": "swarmcl_force_kf_box.obj", "scale": 2, "offset": [1, 0, 0]}]}})",
+                                      dir);
+    ASSERT_TRUE(s.force_model.has_value());
+    const TriangleMesh& m = s.force_model->keyframes.at(1).mesh;
+    EXPECT_EQ(m.triangle_count(), 12u);  // 6 quads, triangulated
+    EXPECT_NEAR(bounds(m).min[0], 0.4f, 1e-6f);  // -0.3 * 2 + 1
+    EXPECT_NEAR(bounds(m).max[2], 1.2f, 1e-6f);
+    auto bad = [&](const std::string& keyframe, const char* needle) {
+        try {
+            parse_scenario(R"({"agents": {"count": 5}, "model": {"type": "force", "keyframes": [)" + keyframe + "]}}",
+                           dir);
+            ADD_FAILURE() << "accepted " << keyframe;
+        } catch (const Error& e) {
+            EXPECT_EQ(e.status(), Status::Parse) << e.what();
+            EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+        }
+    };
+    bad(R"({"frame": 0, "obj": "swarmcl_force_kf_none.obj"})", "keyframes[0].obj");
+    bad(R"({"frame": 0, "obj": ""})", "keyframes[0].obj");
+    bad(R"({"frame": 0, "obj": "swarmcl_force_kf_box.obj", "shape": "sphere"})", "keyframes[0]");
+    write_file("swarmcl_force_kf_bad.obj", "v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n");
+    bad(R"({"frame": 0, "obj": "swarmcl_force_kf_bad.obj"})", "keyframes[0].obj");
+    // Random bytes: a parse error naming the key, never a crash.
+    std::mt19937 rng(23);
+    for (int t = 0; t < 20; ++t) {
+        std::string bytes(size_t(rng() % 300), '\0');
+        for (char& ch : bytes) ch = char(rng() % 256);
+        write_file("swarmcl_force_kf_random.obj", bytes);
+        bad(R"({"frame": 0, "obj": "swarmcl_force_kf_random.obj"})", "keyframes[0]");
+    }
+}
