@@ -198,6 +198,37 @@ inline float fm_obstacle(__global const float4* prims, uint k, float4 p, float4*
     return b.d;
 }
 
+// Mesh obstacles: the signed distance grid of their union (host
+// fields/sdf.hpp, cell-centred; origin_h = min corner, cell edge) read
+// trilinearly, with the gradient of that trilinear interpolant as the
+// outward normal.  Outside the grid's cell centres the meshes are farther
+// than the ramp's range (the host grows the grid by range + 2 cells):
+// INFINITY.
+inline float fm_mesh_obstacle(__global const float* phi, int4 dims, float4 origin_h, float4 p, float4* nrm) {
+    const float3 u = (p.xyz - origin_h.xyz) / origin_h.w - (float3)(0.5f);
+    const float3 top = convert_float3(dims.xyz - (int3)(1));
+    if (any(u < (float3)(0.0f)) || any(u > top)) {
+        *nrm = (float4)(0.0f, 0.0f, 1.0f, 0.0f);
+        return INFINITY;
+    }
+    const int3 i0 = min(convert_int3(u), dims.xyz - (int3)(2));
+    const float3 w = u - convert_float3(i0);
+    const int sy = dims.x, sz = dims.x * dims.y;
+    __global const float* c = phi + (i0.x + sy * i0.y + sz * i0.z);
+    const float c000 = c[0], c100 = c[1], c010 = c[sy], c110 = c[sy + 1];
+    const float c001 = c[sz], c101 = c[sz + 1], c011 = c[sz + sy], c111 = c[sz + sy + 1];
+    const float x00 = mix(c000, c100, w.x), x10 = mix(c010, c110, w.x);
+    const float x01 = mix(c001, c101, w.x), x11 = mix(c011, c111, w.x);
+    const float y0 = mix(x00, x10, w.y), y1 = mix(x01, x11, w.y);
+    const float gx = mix(mix(c100 - c000, c110 - c010, w.y), mix(c101 - c001, c111 - c011, w.y), w.z);
+    const float gy = mix(x10 - x00, x11 - x01, w.z);
+    const float gz = y1 - y0;
+    const float3 g = (float3)(gx, gy, gz);
+    const float gl = length(g);
+    *nrm = gl > 0.0f ? (float4)(g / gl, 0.0f) : (float4)(0.0f, 0.0f, 1.0f, 0.0f);
+    return mix(y0, y1, w.z);
+}
+
 // Newton step (unit mass): u += F dt, |u| <= max_speed (§6), then near each
 // obstacle the avoidance velocity of Eq. 8 with ramp(D / L) (Eq. 9), then
 // r += u dt.  Eq. 8 as printed keeps ramp u + (1 - ramp) n (n.u), which at
@@ -208,7 +239,8 @@ inline float fm_obstacle(__global const float4* prims, uint k, float4 p, float4*
 // the insect slides tangentially; moving away is never slowed.
 __kernel void force_model_integrate(__global float4* pos, __global float4* vel, __global const float4* force,
                                     uint n, float dt, float max_speed, float cruise_speed,
-                                    __global const float4* prims, uint nprims, float range) {
+                                    __global const float4* prims, uint nprims, float range, uint has_mesh,
+                                    __global const float* phi, int4 dims, float4 origin_h) {
     const uint i = get_global_id(0);
     if (i >= n) return;
     float4 p = (float4)(pos[i].xyz, 0.0f);
@@ -224,13 +256,26 @@ __kernel void force_model_integrate(__global float4* pos, __global float4* vel, 
             if (un < 0.0f) u -= (1.0f - fm_ramp(fmax(d, 0.0f) / range)) * un * nrm;
         }
     }
+    if (has_mesh) {  // the same ramp with the mesh obstacles' sampled distance
+        float4 nrm;
+        const float d = fm_mesh_obstacle(phi, dims, origin_h, p, &nrm);
+        if (d < range) {
+            const float un = dot(nrm, u);
+            if (un < 0.0f) u -= (1.0f - fm_ramp(fmax(d, 0.0f) / range)) * un * nrm;
+        }
+    }
     vel[i] = u;
     pos[i] = p + dt * u;
 }
 
 // Puts back on the surface any insect that a later stage (minimum distance
-// enforcement) pushed into an obstacle.
-__kernel void force_model_project(__global float4* pos, uint n, __global const float4* prims, uint nprims) {
+// enforcement) pushed into an obstacle.  Mesh obstacles push out to half a
+// cell above their sampled surface: the trilinear distance overestimates
+// the true one near edges and corners (a convex kink) by up to about a
+// quarter of a cell, and the sampled normal is approximate, so a few
+// iterations (docs/force-model.md).
+__kernel void force_model_project(__global float4* pos, uint n, __global const float4* prims, uint nprims,
+                                  uint has_mesh, __global const float* phi, int4 dims, float4 origin_h) {
     const uint i = get_global_id(0);
     if (i >= n) return;
     float4 p = (float4)(pos[i].xyz, 0.0f);
@@ -239,5 +284,24 @@ __kernel void force_model_project(__global float4* pos, uint n, __global const f
         const float d = fm_obstacle(prims, k, p, &nrm);
         if (d < 0.0f) p -= d * nrm;
     }
+    if (has_mesh) {
+        const float skin = 0.5f * origin_h.w;
+        for (int it = 0; it < 4; ++it) {
+            float4 nrm;
+            const float d = fm_mesh_obstacle(phi, dims, origin_h, p, &nrm);
+            if (d >= skin) break;
+            p -= (d - skin) * nrm;
+        }
+    }
     pos[i] = p;
+}
+
+// The mesh obstacles' sampled normal and distance (xyz, w) at points (tests).
+__kernel void force_model_mesh_distance(__global const float4* pts, uint n, __global const float* phi, int4 dims,
+                                        float4 origin_h, __global float4* out) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    float4 nrm;
+    const float d = fm_mesh_obstacle(phi, dims, origin_h, (float4)(pts[i].xyz, 0.0f), &nrm);
+    out[i] = (float4)(nrm.xyz, d);
 }

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "capi_common.hpp"
+#include "capi_obstacle.hpp"
 #include "models/force_model.hpp"
 #include "shapes/shape_library.hpp"
 
@@ -146,6 +147,15 @@ swcl_status swcl_swarm_set_force_model(swcl_swarm swarm, const swcl_force_model_
         if (d.struct_size >= offsetof(swcl_force_model_desc, path_orient) + sizeof(d.path_orient)) {
             require(d.path_orient <= 1u, "force model path_orient must be 0 or 1");
             c.path_orient = d.path_orient != 0;
+        }
+        // Mesh obstacles came after path_orient (older callers: none).
+        if (d.struct_size >= offsetof(swcl_force_model_desc, mesh_cell) + sizeof(d.mesh_cell)) {
+            require(d.mesh_obstacles != nullptr || d.mesh_obstacle_count == 0,
+                    "mesh_obstacles is NULL but mesh_obstacle_count is " + std::to_string(d.mesh_obstacle_count));
+            for (uint32_t i = 0; i < d.mesh_obstacle_count; ++i)
+                c.mesh_obstacles.push_back(
+                    obstacle_mesh(d.mesh_obstacles[i], "force model mesh_obstacles[" + std::to_string(i) + "]"));
+            c.mesh_cell = d.mesh_cell;
         }
         install(s, std::move(c));
     });

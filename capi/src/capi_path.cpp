@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "capi_common.hpp"
-#include "io/obj_loader.hpp"
+#include "capi_obstacle.hpp"
 #include "models/path_model.hpp"
 
 using namespace swarmcl;
@@ -33,33 +33,6 @@ std::vector<Goal> goals_from(const swcl_goal* goals, uint32_t count, const std::
         out.push_back(o);
     }
     return out;
-}
-
-TriangleMesh mesh_from(const swcl_obstacle& o, const std::string& what) {
-    try {
-        if (o.type != SWCL_OBSTACLE_MESH && o.type != SWCL_OBSTACLE_OBJ)
-            for (int a = 0; a < 3; ++a) require(std::isfinite(o.center[a]), "center must be finite");
-        switch (o.type) {
-            case SWCL_OBSTACLE_MESH:
-                return make_mesh(o.vertices, o.vertex_count, o.indices, o.triangle_count);
-            case SWCL_OBSTACLE_OBJ:
-                require(o.path != nullptr && *o.path, "path is NULL or empty");
-                return load_obj(o.path);
-            case SWCL_OBSTACLE_BOX:
-                return box_mesh({o.center[0], o.center[1], o.center[2]},
-                                {o.half_extents[0], o.half_extents[1], o.half_extents[2]});
-            case SWCL_OBSTACLE_SPHERE:
-                require(std::isfinite(o.radius) && o.radius > 0, "sphere radius must be > 0");
-                return sphere_mesh({o.center[0], o.center[1], o.center[2]}, o.radius, 24, 48);
-            case SWCL_OBSTACLE_CYLINDER:
-                require(std::isfinite(o.radius) && o.radius > 0 && std::isfinite(o.height) && o.height > 0,
-                        "cylinder radius and height must be > 0");
-                return cylinder_mesh({o.center[0], o.center[1], o.center[2]}, o.radius, o.height, 48);
-        }
-    } catch (const Error& e) {
-        throw Error(e.status(), what + ": " + e.what());
-    }
-    fail(Status::InvalidArgument, what + ": unknown obstacle type");
 }
 
 }  // namespace
@@ -90,7 +63,7 @@ swcl_status swcl_swarm_set_path_model(swcl_swarm swarm, const swcl_path_model_de
         c.noise = noise_config_from(desc->noise);
         require(desc->obstacles != nullptr || desc->obstacle_count == 0, "desc->obstacles is NULL");
         for (uint32_t i = 0; i < desc->obstacle_count; ++i)
-            c.obstacles.push_back(mesh_from(desc->obstacles[i], "obstacles[" + std::to_string(i) + "]"));
+            c.obstacles.push_back(obstacle_mesh(desc->obstacles[i], "obstacles[" + std::to_string(i) + "]"));
         for (int a = 0; a < 3; ++a) {
             c.grid_min[a] = desc->grid_min[a];
             c.grid_max[a] = desc->grid_max[a];

@@ -91,14 +91,27 @@ Boundary read_obstacle(const json& j, const std::string& path) {
 
 // ---- "type": "force": the shape-constrained force model (docs/force-model.md)
 
-TriangleMesh read_keyframe_mesh(JsonObject& k) {
+TriangleMesh read_keyframe_mesh(JsonObject& k, const std::string& base_dir) {
     TriangleMesh mesh;
-    const bool has_shape = k.has("shape"), has_mesh = k.has("mesh");
-    if (has_shape == has_mesh) bad_json(k.at("shape"), "expected either \"shape\" (a generated shape's name) or \"mesh\"");
+    const bool has_shape = k.has("shape"), has_mesh = k.has("mesh"), has_obj = k.has("obj");
+    if (int(has_shape) + int(has_mesh) + int(has_obj) != 1)
+        bad_json(k.at("shape"), "expected one of \"shape\" (a generated shape's name), \"mesh\" or \"obj\" (an OBJ file)");
+    if (has_obj) {
+        // An OBJ file, a relative name read from the scenario file's folder
+        // (as the path model's mesh obstacles).
+        std::string file = k.string("obj", "");
+        if (file.empty()) bad_json(k.at("obj"), "expected an OBJ file name");
+        if (file[0] != '/' && !base_dir.empty()) file = base_dir + "/" + file;
+        try {
+            mesh = load_obj(file);
+        } catch (const Error& e) {
+            bad_json(k.at("obj"), e.what());
+        }
+    }
     try {
         if (has_shape) {
             mesh = generated_shape(k.string("shape", ""));
-        } else {
+        } else if (has_mesh) {
             JsonObject m(k.child("mesh"), k.at("mesh"));
             m.allow({"vertices", "triangles"});
             m.require_key("vertices");
@@ -132,7 +145,7 @@ TriangleMesh read_keyframe_mesh(JsonObject& k) {
     return transformed(mesh, {scale, scale, scale}, offset);
 }
 
-ForceModelConfig read_force_model(JsonObject& o, std::vector<Boundary> obstacles) {
+ForceModelConfig read_force_model(JsonObject& o, std::vector<Boundary> obstacles, const std::string& base_dir) {
     ForceModelConfig c;
     c.r_rep = o.positive("r_rep", c.r_rep);
     c.r_ali = o.positive("r_ali", c.r_ali);
@@ -166,11 +179,11 @@ ForceModelConfig read_force_model(JsonObject& o, std::vector<Boundary> obstacles
         if (!list.is_array()) bad_json(o.at("keyframes"), "expected an array of {\"frame\", \"shape\" or \"mesh\"}");
         for (size_t i = 0; i < list.size(); ++i) {
             JsonObject k(list[i], o.at("keyframes") + "[" + std::to_string(i) + "]");
-            k.allow({"frame", "shape", "mesh", "scale", "offset"});
+            k.allow({"frame", "shape", "mesh", "obj", "scale", "offset"});
             const uint64_t frame = k.integer("frame", 0, 0xFFFFFFFFu);
             if (i > 0 && frame <= c.keyframes.back().frame)
                 bad_json(k.at("frame"), "keyframes must be in strictly increasing frame order");
-            c.keyframes.push_back({frame, read_keyframe_mesh(k)});
+            c.keyframes.push_back({frame, read_keyframe_mesh(k, base_dir)});
             k.finish();
         }
     }
@@ -191,9 +204,11 @@ ForceModelConfig read_force_model(JsonObject& o, std::vector<Boundary> obstacles
     }
     for (size_t i = 0; i < obstacles.size(); ++i)
         if (obstacles[i].kind == Boundary::Kind::Plane)
-            bad_json("obstacles[" + std::to_string(i) + "]", "the force model takes sphere and box obstacles");
+            bad_json("obstacles[" + std::to_string(i) + "]",
+                     "the force model takes sphere, box, cylinder and mesh (OBJ file) obstacles");
     c.obstacles = std::move(obstacles);
     c.obstacle_range = o.positive("obstacle_range", c.obstacle_range);
+    c.mesh_cell = o.non_negative("mesh_cell", c.mesh_cell);  // mesh obstacles' grid (0: obstacle_range / 4)
     o.finish();
     try {
         validate(c);
@@ -358,7 +373,7 @@ void read_path_model(JsonObject& o, Scenario& s, const json* obstacles, const st
     s.path_model = std::move(c);
 }
 
-void read_model(const json& j, Scenario& s, std::vector<Boundary> obstacles) {
+void read_model(const json& j, Scenario& s, std::vector<Boundary> obstacles, const std::string& base_dir) {
     JsonObject o(j, "model");
     const std::string type = o.string("type", "field");
     if (type == "ballistic") {
@@ -374,7 +389,7 @@ void read_model(const json& j, Scenario& s, std::vector<Boundary> obstacles) {
         return;
     }
     if (type == "force") {
-        s.force_model = read_force_model(o, std::move(obstacles));
+        s.force_model = read_force_model(o, std::move(obstacles), base_dir);
         return;
     }
     if (type != "field")
@@ -520,17 +535,35 @@ Scenario parse_scenario(const std::string& text, const std::string& base_dir) {
     // The path model reads its obstacles as meshes (read_path_model).
     const bool path_model = root.contains("model") && root["model"].is_object() && root["model"].contains("type") &&
                             root["model"]["type"] == "path";
+    // The force model also takes the path model's mesh obstacles ("mesh": an
+    // OBJ file, "cylinder"); its spheres and boxes stay analytic.
+    const bool force_model = root.contains("model") && root["model"].is_object() &&
+                             root["model"].contains("type") && root["model"]["type"] == "force";
+    std::vector<TriangleMesh> force_meshes;
     if (top.has("obstacles")) {
         const json& list = top.child("obstacles");
         if (!list.is_array()) bad_json("obstacles", "expected an array");
-        for (size_t i = 0; i < list.size() && !path_model; ++i)
-            obstacles.push_back(read_obstacle(list[i], "obstacles[" + std::to_string(i) + "]"));
+        for (size_t i = 0; i < list.size() && !path_model; ++i) {
+            const std::string where = "obstacles[" + std::to_string(i) + "]";
+            const bool mesh_type = list[i].is_object() && list[i].contains("type") &&
+                                   (list[i]["type"] == "mesh" || list[i]["type"] == "cylinder");
+            if (force_model && mesh_type) force_meshes.push_back(read_mesh_obstacle(list[i], where, base_dir));
+            else obstacles.push_back(read_obstacle(list[i], where));
+        }
     }
     if (path_model) {
         JsonObject m(top.child("model"), "model");
         m.string("type", "");
         read_path_model(m, s, top.has("obstacles") ? &top.child("obstacles") : nullptr, base_dir);
-    } else if (top.has("model")) read_model(top.child("model"), s, std::move(obstacles));
+    } else if (top.has("model")) read_model(top.child("model"), s, std::move(obstacles), base_dir);
+    if (s.force_model && !force_meshes.empty()) {
+        s.force_model->mesh_obstacles = std::move(force_meshes);
+        try {
+            validate(*s.force_model);
+        } catch (const Error& e) {
+            bad_json("obstacles", e.what());
+        }
+    }
     else if (!obstacles.empty()) bad_json("obstacles", "obstacles need a model (\"model\": {\"type\": \"field\"})");
     if (top.has("output")) read_output(top.child("output"), s);
     top.finish();

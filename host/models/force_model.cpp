@@ -74,7 +74,52 @@ void validate(const ForceModelConfig& c) {
             fail(Status::InvalidArgument, name + ": only spheres and boxes are obstacles of the force model");
         }
     }
+    require(std::isfinite(c.mesh_cell) && c.mesh_cell >= 0.0f, "force model mesh_cell must be a finite number >= 0");
+    for (size_t k = 0; k < c.mesh_obstacles.size(); ++k) {
+        const TriangleMesh& m = c.mesh_obstacles[k];
+        const std::string name = "force model mesh obstacle " + std::to_string(k);
+        for (const Vec3f& v : m.vertices)
+            for (float x : v) require(std::isfinite(x), name + ": vertices must be finite");
+        for (const auto& t : m.triangles)
+            for (uint32_t i : t) require(i < m.vertices.size(), name + ": triangle index out of range");
+        require(m.triangle_count() > 0 && surface_area(m) > 0.0, name + ": empty or degenerate mesh");
+    }
+    if (!c.mesh_obstacles.empty()) force_mesh_grid(c);  // the grid's size
     NoiseField::validate(c.noise);
+}
+
+Grid3 force_mesh_grid(const ForceModelConfig& c) {
+    require(!c.mesh_obstacles.empty(), "the force model has no mesh obstacles");
+    const MeshBounds b = bounds(merged(c.mesh_obstacles));
+    const double h = c.mesh_cell > 0.0f ? double(c.mesh_cell) : double(c.obstacle_range) / 4.0;
+    // Every point within obstacle_range of a mesh lies inside the grid's
+    // cell centres by at least one cell (the trilinear read needs no clamp
+    // there); beyond the grid the obstacles are out of range.
+    const double margin = double(c.obstacle_range) + 2.0 * h;
+    Grid3 g;
+    g.h = h;
+    uint64_t cells = 1;
+    for (size_t a = 0; a < 3; ++a) {
+        g.origin[a] = double(b.min[a]) - margin;
+        const double n = std::ceil((double(b.max[a]) - double(b.min[a]) + 2.0 * margin) / h);
+        require(n * double(cells) <= double(kForceMeshMaxCells),
+                "force model mesh obstacles: a distance grid of " + std::to_string(h) +
+                    " m cells (mesh_cell; 0: obstacle_range / 4) over their extent would exceed " +
+                    std::to_string(kForceMeshMaxCells) + " cells; raise mesh_cell");
+        g.dims[a] = std::max<uint32_t>(2, uint32_t(n));
+        cells *= g.dims[a];
+    }
+    return g;
+}
+
+SdfGrid force_mesh_sdf(Context& ctx, const ForceModelConfig& c) {
+    const Grid3 g = force_mesh_grid(c);
+    const TriangleMesh all = merged(c.mesh_obstacles);
+    SdfGrid sdf = compute_sdf(ctx, all, g);
+    for (float v : sdf.phi)
+        require(std::isfinite(v), "force model mesh obstacles: the signed distance is not finite everywhere "
+                                  "(a degenerate mesh?)");
+    return sdf;
 }
 
 ForceModel::ForceModel(Swarm& swarm, ForceModelConfig config)
@@ -105,6 +150,14 @@ ForceModel::ForceModel(Swarm& swarm, ForceModelConfig config)
     nprims_ = uint32_t(prims.size() / 2);
     prims_.allocate(ctx, std::max<size_t>(prims.size(), 2), "force model obstacles");
     prims_.upload(ctx, prims.data(), prims.size());
+    if (!config_.mesh_obstacles.empty()) {
+        const SdfGrid sdf = force_mesh_sdf(ctx, config_);
+        mesh_grid_ = sdf.grid;
+        mesh_phi_.allocate(ctx, sdf.phi.size(), "force model mesh obstacle distances");
+        mesh_phi_.upload(ctx, sdf.phi.data(), sdf.phi.size());
+    } else {
+        mesh_phi_.allocate(ctx, 1, "force model mesh obstacle distances");
+    }
     prepare(swarm);
 }
 
@@ -258,6 +311,26 @@ void ForceModel::enqueue_force(Swarm& swarm, uint64_t step) {
     launch(swarm.context(), kf, n);
 }
 
+std::vector<cl_float4> ForceModel::sample_mesh_obstacles(Swarm& swarm, const std::vector<float>& xyz) {
+    require(!config_.mesh_obstacles.empty(), "the force model has no mesh obstacles");
+    Context& ctx = swarm.context();
+    const size_t n = xyz.size() / 3;
+    std::vector<cl_float4> pts(std::max<size_t>(n, 1));
+    for (size_t i = 0; i < n; ++i) pts[i] = cl_float4{{xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2], 0.0f}};
+    DeviceBuffer<cl_float4> in(ctx, pts.size(), "mesh obstacle sample points"), out(ctx, pts.size(), "mesh obstacle samples");
+    in.upload(ctx, pts.data(), pts.size());
+    cl::Kernel k = noise_->kernel("force_model.cl", "force_model_mesh_distance");
+    const cl_int4 mdims{{cl_int(mesh_grid_.dims[0]), cl_int(mesh_grid_.dims[1]), cl_int(mesh_grid_.dims[2]), 0}};
+    const cl_float4 morigin{{float(mesh_grid_.origin[0]), float(mesh_grid_.origin[1]), float(mesh_grid_.origin[2]),
+                             float(mesh_grid_.h)}};
+    set_args(k, in.get(), cl_uint(n), mesh_phi_.get(), mdims, morigin, out.get());
+    if (n) launch(ctx, k, n);
+    std::vector<cl_float4> r(pts.size());
+    out.download(ctx, r.data(), r.size());
+    r.resize(n);
+    return r;
+}
+
 void ForceModel::compute_forces(Swarm& swarm, uint64_t step) { enqueue_force(swarm, step); }
 
 void ForceModel::advance(Swarm& swarm, uint64_t step) {
@@ -265,17 +338,25 @@ void ForceModel::advance(Swarm& swarm, uint64_t step) {
     const uint32_t n = swarm.agent_count();
     if (n == 0) return;
     Context& ctx = swarm.context();
+    const cl_int4 mdims{{cl_int(mesh_grid_.dims[0]), cl_int(mesh_grid_.dims[1]), cl_int(mesh_grid_.dims[2]), 0}};
+    const cl_float4 morigin{{float(mesh_grid_.origin[0]), float(mesh_grid_.origin[1]), float(mesh_grid_.origin[2]),
+                             float(mesh_grid_.h)}};
+    const cl_uint has_mesh = config_.mesh_obstacles.empty() ? 0u : 1u;
     set_args(integrate_k_, swarm.positions().get(), swarm.velocities().get(), force_.get(), cl_uint(n),
-             swarm.config().dt, config_.max_speed, config_.cruise_speed, prims_.get(), cl_uint(nprims_), config_.obstacle_range);
+             swarm.config().dt, config_.max_speed, config_.cruise_speed, prims_.get(), cl_uint(nprims_),
+             config_.obstacle_range, has_mesh, mesh_phi_.get(), mdims, morigin);
     launch(ctx, integrate_k_, n);
     swarm.positions_changed();
-    if (mde_) {
-        mde_->apply(swarm, counters_.device());
-        if (nprims_) {
-            set_args(project_k_, swarm.positions().get(), cl_uint(n), prims_.get(), cl_uint(nprims_));
-            launch(ctx, project_k_, n);
-            swarm.positions_changed();
-        }
+    // The push-out: after MDE for every obstacle; after each step for mesh
+    // obstacles too, whose sampled surface is only accurate to about a cell
+    // (docs/force-model.md).
+    const bool project_mesh = has_mesh != 0u;
+    if (mde_) mde_->apply(swarm, counters_.device());
+    if ((mde_ && nprims_) || project_mesh) {
+        set_args(project_k_, swarm.positions().get(), cl_uint(n), prims_.get(), cl_uint(mde_ ? nprims_ : 0u),
+                 has_mesh, mesh_phi_.get(), mdims, morigin);
+        launch(ctx, project_k_, n);
+        swarm.positions_changed();
     }
     counters_.count_step();
 }

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "fields/noise_field.hpp"
+#include "fields/sdf.hpp"
 #include "models/min_distance.hpp"
 #include "shapes/bspline_path.hpp"
 #include "shapes/shape_sampling.hpp"
@@ -76,6 +77,12 @@ struct ForceModelConfig {
     bool path_orient = true;
     std::vector<Boundary> obstacles;   // spheres and boxes (Eq. 8-9)
     float obstacle_range = 1.0f;       // L of Eq. 9, m
+    // Mesh obstacles (Eq. 8-9 with the distance of a signed distance grid,
+    // fields/sdf.hpp): one grid of cubic cells of edge mesh_cell (0:
+    // obstacle_range / 4) over the meshes' bounds grown by obstacle_range
+    // and 2 cells, at most kForceMeshMaxCells cells (docs/force-model.md).
+    std::vector<TriangleMesh> mesh_obstacles;
+    float mesh_cell = 0.0f;
     uint32_t terms = kForceAll;
 
     ForceModelConfig();  // sets the noise defaults of Table 1
@@ -83,6 +90,14 @@ struct ForceModelConfig {
 
 // Error(InvalidArgument) naming the field for any invalid parameter.
 void validate(const ForceModelConfig& config);
+
+// The most cells of the mesh obstacles' distance grid (64 MiB of floats).
+constexpr uint64_t kForceMeshMaxCells = uint64_t(1) << 24;
+
+// The mesh obstacles' distance grid of `config` (Error(InvalidArgument) above
+// kForceMeshMaxCells), and its signed distances (compute_sdf).
+Grid3 force_mesh_grid(const ForceModelConfig& config);
+SdfGrid force_mesh_sdf(Context& ctx, const ForceModelConfig& config);
 
 class ForceModel : public Behavior {
 public:
@@ -93,6 +108,12 @@ public:
 
     // MDE counters since the last call (waits for the device).
     std::optional<StepStats> take_stats(Swarm& swarm) override { return counters_.take(swarm); }
+
+    // The mesh obstacles' grid (dims 0 without mesh obstacles).
+    const Grid3& mesh_grid() const { return mesh_grid_; }
+    // The kernels' sampled mesh obstacle normal and distance (xyz, w) at
+    // packed xyz points (tests; w = inf outside the grid).
+    std::vector<cl_float4> sample_mesh_obstacles(Swarm& swarm, const std::vector<float>& xyz);
 
     // Only the force of Eq. 1 at the current state, in slot order (tests).
     void compute_forces(Swarm& swarm, uint64_t step);
@@ -135,6 +156,8 @@ private:
     DeviceBuffer<cl_float4> force_, target_buf_, prims_, by_target_;
     DeviceBuffer<cl_uint> target_of_buf_, nbr_start_buf_, nbr_index_buf_;
     uint32_t nprims_ = 0;
+    Grid3 mesh_grid_{{0, 0, 0}, 1.0, {0, 0, 0}};  // no mesh obstacles: dims 0
+    DeviceBuffer<cl_float> mesh_phi_;
     MdeCounters counters_;
 };
 

@@ -84,3 +84,38 @@ def test_shape_turns_with_the_path_unless_orient_is_off(ctx):
             extents[orient] = t.max(axis=0) - t.min(axis=0)
     assert extents[True][1] > 2.0 and extents[True][0] < 1.0
     assert extents[False][0] > 2.0 and extents[False][1] < 1.0
+
+
+def test_mesh_obstacles_keep_insects_out(ctx, tmp_path):
+    # Insects fly from x = -2 to a sphere of targets at x = +2 past a box
+    # (an OBJ file) off their line; none ends inside it (exact test).
+    obj = tmp_path / "box.obj"
+    obj.write_text("v -0.3 0.05 -0.6\nv 0.3 0.05 -0.6\nv 0.3 0.85 -0.6\nv -0.3 0.85 -0.6\n"
+                   "v -0.3 0.05 0.6\nv 0.3 0.05 0.6\nv 0.3 0.85 0.6\nv -0.3 0.85 0.6\n"
+                   "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n")
+    m = swarmcl.ForceModel()
+    assert m.mesh_obstacles == [] and m.mesh_cell == 0.0
+    sphere = swarmcl.Keyframe(0, "sphere", scale=0.4, offset=(2.0, 0.0, 0.0))
+    model = swarmcl.ForceModel(min_spacing=0.0, keyframes=[sphere], obstacle_range=0.5,
+                               mesh_obstacles=[swarmcl.ObjObstacle(str(obj)),
+                                               swarmcl.CylinderObstacle((0, -2, -0.5), 0.2, 1.0)])
+    rng = np.random.default_rng(3)
+    start = rng.uniform(-0.35, 0.35, (100, 3)).astype(np.float32)
+    start[:, 0] -= 2.0
+    with swarmcl.Swarm(ctx, agent_count=100, seed=2, domain=DOMAIN, interaction_radius=1.0, dt=0.05) as s:
+        s.positions = start
+        s.set_force_model(model)
+        for _ in range(30):
+            s.step(10)
+            p = s.positions - np.array([0.0, 0.45, 0.0], np.float32)
+            inside = (np.abs(p) < np.array([0.3, 0.4, 0.6], np.float32)).all(axis=1)
+            assert not inside.any()
+        assert s.positions[:, 0].mean() > 1.0
+        # Bad input: a clear error, the model in place stays.
+        with pytest.raises(swarmcl.IOError_):
+            s.set_force_model(swarmcl.ForceModel(mesh_obstacles=[swarmcl.ObjObstacle(str(tmp_path / "no.obj"))]))
+        with pytest.raises(swarmcl.InvalidArgumentError, match="raise mesh_cell"):
+            s.set_force_model(swarmcl.ForceModel(mesh_obstacles=[swarmcl.ObjObstacle(str(obj))], mesh_cell=1e-3))
+        with pytest.raises(TypeError):
+            swarmcl.ForceModel(mesh_obstacles=[swarmcl.Sphere((0, 0, 0), 1.0)]).to_c()
+        np.testing.assert_allclose(np.linalg.norm(s.force_targets() - [2, 0, 0], axis=1), 0.4, atol=0.02)

@@ -17,6 +17,8 @@ import numpy as np
 
 from ._native import ffi, lib
 from .descriptors import Box, Sphere, Vec3, _boundary_to_c, _f32, _vec3
+from .path import (BoxObstacle, CylinderObstacle, MeshObstacle, ObjObstacle, SphereObstacle,
+                   _obstacle_to_c)
 
 __all__ = ["ForceModel", "Keyframe", "SHAPES"]
 
@@ -92,7 +94,10 @@ class ForceModel:
     speeds, MDE, keyframes, path and obstacles (spheres and boxes, Eq. 8-9).
     ``assignment``: 'nearest' or 'curve'.  ``path_orient`` (default True):
     the shape's frame turns with the path (forward +x along the tangent);
-    False: it is translated only."""
+    False: it is translated only.  ``mesh_obstacles``: the path module's
+    obstacles (MeshObstacle, ObjObstacle, BoxObstacle, SphereObstacle,
+    CylinderObstacle), avoided like ``obstacles`` through a signed distance
+    grid of cells ``mesh_cell`` m (0: obstacle_range / 4)."""
     r_rep: float = _default("r_rep")
     r_ali: float = _default("r_ali")
     r_att: float = _default("r_att")
@@ -122,6 +127,8 @@ class ForceModel:
     obstacles: list = field(default_factory=list)
     obstacle_range: float = _default("obstacle_range")
     path_orient: bool = field(default_factory=lambda: bool(_DEFAULT.path_orient))
+    mesh_obstacles: list = field(default_factory=list)
+    mesh_cell: float = _default("mesh_cell")
 
     def to_c(self):
         """A new ``swcl_force_model_desc*`` and the objects it points into."""
@@ -149,4 +156,15 @@ class ForceModel:
         p.obstacles = obs
         p.obstacle_count = len(self.obstacles)
         p.path_orient = 1 if self.path_orient else 0
+        meshes = ffi.new("swcl_obstacle[]", max(len(self.mesh_obstacles), 1))
+        keep.append(meshes)
+        kinds = (MeshObstacle, ObjObstacle, BoxObstacle, SphereObstacle, CylinderObstacle)
+        for i, o in enumerate(self.mesh_obstacles):
+            if not isinstance(o, kinds):
+                raise TypeError(f"ForceModel.mesh_obstacles[{i}] must be a Mesh, Obj, Box, Sphere or "
+                                f"CylinderObstacle, got {type(o).__name__}")
+            _obstacle_to_c(o, meshes[i], keep)
+        p.mesh_obstacles = meshes
+        p.mesh_obstacle_count = len(self.mesh_obstacles)
+        p.mesh_cell = float(self.mesh_cell)
         return p, keep

@@ -581,6 +581,17 @@ typedef struct swcl_force_model_desc {
                                       its forward axis +x along the tangent and its +z
                                       up along a rotation-minimising frame; 0: the
                                       frame is translated only */
+    /* Added with mesh obstacles (a struct_size that ends before them reads as
+     * none; docs/force-model.md): */
+    const swcl_obstacle* mesh_obstacles;  /* triangle meshes, OBJ files and box, sphere and
+                                             cylinder meshes (the path section's type),
+                                             avoided like `obstacles` through a signed
+                                             distance grid built once here (copied) */
+    uint32_t mesh_obstacle_count;
+    float mesh_cell;               /* cell edge of that grid, m; 0 (default):
+                                      obstacle_range / 4.  At most 2^24 cells over the
+                                      meshes' bounds grown by obstacle_range + 2 cells,
+                                      else SWCL_ERROR_INVALID_ARGUMENT */
 } swcl_force_model_desc;
 
 SWCL_API swcl_force_model_desc swcl_force_model_desc_default(void);

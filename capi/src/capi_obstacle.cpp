@@ -1,0 +1,38 @@
+// swcl_obstacle -> TriangleMesh (capi_obstacle.hpp).
+#include "capi_obstacle.hpp"
+
+#include <cmath>
+
+#include "core/error.hpp"
+#include "io/obj_loader.hpp"
+
+namespace swarmcl::capi {
+
+TriangleMesh obstacle_mesh(const swcl_obstacle& o, const std::string& what) {
+    try {
+        if (o.type != SWCL_OBSTACLE_MESH && o.type != SWCL_OBSTACLE_OBJ)
+            for (int a = 0; a < 3; ++a) require(std::isfinite(o.center[a]), "center must be finite");
+        switch (o.type) {
+            case SWCL_OBSTACLE_MESH:
+                return make_mesh(o.vertices, o.vertex_count, o.indices, o.triangle_count);
+            case SWCL_OBSTACLE_OBJ:
+                require(o.path != nullptr && *o.path, "path is NULL or empty");
+                return load_obj(o.path);
+            case SWCL_OBSTACLE_BOX:
+                return box_mesh({o.center[0], o.center[1], o.center[2]},
+                                {o.half_extents[0], o.half_extents[1], o.half_extents[2]});
+            case SWCL_OBSTACLE_SPHERE:
+                require(std::isfinite(o.radius) && o.radius > 0, "sphere radius must be > 0");
+                return sphere_mesh({o.center[0], o.center[1], o.center[2]}, o.radius, 24, 48);
+            case SWCL_OBSTACLE_CYLINDER:
+                require(std::isfinite(o.radius) && o.radius > 0 && std::isfinite(o.height) && o.height > 0,
+                        "cylinder radius and height must be > 0");
+                return cylinder_mesh({o.center[0], o.center[1], o.center[2]}, o.radius, o.height, 48);
+        }
+    } catch (const Error& e) {
+        throw Error(e.status(), what + ": " + e.what());
+    }
+    fail(Status::InvalidArgument, what + ": unknown obstacle type");
+}
+
+}  // namespace swarmcl::capi
