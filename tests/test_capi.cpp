@@ -10,25 +10,20 @@
 #include <thread>
 #include <vector>
 
+#include "capi_fixture.hpp"
 #include "swarmcl/swarmcl.h"
 #include "test_support.hpp"
 
 namespace {
 
-class CApi : public ::testing::Test {
+class CApi : public swarmcl::test::CApiSwarmTest {
 protected:
     void SetUp() override {
-        swcl_context_desc d = swcl_context_desc_default();
-        ASSERT_EQ(swcl_context_create(&d, &ctx), SWCL_OK) << swcl_last_error();
-        swcl_swarm_desc s = swcl_swarm_desc_default();
-        s.capacity = 100;
-        s.agent_count = 10;
-        s.seed = 7;
-        ASSERT_EQ(swcl_swarm_create(ctx, &s, &swarm), SWCL_OK) << swcl_last_error();
-    }
-    void TearDown() override {
-        swcl_swarm_destroy(swarm);
-        swcl_context_destroy(ctx);
+        ASSERT_NO_FATAL_FAILURE(create([](swcl_swarm_desc& s) {
+            s.capacity = 100;
+            s.agent_count = 10;
+            s.seed = 7;
+        }));
     }
     // The swarm still answers correctly: used after every refused call.
     void expect_usable(uint32_t expected_count) {
@@ -39,8 +34,6 @@ protected:
         ASSERT_EQ(swcl_swarm_read(swarm, SWCL_ATTRIBUTE_POSITION, p.data(), n), SWCL_OK);
         for (float v : p) ASSERT_TRUE(std::isfinite(v));
     }
-    swcl_context ctx{};
-    swcl_swarm swarm{};
 };
 
 TEST(CApiBasics, VersionAndStatusStrings) {

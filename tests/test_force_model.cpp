@@ -13,6 +13,7 @@
 
 #include "core/error.hpp"
 #include "io/scenario.hpp"
+#include "capi_fixture.hpp"
 #include "swarmcl/swarmcl.h"
 #include "models/force_model.hpp"
 #include "shapes/shape_library.hpp"
@@ -677,25 +678,17 @@ TEST(ForceModelErrors, BadInputIsRejected) {
 
 // ---- C API -----------------------------------------------------------------
 
-class ForceCApi : public ::testing::Test {
+class ForceCApi : public swarmcl::test::CApiSwarmTest {
 protected:
     void SetUp() override {
-        swcl_context_desc d = swcl_context_desc_default();
-        ASSERT_EQ(swcl_context_create(&d, &ctx), SWCL_OK) << swcl_last_error();
-        swcl_swarm_desc s = swcl_swarm_desc_default();
-        s.capacity = 200;
-        s.agent_count = 200;
-        s.seed = 3;
-        for (int a = 0; a < 3; ++a) s.domain_min[a] = -3, s.domain_max[a] = 3;
-        s.interaction_radius = 1.0f;
-        ASSERT_EQ(swcl_swarm_create(ctx, &s, &swarm), SWCL_OK) << swcl_last_error();
+        ASSERT_NO_FATAL_FAILURE(create([](swcl_swarm_desc& s) {
+            s.capacity = 200;
+            s.agent_count = 200;
+            s.seed = 3;
+            for (int a = 0; a < 3; ++a) s.domain_min[a] = -3, s.domain_max[a] = 3;
+            s.interaction_radius = 1.0f;
+        }));
     }
-    void TearDown() override {
-        swcl_swarm_destroy(swarm);
-        swcl_context_destroy(ctx);
-    }
-    swcl_context ctx{};
-    swcl_swarm swarm{};
 };
 
 TEST_F(ForceCApi, DefaultsAreTable1) {

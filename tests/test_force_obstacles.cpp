@@ -17,6 +17,7 @@
 #include "io/scenario.hpp"
 #include "models/force_model.hpp"
 #include "swarm/swarm.hpp"
+#include "capi_fixture.hpp"
 #include "swarmcl/swarmcl.h"
 #include "test_support.hpp"
 
@@ -275,22 +276,16 @@ TEST(ForceMeshObstacles, BadConfigsAreRejected) {
     rejected(c, "mesh_cell");
 }
 
-class ForceMeshCApi : public ::testing::Test {
+class ForceMeshCApi : public swarmcl::test::CApiSwarmTest {
 protected:
     void SetUp() override {
-        swcl_context_desc d = swcl_context_desc_default();
-        ASSERT_EQ(swcl_context_create(&d, &ctx), SWCL_OK) << swcl_last_error();
-        swcl_swarm_desc s = swcl_swarm_desc_default();
-        s.capacity = 100;
-        s.agent_count = 100;
-        s.seed = 3;
-        for (int a = 0; a < 3; ++a) s.domain_min[a] = -3, s.domain_max[a] = 3;
-        s.interaction_radius = 1.0f;
-        ASSERT_EQ(swcl_swarm_create(ctx, &s, &swarm), SWCL_OK) << swcl_last_error();
-    }
-    void TearDown() override {
-        swcl_swarm_destroy(swarm);
-        swcl_context_destroy(ctx);
+        ASSERT_NO_FATAL_FAILURE(create([](swcl_swarm_desc& s) {
+            s.capacity = 100;
+            s.agent_count = 100;
+            s.seed = 3;
+            for (int a = 0; a < 3; ++a) s.domain_min[a] = -3, s.domain_max[a] = 3;
+            s.interaction_radius = 1.0f;
+        }));
     }
     // The current model's first target (its keyframe's offset tells models apart).
     float first_target_x() {
@@ -298,8 +293,6 @@ protected:
         EXPECT_EQ(swcl_swarm_get_force_targets(swarm, xyz, 1), SWCL_OK) << swcl_last_error();
         return xyz[0];
     }
-    swcl_context ctx{};
-    swcl_swarm swarm{};
 };
 
 TEST_F(ForceMeshCApi, MeshesObjFilesAndPrimitivesAndBadInputChangesNothing) {

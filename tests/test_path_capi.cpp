@@ -11,24 +11,19 @@
 #include <vector>
 
 #include "io/scenario.hpp"
+#include "capi_fixture.hpp"
 #include "swarmcl/swarmcl.h"
 
 namespace {
 
-class PathCApi : public ::testing::Test {
+class PathCApi : public swarmcl::test::CApiSwarmTest {
 protected:
     void SetUp() override {
-        swcl_context_desc d = swcl_context_desc_default();
-        ASSERT_EQ(swcl_context_create(&d, &ctx), SWCL_OK) << swcl_last_error();
-        swcl_swarm_desc s = swcl_swarm_desc_default();
-        s.capacity = 64;
-        s.agent_count = 64;
-        s.seed = 3;
-        ASSERT_EQ(swcl_swarm_create(ctx, &s, &swarm), SWCL_OK) << swcl_last_error();
-    }
-    void TearDown() override {
-        swcl_swarm_destroy(swarm);
-        swcl_context_destroy(ctx);
+        ASSERT_NO_FATAL_FAILURE(create([](swcl_swarm_desc& s) {
+            s.capacity = 64;
+            s.agent_count = 64;
+            s.seed = 3;
+        }));
     }
     // A unit cube mesh as arrays, and a goal beside it (the default domain is [-1, 1]^3).
     swcl_path_model_desc desc() {
@@ -50,8 +45,6 @@ protected:
         d.goal_count = 1;
         return d;
     }
-    swcl_context ctx{};
-    swcl_swarm swarm{};
     swcl_obstacle obstacle{};
     swcl_goal goal{};
     float cube_xyz[24] = {-.2f, -.2f, -.2f, .2f, -.2f, -.2f, -.2f, .2f, -.2f, .2f, .2f, -.2f,

@@ -207,14 +207,7 @@ cl_uint EnergyModel::set_common_args(cl::Kernel& k, Swarm& swarm, uint64_t step)
     const float time = float(double(step) * dt);
     upload_stimuli(time);
     const auto& c = config_;
-    cl_uint i = 0;
-    k.setArg(i++, swarm.positions().get());
-    k.setArg(i++, swarm.velocities().get());
-    k.setArg(i++, swarm.ids().get());
-    k.setArg(i++, swarm.agent_count());
-    k.setArg(i++, dt);
-    k.setArg(i++, time);
-    k.setArg(i++, cl_uint(step));
+    cl_uint i = swarm.set_step_args(k, step);
     k.setArg(i++, dv_.get());
     k.setArg(i++, ds_.get());
     k.setArg(i++, cl_uint(ds_stride_));

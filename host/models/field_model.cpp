@@ -31,15 +31,7 @@ FieldModel::FieldModel(Swarm& swarm, FieldModelConfig config)
 
 void FieldModel::advance(Swarm& swarm, uint64_t step) {
     const uint32_t n = swarm.agent_count();
-    const float dt = swarm.config().dt;
-    cl_uint i = 0;
-    advance_.setArg(i++, swarm.positions().get());
-    advance_.setArg(i++, swarm.velocities().get());
-    advance_.setArg(i++, swarm.ids().get());
-    advance_.setArg(i++, n);
-    advance_.setArg(i++, dt);
-    advance_.setArg(i++, float(double(step) * dt));
-    advance_.setArg(i++, cl_uint(step));
+    cl_uint i = swarm.set_step_args(advance_, step);
     i = noise_->set_args(advance_, i);
     const auto& c = config_;
     advance_.setArg(i++, cl_float4{{c.goal[0], c.goal[1], c.goal[2], c.has_goal ? c.goal_radius : -1.0f}});
@@ -50,6 +42,5 @@ void FieldModel::advance(Swarm& swarm, uint64_t step) {
     if (mde_) mde_->apply(swarm, counters_.device());
     counters_.count_step();
 }
-
 
 }  // namespace swarmcl

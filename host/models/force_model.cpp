@@ -361,5 +361,4 @@ void ForceModel::advance(Swarm& swarm, uint64_t step) {
     counters_.count_step();
 }
 
-
 }  // namespace swarmcl

@@ -108,8 +108,8 @@ void PathModel::bake_local_field(const std::string& defines) {
     cl::Kernel k = ctx_.kernel("path_model.cl", "path_noise_bake", defines);
     cl_uint i = noise_->set_args(k, 0);
     k.setArg(i++, phi_dev_.get());
-    k.setArg(i++, cl_int4{{cl_int(grid_.dims[0]), cl_int(grid_.dims[1]), cl_int(grid_.dims[2]), 0}});
-    k.setArg(i++, cl_float4{{float(grid_.origin[0]), float(grid_.origin[1]), float(grid_.origin[2]), float(grid_.h)}});
+    k.setArg(i++, grid_dims_arg());
+    k.setArg(i++, grid_origin_arg());
     k.setArg(i++, vl_min_);
     k.setArg(i++, vl_cell_);
     k.setArg(i++, vl_dims_);
@@ -148,19 +148,11 @@ void PathModel::advance(Swarm& swarm, uint64_t step) {
         set_goals(0, std::move(goals));
     }
     const uint32_t n = swarm.agent_count();
-    const float dt = swarm.config().dt;
-    cl_uint i = 0;
-    advance_.setArg(i++, swarm.positions().get());
-    advance_.setArg(i++, swarm.velocities().get());
-    advance_.setArg(i++, swarm.ids().get());
-    advance_.setArg(i++, n);
-    advance_.setArg(i++, dt);
-    advance_.setArg(i++, float(double(step) * dt));
-    advance_.setArg(i++, cl_uint(step));
+    cl_uint i = swarm.set_step_args(advance_, step);
     i = noise_->set_args(advance_, i);
     advance_.setArg(i++, dirs_.get());
-    advance_.setArg(i++, cl_int4{{cl_int(grid_.dims[0]), cl_int(grid_.dims[1]), cl_int(grid_.dims[2]), 0}});
-    advance_.setArg(i++, cl_float4{{float(grid_.origin[0]), float(grid_.origin[1]), float(grid_.origin[2]), float(grid_.h)}});
+    advance_.setArg(i++, grid_dims_arg());
+    advance_.setArg(i++, grid_origin_arg());
     advance_.setArg(i++, group_end_.get());
     advance_.setArg(i++, cl_uint(config_.groups.size()));
     advance_.setArg(i++, config_.speed);
@@ -176,6 +168,5 @@ void PathModel::advance(Swarm& swarm, uint64_t step) {
     if (mde_) mde_->apply(swarm, counters_.device());
     counters_.count_step();
 }
-
 
 }  // namespace swarmcl

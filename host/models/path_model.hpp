@@ -68,6 +68,13 @@ public:
     double recompute_seconds() const { return recompute_seconds_; }
 
 private:
+    // The path grid as kernel arguments: cells per axis; min corner and cell edge.
+    cl_int4 grid_dims_arg() const {
+        return cl_int4{{cl_int(grid_.dims[0]), cl_int(grid_.dims[1]), cl_int(grid_.dims[2]), 0}};
+    }
+    cl_float4 grid_origin_arg() const {
+        return cl_float4{{float(grid_.origin[0]), float(grid_.origin[1]), float(grid_.origin[2]), float(grid_.h)}};
+    }
     void upload_directions(uint32_t group);
     void bake_local_field(const std::string& defines);
 

@@ -166,6 +166,18 @@ void Swarm::step(uint32_t steps) {
     }
 }
 
+cl_uint Swarm::set_step_args(cl::Kernel& kernel, uint64_t step, cl_uint index) {
+    const float dt = config_.dt;
+    kernel.setArg(index++, pos_.get());
+    kernel.setArg(index++, vel_.get());
+    kernel.setArg(index++, ids_.get());
+    kernel.setArg(index++, n_);
+    kernel.setArg(index++, dt);
+    kernel.setArg(index++, float(double(step) * dt));
+    kernel.setArg(index++, cl_uint(step));
+    return index;
+}
+
 void Swarm::swap_positions_with_scratch() {
     std::swap(pos_, scratch_);
     grid_current_ = false;

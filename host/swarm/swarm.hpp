@@ -65,6 +65,11 @@ public:
     // Marks positions changed by a stage: the grid is rebuilt when next needed.
     void positions_changed() { grid_current_ = false; }
 
+    // Sets the arguments every model's step kernel starts with, from `index`
+    // on: pos, vel, ids (slot order), n, dt, t = step * dt, step; returns the
+    // next index.
+    cl_uint set_step_args(cl::Kernel& kernel, uint64_t step, cl_uint index = 0);
+
     // The model that moves the agents (nullptr: ballistic motion).
     void set_behavior(std::shared_ptr<Behavior> behavior) { behavior_ = std::move(behavior); }
     Behavior* behavior() const { return behavior_.get(); }
