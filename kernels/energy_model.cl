@@ -100,6 +100,14 @@ inline emv em_lenv(emv x, emv y, emv z) { return sqrt(x * x + y * y + z * z); }
 // |v^ - u| over the lanes' unit vectors (hx, hy, hz) for one direction u.
 inline emv em_dirv(emv hx, emv hy, emv hz, float3 u) { return em_lenv(hx - u.x, hy - u.y, hz - u.z); }
 
+// Stimulus s at time t: xyz = position + velocity t, w = kind.  The buffer
+// holds (position, kind), (d_danger, velocity) per stimulus, uploaded when
+// the stimuli are set, so a step needs no upload.
+inline float4 em_stimulus(__global const float4* stim, uint s, float t) {
+    const float4 a = stim[2 * s], b = stim[2 * s + 1];
+    return (float4)(a.xyz + b.yzw * t, a.w);
+}
+
 // Kernel arguments (EnergyModel::set_step_args):
 //   state: pos, vel (float4, slot order), ids, n;
 //   time: dt, t, step;
@@ -110,7 +118,7 @@ inline emv em_dirv(emv hx, emv hy, emv hz, float3 u) { return em_lenv(hx - u.x, 
 //   centre: float4 (xyz: swarm centre, from energy_centre_*);
 //   w, wd: weights normally and in danger (float8, order W_*);
 //   radii: (d_rep, d_att1, d_att2, rho); extra: (accel_time, danger_horizon, keypoint_reach, keypoints_closed);
-//   stim: 2 float4 per stimulus ((x, y, z, kind), (d_danger, 0, 0, 0)), nstim;
+//   stim: 2 float4 per stimulus ((x, y, z, kind), (d_danger, vx, vy, vz)) at t = 0, nstim;
 //   kp: keypoints (float4), nkp, goal (per agent id);
 //   grid, noise.
 __kernel void energy_select(__global const float4* pos, __global const float4* vel, __global const uint* ids,
@@ -170,9 +178,10 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
     }
     // In danger (Table 1, escaping): a startling stimulus within d_danger.
     bool danger = false;
-    for (uint s = 0; s < nstim; ++s)
-        if (stim[2 * s].w != STIM_ATTRACT && dist2(stim[2 * s], p4) < stim[2 * s + 1].x * stim[2 * s + 1].x)
-            danger = true;
+    for (uint s = 0; s < nstim; ++s) {
+        const float4 sp = em_stimulus(stim, s, t);
+        if (sp.w != STIM_ATTRACT && dist2(sp, p4) < stim[2 * s + 1].x * stim[2 * s + 1].x) danger = true;
+    }
     const float8 wt = danger ? wd : w;
 
     // Interaction sums per candidate (Eq. 4, 6), neighbours outer so the grid
@@ -339,7 +348,7 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
         // Eq. 11-12, summed over the stimuli.
         emv env = (emv)(0.0f);
         for (uint s = 0; s < nstim; ++s) {
-            const float4 sp = stim[2 * s];
+            const float4 sp = em_stimulus(stim, s, t);
             if (sp.w == STIM_ATTRACT) {
                 env += exp(rho * em_dirv(hx, hy, hz, em_unit(sp.xyz - p)));
             } else {

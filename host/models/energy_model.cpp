@@ -160,7 +160,17 @@ void EnergyModel::reset_goals(uint32_t capacity) {
 void EnergyModel::set_stimuli(std::vector<Stimulus> stimuli) {
     check_stimuli(stimuli);
     config_.stimuli = std::move(stimuli);
-    stim_.reserve(ctx_, std::max<size_t>(1, 2 * config_.stimuli.size()), "stimuli");
+    // Positions at t = 0 and velocities: the kernel moves them on
+    // (em_stimulus), so the step uploads nothing.  Kind in w (0 attract, 1 startle).
+    std::vector<cl_float4> s(std::max<size_t>(1, 2 * config_.stimuli.size()), cl_float4{{0, 0, 0, 0}});
+    for (size_t i = 0; i < config_.stimuli.size(); ++i) {
+        const Stimulus& st = config_.stimuli[i];
+        s[2 * i] = {{st.position[0], st.position[1], st.position[2],
+                     st.kind == Stimulus::Kind::Attract ? 0.0f : 1.0f}};
+        s[2 * i + 1] = {{st.d_danger, st.velocity[0], st.velocity[1], st.velocity[2]}};
+    }
+    stim_.reserve(ctx_, s.size(), "stimuli");
+    stim_.upload(ctx_, s.data(), s.size());
 }
 
 void EnergyModel::set_keypoints(std::vector<std::array<float, 3>> keypoints, bool closed) {
@@ -175,24 +185,16 @@ void EnergyModel::set_keypoints(std::vector<std::array<float, 3>> keypoints, boo
     reset_goals(capacity_);
 }
 
-void EnergyModel::upload_stimuli(float time) {
-    // Positions at the current time; kind in w (0 attract, 1 startle).
-    std::vector<cl_float4> s(std::max<size_t>(1, 2 * config_.stimuli.size()), cl_float4{{0, 0, 0, 0}});
-    for (size_t i = 0; i < config_.stimuli.size(); ++i) {
-        const Stimulus& st = config_.stimuli[i];
-        for (int a = 0; a < 3; ++a) s[2 * i].s[a] = st.position[a] + st.velocity[a] * time;
-        s[2 * i].s[3] = st.kind == Stimulus::Kind::Attract ? 0.0f : 1.0f;
-        s[2 * i + 1] = {{st.d_danger, 0.0f, 0.0f, 0.0f}};
-    }
-    stim_.upload(ctx_, s.data(), s.size());
-}
-
 void EnergyModel::compute_centre(Swarm& swarm) {
     const uint32_t n = swarm.agent_count();
     if (config_.has_fixed_centre) {
-        const auto& c = config_.fixed_centre;
-        const cl_float4 v{{c[0], c[1], c[2], float(n)}};
-        centre_.upload(ctx_, &v, 1);
+        // Uploaded again only when the agent count (w) changes: no host wait per step.
+        if (fixed_centre_n_ != n) {
+            const auto& c = config_.fixed_centre;
+            const cl_float4 v{{c[0], c[1], c[2], float(n)}};
+            centre_.upload(ctx_, &v, 1);
+            fixed_centre_n_ = n;
+        }
         return;
     }
     const uint32_t chunk = std::max<uint32_t>(1, (n + kCentreChunks - 1) / kCentreChunks);
@@ -203,9 +205,6 @@ void EnergyModel::compute_centre(Swarm& swarm) {
 }
 
 cl_uint EnergyModel::set_common_args(cl::Kernel& k, Swarm& swarm, uint64_t step) {
-    const float dt = swarm.config().dt;
-    const float time = float(double(step) * dt);
-    upload_stimuli(time);
     const auto& c = config_;
     cl_uint i = swarm.set_step_args(k, step);
     k.setArg(i++, dv_.get());

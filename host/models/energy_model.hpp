@@ -103,7 +103,6 @@ public:
 private:
     void compute_centre(Swarm& swarm);
     cl_uint set_common_args(cl::Kernel& k, Swarm& swarm, uint64_t step);
-    void upload_stimuli(float time);
     void reset_goals(uint32_t capacity);
 
     Context& ctx_;  // the swarm's (a swarm keeps its context alive)
@@ -111,6 +110,7 @@ private:
     std::shared_ptr<const Dataset> dataset_;
     std::unique_ptr<NoiseField> noise_;
     uint32_t max_cand_ = 0;
+    uint32_t fixed_centre_n_ = 0xFFFFFFFFu;  // agent count of the uploaded fixed centre
     uint32_t ds_stride_ = 0;  // floats between the dataset planes (kernels/energy_model.cl EM_P_*)
     DeviceBuffer<cl_float> ds_;
     float accel_time_ = 0.01f;
