@@ -17,7 +17,7 @@
 // gradients, so the ratio per Perlin evaluation is 3x the per-curl ratio.
 //
 //   noise_bench [--sizes 1000000,2000000,4000000] [--repeats 5] [--quick]
-//               [--agents 1000000] [--steps 10] [--threads 2]
+//               [--agents 1000000] [--steps 10] [--radius 0.1] [--threads 2]
 //               [--device SELECTOR] [--json PATH] [--seed S]
 #include <algorithm>
 #include <array>
@@ -124,6 +124,9 @@ Options parse(int argc, char** argv) {
                 o.steps = std::stoi(v);
                 if (o.steps < 1) usage("--steps must be >= 1");
                 steps_set = true;
+            } else if (a == "--radius") {
+                o.radius = std::stof(v);
+                if (!(o.radius > 0.0f)) usage("--radius must be > 0");
             } else if (a == "--threads") {
                 o.threads = std::stoi(v);
                 if (o.threads < 1) usage("--threads must be >= 1");
