@@ -10,12 +10,16 @@
 // Built per configuration: the NOISE_* defines of the noise field (f_N, §4.3),
 // EM_MAX_CAND (the most candidates of any agent), EM_TERMS (the checking
 // variant that writes every term of every candidate and moves nothing) and
-// EM_TAYLOR_OA (Eq. 6 by a second-order expansion, see below).
+// EM_TAYLOR_OA (Eq. 6 by a second-order expansion, see below) and
+// EM_KEEP_OUT (1: startling stimuli are kept out of, see the candidate loop).
 #include "noise_field.cl"
 #include "grid_common.cl"
 
 #ifndef EM_MAX_CAND
 #define EM_MAX_CAND 64
+#endif
+#ifndef EM_KEEP_OUT
+#define EM_KEEP_OUT 0
 #endif
 
 // Weights in this order (Table 1 columns).
@@ -108,6 +112,24 @@ inline float4 em_stimulus(__global const float4* stim, uint s, float t) {
     return (float4)(a.xyz + b.yzw * t, a.w);
 }
 
+// Eq. 12's prediction over a horizon: the closest approach of an agent and a
+// moving danger, min over tau in [0, h] of |r0 + u tau| (r0 = p - p_s, u = v -
+// v_s: both move on at constant velocity).  h = dt, a still danger: Eq. 12's
+// |p'_{t+1} - p_s|.
+inline float em_closest(float3 r0, float3 u, float h) {
+    const float uu = dot(u, u);
+    const float tau = uu > 0.0f ? clamp(-dot(r0, u) / uu, 0.0f, h) : 0.0f;
+    return length(r0 + u * tau);
+}
+
+// em_closest over the lanes' candidate velocities (vx, vy, vz).
+inline emv em_closestv(float3 r0, float3 vs, emv vx, emv vy, emv vz, float h) {
+    const emv ux = vx - vs.x, uy = vy - vs.y, uz = vz - vs.z;
+    const emv uu = ux * ux + uy * uy + uz * uz;
+    const emv tau = select((emv)(0.0f), clamp(-(r0.x * ux + r0.y * uy + r0.z * uz) / uu, 0.0f, h), uu > 0.0f);
+    return em_lenv(r0.x + ux * tau, r0.y + uy * tau, r0.z + uz * tau);
+}
+
 // Kernel arguments (EnergyModel::set_step_args):
 //   state: pos, vel (float4, slot order), ids, n;
 //   time: dt, t, step;
@@ -176,11 +198,14 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
         }
         cd_hat = em_unit(kp[my_goal & ~GOAL_BACKWARD].xyz - p);
     }
-    // In danger (Table 1, escaping): a startling stimulus within d_danger.
+    // In danger (Table 1, escaping): a startling stimulus comes within
+    // d_danger within the horizon at the agent's current velocity.
+    const float h = fmax(dt, horizon);
     bool danger = false;
     for (uint s = 0; s < nstim; ++s) {
         const float4 sp = em_stimulus(stim, s, t);
-        if (sp.w != STIM_ATTRACT && dist2(sp, p4) < stim[2 * s + 1].x * stim[2 * s + 1].x) danger = true;
+        if (sp.w != STIM_ATTRACT && em_closest(p - sp.xyz, vt - stim[2 * s + 1].yzw, h) < stim[2 * s + 1].x)
+            danger = true;
     }
     const float8 wt = danger ? wd : w;
 
@@ -317,7 +342,7 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
     }
 #endif
 
-    float best = INFINITY;
+    float best = INFINITY, best_viol = INFINITY;
     uint best_c = 0u;
     for (uint k = 0; k < nchunks; ++k) {
         const uint c = c0 + k * EM_W;
@@ -345,20 +370,24 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
         const emv da = em_lenv(ax * ainv - EM_LOAD(EM_P_AHX, c), ay * ainv - EM_LOAD(EM_P_AHY, c),
                                az * ainv - EM_LOAD(EM_P_AHZ, c));
         e[W_ACC] = wt.s4 * (exp(rho * da) + accel_time * fabs(alen - EM_LOAD(EM_P_AL, c)));
-        // Eq. 11-12, summed over the stimuli.
-        emv env = (emv)(0.0f);
+        // Eq. 11-12, summed over the stimuli.  A startling stimulus: Psi
+        // from the closest approach within the horizon, for an agent it
+        // startles (in reach within the horizon at its current velocity).
+        // Keep-out (EM_KEEP_OUT, ours): `viol`, how far the candidate would
+        // enter d_danger (0: not at all), is compared before the energy.
+        emv env = (emv)(0.0f), viol = (emv)(0.0f);
         for (uint s = 0; s < nstim; ++s) {
             const float4 sp = em_stimulus(stim, s, t);
             if (sp.w == STIM_ATTRACT) {
                 env += exp(rho * em_dirv(hx, hy, hz, em_unit(sp.xyz - p)));
             } else {
                 const float dd = stim[2 * s + 1].x;
-                // Startled only within d_danger; the prediction looks
-                // `horizon` seconds ahead (at least one step).
-                if (dist2(sp, p4) < dd * dd) {
-                    const float h = fmax(dt, horizon);
-                    env += exp(rho * (1.0f - em_lenv(p.x + vx * h - sp.x, p.y + vy * h - sp.y,
-                                                     p.z + vz * h - sp.z) / dd));
+                const float3 r0 = p - sp.xyz, vs = stim[2 * s + 1].yzw;
+                const bool startled = em_closest(r0, vt - vs, h) < dd;
+                if (startled || EM_KEEP_OUT) {
+                    const emv dmin = em_closestv(r0, vs, vx, vy, vz, h);
+                    if (startled) env += exp(rho * (1.0f - dmin / dd));
+                    if (EM_KEEP_OUT) viol = fmax(viol, 1.0f - dmin / dd);
                 }
             }
         }
@@ -367,8 +396,9 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
         e[W_USER] = wt.s7 * exp(rho * em_dirv(hx, hy, hz, cd_hat));                // Eq. 14
         emv total = (emv)(0.0f);
         for (int q = 0; q < EM_TERM_COUNT; ++q) total += e[q];
-        float lanes[EM_W];
+        float lanes[EM_W], vlanes[EM_W];
         vstore16(total, 0, lanes);
+        vstore16(fmax(viol, 0.0f), 0, vlanes);
         const uint nl = min((uint)EM_W, nc - k * EM_W);
 #ifdef EM_TERMS
         for (int q = 0; q < EM_TERM_COUNT; ++q) {
@@ -378,8 +408,11 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
                 terms[((size_t)id * EM_MAX_CAND + k * EM_W + l) * EM_TERM_COUNT + q] = tl[l];
         }
 #endif
+        // Least keep-out violation first, then least energy; strict, in
+        // index order: ties keep the lowest sample index.
         for (uint l = 0; l < nl; ++l)
-            if (lanes[l] < best) {  // strict, in index order: ties keep the lowest sample index
+            if (vlanes[l] < best_viol || (vlanes[l] == best_viol && lanes[l] < best)) {
+                best_viol = vlanes[l];
                 best = lanes[l];
                 best_c = k * EM_W + l;
             }

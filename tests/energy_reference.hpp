@@ -2,6 +2,7 @@
 // one candidate, in double, with brute-force neighbour sets: what
 // kernels/energy_model.cl must reproduce.
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <vector>
@@ -44,6 +45,30 @@ inline std::array<uint32_t, 2> reference_candidates(const Dataset& d, uint32_t s
     return {d.group_start[g > span ? g - span : 0u], d.group_start[std::min(G, g + span + 1)]};
 }
 
+// Eq. 12 over the horizon: the closest approach within max(dt, horizon) of
+// an agent at p moving at v and stimulus k moving on at its velocity.
+inline double reference_closest(const EnergyModelConfig& cfg, const ReferenceState& s, size_t k, const V3& p,
+                                const V3& v) {
+    const double h = std::max<double>(s.dt, cfg.danger_horizon);
+    const V3 r0 = sub(p, v3(s.stimuli_pos[k])), u = sub(v, v3(cfg.stimuli[k].velocity));
+    const double uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+    const double tau = uu > 0 ? std::clamp(-(r0[0] * u[0] + r0[1] * u[1] + r0[2] * u[2]) / uu, 0.0, h) : 0.0;
+    return len(add(r0, mul(u, tau)));
+}
+
+// Keep-out (EnergyModelConfig::keep_out): how far candidate c of agent a
+// would enter a startling stimulus' d_danger, relative to it (0: not at all).
+inline double reference_violation(const EnergyModelConfig& cfg, const Dataset& d, const ReferenceState& s,
+                                  uint32_t a, uint32_t c) {
+    double viol = 0;
+    if (!cfg.keep_out) return viol;
+    for (size_t k = 0; k < cfg.stimuli.size(); ++k)
+        if (cfg.stimuli[k].kind == Stimulus::Kind::Startle)
+            viol = std::max(viol, 1.0 - reference_closest(cfg, s, k, v3(&s.pos[3 * a]), v3(d.v[c])) /
+                                            cfg.stimuli[k].d_danger);
+    return viol;
+}
+
 // The eight terms of candidate c for agent a.
 inline std::array<double, 8> reference_terms(const EnergyModelConfig& cfg, const Dataset& d,
                                              const ReferenceState& s, uint32_t a, uint32_t c) {
@@ -54,7 +79,7 @@ inline std::array<double, 8> reference_terms(const EnergyModelConfig& cfg, const
     bool danger = false;
     for (size_t k = 0; k < cfg.stimuli.size(); ++k)
         if (cfg.stimuli[k].kind == Stimulus::Kind::Startle &&
-            len(sub(v3(s.stimuli_pos[k]), p)) < cfg.stimuli[k].d_danger)
+            reference_closest(cfg, s, k, p, vt) < cfg.stimuli[k].d_danger)
             danger = true;
     const EnergyWeights& w = danger ? cfg.danger_weights : cfg.weights;
     const V3 vh = unit(v);
@@ -90,9 +115,8 @@ inline std::array<double, 8> reference_terms(const EnergyModelConfig& cfg, const
         const V3 sp = v3(s.stimuli_pos[k]);
         if (cfg.stimuli[k].kind == Stimulus::Kind::Attract) {
             env += std::exp(rho * len(sub(vh, unit(sub(sp, p)))));
-        } else if (len(sub(sp, p)) < cfg.stimuli[k].d_danger) {
-            const double h = std::max<double>(dt, cfg.danger_horizon);
-            env += std::exp(rho * (1.0 - len(sub(add(p, mul(v, h)), sp)) / cfg.stimuli[k].d_danger));
+        } else if (reference_closest(cfg, s, k, p, vt) < cfg.stimuli[k].d_danger) {
+            env += std::exp(rho * (1.0 - reference_closest(cfg, s, k, p, v) / cfg.stimuli[k].d_danger));
         }
     }
     e[5] = w.env * env;

@@ -60,6 +60,7 @@ TEST_F(EnergyCapi, DefaultsAreThePapers) {
     EXPECT_FLOAT_EQ(d.weights.env, 0.0f);
     EXPECT_FLOAT_EQ(d.danger_weights.oa, 0.0f);
     EXPECT_FLOAT_EQ(d.danger_weights.env, 2.0f);
+    EXPECT_EQ(d.keep_out, 1);
     EXPECT_EQ(swcl_dataset_desc_default().k, 300u);
     swcl_dataset_info info{};
     info.struct_size = sizeof(info);

@@ -193,12 +193,17 @@ TEST(EnergyModel, ArgminMatchesBruteForceHostSearch) {
         EnergyModel m(s, all_terms_config(), data);
         const EnergyTerms t = m.evaluate(s, 3);
         const ReferenceState r = reference_state(s, m, 3);
-        uint32_t exact = 0;
+        uint32_t exact = 0, kept_out = 0, compared = 0;
         for (uint32_t a = 0; a < n; ++a) {
             const auto range = reference_candidates(*data, m.config().span, &r.vel[3 * a]);
+            // Keep-out first: only the candidates entering d_danger least compete.
+            double least_viol = INFINITY;
+            for (uint32_t c = range[0]; c < range[1]; ++c)
+                least_viol = std::min(least_viol, reference_violation(m.config(), *data, r, a, c));
             double best = INFINITY, second = INFINITY;
             uint32_t best_c = 0;
             for (uint32_t c = range[0]; c < range[1]; ++c) {
+                if (reference_violation(m.config(), *data, r, a, c) > least_viol + 1e-5) continue;
                 const double e = total(reference_terms(m.config(), *data, r, a, c));
                 if (e < best) {
                     second = best;
@@ -208,9 +213,17 @@ TEST(EnergyModel, ArgminMatchesBruteForceHostSearch) {
                     second = e;
                 }
             }
-            const double chosen = total(reference_terms(m.config(), *data, r, a, t.chosen[a]));
             ASSERT_GE(t.chosen[a], range[0]);
             ASSERT_LT(t.chosen[a], range[1]);
+            EXPECT_LE(reference_violation(m.config(), *data, r, a, t.chosen[a]), least_viol + 1e-5) << a;
+            if (least_viol > 0) continue;  // every candidate enters: the least entering one, checked above
+            for (uint32_t c = range[0]; c < range[1]; ++c)
+                if (reference_violation(m.config(), *data, r, a, c) > 0) {
+                    ++kept_out;  // some candidates are ruled out
+                    break;
+                }
+            ++compared;
+            const double chosen = total(reference_terms(m.config(), *data, r, a, t.chosen[a]));
             // float vs double: the kernel's pick is the minimum up to rounding,
             // and exactly the host's pick wherever the two best are apart.
             EXPECT_LE(chosen, best + 1e-4 * std::fabs(best) + 1e-5) << a;
@@ -219,7 +232,9 @@ TEST(EnergyModel, ArgminMatchesBruteForceHostSearch) {
                 ++exact;
             }
         }
-        EXPECT_GT(exact, n * 9 / 10);
+        EXPECT_GT(compared, n * 3 / 4);
+        EXPECT_GT(exact, compared * 9 / 10);
+        EXPECT_GT(kept_out, 5u) << "the startling stimulus rules out some candidates";
     }
 }
 

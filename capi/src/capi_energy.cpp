@@ -209,6 +209,7 @@ swcl_energy_model_desc swcl_energy_model_desc_default(void) {
     d.keypoints_closed = c.keypoints_closed ? 1 : 0;
     d.bidirectional = c.bidirectional ? 1 : 0;
     d.keypoint_reach = c.keypoint_reach;
+    d.keep_out = c.keep_out ? 1 : 0;
     return d;
 }
 
@@ -235,6 +236,7 @@ swcl_status swcl_swarm_set_energy_model(swcl_swarm swarm, swcl_dataset dataset, 
         c.keypoints_closed = desc->keypoints_closed != 0;
         c.bidirectional = desc->bidirectional != 0;
         c.keypoint_reach = desc->keypoint_reach;
+        c.keep_out = desc->keep_out != 0;
         s.set_behavior(std::make_shared<EnergyModel>(s, std::move(c), d));
     });
 }

@@ -98,6 +98,7 @@ EnergyScenario read_energy_scenario(const json& j, const std::string& path) {
     c.span = uint32_t(r.integer("span", c.span, 0, 1024));
     c.accel_time = r.non_negative("accel_time", c.accel_time);
     c.danger_horizon = r.non_negative("danger_horizon", c.danger_horizon);
+    c.keep_out = r.boolean("keep_out", c.keep_out);
     if (r.has("stimuli")) {
         const json& list = r.child("stimuli");
         if (!list.is_array()) bad_json(r.at("stimuli"), "expected an array");

@@ -102,7 +102,8 @@ EnergyModel::EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr
     for (const auto& v : d.v) vmax = std::max(vmax, std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
     taylor_ = !config_.exact_attraction && config_.rho / config_.d_att1 * vmax * swarm.config().dt <= 0.4f;
     const std::string defines = noise_->defines() + " -DEM_MAX_CAND=" + std::to_string(max_cand_) +
-                                (taylor_ ? " -DEM_TAYLOR_OA" : "");
+                                (taylor_ ? " -DEM_TAYLOR_OA" : "") + " -DEM_KEEP_OUT=" +
+                                (config_.keep_out ? "1" : "0");
     select_ = ctx.kernel("energy_model.cl", "energy_select", defines);
     terms_ = ctx.kernel("energy_model.cl", "energy_select", defines + " -DEM_TERMS");
     centre_partial_ = ctx.kernel("energy_model.cl", "energy_centre_partial", defines);

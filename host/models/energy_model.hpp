@@ -51,6 +51,10 @@ struct EnergyModelConfig {
     // (rho / d_att1 * max speed * dt <= 0.4; kernels/energy_model.cl).
     bool exact_attraction = false;
     float danger_horizon = 1.0f;  // s, look-ahead of the startled prediction (Eq. 12)
+    // Startling stimuli are kept out of (ours): a candidate whose predicted
+    // closest approach (within danger_horizon) is inside d_danger is chosen
+    // only when every candidate's is, and then the one entering least.
+    bool keep_out = true;
     NoiseConfig noise;         // f_N (curl noise); default: scale 0.2 m, time_scale 1 s
     std::vector<Stimulus> stimuli;
     std::vector<std::array<float, 3>> keypoints;  // f_CD (Eq. 15); empty: none

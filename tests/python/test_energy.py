@@ -29,6 +29,7 @@ def test_defaults_come_from_c():
     assert m.weights == swarmcl.EnergyWeights(rep=1, oa=1, cos=0.05, dir=1, acc=1, env=0, noise=0.2, user=0)
     assert m.danger_weights.oa == 0 and m.danger_weights.cos == 0 and m.danger_weights.env == 2
     assert m.centre is None and m.keypoints is None and m.span == 1
+    assert m.keep_out is True
     assert m.noise.type == swarmcl.NoiseType.CURL
 
 

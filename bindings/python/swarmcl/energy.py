@@ -219,7 +219,7 @@ def _energy_default(name: str):
         c = _ENERGY_DEFAULT
         if name == "noise":
             return NoiseDesc._from_c(c.noise)
-        if name in ("keypoints_closed", "bidirectional"):
+        if name in ("keypoints_closed", "bidirectional", "keep_out"):
             return bool(getattr(c, name))
         if name == "span":
             return int(c.span)
@@ -248,6 +248,7 @@ class EnergyModel:
     keypoints_closed: bool = _energy_default("keypoints_closed")
     bidirectional: bool = _energy_default("bidirectional")
     keypoint_reach: float = _energy_default("keypoint_reach")
+    keep_out: bool = _energy_default("keep_out")
 
     def to_c(self):
         """A new ``swcl_energy_model_desc*`` and the objects it points into."""
@@ -275,6 +276,7 @@ class EnergyModel:
             p.keypoint_count = len(kp)
         p.keypoints_closed = 1 if self.keypoints_closed else 0
         p.bidirectional = 1 if self.bidirectional else 0
+        p.keep_out = 1 if self.keep_out else 0
         return p, keep
 
 

@@ -486,6 +486,10 @@ typedef struct swcl_energy_model_desc {
     int32_t keypoints_closed;      /* 1: the curve is a loop (default 1) */
     int32_t bidirectional;         /* 1: odd agent ids traverse it backwards (default 1) */
     float keypoint_reach;          /* m within which a keypoint counts as reached (0.05) */
+    int32_t keep_out;              /* 1 (default): a velocity whose predicted closest approach to a
+                                      STARTLE stimulus (within danger_horizon) is inside its d_danger
+                                      is chosen only when every candidate's is (the least entering
+                                      one); 0: Eq. 11-12 alone */
 } swcl_energy_model_desc;
 SWCL_API swcl_energy_model_desc swcl_energy_model_desc_default(void);
 /* Makes the energy model with `dataset` move the swarm from the next step on
