@@ -67,6 +67,40 @@ typedef struct { float v; float4 g; } swcl_vg4;
 
 SWCL_INLINE int swcl_perm_at(int i) { return swcl_perm[i & 255]; }
 
+/* Pairs (perm[i], perm[i + 1]) in one word, perm[i] | perm[(i + 1) & 255] << 8:
+ * the hash of a lattice cell always needs both neighbours along the next
+ * axis, so one gather serves two lookups (7 gathers instead of 14 in 3D, 15
+ * instead of 30 in 4D; the same hashes bit for bit).  Made from swcl_perm
+ * (above) by a one-line loop; the noise tests check the results against the
+ * C++ reference. */
+__constant int swcl_perm2[256] = {
+    41111,35232,23433,23131,3930,33551,3459,51469,24521,24671,13664,49717,
+    59842,2025,57607,36065,9356,26404,7783,17694,36421,2190,25352,9571,
+    61477,5616,2581,5898,48663,1726,37894,63380,30967,60024,19434,75,
+    6656,50458,16069,24126,64606,56316,52187,30155,9077,2851,8203,14624,
+    45369,8625,22561,60760,38381,14485,22328,44631,5294,32020,34941,43912,
+    43179,17576,44868,19119,42314,18341,34375,35718,12427,6960,42523,19878,
+    37453,40594,59294,21479,28499,58735,31461,15482,54076,34259,59013,56550,
+    27100,23657,10588,14121,11831,62766,10485,62504,26356,36710,13967,16694,
+    6465,16153,41279,417,55297,20696,18768,53577,19665,33868,48004,53435,
+    22992,4697,43282,51369,50376,34756,33415,29826,48244,40892,22175,42070,
+    25764,28004,50797,44486,47789,954,16387,13376,55604,58073,64226,31994,
+    31612,1403,51717,9930,37670,30355,32374,65406,21247,21842,54357,53204,
+    52943,15310,58171,12259,4143,14864,4410,46609,48566,7357,10780,57130,
+    47071,43703,54698,30677,63607,39160,664,11266,39468,41882,18083,56646,
+    39389,26009,39781,42907,11175,44075,2476,33033,5761,10006,64807,5117,
+    25107,27746,28268,20334,29007,57457,59616,45800,47538,28857,26736,55912,
+    63194,25078,58465,64484,8955,61986,49650,61121,53998,37074,3216,48908,
+    46015,41651,61858,20977,13137,37171,60305,63979,3833,61198,27631,12651,
+    49201,54976,8150,46367,51125,27335,40298,47261,21688,52308,45260,29616,
+    31091,12921,11570,32557,1151,38404,65174,35582,60554,52716,24013,56925,
+    29406,17266,7491,6173,18456,62280,36339,32909,50048,20163,16974,55106,
+    15831,39997,46236,38836 };
+SWCL_INLINE int swcl_perm2_at(int i) { return swcl_perm2[i & 255]; }
+/* The two halves of a pair: perm[i], perm[i + 1]. */
+#define SWCL_LO(p) ((p) & 255)
+#define SWCL_HI(p) ((p) >> 8)
+
 SWCL_INLINE int swcl_hash3(int X, int Y, int Z)
 {
     return swcl_perm_at(swcl_perm_at(swcl_perm_at(X) + Y) + Z);
@@ -139,17 +173,20 @@ SWCL_INLINE void swcl_perlin3_s(float px, float py, float pz, int ox, int oy, in
     const float u = swcl_fade(x), v = swcl_fade(y), w = swcl_fade(z);
     const float du = swcl_dfade(x), dv = swcl_dfade(y), dw = swcl_dfade(z);
     const float x1 = x - 1.0f, y1 = y - 1.0f, z1 = z - 1.0f;
-    const int A = swcl_perm_at(X) + Y, B = swcl_perm_at(X + 1) + Y;
-    const int AA = swcl_perm_at(A) + Z, AB = swcl_perm_at(A + 1) + Z;
-    const int BA = swcl_perm_at(B) + Z, BB = swcl_perm_at(B + 1) + Z;
-    SWCL_CORNER3(swcl_perm_at(AA),     x,  y,  z,  c000)
-    SWCL_CORNER3(swcl_perm_at(BA),     x1, y,  z,  c100)
-    SWCL_CORNER3(swcl_perm_at(AB),     x,  y1, z,  c010)
-    SWCL_CORNER3(swcl_perm_at(BB),     x1, y1, z,  c110)
-    SWCL_CORNER3(swcl_perm_at(AA + 1), x,  y,  z1, c001)
-    SWCL_CORNER3(swcl_perm_at(BA + 1), x1, y,  z1, c101)
-    SWCL_CORNER3(swcl_perm_at(AB + 1), x,  y1, z1, c011)
-    SWCL_CORNER3(swcl_perm_at(BB + 1), x1, y1, z1, c111)
+    const int pX = swcl_perm2_at(X);
+    const int A = SWCL_LO(pX) + Y, B = SWCL_HI(pX) + Y;
+    const int pA = swcl_perm2_at(A), pB = swcl_perm2_at(B);
+    const int AA = SWCL_LO(pA) + Z, AB = SWCL_HI(pA) + Z;
+    const int BA = SWCL_LO(pB) + Z, BB = SWCL_HI(pB) + Z;
+    const int hAA = swcl_perm2_at(AA), hBA = swcl_perm2_at(BA), hAB = swcl_perm2_at(AB), hBB = swcl_perm2_at(BB);
+    SWCL_CORNER3(SWCL_LO(hAA), x,  y,  z,  c000)
+    SWCL_CORNER3(SWCL_LO(hBA), x1, y,  z,  c100)
+    SWCL_CORNER3(SWCL_LO(hAB), x,  y1, z,  c010)
+    SWCL_CORNER3(SWCL_LO(hBB), x1, y1, z,  c110)
+    SWCL_CORNER3(SWCL_HI(hAA), x,  y,  z1, c001)
+    SWCL_CORNER3(SWCL_HI(hBA), x1, y,  z1, c101)
+    SWCL_CORNER3(SWCL_HI(hAB), x,  y1, z1, c011)
+    SWCL_CORNER3(SWCL_HI(hBB), x1, y1, z1, c111)
     SWCL_DLERP3(u, du, 0, c000, c100, a00)
     SWCL_DLERP3(u, du, 0, c010, c110, a10)
     SWCL_DLERP3(u, du, 0, c001, c101, a01)
@@ -172,8 +209,9 @@ SWCL_INLINE void swcl_perlin3_s(float px, float py, float pz, int ox, int oy, in
     const float R##z = A##z + (t) * (B##z - A##z) + ((AX) == 2 ? (dt) * (B##v - A##v) : 0.0f); \
     const float R##w = A##w + (t) * (B##w - A##w) + ((AX) == 3 ? (dt) * (B##v - A##v) : 0.0f);
 
-/* hash of corner (cx, cy) of the (z, w) slab given h_zw = perm[perm[X+cx]+Y+cy]+Z */
-#define SWCL_H4(ZW, cz, cw) swcl_perm_at(swcl_perm_at((ZW) + (cz)) + W + (cw))
+/* hash of corner (cx, cy, cz, cw) = perm[perm[Zij + cz] + W + cw], with
+ * Zij = perm[perm[X+cx]+Y+cy]+Z: Zij_cz is the pair at perm[Zij + cz] + W. */
+#define SWCL_H4(ZW, cz, cw) (cw ? SWCL_HI(ZW##_##cz) : SWCL_LO(ZW##_##cz))
 
 SWCL_INLINE void swcl_perlin4_s(float px, float py, float pz, float pw, int ox, int oy, int oz, int ow,
                                 float* val, float* gx, float* gy, float* gz, float* gw)
@@ -185,9 +223,16 @@ SWCL_INLINE void swcl_perlin4_s(float px, float py, float pz, float pw, int ox, 
     const float du = swcl_dfade(x), dv = swcl_dfade(y), ds = swcl_dfade(z), dq = swcl_dfade(w);
     const float x1 = x - 1.0f, y1 = y - 1.0f, z1 = z - 1.0f, w1 = w - 1.0f;
     /* hash4 = perm[perm[perm[perm[X]+Y]+Z]+W] */
-    const int P0 = swcl_perm_at(X) + Y, P1 = swcl_perm_at(X + 1) + Y;
-    const int Z00 = swcl_perm_at(P0) + Z, Z10 = swcl_perm_at(P1) + Z;         /* (cx, cy) */
-    const int Z01 = swcl_perm_at(P0 + 1) + Z, Z11 = swcl_perm_at(P1 + 1) + Z;
+    const int pX = swcl_perm2_at(X);
+    const int P0 = SWCL_LO(pX) + Y, P1 = SWCL_HI(pX) + Y;
+    const int p0 = swcl_perm2_at(P0), p1 = swcl_perm2_at(P1);
+    const int Z00 = SWCL_LO(p0) + Z, Z10 = SWCL_LO(p1) + Z;         /* (cx, cy) */
+    const int Z01 = SWCL_HI(p0) + Z, Z11 = SWCL_HI(p1) + Z;
+    const int q00 = swcl_perm2_at(Z00), q10 = swcl_perm2_at(Z10), q01 = swcl_perm2_at(Z01), q11 = swcl_perm2_at(Z11);
+    const int Z00_0 = swcl_perm2_at(SWCL_LO(q00) + W), Z00_1 = swcl_perm2_at(SWCL_HI(q00) + W);
+    const int Z10_0 = swcl_perm2_at(SWCL_LO(q10) + W), Z10_1 = swcl_perm2_at(SWCL_HI(q10) + W);
+    const int Z01_0 = swcl_perm2_at(SWCL_LO(q01) + W), Z01_1 = swcl_perm2_at(SWCL_HI(q01) + W);
+    const int Z11_0 = swcl_perm2_at(SWCL_LO(q11) + W), Z11_1 = swcl_perm2_at(SWCL_HI(q11) + W);
     SWCL_CORNER4(SWCL_H4(Z00, 0, 0), x,  y,  z,  w,  c0000)
     SWCL_CORNER4(SWCL_H4(Z10, 0, 0), x1, y,  z,  w,  c1000)
     SWCL_CORNER4(SWCL_H4(Z01, 0, 0), x,  y1, z,  w,  c0100)
@@ -351,35 +396,6 @@ SWCL_INLINE swcl_iw swcl_perm_w(swcl_iw i)
 }
 #endif
 
-/* Pairs (perm[i], perm[i + 1]) in one word, perm[i] | perm[(i + 1) & 255] << 8:
- * the hash of a lattice cell always needs both neighbours along the next
- * axis, so one gather serves two lookups (7 gathers instead of 14 in 3D, 15
- * instead of 30 in 4D; the same hashes bit for bit).  Made from swcl_perm
- * (above) by a one-line loop; the noise tests check the results against the
- * C++ reference. */
-__constant int swcl_perm2[256] = {
-    41111,35232,23433,23131,3930,33551,3459,51469,24521,24671,13664,49717,
-    59842,2025,57607,36065,9356,26404,7783,17694,36421,2190,25352,9571,
-    61477,5616,2581,5898,48663,1726,37894,63380,30967,60024,19434,75,
-    6656,50458,16069,24126,64606,56316,52187,30155,9077,2851,8203,14624,
-    45369,8625,22561,60760,38381,14485,22328,44631,5294,32020,34941,43912,
-    43179,17576,44868,19119,42314,18341,34375,35718,12427,6960,42523,19878,
-    37453,40594,59294,21479,28499,58735,31461,15482,54076,34259,59013,56550,
-    27100,23657,10588,14121,11831,62766,10485,62504,26356,36710,13967,16694,
-    6465,16153,41279,417,55297,20696,18768,53577,19665,33868,48004,53435,
-    22992,4697,43282,51369,50376,34756,33415,29826,48244,40892,22175,42070,
-    25764,28004,50797,44486,47789,954,16387,13376,55604,58073,64226,31994,
-    31612,1403,51717,9930,37670,30355,32374,65406,21247,21842,54357,53204,
-    52943,15310,58171,12259,4143,14864,4410,46609,48566,7357,10780,57130,
-    47071,43703,54698,30677,63607,39160,664,11266,39468,41882,18083,56646,
-    39389,26009,39781,42907,11175,44075,2476,33033,5761,10006,64807,5117,
-    25107,27746,28268,20334,29007,57457,59616,45800,47538,28857,26736,55912,
-    63194,25078,58465,64484,8955,61986,49650,61121,53998,37074,3216,48908,
-    46015,41651,61858,20977,13137,37171,60305,63979,3833,61198,27631,12651,
-    49201,54976,8150,46367,51125,27335,40298,47261,21688,52308,45260,29616,
-    31091,12921,11570,32557,1151,38404,65174,35582,60554,52716,24013,56925,
-    29406,17266,7491,6173,18456,62280,36339,32909,50048,20163,16974,55106,
-    15831,39997,46236,38836 };
 #define SWCL_PERM2_LANE_(k) swcl_perm2[SWCL_LANE(swcl_pi_, k)]
 #if SWCL_HW_GATHER
 SWCL_INLINE swcl_iw swcl_perm2_w(swcl_iw i)
@@ -394,10 +410,6 @@ SWCL_INLINE swcl_iw swcl_perm2_w(swcl_iw i)
     return (swcl_iw)(SWCL_LANES(SWCL_PERM2_LANE_));
 }
 #endif
-/* The two halves of a pair. */
-#define SWCL_LO(p) ((p) & 255)
-#define SWCL_HI(p) ((p) >> 8)
-
 SWCL_INLINE swcl_fw swcl_fade_w(swcl_fw t)  { return t * t * t * (t * (t * 6.0f - 15.0f) + 10.0f); }
 SWCL_INLINE swcl_fw swcl_dfade_w(swcl_fw t) { return 30.0f * t * t * (t * (t - 2.0f) + 1.0f); }
 SWCL_INLINE swcl_iw swcl_floor_iw(swcl_fw x)
@@ -484,9 +496,6 @@ SWCL_INLINE void swcl_perlin3_w(swcl_fw px, swcl_fw py, swcl_fw pz, int ox, int 
     const swcl_fw R##y = A##y + (t) * (B##y - A##y) + ((AX) == 1 ? (dt) * (B##v - A##v) : (swcl_fw)(0.0f)); \
     const swcl_fw R##z = A##z + (t) * (B##z - A##z) + ((AX) == 2 ? (dt) * (B##v - A##v) : (swcl_fw)(0.0f)); \
     const swcl_fw R##w = A##w + (t) * (B##w - A##w) + ((AX) == 3 ? (dt) * (B##v - A##v) : (swcl_fw)(0.0f));
-/* perm[perm[ZW + cz] + W + cw] from the pairs: pZ = pair at ZW, then the pair at
- * perm[ZW + cz] + W holds both cw. */
-#define SWCL_H4_W(ZW, cz, cw) (cw ? SWCL_HI(ZW##_##cz) : SWCL_LO(ZW##_##cz))
 
 SWCL_INLINE void swcl_perlin4_w(swcl_fw px, swcl_fw py, swcl_fw pz, swcl_fw pw, int ox, int oy, int oz, int ow,
                                 swcl_fw* val, swcl_fw* gx, swcl_fw* gy, swcl_fw* gz, swcl_fw* gw)
@@ -509,22 +518,22 @@ SWCL_INLINE void swcl_perlin4_w(swcl_fw px, swcl_fw py, swcl_fw pz, swcl_fw pw, 
     const swcl_iw Z10_0 = swcl_perm2_w(SWCL_LO(q10) + W), Z10_1 = swcl_perm2_w(SWCL_HI(q10) + W);
     const swcl_iw Z01_0 = swcl_perm2_w(SWCL_LO(q01) + W), Z01_1 = swcl_perm2_w(SWCL_HI(q01) + W);
     const swcl_iw Z11_0 = swcl_perm2_w(SWCL_LO(q11) + W), Z11_1 = swcl_perm2_w(SWCL_HI(q11) + W);
-    SWCL_CORNER4_W(SWCL_H4_W(Z00, 0, 0), x,  y,  z,  w,  c0000)
-    SWCL_CORNER4_W(SWCL_H4_W(Z10, 0, 0), x1, y,  z,  w,  c1000)
-    SWCL_CORNER4_W(SWCL_H4_W(Z01, 0, 0), x,  y1, z,  w,  c0100)
-    SWCL_CORNER4_W(SWCL_H4_W(Z11, 0, 0), x1, y1, z,  w,  c1100)
-    SWCL_CORNER4_W(SWCL_H4_W(Z00, 1, 0), x,  y,  z1, w,  c0010)
-    SWCL_CORNER4_W(SWCL_H4_W(Z10, 1, 0), x1, y,  z1, w,  c1010)
-    SWCL_CORNER4_W(SWCL_H4_W(Z01, 1, 0), x,  y1, z1, w,  c0110)
-    SWCL_CORNER4_W(SWCL_H4_W(Z11, 1, 0), x1, y1, z1, w,  c1110)
-    SWCL_CORNER4_W(SWCL_H4_W(Z00, 0, 1), x,  y,  z,  w1, c0001)
-    SWCL_CORNER4_W(SWCL_H4_W(Z10, 0, 1), x1, y,  z,  w1, c1001)
-    SWCL_CORNER4_W(SWCL_H4_W(Z01, 0, 1), x,  y1, z,  w1, c0101)
-    SWCL_CORNER4_W(SWCL_H4_W(Z11, 0, 1), x1, y1, z,  w1, c1101)
-    SWCL_CORNER4_W(SWCL_H4_W(Z00, 1, 1), x,  y,  z1, w1, c0011)
-    SWCL_CORNER4_W(SWCL_H4_W(Z10, 1, 1), x1, y,  z1, w1, c1011)
-    SWCL_CORNER4_W(SWCL_H4_W(Z01, 1, 1), x,  y1, z1, w1, c0111)
-    SWCL_CORNER4_W(SWCL_H4_W(Z11, 1, 1), x1, y1, z1, w1, c1111)
+    SWCL_CORNER4_W(SWCL_H4(Z00, 0, 0), x,  y,  z,  w,  c0000)
+    SWCL_CORNER4_W(SWCL_H4(Z10, 0, 0), x1, y,  z,  w,  c1000)
+    SWCL_CORNER4_W(SWCL_H4(Z01, 0, 0), x,  y1, z,  w,  c0100)
+    SWCL_CORNER4_W(SWCL_H4(Z11, 0, 0), x1, y1, z,  w,  c1100)
+    SWCL_CORNER4_W(SWCL_H4(Z00, 1, 0), x,  y,  z1, w,  c0010)
+    SWCL_CORNER4_W(SWCL_H4(Z10, 1, 0), x1, y,  z1, w,  c1010)
+    SWCL_CORNER4_W(SWCL_H4(Z01, 1, 0), x,  y1, z1, w,  c0110)
+    SWCL_CORNER4_W(SWCL_H4(Z11, 1, 0), x1, y1, z1, w,  c1110)
+    SWCL_CORNER4_W(SWCL_H4(Z00, 0, 1), x,  y,  z,  w1, c0001)
+    SWCL_CORNER4_W(SWCL_H4(Z10, 0, 1), x1, y,  z,  w1, c1001)
+    SWCL_CORNER4_W(SWCL_H4(Z01, 0, 1), x,  y1, z,  w1, c0101)
+    SWCL_CORNER4_W(SWCL_H4(Z11, 0, 1), x1, y1, z,  w1, c1101)
+    SWCL_CORNER4_W(SWCL_H4(Z00, 1, 1), x,  y,  z1, w1, c0011)
+    SWCL_CORNER4_W(SWCL_H4(Z10, 1, 1), x1, y,  z1, w1, c1011)
+    SWCL_CORNER4_W(SWCL_H4(Z01, 1, 1), x,  y1, z1, w1, c0111)
+    SWCL_CORNER4_W(SWCL_H4(Z11, 1, 1), x1, y1, z1, w1, c1111)
     SWCL_DLERP4_W(u, du, 0, c0000, c1000, a000) SWCL_DLERP4_W(u, du, 0, c0100, c1100, a100)
     SWCL_DLERP4_W(u, du, 0, c0010, c1010, a010) SWCL_DLERP4_W(u, du, 0, c0110, c1110, a110)
     SWCL_DLERP4_W(u, du, 0, c0001, c1001, a001) SWCL_DLERP4_W(u, du, 0, c0101, c1101, a101)
