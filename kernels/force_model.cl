@@ -23,6 +23,10 @@
 #define FM_CON 16u
 #define FM_DIS 32u
 
+// Row r of [R | offset] applied to the target (x, y, z): component by
+// component, the same arithmetic in the scalar and the wide kernel.
+#define FM_ROW(r, a, b, c) ((r).x * (a) + (r).y * (b) + (r).z * (c) + (r).w)
+
 // One candidate j of the alignment and attraction zones (Eq. 2-3): skipped
 // outside R_att and inside R_rep (the repulsion loop has those).
 #define FM_ALI_ATT(j)                                                         \
@@ -32,7 +36,7 @@
         if (d2 <= r_att2 && d2 >= r_rep2) {                                   \
             if (d2 < r_ali2) {                                                \
                 const float4 du = (float4)(vel[j].xyz, 0.0f) - u;             \
-                const float m2 = dot(du, du);                                 \
+                const float m2 = du.x * du.x + du.y * du.y + du.z * du.z;     \
                 if (m2 > 0.0f) ali += du * rsqrt(m2);                         \
                 ++n_ali;                                                      \
             } else {                                                          \
@@ -41,6 +45,57 @@
             }                                                                 \
         }                                                                     \
     }
+
+// §4.1, Eq. 2-3, repulsion zone of the agent in slot i at p: every agent
+// within R_rep through the grid (exact).
+SWCL_INLINE void fm_repulsion(__global const float4* pos, const Grid* g, uint i, float4 p, float r_rep,
+                              float4* rep, uint* n_rep) {
+    const float r_rep2 = r_rep * r_rep;
+    GRID_FOR_EACH_CANDIDATE(g, p, r_rep, j) {
+        if (j == i) continue;
+        const float4 q = (float4)(pos[j].xyz, 0.0f);
+        const float d2 = dist2(q, p);
+        if (d2 >= r_rep2 || d2 == 0.0f) continue;
+        *rep -= (q - p) * rsqrt(d2);
+        ++*n_rep;
+    }
+    GRID_END_FOR
+}
+
+// Alignment and attraction zones, exact: every agent of the R_att box.
+SWCL_INLINE void fm_ali_att_exact(__global const float4* pos, __global const float4* vel, const Grid* g, uint i,
+                                  float4 p, float4 u, float4 zones, float4* ali_, uint* n_ali_, float4* att_,
+                                  uint* n_att_) {
+    const float r_rep2 = zones.x * zones.x, r_ali2 = zones.y * zones.y, r_att2 = zones.z * zones.z;
+    float4 ali = *ali_, att = *att_;
+    uint n_ali = *n_ali_, n_att = *n_att_;
+    GRID_FOR_EACH_CANDIDATE(g, p, zones.z, j) {
+        if (j == i) continue;
+        FM_ALI_ATT(j);
+    }
+    GRID_END_FOR
+    *ali_ = ali; *att_ = att; *n_ali_ = n_ali; *n_att_ = n_att;
+}
+
+// §5.2, Eq. 5 on the insects: the sample neighbours of this insect's target
+// are the targets of other insects; their current positions push this
+// insect away with a Gaussian of the Manhattan distance, spreading the swarm
+// over the surface ("we use F_con to scatter the insects along the mesh").
+// sigma is a length (docs/force-model.md).  Returns w_con times the mean.
+SWCL_INLINE float4 fm_shape_force(__global const uint* nbr_start, __global const uint* nbr_index,
+                                  __global const float4* by_target, uint tgt, float4 p, float sigma, float w_con) {
+    const uint k0 = nbr_start[tgt], k1 = nbr_start[tgt + 1];
+    float4 con = (float4)(0.0f);
+    const float inv2s2 = 1.0f / (2.0f * sigma * sigma);
+    for (uint k = k0; k < k1; ++k) {
+        const float4 q = (float4)(by_target[nbr_index[k]].xyz, 0.0f);
+        const float4 dq = p - q;
+        const float m = fabs(dq.x) + fabs(dq.y) + fabs(dq.z);
+        const float l = length(dq);
+        if (l > 0.0f) con += dq / l * exp(-m * m * inv2s2);
+    }
+    return k1 > k0 ? (w_con / (float)(k1 - k0)) * con : (float4)(0.0f);
+}
 
 // zones = (R_rep, R_ali, R_att, sigma of Eq. 5), weights = (w_rep, w_ali,
 // w_att, w_dis), blend = (alpha, w_con, distance scale of Eq. 6, unused),
@@ -74,29 +129,11 @@ __kernel void force_model_force(__global const float4* pos, __global const float
     // direction and are skipped; equal velocities add 0 but count.
     float4 rep = (float4)(0.0f), ali = (float4)(0.0f), att = (float4)(0.0f);
     uint n_rep = 0, n_ali = 0, n_att = 0;
-    const float r_rep = zones.x, r_ali = zones.y, r_att = zones.z;
     const Grid g = GRID_MAKE();
-    if (terms & FM_REP) {
-        const float r_rep2 = r_rep * r_rep;
-        GRID_FOR_EACH_CANDIDATE(&g, p, r_rep, j) {
-            if (j == i) continue;
-            const float4 q = (float4)(pos[j].xyz, 0.0f);
-            const float d2 = dist2(q, p);
-            if (d2 >= r_rep2 || d2 == 0.0f) continue;
-            rep -= (q - p) * rsqrt(d2);
-            ++n_rep;
-        }
-        GRID_END_FOR
-    }
+    if (terms & FM_REP) fm_repulsion(pos, &g, i, p, zones.x, &rep, &n_rep);
     if (terms & (FM_ALI | FM_ATT)) {
-        const float r_rep2 = r_rep * r_rep, r_ali2 = r_ali * r_ali, r_att2 = r_att * r_att;
         if (sample_cap == 0u) {
-            // Exact: every agent of the R_att box.
-            GRID_FOR_EACH_CANDIDATE(&g, p, r_att, j) {
-                if (j == i) continue;
-                FM_ALI_ATT(j);
-            }
-            GRID_END_FOR
+            fm_ali_att_exact(pos, vel, &g, i, p, u, zones, &ali, &n_ali, &att, &n_att);
         } else {
             // Sampled (not in the paper; docs/force-model.md): sample_cap
             // agents of the whole swarm, j = start + k * stride (mod n) with
@@ -107,6 +144,7 @@ __kernel void force_model_force(__global const float4* pos, __global const float
             // zone, so each zone's mean in Eq. 2 is estimated from its sampled
             // neighbours, at O(cap) per agent instead of the O(N) that
             // R_att = 30 m costs when the swarm is smaller than that.
+            const float r_rep2 = zones.x * zones.x, r_ali2 = zones.y * zones.y, r_att2 = zones.z * zones.z;
             const uint4 r = swcl_rand_u4(seed, id, step, FM_STREAM_SAMPLE, 0u);
             uint j = (uint)(((ulong)r.x * (ulong)n) >> 32);
             const uint stride = n > 1u ? 1u + (uint)(((ulong)r.y * (ulong)(n - 1u)) >> 32) : 0u;
@@ -134,24 +172,7 @@ __kernel void force_model_force(__global const float4* pos, __global const float
     float4 f_ext = (float4)(0.0f);
     if (has_targets) {
         const uint tgt = target_of[id];
-        // §5.2, Eq. 5 on the insects: the sample neighbours of this insect's
-        // target are the targets of other insects; their current positions
-        // push this insect away with a Gaussian of the Manhattan distance,
-        // spreading the swarm over the surface ("we use F_con to scatter the
-        // insects along the mesh").  sigma is a length (docs/force-model.md).
-        if (terms & FM_CON) {
-            const uint k0 = nbr_start[tgt], k1 = nbr_start[tgt + 1];
-            float4 con = (float4)(0.0f);
-            const float inv2s2 = 1.0f / (2.0f * zones.w * zones.w);
-            for (uint k = k0; k < k1; ++k) {
-                const float4 q = (float4)(by_target[nbr_index[k]].xyz, 0.0f);
-                const float4 dq = p - q;
-                const float m = fabs(dq.x) + fabs(dq.y) + fabs(dq.z);
-                const float l = length(dq);
-                if (l > 0.0f) con += dq / l * exp(-m * m * inv2s2);
-            }
-            if (k1 > k0) f_ext += (blend.y / (float)(k1 - k0)) * con;
-        }
+        if (terms & FM_CON) f_ext += fm_shape_force(nbr_start, nbr_index, by_target, tgt, p, zones.w, blend.y);
         // §5.3, Eq. 6-7: the harmonic distance force along the unit vector to
         // the target, with d normalised by the distance scale and clamped to
         // 1 (the paper's H(d) = 0 beyond 1 would leave far insects with no
@@ -160,10 +181,10 @@ __kernel void force_model_force(__global const float4* pos, __global const float
         // their target instead of sitting on it.
         if (terms & FM_DIS) {
             const float3 tp = targets[tgt].xyz;
-            const float4 s = (float4)(dot(frame_x.xyz, tp) + frame_x.w, dot(frame_y.xyz, tp) + frame_y.w,
-                                      dot(frame_z.xyz, tp) + frame_z.w, 0.0f);
+            const float4 s = (float4)(FM_ROW(frame_x, tp.x, tp.y, tp.z), FM_ROW(frame_y, tp.x, tp.y, tp.z),
+                                      FM_ROW(frame_z, tp.x, tp.y, tp.z), 0.0f);
             const float4 rs = s - p;
-            const float dd = length(rs);
+            const float dd = sqrt(rs.x * rs.x + rs.y * rs.y + rs.z * rs.z);
             if (dd > 0.0f) {
                 const float dn = fmin(dd / blend.z, 1.0f);
                 f_ext += (weights.w * (4.0f * cbrt(dn - 0.5f) + 0.5f) / dd) * rs;
@@ -173,6 +194,178 @@ __kernel void force_model_force(__global const float4* pos, __global const float
     // §3, Eq. 1.
     force[i] = blend.x * f_int + (1.0f - blend.x) * f_ext;
 }
+
+#ifdef NOISE_WIDE
+// ---- explicit-width force (CPU devices) ------------------------------------
+//
+// force_model_force on SWCL_W consecutive slots per work-item (launch
+// ceil(n / SWCL_W) work-items), as the noise module's wide kernels: PoCL
+// does not vectorise force_model_force across work-items, so its sampled
+// alignment / attraction loop (most of a capped step) ran one scalar pair
+// at a time.  Here that loop, the curl noise and the distance force run in
+// floatW lanes with the scalar kernel's arithmetic in the same order;
+// repulsion, the exact zones and Eq. 5, whose loops differ in length per
+// agent, run lane by lane through the scalar kernel's helpers.
+#if SWCL_W == 16
+typedef uint16 fm_uw;
+#define FM_VLOAD_W vload16
+#define FM_AS_UW as_uint16
+#else
+typedef uint8 fm_uw;
+#define FM_VLOAD_W vload8
+#define FM_AS_UW as_uint8
+#endif
+
+// Component c of the float4 elements j of a (seen as floats), W lanes: one
+// AVX-512 gather where there is one (as swcl_perm_w), else W loads.
+#if SWCL_W == 16 && defined(__AVX512F__) && defined(__x86_64__) && SWCL_HAS_BUILTIN(__builtin_ia32_gathersiv16sf)
+SWCL_INLINE swcl_fw fm_gather_w(__global const float* a, fm_uw j, int c) {
+    return __builtin_ia32_gathersiv16sf((float16)(0.0f), (const void*)(size_t)a, as_int16(j * 4u) + c,
+                                        (ushort)0xffff, 4);
+}
+#else
+#define FM_GATHER_LANE_(k) a[4 * (size_t)SWCL_LANE(j, k) + c]
+SWCL_INLINE swcl_fw fm_gather_w(__global const float* a, fm_uw j, int c) { return (swcl_fw)(SWCL_LANES(FM_GATHER_LANE_)); }
+#undef FM_GATHER_LANE_
+#endif
+
+// (w / count) * sum added to acc in the lanes whose count is not 0.
+#define FM_ADD_MEAN_W(acc, w, cnt, sum) acc = select(acc, acc + ((w) / swcl_cvt_fw(cnt)) * (sum), (cnt) != 0u)
+#define FM_LANE_INDEX_(k) SWCL_LANE_I(k)
+
+__kernel void force_model_force_w(__global const float4* pos, __global const float4* vel,
+                                  __global const uint* ids, uint n, GRID_PARAMS, float4 zones, float4 weights,
+                                  float4 blend, uint terms, uint sample_cap, ulong seed, uint has_targets,
+                                  __global const uint* target_of,
+                                  __global const float4* targets, __global const uint* nbr_start,
+                                  __global const uint* nbr_index, __global const float4* by_target,
+                                  float4 frame_x, float4 frame_y, float4 frame_z, float t, uint step,
+                                  __global float4* force, NOISE_PARAMS) {
+    const uint base = get_global_id(0) * SWCL_W;
+    if (base >= n) return;
+    __global const float* pf = (__global const float*)pos;
+    __global const float* vf = (__global const float*)vel;
+    swcl_fw px, py, pz, ux, uy, uz;
+    noise_load_xyz_w(pf, base, n, &px, &py, &pz);
+    noise_load_xyz_w(vf, base, n, &ux, &uy, &uz);
+    const Grid g = GRID_MAKE();
+    const bool sampled = (terms & (FM_ALI | FM_ATT)) && sample_cap != 0u;
+
+    // Lane by lane: the zone sums of the grid walks, Eq. 5, the sample's
+    // start and stride, the target; lanes at or above n stay 0.
+    float s_rep[3 * SWCL_W], s_ali[3 * SWCL_W], s_att[3 * SWCL_W], s_con[3 * SWCL_W];
+    uint c_rep[SWCL_W], c_ali[SWCL_W], c_att[SWCL_W], s_j[SWCL_W], s_stride[SWCL_W], s_tgt[SWCL_W];
+    for (uint l = 0; l < SWCL_W; ++l) {
+        const uint i = min(base + l, n - 1u);
+        const float4 p = (float4)(pos[i].xyz, 0.0f);
+        const float4 u = (float4)(vel[i].xyz, 0.0f);
+        const uint id = ids[i];
+        float4 rep = (float4)(0.0f), ali = (float4)(0.0f), att = (float4)(0.0f), con = (float4)(0.0f);
+        uint n_rep = 0, n_ali = 0, n_att = 0;
+        const bool live = base + l < n;
+        if (live && (terms & FM_REP)) fm_repulsion(pos, &g, i, p, zones.x, &rep, &n_rep);
+        if (live && (terms & (FM_ALI | FM_ATT)) && !sampled)
+            fm_ali_att_exact(pos, vel, &g, i, p, u, zones, &ali, &n_ali, &att, &n_att);
+        uint j = 0, stride = 0;
+        if (sampled) {  // as force_model_force
+            const uint4 r = swcl_rand_u4(seed, id, step, FM_STREAM_SAMPLE, 0u);
+            j = (uint)(((ulong)r.x * (ulong)n) >> 32);
+            stride = n > 1u ? 1u + (uint)(((ulong)r.y * (ulong)(n - 1u)) >> 32) : 0u;
+        }
+        const uint tgt = has_targets ? target_of[id] : 0u;
+        if (live && has_targets && (terms & FM_CON))
+            con = fm_shape_force(nbr_start, nbr_index, by_target, tgt, p, zones.w, blend.y);
+        s_rep[l] = rep.x; s_rep[SWCL_W + l] = rep.y; s_rep[2 * SWCL_W + l] = rep.z;
+        s_ali[l] = ali.x; s_ali[SWCL_W + l] = ali.y; s_ali[2 * SWCL_W + l] = ali.z;
+        s_att[l] = att.x; s_att[SWCL_W + l] = att.y; s_att[2 * SWCL_W + l] = att.z;
+        s_con[l] = con.x; s_con[SWCL_W + l] = con.y; s_con[2 * SWCL_W + l] = con.z;
+        c_rep[l] = n_rep; c_ali[l] = n_ali; c_att[l] = n_att;
+        s_j[l] = j; s_stride[l] = stride; s_tgt[l] = tgt;
+    }
+    swcl_fw ali_x = FM_VLOAD_W(0, s_ali), ali_y = FM_VLOAD_W(1, s_ali), ali_z = FM_VLOAD_W(2, s_ali);
+    swcl_fw att_x = FM_VLOAD_W(0, s_att), att_y = FM_VLOAD_W(1, s_att), att_z = FM_VLOAD_W(2, s_att);
+    fm_uw n_ali = FM_VLOAD_W(0, c_ali), n_att = FM_VLOAD_W(0, c_att);
+
+    if (sampled) {
+        // FM_ALI_ATT in lanes: the same sample and arithmetic as the scalar
+        // kernel, each lane's sums changed only where it counts.
+        const float r_rep2 = zones.x * zones.x, r_ali2 = zones.y * zones.y, r_att2 = zones.z * zones.z;
+        const fm_uw self = (fm_uw)(base) + (fm_uw)(SWCL_LANES(FM_LANE_INDEX_));
+        const fm_uw stride = FM_VLOAD_W(0, s_stride);
+        fm_uw j = FM_VLOAD_W(0, s_j);
+        for (uint k = 0; k < sample_cap; ++k) {
+            const swcl_fw dx = fm_gather_w(pf, j, 0) - px, dy = fm_gather_w(pf, j, 1) - py,
+                          dz = fm_gather_w(pf, j, 2) - pz;
+            const swcl_fw d2 = dx * dx + dy * dy + dz * dz;
+            const swcl_iw in = (j != self) & (d2 <= r_att2) & (d2 >= r_rep2);
+            const swcl_iw is_ali = in & (d2 < r_ali2), is_att = in & ~(d2 < r_ali2);
+            const swcl_fw dux = fm_gather_w(vf, j, 0) - ux, duy = fm_gather_w(vf, j, 1) - uy,
+                          duz = fm_gather_w(vf, j, 2) - uz;
+            const swcl_fw m2 = dux * dux + duy * duy + duz * duz;
+            const swcl_fw rm = rsqrt(m2), rd = rsqrt(d2);
+            const swcl_iw add_ali = is_ali & (m2 > 0.0f);
+            ali_x = select(ali_x, ali_x + dux * rm, add_ali);
+            ali_y = select(ali_y, ali_y + duy * rm, add_ali);
+            ali_z = select(ali_z, ali_z + duz * rm, add_ali);
+            att_x = select(att_x, att_x + dx * rd, is_att);
+            att_y = select(att_y, att_y + dy * rd, is_att);
+            att_z = select(att_z, att_z + dz * rd, is_att);
+            n_ali -= FM_AS_UW(is_ali);  // true is -1
+            n_att -= FM_AS_UW(is_att);
+            j += stride;
+            j = select(j, j - n, j >= n);
+        }
+    }
+
+    const swcl_fw zero = (swcl_fw)(0.0f);
+    swcl_fw fx = zero, fy = zero, fz = zero;
+    if (terms & FM_REP) {
+        const fm_uw n_rep = FM_VLOAD_W(0, c_rep);
+        FM_ADD_MEAN_W(fx, weights.x, n_rep, FM_VLOAD_W(0, s_rep));
+        FM_ADD_MEAN_W(fy, weights.x, n_rep, FM_VLOAD_W(1, s_rep));
+        FM_ADD_MEAN_W(fz, weights.x, n_rep, FM_VLOAD_W(2, s_rep));
+    }
+    if (terms & FM_ALI) {
+        FM_ADD_MEAN_W(fx, weights.y, n_ali, ali_x);
+        FM_ADD_MEAN_W(fy, weights.y, n_ali, ali_y);
+        FM_ADD_MEAN_W(fz, weights.y, n_ali, ali_z);
+    }
+    if (terms & FM_ATT) {
+        FM_ADD_MEAN_W(fx, weights.z, n_att, att_x);
+        FM_ADD_MEAN_W(fy, weights.z, n_att, att_y);
+        FM_ADD_MEAN_W(fz, weights.z, n_att, att_z);
+    }
+    if (terms & FM_CUR) {  // Eq. 4
+        swcl_fw cx, cy, cz;
+        NOISE_VELOCITY_W(px, py, pz, t, &cx, &cy, &cz);
+        fx += cx; fy += cy; fz += cz;
+    }
+
+    swcl_fw ex = zero, ey = zero, ez = zero;
+    if (has_targets) {
+        if (terms & FM_CON) {
+            ex += FM_VLOAD_W(0, s_con); ey += FM_VLOAD_W(1, s_con); ez += FM_VLOAD_W(2, s_con);
+        }
+        if (terms & FM_DIS) {  // Eq. 6-7 as in force_model_force
+            __global const float* tf = (__global const float*)targets;
+            const fm_uw tgt = FM_VLOAD_W(0, s_tgt);
+            const swcl_fw tx = fm_gather_w(tf, tgt, 0), ty = fm_gather_w(tf, tgt, 1), tz = fm_gather_w(tf, tgt, 2);
+            const swcl_fw rx = FM_ROW(frame_x, tx, ty, tz) - px, ry = FM_ROW(frame_y, tx, ty, tz) - py,
+                          rz = FM_ROW(frame_z, tx, ty, tz) - pz;
+            const swcl_fw dd = sqrt(rx * rx + ry * ry + rz * rz);
+            const swcl_fw dn = fmin(dd / blend.z, 1.0f);
+            const swcl_fw h = weights.w * (4.0f * cbrt(dn - 0.5f) + 0.5f) / dd;
+            const swcl_iw on = dd > 0.0f;
+            ex = select(ex, ex + h * rx, on);
+            ey = select(ey, ey + h * ry, on);
+            ez = select(ez, ez + h * rz, on);
+        }
+    }
+    // §3, Eq. 1.
+    noise_store_w((__global float*)force, base, n, blend.x * fx + (1.0f - blend.x) * ex,
+                  blend.x * fy + (1.0f - blend.x) * ey, blend.x * fz + (1.0f - blend.x) * ez);
+}
+#endif
 
 // The insects' positions by target index (the target of agent ids[i]), so
 // that Eq. 5 reads a target neighbour's insect with one lookup.

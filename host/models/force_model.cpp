@@ -127,7 +127,10 @@ ForceModel::ForceModel(Swarm& swarm, ForceModelConfig config)
     validate(config_);
     Context& ctx = swarm.context();
     noise_ = std::make_unique<NoiseField>(ctx, config_.noise, &swarm.config().domain_min, &swarm.config().domain_max);
-    force_k_ = noise_->kernel("force_model.cl", "force_model_force");
+    // On CPU devices the explicit-width force kernel (NoiseField::width()
+    // agents per work-item; kernels/force_model.cl).
+    width_ = noise_->width();
+    force_k_ = noise_->kernel("force_model.cl", width_ > 1 ? "force_model_force_w" : "force_model_force");
     integrate_k_ = noise_->kernel("force_model.cl", "force_model_integrate");
     project_k_ = noise_->kernel("force_model.cl", "force_model_project");
     scatter_k_ = noise_->kernel("force_model.cl", "force_model_scatter");
@@ -308,7 +311,7 @@ void ForceModel::enqueue_force(Swarm& swarm, uint64_t step) {
     kf.setArg(i++, cl_uint(step));
     kf.setArg(i++, force_.get());
     noise_->set_args(kf, i);
-    launch(swarm.context(), kf, n);
+    launch(swarm.context(), kf, (n + width_ - 1) / width_);
 }
 
 std::vector<cl_float4> ForceModel::sample_mesh_obstacles(Swarm& swarm, const std::vector<float>& xyz) {

@@ -148,6 +148,7 @@ private:
     std::optional<MinDistance> mde_;
     std::optional<BSplinePath> path_;
     cl::Kernel force_k_, integrate_k_, project_k_, scatter_k_;
+    uint32_t width_ = 1;  // agents per work-item of force_k_
     uint32_t prepared_n_ = 0;
     std::vector<ShapeTargets> targets_;  // per keyframe
     std::vector<bool> same_topology_;    // keyframe k corresponds sample by sample to k-1
