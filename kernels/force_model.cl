@@ -11,8 +11,12 @@
 #include "grid_common.cl"
 #include "philox.cl"
 
-// Philox stream of the neighbour sample (keyed by seed, agent id, step).
+// Philox stream of the neighbour sample (keyed by seed, sample group, step).
 #define FM_STREAM_SAMPLE 16u
+// Agents of one sample group: the slots [16 g, 16 g + 16) share their
+// neighbour sample (docs/force-model.md).  A multiple of the wide kernel's
+// SWCL_W (8 or 16), so one work-item's lanes share one sample.
+#define FM_SAMPLE_GROUP 16u
 
 // Bits of `terms`: which forces are on (all in a run; one at a time in the
 // tests that compare each term with its reference).
@@ -62,6 +66,15 @@ SWCL_INLINE void fm_repulsion(__global const float4* pos, const Grid* g, uint i,
     GRID_END_FOR
 }
 
+// Start and stride of the neighbour sample of sample group grp (Philox keyed
+// by seed, group, step): j_k = start + k stride (mod n), start uniform over
+// the n slots, stride in [1, n - 1].
+SWCL_INLINE uint fm_sample_start(ulong seed, uint grp, uint step, uint n, uint* stride) {
+    const uint4 r = swcl_rand_u4(seed, grp, step, FM_STREAM_SAMPLE, 0u);
+    *stride = n > 1u ? 1u + (uint)(((ulong)r.y * (ulong)(n - 1u)) >> 32) : 0u;
+    return (uint)(((ulong)r.x * (ulong)n) >> 32);
+}
+
 // Alignment and attraction zones, exact: every agent of the R_att box.
 SWCL_INLINE void fm_ali_att_exact(__global const float4* pos, __global const float4* vel, const Grid* g, uint i,
                                   float4 p, float4 u, float4 zones, float4* ali_, uint* n_ali_, float4* att_,
@@ -91,7 +104,7 @@ SWCL_INLINE float4 fm_shape_force(__global const uint* nbr_start, __global const
         const float4 q = (float4)(by_target[nbr_index[k]].xyz, 0.0f);
         const float4 dq = p - q;
         const float m = fabs(dq.x) + fabs(dq.y) + fabs(dq.z);
-        const float l = length(dq);
+        const float l = sqrt(dq.x * dq.x + dq.y * dq.y + dq.z * dq.z);
         if (l > 0.0f) con += dq / l * exp(-m * m * inv2s2);
     }
     return k1 > k0 ? (w_con / (float)(k1 - k0)) * con : (float4)(0.0f);
@@ -137,17 +150,19 @@ __kernel void force_model_force(__global const float4* pos, __global const float
         } else {
             // Sampled (not in the paper; docs/force-model.md): sample_cap
             // agents of the whole swarm, j = start + k * stride (mod n) with
-            // start and stride drawn per agent and step by Philox (keyed by
-            // seed, agent id, step): every agent is equally likely to be
-            // sampled, and slots being in cell order, a large stride spreads
-            // the sample over the swarm.  Those within R_att count in their
-            // zone, so each zone's mean in Eq. 2 is estimated from its sampled
-            // neighbours, at O(cap) per agent instead of the O(N) that
-            // R_att = 30 m costs when the swarm is smaller than that.
+            // start and stride drawn per sample group and step by Philox
+            // (fm_sample_start): for each agent every other agent is equally
+            // likely to be sampled, and slots being in cell order, a large
+            // stride spreads the sample over the swarm.  The 16 agents of a
+            // group (neighbours in cell order) share the sample, so the wide
+            // kernel loads each sampled agent once for all its lanes.  Those
+            // within R_att count in their zone, so each zone's mean in Eq. 2
+            // is estimated from its sampled neighbours, at O(cap) per agent
+            // instead of the O(N) that R_att = 30 m costs when the swarm is
+            // smaller than that.
             const float r_rep2 = zones.x * zones.x, r_ali2 = zones.y * zones.y, r_att2 = zones.z * zones.z;
-            const uint4 r = swcl_rand_u4(seed, id, step, FM_STREAM_SAMPLE, 0u);
-            uint j = (uint)(((ulong)r.x * (ulong)n) >> 32);
-            const uint stride = n > 1u ? 1u + (uint)(((ulong)r.y * (ulong)(n - 1u)) >> 32) : 0u;
+            uint stride;
+            uint j = fm_sample_start(seed, i / FM_SAMPLE_GROUP, step, n, &stride);
             for (uint k = 0; k < sample_cap; ++k) {
                 if (j != i) FM_ALI_ATT(j);
                 j += stride;
@@ -216,16 +231,23 @@ typedef uint8 fm_uw;
 #define FM_AS_UW as_uint8
 #endif
 
-// Component c of the float4 elements j of a (seen as floats), W lanes: one
-// AVX-512 gather where there is one (as swcl_perm_w), else W loads.
+// Component c of the float4 elements j of a (seen as floats), and elements j
+// of a uint array, W lanes: one AVX-512 gather where there is one (as
+// swcl_perm_w), else W loads.
 #if SWCL_W == 16 && defined(__AVX512F__) && defined(__x86_64__) && SWCL_HAS_BUILTIN(__builtin_ia32_gathersiv16sf)
 SWCL_INLINE swcl_fw fm_gather_w(__global const float* a, fm_uw j, int c) {
     return __builtin_ia32_gathersiv16sf((float16)(0.0f), (const void*)(size_t)a, as_int16(j * 4u) + c,
                                         (ushort)0xffff, 4);
 }
+SWCL_INLINE fm_uw fm_gather_u_w(__global const uint* a, fm_uw j) {
+    return as_uint16(__builtin_ia32_gathersiv16si((int16)(0), (const void*)(size_t)a, as_int16(j), (ushort)0xffff, 4));
+}
 #else
 #define FM_GATHER_LANE_(k) a[4 * (size_t)SWCL_LANE(j, k) + c]
 SWCL_INLINE swcl_fw fm_gather_w(__global const float* a, fm_uw j, int c) { return (swcl_fw)(SWCL_LANES(FM_GATHER_LANE_)); }
+#undef FM_GATHER_LANE_
+#define FM_GATHER_LANE_(k) a[SWCL_LANE(j, k)]
+SWCL_INLINE fm_uw fm_gather_u_w(__global const uint* a, fm_uw j) { return (fm_uw)(SWCL_LANES(FM_GATHER_LANE_)); }
 #undef FM_GATHER_LANE_
 #endif
 
@@ -250,57 +272,48 @@ __kernel void force_model_force_w(__global const float4* pos, __global const flo
     noise_load_xyz_w(vf, base, n, &ux, &uy, &uz);
     const Grid g = GRID_MAKE();
     const bool sampled = (terms & (FM_ALI | FM_ATT)) && sample_cap != 0u;
+    const swcl_iw live = (fm_uw)(base) + (fm_uw)(SWCL_LANES(FM_LANE_INDEX_)) < n;
 
-    // Lane by lane: the zone sums of the grid walks, Eq. 5, the sample's
-    // start and stride, the target; lanes at or above n stay 0.
-    float s_rep[3 * SWCL_W], s_ali[3 * SWCL_W], s_att[3 * SWCL_W], s_con[3 * SWCL_W];
-    uint c_rep[SWCL_W], c_ali[SWCL_W], c_att[SWCL_W], s_j[SWCL_W], s_stride[SWCL_W], s_tgt[SWCL_W];
+    // Lane by lane: the zone sums of the grid walks and the target; lanes at
+    // or above n stay 0.
+    float s_rep[3 * SWCL_W], s_ali[3 * SWCL_W], s_att[3 * SWCL_W];
+    uint c_rep[SWCL_W], c_ali[SWCL_W], c_att[SWCL_W], s_tgt[SWCL_W];
     for (uint l = 0; l < SWCL_W; ++l) {
         const uint i = min(base + l, n - 1u);
         const float4 p = (float4)(pos[i].xyz, 0.0f);
         const float4 u = (float4)(vel[i].xyz, 0.0f);
         const uint id = ids[i];
-        float4 rep = (float4)(0.0f), ali = (float4)(0.0f), att = (float4)(0.0f), con = (float4)(0.0f);
+        float4 rep = (float4)(0.0f), ali = (float4)(0.0f), att = (float4)(0.0f);
         uint n_rep = 0, n_ali = 0, n_att = 0;
         const bool live = base + l < n;
         if (live && (terms & FM_REP)) fm_repulsion(pos, &g, i, p, zones.x, &rep, &n_rep);
         if (live && (terms & (FM_ALI | FM_ATT)) && !sampled)
             fm_ali_att_exact(pos, vel, &g, i, p, u, zones, &ali, &n_ali, &att, &n_att);
-        uint j = 0, stride = 0;
-        if (sampled) {  // as force_model_force
-            const uint4 r = swcl_rand_u4(seed, id, step, FM_STREAM_SAMPLE, 0u);
-            j = (uint)(((ulong)r.x * (ulong)n) >> 32);
-            stride = n > 1u ? 1u + (uint)(((ulong)r.y * (ulong)(n - 1u)) >> 32) : 0u;
-        }
-        const uint tgt = has_targets ? target_of[id] : 0u;
-        if (live && has_targets && (terms & FM_CON))
-            con = fm_shape_force(nbr_start, nbr_index, by_target, tgt, p, zones.w, blend.y);
         s_rep[l] = rep.x; s_rep[SWCL_W + l] = rep.y; s_rep[2 * SWCL_W + l] = rep.z;
         s_ali[l] = ali.x; s_ali[SWCL_W + l] = ali.y; s_ali[2 * SWCL_W + l] = ali.z;
         s_att[l] = att.x; s_att[SWCL_W + l] = att.y; s_att[2 * SWCL_W + l] = att.z;
-        s_con[l] = con.x; s_con[SWCL_W + l] = con.y; s_con[2 * SWCL_W + l] = con.z;
         c_rep[l] = n_rep; c_ali[l] = n_ali; c_att[l] = n_att;
-        s_j[l] = j; s_stride[l] = stride; s_tgt[l] = tgt;
+        s_tgt[l] = has_targets ? target_of[id] : 0u;
     }
     swcl_fw ali_x = FM_VLOAD_W(0, s_ali), ali_y = FM_VLOAD_W(1, s_ali), ali_z = FM_VLOAD_W(2, s_ali);
     swcl_fw att_x = FM_VLOAD_W(0, s_att), att_y = FM_VLOAD_W(1, s_att), att_z = FM_VLOAD_W(2, s_att);
     fm_uw n_ali = FM_VLOAD_W(0, c_ali), n_att = FM_VLOAD_W(0, c_att);
 
     if (sampled) {
-        // FM_ALI_ATT in lanes: the same sample and arithmetic as the scalar
-        // kernel, each lane's sums changed only where it counts.
+        // FM_ALI_ATT in lanes: the lanes' shared sample (SWCL_W divides
+        // FM_SAMPLE_GROUP), one load per sampled agent, the scalar kernel's
+        // arithmetic; each lane's sums change only where it counts.
         const float r_rep2 = zones.x * zones.x, r_ali2 = zones.y * zones.y, r_att2 = zones.z * zones.z;
         const fm_uw self = (fm_uw)(base) + (fm_uw)(SWCL_LANES(FM_LANE_INDEX_));
-        const fm_uw stride = FM_VLOAD_W(0, s_stride);
-        fm_uw j = FM_VLOAD_W(0, s_j);
+        uint stride;
+        uint j = fm_sample_start(seed, base / FM_SAMPLE_GROUP, step, n, &stride);
         for (uint k = 0; k < sample_cap; ++k) {
-            const swcl_fw dx = fm_gather_w(pf, j, 0) - px, dy = fm_gather_w(pf, j, 1) - py,
-                          dz = fm_gather_w(pf, j, 2) - pz;
+            const float4 q = pos[j], v = vel[j];
+            const swcl_fw dx = q.x - px, dy = q.y - py, dz = q.z - pz;
             const swcl_fw d2 = dx * dx + dy * dy + dz * dz;
-            const swcl_iw in = (j != self) & (d2 <= r_att2) & (d2 >= r_rep2);
+            const swcl_iw in = (self != j) & (d2 <= r_att2) & (d2 >= r_rep2);
             const swcl_iw is_ali = in & (d2 < r_ali2), is_att = in & ~(d2 < r_ali2);
-            const swcl_fw dux = fm_gather_w(vf, j, 0) - ux, duy = fm_gather_w(vf, j, 1) - uy,
-                          duz = fm_gather_w(vf, j, 2) - uz;
+            const swcl_fw dux = v.x - ux, duy = v.y - uy, duz = v.z - uz;
             const swcl_fw m2 = dux * dux + duy * duy + duz * duz;
             const swcl_fw rm = rsqrt(m2), rd = rsqrt(d2);
             const swcl_iw add_ali = is_ali & (m2 > 0.0f);
@@ -313,7 +326,7 @@ __kernel void force_model_force_w(__global const float4* pos, __global const flo
             n_ali -= FM_AS_UW(is_ali);  // true is -1
             n_att -= FM_AS_UW(is_att);
             j += stride;
-            j = select(j, j - n, j >= n);
+            if (j >= n) j -= n;
         }
     }
 
@@ -344,7 +357,38 @@ __kernel void force_model_force_w(__global const float4* pos, __global const flo
     swcl_fw ex = zero, ey = zero, ez = zero;
     if (has_targets) {
         if (terms & FM_CON) {
-            ex += FM_VLOAD_W(0, s_con); ey += FM_VLOAD_W(1, s_con); ez += FM_VLOAD_W(2, s_con);
+            // fm_shape_force in lanes: each lane's target neighbours, up to
+            // the longest list; finished lanes read slot 0 (always there) and
+            // add nothing.
+            const fm_uw tgt = FM_VLOAD_W(0, s_tgt);
+            const fm_uw k0 = fm_gather_u_w(nbr_start, tgt);
+            const fm_uw cnt = select((fm_uw)(0u), fm_gather_u_w(nbr_start, tgt + 1u) - k0, live);
+            uint longest = 0;
+#define FM_LONGEST_(k) longest = max(longest, SWCL_LANE(cnt, k));
+            SWCL_EACH_LANE(FM_LONGEST_)
+#undef FM_LONGEST_
+            const float inv2s2 = 1.0f / (2.0f * zones.w * zones.w);
+            __global const float* bf = (__global const float*)by_target;
+            swcl_fw cx = zero, cy = zero, cz = zero;
+            for (uint k = 0; k < longest; ++k) {
+                const swcl_iw act = (fm_uw)(k) < cnt;
+                const fm_uw at = select((fm_uw)(0u), k0 + k, act);
+                const fm_uw o = select((fm_uw)(0u), fm_gather_u_w(nbr_index, at), act);
+                const swcl_fw qx = px - fm_gather_w(bf, o, 0), qy = py - fm_gather_w(bf, o, 1),
+                              qz = pz - fm_gather_w(bf, o, 2);
+                const swcl_fw m = fabs(qx) + fabs(qy) + fabs(qz);
+                const swcl_fw l = sqrt(qx * qx + qy * qy + qz * qz);
+                const swcl_fw e = exp(-m * m * inv2s2);
+                const swcl_iw on = act & (l > 0.0f);
+                cx = select(cx, cx + qx / l * e, on);
+                cy = select(cy, cy + qy / l * e, on);
+                cz = select(cz, cz + qz / l * e, on);
+            }
+            const swcl_fw wc = blend.y / swcl_cvt_fw(cnt);
+            const swcl_iw some = cnt != 0u;
+            ex += select(zero, wc * cx, some);
+            ey += select(zero, wc * cy, some);
+            ez += select(zero, wc * cz, some);
         }
         if (terms & FM_DIS) {  // Eq. 6-7 as in force_model_force
             __global const float* tf = (__global const float*)targets;

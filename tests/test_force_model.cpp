@@ -250,6 +250,31 @@ TEST_F(ForceTerms, NeighbourSampleEstimatesTheZoneMeans) {
     }
 }
 
+// On CPU devices the forces come from force_model_force_w (SWCL_W agents per
+// work-item, one neighbour sample per group of 16 slots): the same sample and
+// arithmetic as the one-agent kernel GPUs run, all terms, exact and sampled.
+TEST(ForceModel, WideKernelMatchesTheScalarOne) {
+    const uint32_t n = 1003;  // not a multiple of 16: the last work-item is partial
+    const auto pos = test::random_points(n, -2.0f, 2.0f, 21), vel = test::random_points(n, -0.5f, 0.5f, 22);
+    for (uint32_t cap : {0u, 64u}) {
+        auto forces = [&](const char* width) {
+            setenv("SWARMCL_NOISE_WIDTH", width, 1);
+            auto swarm = make_swarm(n, -3.0f, 3.0f, 0.5f, 3);
+            swarm->write(Attribute::Position, pos.data(), n);
+            swarm->write(Attribute::Velocity, vel.data(), n);
+            ForceModelConfig c = term_config(kForceAll);
+            c.r_att = 3.0f;
+            c.omega = 3.0f;
+            c.neighbor_sample = cap;
+            ForceModel model(*swarm, c);
+            return forces_by_id(*swarm, model, 5);
+        };
+        const auto scalar = forces("1"), wide = forces("16");
+        unsetenv("SWARMCL_NOISE_WIDTH");
+        EXPECT_EQ(scalar, wide) << "cap " << cap;
+    }
+}
+
 TEST_F(ForceTerms, AlignmentTurnsAgentsTowardsTheirNeighboursVelocity) {
     // Two agents 0.5 m apart (alignment zone), opposite velocities: the
     // alignment force on each points along the other's velocity.
