@@ -215,12 +215,12 @@ __kernel void force_model_force(__global const float4* pos, __global const float
 //
 // force_model_force on SWCL_W consecutive slots per work-item (launch
 // ceil(n / SWCL_W) work-items), as the noise module's wide kernels: PoCL
-// does not vectorise force_model_force across work-items, so its sampled
-// alignment / attraction loop (most of a capped step) ran one scalar pair
-// at a time.  Here that loop, the curl noise and the distance force run in
-// floatW lanes with the scalar kernel's arithmetic in the same order;
-// repulsion, the exact zones and Eq. 5, whose loops differ in length per
-// agent, run lane by lane through the scalar kernel's helpers.
+// does not vectorise force_model_force across work-items, so it ran one
+// scalar pair at a time.  Here every term runs in floatW lanes with the
+// scalar kernel's tests and arithmetic in the same order (bitwise the same
+// forces: tests/test_force_model.cpp): each neighbour candidate (the
+// shared sample, the union of the lanes' grid boxes) is loaded once and
+// tested against all lanes; Eq. 5's target neighbours are gathered per lane.
 #if SWCL_W == 16
 typedef uint16 fm_uw;
 #define FM_VLOAD_W vload16
@@ -251,6 +251,65 @@ SWCL_INLINE fm_uw fm_gather_u_w(__global const uint* a, fm_uw j) { return (fm_uw
 #undef FM_GATHER_LANE_
 #endif
 
+// FM_ALI_ATT for candidate j in all lanes (px.., ux.., self, the zone radii
+// and sums of force_model_force_w in scope): the same tests and arithmetic,
+// each lane's sums changed only where j counts for it.
+#define FM_ALI_ATT_W(j)                                                           \
+    {                                                                             \
+        const float4 q = pos[j], v = vel[j];                                      \
+        const swcl_fw dx = q.x - px, dy = q.y - py, dz = q.z - pz;                \
+        const swcl_fw d2 = dx * dx + dy * dy + dz * dz;                           \
+        const swcl_iw in = (self != (j)) & (d2 <= r_att2) & (d2 >= r_rep2);       \
+        const swcl_iw is_ali = in & (d2 < r_ali2), is_att = in & ~(d2 < r_ali2);  \
+        const swcl_fw dux = v.x - ux, duy = v.y - uy, duz = v.z - uz;             \
+        const swcl_fw m2 = dux * dux + duy * duy + duz * duz;                     \
+        const swcl_fw rm = rsqrt(m2), rd = rsqrt(d2);                             \
+        const swcl_iw add_ali = is_ali & (m2 > 0.0f);                             \
+        ali_x = select(ali_x, ali_x + dux * rm, add_ali);                         \
+        ali_y = select(ali_y, ali_y + duy * rm, add_ali);                         \
+        ali_z = select(ali_z, ali_z + duz * rm, add_ali);                         \
+        att_x = select(att_x, att_x + dx * rd, is_att);                           \
+        att_y = select(att_y, att_y + dy * rd, is_att);                           \
+        att_z = select(att_z, att_z + dz * rd, is_att);                           \
+        n_ali -= FM_AS_UW(is_ali); /* true is -1 */                               \
+        n_att -= FM_AS_UW(is_att);                                                \
+    }
+
+// Smallest and largest lane of v among the lanes `on`.
+SWCL_INLINE float fm_lane_min(swcl_fw v, swcl_iw on) {
+    v = select((swcl_fw)(INFINITY), v, on);
+    float m = v.s0;
+#define FM_MIN_(k) m = fmin(m, SWCL_LANE(v, k));
+    SWCL_EACH_LANE(FM_MIN_)
+#undef FM_MIN_
+    return m;
+}
+SWCL_INLINE float fm_lane_max(swcl_fw v, swcl_iw on) {
+    v = select((swcl_fw)(-INFINITY), v, on);
+    float m = v.s0;
+#define FM_MAX_(k) m = fmax(m, SWCL_LANE(v, k));
+    SWCL_EACH_LANE(FM_MAX_)
+#undef FM_MAX_
+    return m;
+}
+
+// Slots j of the union of the search boxes of radius r of the lanes `on`
+// (cell of the smallest p - r to cell of the largest p + r: grid_cell_of is
+// monotone):  FM_LANES_WALK(&g, px, py, pz, on, r, j) { ... } FM_LANES_WALK_END
+#define FM_LANES_WALK(gp, px, py, pz, on, r, j)                                                          \
+    {                                                                                                   \
+        const int4 fw_lo_ = grid_cell_of((gp), (float4)(fm_lane_min(px, on) - (r),                       \
+                                                         fm_lane_min(py, on) - (r),                       \
+                                                         fm_lane_min(pz, on) - (r), 0.0f));               \
+        const int4 fw_hi_ = grid_cell_of((gp), (float4)(fm_lane_max(px, on) + (r),                       \
+                                                         fm_lane_max(py, on) + (r),                       \
+                                                         fm_lane_max(pz, on) + (r), 0.0f));               \
+        for (int fw_z_ = fw_lo_.z; fw_z_ <= fw_hi_.z; ++fw_z_)                                          \
+            for (int fw_y_ = fw_lo_.y; fw_y_ <= fw_hi_.y; ++fw_y_) {                                    \
+                const uint2 fw_rng_ = grid_row_range((gp), fw_lo_.x, fw_hi_.x, fw_y_, fw_z_);           \
+                for (uint j = fw_rng_.x; j < fw_rng_.y; ++j)
+#define FM_LANES_WALK_END }}
+
 // (w / count) * sum added to acc in the lanes whose count is not 0.
 #define FM_ADD_MEAN_W(acc, w, cnt, sum) acc = select(acc, acc + ((w) / swcl_cvt_fw(cnt)) * (sum), (cnt) != 0u)
 #define FM_LANE_INDEX_(k) SWCL_LANE_I(k)
@@ -271,72 +330,60 @@ __kernel void force_model_force_w(__global const float4* pos, __global const flo
     noise_load_xyz_w(pf, base, n, &px, &py, &pz);
     noise_load_xyz_w(vf, base, n, &ux, &uy, &uz);
     const Grid g = GRID_MAKE();
-    const bool sampled = (terms & (FM_ALI | FM_ATT)) && sample_cap != 0u;
-    const swcl_iw live = (fm_uw)(base) + (fm_uw)(SWCL_LANES(FM_LANE_INDEX_)) < n;
 
-    // Lane by lane: the zone sums of the grid walks and the target; lanes at
-    // or above n stay 0.
-    float s_rep[3 * SWCL_W], s_ali[3 * SWCL_W], s_att[3 * SWCL_W];
-    uint c_rep[SWCL_W], c_ali[SWCL_W], c_att[SWCL_W], s_tgt[SWCL_W];
-    for (uint l = 0; l < SWCL_W; ++l) {
-        const uint i = min(base + l, n - 1u);
-        const float4 p = (float4)(pos[i].xyz, 0.0f);
-        const float4 u = (float4)(vel[i].xyz, 0.0f);
-        const uint id = ids[i];
-        float4 rep = (float4)(0.0f), ali = (float4)(0.0f), att = (float4)(0.0f);
-        uint n_rep = 0, n_ali = 0, n_att = 0;
-        const bool live = base + l < n;
-        if (live && (terms & FM_REP)) fm_repulsion(pos, &g, i, p, zones.x, &rep, &n_rep);
-        if (live && (terms & (FM_ALI | FM_ATT)) && !sampled)
-            fm_ali_att_exact(pos, vel, &g, i, p, u, zones, &ali, &n_ali, &att, &n_att);
-        s_rep[l] = rep.x; s_rep[SWCL_W + l] = rep.y; s_rep[2 * SWCL_W + l] = rep.z;
-        s_ali[l] = ali.x; s_ali[SWCL_W + l] = ali.y; s_ali[2 * SWCL_W + l] = ali.z;
-        s_att[l] = att.x; s_att[SWCL_W + l] = att.y; s_att[2 * SWCL_W + l] = att.z;
-        c_rep[l] = n_rep; c_ali[l] = n_ali; c_att[l] = n_att;
-        s_tgt[l] = has_targets ? target_of[id] : 0u;
+    const fm_uw self = (fm_uw)(base) + (fm_uw)(SWCL_LANES(FM_LANE_INDEX_));
+    const float r_rep2 = zones.x * zones.x, r_ali2 = zones.y * zones.y, r_att2 = zones.z * zones.z;
+    const swcl_fw zero = (swcl_fw)(0.0f);
+    swcl_fw rep_x = zero, rep_y = zero, rep_z = zero, ali_x = zero, ali_y = zero, ali_z = zero;
+    swcl_fw att_x = zero, att_y = zero, att_z = zero;
+    fm_uw n_rep = (fm_uw)(0u), n_ali = (fm_uw)(0u), n_att = (fm_uw)(0u);
+
+    const swcl_iw live = self < n;
+    if (terms & FM_REP) {
+        // Lane by lane (fm_repulsion): with R_rep a fraction of a cell, the
+        // lanes' boxes (1 to 8 cells) join into up to 27 cells, more
+        // candidates than the lanes' own walks visit together.
+        float s_rep[3 * SWCL_W];
+        uint c_rep[SWCL_W];
+        for (uint l = 0; l < SWCL_W; ++l) {
+            const uint i = base + l;
+            float4 rep = (float4)(0.0f);
+            uint nr = 0;
+            if (i < n) fm_repulsion(pos, &g, i, (float4)(pos[i].xyz, 0.0f), zones.x, &rep, &nr);
+            s_rep[l] = rep.x; s_rep[SWCL_W + l] = rep.y; s_rep[2 * SWCL_W + l] = rep.z;
+            c_rep[l] = nr;
+        }
+        rep_x = FM_VLOAD_W(0, s_rep); rep_y = FM_VLOAD_W(1, s_rep); rep_z = FM_VLOAD_W(2, s_rep);
+        n_rep = FM_VLOAD_W(0, c_rep);
     }
-    swcl_fw ali_x = FM_VLOAD_W(0, s_ali), ali_y = FM_VLOAD_W(1, s_ali), ali_z = FM_VLOAD_W(2, s_ali);
-    swcl_fw att_x = FM_VLOAD_W(0, s_att), att_y = FM_VLOAD_W(1, s_att), att_z = FM_VLOAD_W(2, s_att);
-    fm_uw n_ali = FM_VLOAD_W(0, c_ali), n_att = FM_VLOAD_W(0, c_att);
-
-    if (sampled) {
-        // FM_ALI_ATT in lanes: the lanes' shared sample (SWCL_W divides
-        // FM_SAMPLE_GROUP), one load per sampled agent, the scalar kernel's
-        // arithmetic; each lane's sums change only where it counts.
-        const float r_rep2 = zones.x * zones.x, r_ali2 = zones.y * zones.y, r_att2 = zones.z * zones.z;
-        const fm_uw self = (fm_uw)(base) + (fm_uw)(SWCL_LANES(FM_LANE_INDEX_));
+    // The exact zones walk the union of the lanes' R_att boxes (many cells
+    // each, so the union adds few), each candidate tested against all lanes.
+    // A lane's own box lies inside the union and both walks go row by row
+    // (z, y) in slot order, so each lane meets its neighbours in the scalar
+    // kernel's order; the extra candidates are farther than R_att from it
+    // and fail its distance test.
+    if ((terms & (FM_ALI | FM_ATT)) && sample_cap == 0u) {
+        FM_LANES_WALK(&g, px, py, pz, live, zones.z, j) {
+            FM_ALI_ATT_W(j);
+        }
+        FM_LANES_WALK_END
+    } else if (terms & (FM_ALI | FM_ATT)) {
+        // The lanes' shared sample (SWCL_W divides FM_SAMPLE_GROUP), one
+        // load per sampled agent.
         uint stride;
         uint j = fm_sample_start(seed, base / FM_SAMPLE_GROUP, step, n, &stride);
         for (uint k = 0; k < sample_cap; ++k) {
-            const float4 q = pos[j], v = vel[j];
-            const swcl_fw dx = q.x - px, dy = q.y - py, dz = q.z - pz;
-            const swcl_fw d2 = dx * dx + dy * dy + dz * dz;
-            const swcl_iw in = (self != j) & (d2 <= r_att2) & (d2 >= r_rep2);
-            const swcl_iw is_ali = in & (d2 < r_ali2), is_att = in & ~(d2 < r_ali2);
-            const swcl_fw dux = v.x - ux, duy = v.y - uy, duz = v.z - uz;
-            const swcl_fw m2 = dux * dux + duy * duy + duz * duz;
-            const swcl_fw rm = rsqrt(m2), rd = rsqrt(d2);
-            const swcl_iw add_ali = is_ali & (m2 > 0.0f);
-            ali_x = select(ali_x, ali_x + dux * rm, add_ali);
-            ali_y = select(ali_y, ali_y + duy * rm, add_ali);
-            ali_z = select(ali_z, ali_z + duz * rm, add_ali);
-            att_x = select(att_x, att_x + dx * rd, is_att);
-            att_y = select(att_y, att_y + dy * rd, is_att);
-            att_z = select(att_z, att_z + dz * rd, is_att);
-            n_ali -= FM_AS_UW(is_ali);  // true is -1
-            n_att -= FM_AS_UW(is_att);
+            FM_ALI_ATT_W(j);
             j += stride;
             if (j >= n) j -= n;
         }
     }
 
-    const swcl_fw zero = (swcl_fw)(0.0f);
     swcl_fw fx = zero, fy = zero, fz = zero;
     if (terms & FM_REP) {
-        const fm_uw n_rep = FM_VLOAD_W(0, c_rep);
-        FM_ADD_MEAN_W(fx, weights.x, n_rep, FM_VLOAD_W(0, s_rep));
-        FM_ADD_MEAN_W(fy, weights.x, n_rep, FM_VLOAD_W(1, s_rep));
-        FM_ADD_MEAN_W(fz, weights.x, n_rep, FM_VLOAD_W(2, s_rep));
+        FM_ADD_MEAN_W(fx, weights.x, n_rep, rep_x);
+        FM_ADD_MEAN_W(fy, weights.x, n_rep, rep_y);
+        FM_ADD_MEAN_W(fz, weights.x, n_rep, rep_z);
     }
     if (terms & FM_ALI) {
         FM_ADD_MEAN_W(fx, weights.y, n_ali, ali_x);
@@ -356,11 +403,12 @@ __kernel void force_model_force_w(__global const float4* pos, __global const flo
 
     swcl_fw ex = zero, ey = zero, ez = zero;
     if (has_targets) {
+        // Each lane's target (lanes at or above n: agent n - 1's).
+        const fm_uw tgt = fm_gather_u_w(target_of, fm_gather_u_w(ids, min(self, n - 1u)));
         if (terms & FM_CON) {
             // fm_shape_force in lanes: each lane's target neighbours, up to
             // the longest list; finished lanes read slot 0 (always there) and
             // add nothing.
-            const fm_uw tgt = FM_VLOAD_W(0, s_tgt);
             const fm_uw k0 = fm_gather_u_w(nbr_start, tgt);
             const fm_uw cnt = select((fm_uw)(0u), fm_gather_u_w(nbr_start, tgt + 1u) - k0, live);
             uint longest = 0;
@@ -392,7 +440,6 @@ __kernel void force_model_force_w(__global const float4* pos, __global const flo
         }
         if (terms & FM_DIS) {  // Eq. 6-7 as in force_model_force
             __global const float* tf = (__global const float*)targets;
-            const fm_uw tgt = FM_VLOAD_W(0, s_tgt);
             const swcl_fw tx = fm_gather_w(tf, tgt, 0), ty = fm_gather_w(tf, tgt, 1), tz = fm_gather_w(tf, tgt, 2);
             const swcl_fw rx = FM_ROW(frame_x, tx, ty, tz) - px, ry = FM_ROW(frame_y, tx, ty, tz) - py,
                           rz = FM_ROW(frame_z, tx, ty, tz) - pz;
