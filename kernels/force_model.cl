@@ -230,6 +230,7 @@ typedef uint8 fm_uw;
 #define FM_VLOAD_W vload8
 #define FM_AS_UW as_uint8
 #endif
+#define FM_LANE_INDEX_(k) SWCL_LANE_I(k)
 
 // Component c of the float4 elements j of a (seen as floats), and elements j
 // of a uint array, W lanes: one AVX-512 gather where there is one (as
@@ -275,6 +276,44 @@ SWCL_INLINE fm_uw fm_gather_u_w(__global const uint* a, fm_uw j) { return (fm_uw
         n_att -= FM_AS_UW(is_att);                                                \
     }
 
+// fm_repulsion for one agent with its candidates tested SWCL_W at a time
+// (consecutive slots: whole vector loads from the positions' x, y, z blocks,
+// force_model_soa; lanes past the row's end are masked); the few within
+// R_rep are then
+// added one by one in slot order with the scalar arithmetic, so the sum is
+// bitwise fm_repulsion's.
+#define FM_HIT_BIT_(k) | (SWCL_LANE(hit, k) ? 1u << SWCL_LANE_I(k) : 0u)
+SWCL_INLINE void fm_repulsion_w(__global const float4* pos, __global const float* soa, uint n, const Grid* g, uint i,
+                                float4 p, float r_rep, float4* rep, uint* n_rep) {
+    const float r_rep2 = r_rep * r_rep;
+    const fm_uw lane = (fm_uw)(SWCL_LANES(FM_LANE_INDEX_));
+    int4 lo, hi;
+    grid_search_box(g, p, r_rep, &lo, &hi);
+    for (int z = lo.z; z <= hi.z; ++z)
+        for (int y = lo.y; y <= hi.y; ++y) {
+            const uint2 rng = grid_row_range(g, lo.x, hi.x, y, z);
+            for (uint j0 = rng.x; j0 < rng.y; j0 += SWCL_W) {
+                // soa holds SWCL_W - 1 slots of padding after each block.
+                const swcl_fw qx = FM_VLOAD_W(0, soa + j0), qy = FM_VLOAD_W(0, soa + (n + SWCL_W) + j0),
+                              qz = FM_VLOAD_W(0, soa + 2 * (n + SWCL_W) + j0);
+                const swcl_fw dx = qx - p.x, dy = qy - p.y, dz = qz - p.z;
+                const swcl_fw d2 = dx * dx + dy * dy + dz * dz;
+                const fm_uw j = (fm_uw)(j0) + lane;
+                const swcl_iw hit = (j < rng.y) & (j != i) & (d2 < r_rep2) & (d2 != 0.0f);
+                if (!any(hit)) continue;
+                uint bits = 0u SWCL_EACH_LANE(FM_HIT_BIT_);
+                while (bits) {
+                    const uint k = 31u - clz(bits & (0u - bits));  // lowest set bit
+                    bits &= bits - 1u;
+                    const float4 q = (float4)(pos[j0 + k].xyz, 0.0f);
+                    *rep -= (q - p) * rsqrt(dist2(q, p));
+                    ++*n_rep;
+                }
+            }
+        }
+}
+#undef FM_HIT_BIT_
+
 // Smallest and largest lane of v among the lanes `on`.
 SWCL_INLINE float fm_lane_min(swcl_fw v, swcl_iw on) {
     v = select((swcl_fw)(INFINITY), v, on);
@@ -310,9 +349,19 @@ SWCL_INLINE float fm_lane_max(swcl_fw v, swcl_iw on) {
                 for (uint j = fw_rng_.x; j < fw_rng_.y; ++j)
 #define FM_LANES_WALK_END }}
 
+// The positions as three blocks x, y, z of n + SWCL_W floats (the padding
+// lets fm_repulsion_w load whole vectors at the end of a block).
+__kernel void force_model_soa(__global const float4* pos, uint n, __global float* soa) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    const float4 p = pos[i];
+    soa[i] = p.x;
+    soa[(n + SWCL_W) + i] = p.y;
+    soa[2 * (n + SWCL_W) + i] = p.z;
+}
+
 // (w / count) * sum added to acc in the lanes whose count is not 0.
 #define FM_ADD_MEAN_W(acc, w, cnt, sum) acc = select(acc, acc + ((w) / swcl_cvt_fw(cnt)) * (sum), (cnt) != 0u)
-#define FM_LANE_INDEX_(k) SWCL_LANE_I(k)
 
 __kernel void force_model_force_w(__global const float4* pos, __global const float4* vel,
                                   __global const uint* ids, uint n, GRID_PARAMS, float4 zones, float4 weights,
@@ -321,7 +370,7 @@ __kernel void force_model_force_w(__global const float4* pos, __global const flo
                                   __global const float4* targets, __global const uint* nbr_start,
                                   __global const uint* nbr_index, __global const float4* by_target,
                                   float4 frame_x, float4 frame_y, float4 frame_z, float t, uint step,
-                                  __global float4* force, NOISE_PARAMS) {
+                                  __global float4* force, NOISE_PARAMS, __global const float* soa) {
     const uint base = get_global_id(0) * SWCL_W;
     if (base >= n) return;
     __global const float* pf = (__global const float*)pos;
@@ -340,7 +389,7 @@ __kernel void force_model_force_w(__global const float4* pos, __global const flo
 
     const swcl_iw live = self < n;
     if (terms & FM_REP) {
-        // Lane by lane (fm_repulsion): with R_rep a fraction of a cell, the
+        // Lane by lane (fm_repulsion_w): with R_rep a fraction of a cell, the
         // lanes' boxes (1 to 8 cells) join into up to 27 cells, more
         // candidates than the lanes' own walks visit together.
         float s_rep[3 * SWCL_W];
@@ -349,7 +398,7 @@ __kernel void force_model_force_w(__global const float4* pos, __global const flo
             const uint i = base + l;
             float4 rep = (float4)(0.0f);
             uint nr = 0;
-            if (i < n) fm_repulsion(pos, &g, i, (float4)(pos[i].xyz, 0.0f), zones.x, &rep, &nr);
+            if (i < n) fm_repulsion_w(pos, soa, n, &g, i, (float4)(pos[i].xyz, 0.0f), zones.x, &rep, &nr);
             s_rep[l] = rep.x; s_rep[SWCL_W + l] = rep.y; s_rep[2 * SWCL_W + l] = rep.z;
             c_rep[l] = nr;
         }

@@ -131,6 +131,7 @@ ForceModel::ForceModel(Swarm& swarm, ForceModelConfig config)
     // agents per work-item; kernels/force_model.cl).
     width_ = noise_->width();
     force_k_ = noise_->kernel("force_model.cl", width_ > 1 ? "force_model_force_w" : "force_model_force");
+    if (width_ > 1) soa_k_ = noise_->kernel("force_model.cl", "force_model_soa");
     integrate_k_ = noise_->kernel("force_model.cl", "force_model_integrate");
     project_k_ = noise_->kernel("force_model.cl", "force_model_project");
     scatter_k_ = noise_->kernel("force_model.cl", "force_model_scatter");
@@ -310,7 +311,13 @@ void ForceModel::enqueue_force(Swarm& swarm, uint64_t step) {
     kf.setArg(i++, float(double(step) * dt));
     kf.setArg(i++, cl_uint(step));
     kf.setArg(i++, force_.get());
-    noise_->set_args(kf, i);
+    i = noise_->set_args(kf, i);
+    if (width_ > 1) {  // the wide kernel's repulsion reads the positions as x, y, z blocks
+        soa_.reserve(swarm.context(), 3 * (size_t(n) + width_), "force model positions by axis");
+        set_args(soa_k_, swarm.positions().get(), cl_uint(n), soa_.get());
+        launch(swarm.context(), soa_k_, n);
+        kf.setArg(i++, soa_.get());
+    }
     launch(swarm.context(), kf, (n + width_ - 1) / width_);
 }
 

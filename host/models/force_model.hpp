@@ -147,7 +147,7 @@ private:
     std::unique_ptr<NoiseField> noise_;
     std::optional<MinDistance> mde_;
     std::optional<BSplinePath> path_;
-    cl::Kernel force_k_, integrate_k_, project_k_, scatter_k_;
+    cl::Kernel force_k_, integrate_k_, project_k_, scatter_k_, soa_k_;
     uint32_t width_ = 1;  // agents per work-item of force_k_
     uint32_t prepared_n_ = 0;
     std::vector<ShapeTargets> targets_;  // per keyframe
@@ -158,7 +158,7 @@ private:
     DeviceBuffer<cl_uint> target_of_buf_, nbr_start_buf_, nbr_index_buf_;
     uint32_t nprims_ = 0;
     Grid3 mesh_grid_{{0, 0, 0}, 1.0, {0, 0, 0}};  // no mesh obstacles: dims 0
-    DeviceBuffer<cl_float> mesh_phi_;
+    DeviceBuffer<cl_float> mesh_phi_, soa_;
     MdeCounters counters_;
 };
 
