@@ -154,8 +154,16 @@ private:
     std::vector<bool> same_topology_;    // keyframe k corresponds sample by sample to k-1
     int active_ = -1;
     std::vector<uint32_t> target_of_;
-    DeviceBuffer<cl_float4> force_, target_buf_, prims_, by_target_;
-    DeviceBuffer<cl_uint> target_of_buf_, nbr_start_buf_, nbr_index_buf_;
+    DeviceBuffer<cl_float4> force_, prims_, by_target_;
+    DeviceBuffer<cl_uint> target_of_buf_;
+    // Per keyframe, uploaded once by prepare(): switching keyframes (every few
+    // steps in an animation) binds other buffers instead of uploading, which
+    // would wait for the queue.
+    struct KeyframeBuffers {
+        DeviceBuffer<cl_float4> targets;
+        DeviceBuffer<cl_uint> nbr_start, nbr_index;
+    };
+    std::vector<KeyframeBuffers> kf_buf_;
     uint32_t nprims_ = 0;
     Grid3 mesh_grid_{{0, 0, 0}, 1.0, {0, 0, 0}};  // no mesh obstacles: dims 0
     DeviceBuffer<cl_float> mesh_phi_, soa_;
