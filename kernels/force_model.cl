@@ -105,7 +105,7 @@ SWCL_INLINE float4 fm_shape_force(__global const uint* nbr_start, __global const
         const float4 dq = p - q;
         const float m = fabs(dq.x) + fabs(dq.y) + fabs(dq.z);
         const float l = sqrt(dq.x * dq.x + dq.y * dq.y + dq.z * dq.z);
-        if (l > 0.0f) con += dq / l * exp(-m * m * inv2s2);
+        if (l > 0.0f) con += (exp(-m * m * inv2s2) / l) * dq;  // one division, not three
     }
     return k1 > k0 ? (w_con / (float)(k1 - k0)) * con : (float4)(0.0f);
 }
@@ -475,11 +475,11 @@ __kernel void force_model_force_w(__global const float4* pos, __global const flo
                               qz = pz - fm_gather_w(bf, o, 2);
                 const swcl_fw m = fabs(qx) + fabs(qy) + fabs(qz);
                 const swcl_fw l = sqrt(qx * qx + qy * qy + qz * qz);
-                const swcl_fw e = exp(-m * m * inv2s2);
+                const swcl_fw el = exp(-m * m * inv2s2) / l;
                 const swcl_iw on = act & (l > 0.0f);
-                cx = select(cx, cx + qx / l * e, on);
-                cy = select(cy, cy + qy / l * e, on);
-                cz = select(cz, cz + qz / l * e, on);
+                cx = select(cx, cx + el * qx, on);
+                cy = select(cy, cy + el * qy, on);
+                cz = select(cz, cz + el * qz, on);
             }
             const swcl_fw wc = blend.y / swcl_cvt_fw(cnt);
             const swcl_iw some = cnt != 0u;
