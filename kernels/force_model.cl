@@ -264,14 +264,15 @@ SWCL_INLINE fm_uw fm_gather_u_w(__global const uint* a, fm_uw j) { return (fm_uw
         const swcl_iw is_ali = in & (d2 < r_ali2), is_att = in & ~(d2 < r_ali2);  \
         const swcl_fw dux = v.x - ux, duy = v.y - uy, duz = v.z - uz;             \
         const swcl_fw m2 = dux * dux + duy * duy + duz * duz;                     \
-        const swcl_fw rm = rsqrt(m2), rd = rsqrt(d2);                             \
+        /* a lane uses rsqrt(m2) (alignment) or rsqrt(d2), never both */        \
+        const swcl_fw rs = rsqrt(select(d2, m2, is_ali));                         \
         const swcl_iw add_ali = is_ali & (m2 > 0.0f);                             \
-        ali_x = select(ali_x, ali_x + dux * rm, add_ali);                         \
-        ali_y = select(ali_y, ali_y + duy * rm, add_ali);                         \
-        ali_z = select(ali_z, ali_z + duz * rm, add_ali);                         \
-        att_x = select(att_x, att_x + dx * rd, is_att);                           \
-        att_y = select(att_y, att_y + dy * rd, is_att);                           \
-        att_z = select(att_z, att_z + dz * rd, is_att);                           \
+        ali_x = select(ali_x, ali_x + dux * rs, add_ali);                         \
+        ali_y = select(ali_y, ali_y + duy * rs, add_ali);                         \
+        ali_z = select(ali_z, ali_z + duz * rs, add_ali);                         \
+        att_x = select(att_x, att_x + dx * rs, is_att);                           \
+        att_y = select(att_y, att_y + dy * rs, is_att);                           \
+        att_z = select(att_z, att_z + dz * rs, is_att);                           \
         n_ali -= FM_AS_UW(is_ali); /* true is -1 */                               \
         n_att -= FM_AS_UW(is_att);                                                \
     }
