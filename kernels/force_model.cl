@@ -218,9 +218,10 @@ __kernel void force_model_force(__global const float4* pos, __global const float
 // does not vectorise force_model_force across work-items, so it ran one
 // scalar pair at a time.  Here every term runs in floatW lanes with the
 // scalar kernel's tests and arithmetic in the same order (bitwise the same
-// forces: tests/test_force_model.cpp): each neighbour candidate (the
-// shared sample, the union of the lanes' grid boxes) is loaded once and
-// tested against all lanes; Eq. 5's target neighbours are gathered per lane.
+// forces: tests/test_force_model.cpp): each candidate of the shared sample
+// and of the union of the lanes' R_att boxes (exact zones) is loaded once
+// and tested against all lanes; repulsion tests 16 candidates of one lane's
+// box at a time; Eq. 5's target neighbours are gathered per lane.
 #if SWCL_W == 16
 typedef uint16 fm_uw;
 #define FM_VLOAD_W vload16
