@@ -11,8 +11,12 @@
 #include "grid_common.cl"
 #include "philox.cl"
 
-// Philox stream of the neighbour sample (keyed by seed, agent id, step).
+// Philox stream of the neighbour sample (keyed by seed, sample group, step).
 #define FM_STREAM_SAMPLE 16u
+// Agents of one sample group: the slots [16 g, 16 g + 16) share their
+// neighbour sample (docs/force-model.md).  A multiple of the wide kernel's
+// SWCL_W (8 or 16), so one work-item's lanes share one sample.
+#define FM_SAMPLE_GROUP 16u
 
 // Bits of `terms`: which forces are on (all in a run; one at a time in the
 // tests that compare each term with its reference).
@@ -23,6 +27,10 @@
 #define FM_CON 16u
 #define FM_DIS 32u
 
+// Row r of [R | offset] applied to the target (x, y, z): component by
+// component, the same arithmetic in the scalar and the wide kernel.
+#define FM_ROW(r, a, b, c) ((r).x * (a) + (r).y * (b) + (r).z * (c) + (r).w)
+
 // One candidate j of the alignment and attraction zones (Eq. 2-3): skipped
 // outside R_att and inside R_rep (the repulsion loop has those).
 #define FM_ALI_ATT(j)                                                         \
@@ -32,7 +40,7 @@
         if (d2 <= r_att2 && d2 >= r_rep2) {                                   \
             if (d2 < r_ali2) {                                                \
                 const float4 du = (float4)(vel[j].xyz, 0.0f) - u;             \
-                const float m2 = dot(du, du);                                 \
+                const float m2 = du.x * du.x + du.y * du.y + du.z * du.z;     \
                 if (m2 > 0.0f) ali += du * rsqrt(m2);                         \
                 ++n_ali;                                                      \
             } else {                                                          \
@@ -41,6 +49,66 @@
             }                                                                 \
         }                                                                     \
     }
+
+// §4.1, Eq. 2-3, repulsion zone of the agent in slot i at p: every agent
+// within R_rep through the grid (exact).
+SWCL_INLINE void fm_repulsion(__global const float4* pos, const Grid* g, uint i, float4 p, float r_rep,
+                              float4* rep, uint* n_rep) {
+    const float r_rep2 = r_rep * r_rep;
+    GRID_FOR_EACH_CANDIDATE(g, p, r_rep, j) {
+        if (j == i) continue;
+        const float4 q = (float4)(pos[j].xyz, 0.0f);
+        const float d2 = dist2(q, p);
+        if (d2 >= r_rep2 || d2 == 0.0f) continue;
+        *rep -= (q - p) * rsqrt(d2);
+        ++*n_rep;
+    }
+    GRID_END_FOR
+}
+
+// Start and stride of the neighbour sample of sample group grp (Philox keyed
+// by seed, group, step): j_k = start + k stride (mod n), start uniform over
+// the n slots, stride in [1, n - 1].
+SWCL_INLINE uint fm_sample_start(ulong seed, uint grp, uint step, uint n, uint* stride) {
+    const uint4 r = swcl_rand_u4(seed, grp, step, FM_STREAM_SAMPLE, 0u);
+    *stride = n > 1u ? 1u + (uint)(((ulong)r.y * (ulong)(n - 1u)) >> 32) : 0u;
+    return (uint)(((ulong)r.x * (ulong)n) >> 32);
+}
+
+// Alignment and attraction zones, exact: every agent of the R_att box.
+SWCL_INLINE void fm_ali_att_exact(__global const float4* pos, __global const float4* vel, const Grid* g, uint i,
+                                  float4 p, float4 u, float4 zones, float4* ali_, uint* n_ali_, float4* att_,
+                                  uint* n_att_) {
+    const float r_rep2 = zones.x * zones.x, r_ali2 = zones.y * zones.y, r_att2 = zones.z * zones.z;
+    float4 ali = *ali_, att = *att_;
+    uint n_ali = *n_ali_, n_att = *n_att_;
+    GRID_FOR_EACH_CANDIDATE(g, p, zones.z, j) {
+        if (j == i) continue;
+        FM_ALI_ATT(j);
+    }
+    GRID_END_FOR
+    *ali_ = ali; *att_ = att; *n_ali_ = n_ali; *n_att_ = n_att;
+}
+
+// §5.2, Eq. 5 on the insects: the sample neighbours of this insect's target
+// are the targets of other insects; their current positions push this
+// insect away with a Gaussian of the Manhattan distance, spreading the swarm
+// over the surface ("we use F_con to scatter the insects along the mesh").
+// sigma is a length (docs/force-model.md).  Returns w_con times the mean.
+SWCL_INLINE float4 fm_shape_force(__global const uint* nbr_start, __global const uint* nbr_index,
+                                  __global const float4* by_target, uint tgt, float4 p, float sigma, float w_con) {
+    const uint k0 = nbr_start[tgt], k1 = nbr_start[tgt + 1];
+    float4 con = (float4)(0.0f);
+    const float inv2s2 = 1.0f / (2.0f * sigma * sigma);
+    for (uint k = k0; k < k1; ++k) {
+        const float4 q = (float4)(by_target[nbr_index[k]].xyz, 0.0f);
+        const float4 dq = p - q;
+        const float m = fabs(dq.x) + fabs(dq.y) + fabs(dq.z);
+        const float l = sqrt(dq.x * dq.x + dq.y * dq.y + dq.z * dq.z);
+        if (l > 0.0f) con += (exp(-m * m * inv2s2) / l) * dq;  // one division, not three
+    }
+    return k1 > k0 ? (w_con / (float)(k1 - k0)) * con : (float4)(0.0f);
+}
 
 // zones = (R_rep, R_ali, R_att, sigma of Eq. 5), weights = (w_rep, w_ali,
 // w_att, w_dis), blend = (alpha, w_con, distance scale of Eq. 6, unused),
@@ -74,42 +142,27 @@ __kernel void force_model_force(__global const float4* pos, __global const float
     // direction and are skipped; equal velocities add 0 but count.
     float4 rep = (float4)(0.0f), ali = (float4)(0.0f), att = (float4)(0.0f);
     uint n_rep = 0, n_ali = 0, n_att = 0;
-    const float r_rep = zones.x, r_ali = zones.y, r_att = zones.z;
     const Grid g = GRID_MAKE();
-    if (terms & FM_REP) {
-        const float r_rep2 = r_rep * r_rep;
-        GRID_FOR_EACH_CANDIDATE(&g, p, r_rep, j) {
-            if (j == i) continue;
-            const float4 q = (float4)(pos[j].xyz, 0.0f);
-            const float d2 = dist2(q, p);
-            if (d2 >= r_rep2 || d2 == 0.0f) continue;
-            rep -= (q - p) * rsqrt(d2);
-            ++n_rep;
-        }
-        GRID_END_FOR
-    }
+    if (terms & FM_REP) fm_repulsion(pos, &g, i, p, zones.x, &rep, &n_rep);
     if (terms & (FM_ALI | FM_ATT)) {
-        const float r_rep2 = r_rep * r_rep, r_ali2 = r_ali * r_ali, r_att2 = r_att * r_att;
         if (sample_cap == 0u) {
-            // Exact: every agent of the R_att box.
-            GRID_FOR_EACH_CANDIDATE(&g, p, r_att, j) {
-                if (j == i) continue;
-                FM_ALI_ATT(j);
-            }
-            GRID_END_FOR
+            fm_ali_att_exact(pos, vel, &g, i, p, u, zones, &ali, &n_ali, &att, &n_att);
         } else {
             // Sampled (not in the paper; docs/force-model.md): sample_cap
             // agents of the whole swarm, j = start + k * stride (mod n) with
-            // start and stride drawn per agent and step by Philox (keyed by
-            // seed, agent id, step): every agent is equally likely to be
-            // sampled, and slots being in cell order, a large stride spreads
-            // the sample over the swarm.  Those within R_att count in their
-            // zone, so each zone's mean in Eq. 2 is estimated from its sampled
-            // neighbours, at O(cap) per agent instead of the O(N) that
-            // R_att = 30 m costs when the swarm is smaller than that.
-            const uint4 r = swcl_rand_u4(seed, id, step, FM_STREAM_SAMPLE, 0u);
-            uint j = (uint)(((ulong)r.x * (ulong)n) >> 32);
-            const uint stride = n > 1u ? 1u + (uint)(((ulong)r.y * (ulong)(n - 1u)) >> 32) : 0u;
+            // start and stride drawn per sample group and step by Philox
+            // (fm_sample_start): for each agent every other agent is equally
+            // likely to be sampled, and slots being in cell order, a large
+            // stride spreads the sample over the swarm.  The 16 agents of a
+            // group (neighbours in cell order) share the sample, so the wide
+            // kernel loads each sampled agent once for all its lanes.  Those
+            // within R_att count in their zone, so each zone's mean in Eq. 2
+            // is estimated from its sampled neighbours, at O(cap) per agent
+            // instead of the O(N) that R_att = 30 m costs when the swarm is
+            // smaller than that.
+            const float r_rep2 = zones.x * zones.x, r_ali2 = zones.y * zones.y, r_att2 = zones.z * zones.z;
+            uint stride;
+            uint j = fm_sample_start(seed, i / FM_SAMPLE_GROUP, step, n, &stride);
             for (uint k = 0; k < sample_cap; ++k) {
                 if (j != i) FM_ALI_ATT(j);
                 j += stride;
@@ -134,24 +187,7 @@ __kernel void force_model_force(__global const float4* pos, __global const float
     float4 f_ext = (float4)(0.0f);
     if (has_targets) {
         const uint tgt = target_of[id];
-        // §5.2, Eq. 5 on the insects: the sample neighbours of this insect's
-        // target are the targets of other insects; their current positions
-        // push this insect away with a Gaussian of the Manhattan distance,
-        // spreading the swarm over the surface ("we use F_con to scatter the
-        // insects along the mesh").  sigma is a length (docs/force-model.md).
-        if (terms & FM_CON) {
-            const uint k0 = nbr_start[tgt], k1 = nbr_start[tgt + 1];
-            float4 con = (float4)(0.0f);
-            const float inv2s2 = 1.0f / (2.0f * zones.w * zones.w);
-            for (uint k = k0; k < k1; ++k) {
-                const float4 q = (float4)(by_target[nbr_index[k]].xyz, 0.0f);
-                const float4 dq = p - q;
-                const float m = fabs(dq.x) + fabs(dq.y) + fabs(dq.z);
-                const float l = length(dq);
-                if (l > 0.0f) con += dq / l * exp(-m * m * inv2s2);
-            }
-            if (k1 > k0) f_ext += (blend.y / (float)(k1 - k0)) * con;
-        }
+        if (terms & FM_CON) f_ext += fm_shape_force(nbr_start, nbr_index, by_target, tgt, p, zones.w, blend.y);
         // §5.3, Eq. 6-7: the harmonic distance force along the unit vector to
         // the target, with d normalised by the distance scale and clamped to
         // 1 (the paper's H(d) = 0 beyond 1 would leave far insects with no
@@ -160,10 +196,10 @@ __kernel void force_model_force(__global const float4* pos, __global const float
         // their target instead of sitting on it.
         if (terms & FM_DIS) {
             const float3 tp = targets[tgt].xyz;
-            const float4 s = (float4)(dot(frame_x.xyz, tp) + frame_x.w, dot(frame_y.xyz, tp) + frame_y.w,
-                                      dot(frame_z.xyz, tp) + frame_z.w, 0.0f);
+            const float4 s = (float4)(FM_ROW(frame_x, tp.x, tp.y, tp.z), FM_ROW(frame_y, tp.x, tp.y, tp.z),
+                                      FM_ROW(frame_z, tp.x, tp.y, tp.z), 0.0f);
             const float4 rs = s - p;
-            const float dd = length(rs);
+            const float dd = sqrt(rs.x * rs.x + rs.y * rs.y + rs.z * rs.z);
             if (dd > 0.0f) {
                 const float dn = fmin(dd / blend.z, 1.0f);
                 f_ext += (weights.w * (4.0f * cbrt(dn - 0.5f) + 0.5f) / dd) * rs;
@@ -173,6 +209,305 @@ __kernel void force_model_force(__global const float4* pos, __global const float
     // §3, Eq. 1.
     force[i] = blend.x * f_int + (1.0f - blend.x) * f_ext;
 }
+
+#ifdef NOISE_WIDE
+// ---- explicit-width force (CPU devices) ------------------------------------
+//
+// force_model_force on SWCL_W consecutive slots per work-item (launch
+// ceil(n / SWCL_W) work-items), as the noise module's wide kernels: PoCL
+// does not vectorise force_model_force across work-items, so it ran one
+// scalar pair at a time.  Here every term runs in floatW lanes with the
+// scalar kernel's tests and arithmetic in the same order (bitwise the same
+// forces: tests/test_force_model.cpp): each candidate of the shared sample
+// and of the union of the lanes' R_att boxes (exact zones) is loaded once
+// and tested against all lanes; repulsion tests 16 candidates of one lane's
+// box at a time; Eq. 5's target neighbours are gathered per lane.
+#if SWCL_W == 16
+typedef uint16 fm_uw;
+#define FM_VLOAD_W vload16
+#define FM_AS_UW as_uint16
+#else
+typedef uint8 fm_uw;
+#define FM_VLOAD_W vload8
+#define FM_AS_UW as_uint8
+#endif
+#define FM_LANE_INDEX_(k) SWCL_LANE_I(k)
+
+// Component c of the float4 elements j of a (seen as floats), and elements j
+// of a uint array, W lanes: one AVX-512 gather where there is one (as
+// swcl_perm_w), else W loads.
+#if SWCL_W == 16 && defined(__AVX512F__) && defined(__x86_64__) && SWCL_HAS_BUILTIN(__builtin_ia32_gathersiv16sf)
+SWCL_INLINE swcl_fw fm_gather_w(__global const float* a, fm_uw j, int c) {
+    return __builtin_ia32_gathersiv16sf((float16)(0.0f), (const void*)(size_t)a, as_int16(j * 4u) + c,
+                                        (ushort)0xffff, 4);
+}
+SWCL_INLINE fm_uw fm_gather_u_w(__global const uint* a, fm_uw j) {
+    return as_uint16(__builtin_ia32_gathersiv16si((int16)(0), (const void*)(size_t)a, as_int16(j), (ushort)0xffff, 4));
+}
+#else
+#define FM_GATHER_LANE_(k) a[4 * (size_t)SWCL_LANE(j, k) + c]
+SWCL_INLINE swcl_fw fm_gather_w(__global const float* a, fm_uw j, int c) { return (swcl_fw)(SWCL_LANES(FM_GATHER_LANE_)); }
+#undef FM_GATHER_LANE_
+#define FM_GATHER_LANE_(k) a[SWCL_LANE(j, k)]
+SWCL_INLINE fm_uw fm_gather_u_w(__global const uint* a, fm_uw j) { return (fm_uw)(SWCL_LANES(FM_GATHER_LANE_)); }
+#undef FM_GATHER_LANE_
+#endif
+
+// FM_ALI_ATT for candidate j in all lanes (px.., ux.., self, the zone radii
+// and sums of force_model_force_w in scope): the same tests and arithmetic,
+// each lane's sums changed only where j counts for it.
+#define FM_ALI_ATT_W(j)                                                           \
+    {                                                                             \
+        const float4 q = pos[j], v = vel[j];                                      \
+        const swcl_fw dx = q.x - px, dy = q.y - py, dz = q.z - pz;                \
+        const swcl_fw d2 = dx * dx + dy * dy + dz * dz;                           \
+        const swcl_iw in = (self != (j)) & (d2 <= r_att2) & (d2 >= r_rep2);       \
+        const swcl_iw is_ali = in & (d2 < r_ali2), is_att = in & ~(d2 < r_ali2);  \
+        const swcl_fw dux = v.x - ux, duy = v.y - uy, duz = v.z - uz;             \
+        const swcl_fw m2 = dux * dux + duy * duy + duz * duz;                     \
+        /* a lane uses rsqrt(m2) (alignment) or rsqrt(d2), never both */        \
+        const swcl_fw rs = rsqrt(select(d2, m2, is_ali));                         \
+        const swcl_iw add_ali = is_ali & (m2 > 0.0f);                             \
+        ali_x = select(ali_x, ali_x + dux * rs, add_ali);                         \
+        ali_y = select(ali_y, ali_y + duy * rs, add_ali);                         \
+        ali_z = select(ali_z, ali_z + duz * rs, add_ali);                         \
+        att_x = select(att_x, att_x + dx * rs, is_att);                           \
+        att_y = select(att_y, att_y + dy * rs, is_att);                           \
+        att_z = select(att_z, att_z + dz * rs, is_att);                           \
+        n_ali -= FM_AS_UW(is_ali); /* true is -1 */                               \
+        n_att -= FM_AS_UW(is_att);                                                \
+    }
+
+// fm_repulsion for one agent with its candidates tested SWCL_W at a time
+// (consecutive slots: whole vector loads from the positions' x, y, z blocks,
+// force_model_soa; lanes past the row's end are masked); the few within
+// R_rep are then
+// added one by one in slot order with the scalar arithmetic, so the sum is
+// bitwise fm_repulsion's.
+#define FM_HIT_BIT_(k) | (SWCL_LANE(hit, k) ? 1u << SWCL_LANE_I(k) : 0u)
+SWCL_INLINE void fm_repulsion_w(__global const float4* pos, __global const float* soa, uint n, const Grid* g, uint i,
+                                float4 p, float r_rep, float4* rep, uint* n_rep) {
+    const float r_rep2 = r_rep * r_rep;
+    const fm_uw lane = (fm_uw)(SWCL_LANES(FM_LANE_INDEX_));
+    int4 lo, hi;
+    grid_search_box(g, p, r_rep, &lo, &hi);
+    for (int z = lo.z; z <= hi.z; ++z)
+        for (int y = lo.y; y <= hi.y; ++y) {
+            const uint2 rng = grid_row_range(g, lo.x, hi.x, y, z);
+            for (uint j0 = rng.x; j0 < rng.y; j0 += SWCL_W) {
+                // soa holds SWCL_W - 1 slots of padding after each block.
+                const swcl_fw qx = FM_VLOAD_W(0, soa + j0), qy = FM_VLOAD_W(0, soa + (n + SWCL_W) + j0),
+                              qz = FM_VLOAD_W(0, soa + 2 * (n + SWCL_W) + j0);
+                const swcl_fw dx = qx - p.x, dy = qy - p.y, dz = qz - p.z;
+                const swcl_fw d2 = dx * dx + dy * dy + dz * dz;
+                const fm_uw j = (fm_uw)(j0) + lane;
+                const swcl_iw hit = (j < rng.y) & (j != i) & (d2 < r_rep2) & (d2 != 0.0f);
+                if (!any(hit)) continue;
+                uint bits = 0u SWCL_EACH_LANE(FM_HIT_BIT_);
+                while (bits) {
+                    const uint k = 31u - clz(bits & (0u - bits));  // lowest set bit
+                    bits &= bits - 1u;
+                    const float4 q = (float4)(pos[j0 + k].xyz, 0.0f);
+                    *rep -= (q - p) * rsqrt(dist2(q, p));
+                    ++*n_rep;
+                }
+            }
+        }
+}
+#undef FM_HIT_BIT_
+
+// Smallest and largest lane of v among the lanes `on`.
+SWCL_INLINE float fm_lane_min(swcl_fw v, swcl_iw on) {
+    v = select((swcl_fw)(INFINITY), v, on);
+    float m = v.s0;
+#define FM_MIN_(k) m = fmin(m, SWCL_LANE(v, k));
+    SWCL_EACH_LANE(FM_MIN_)
+#undef FM_MIN_
+    return m;
+}
+SWCL_INLINE float fm_lane_max(swcl_fw v, swcl_iw on) {
+    v = select((swcl_fw)(-INFINITY), v, on);
+    float m = v.s0;
+#define FM_MAX_(k) m = fmax(m, SWCL_LANE(v, k));
+    SWCL_EACH_LANE(FM_MAX_)
+#undef FM_MAX_
+    return m;
+}
+
+// Slots j of the union of the search boxes of radius r of the lanes `on`
+// (cell of the smallest p - r to cell of the largest p + r: grid_cell_of is
+// monotone):  FM_LANES_WALK(&g, px, py, pz, on, r, j) { ... } FM_LANES_WALK_END
+#define FM_LANES_WALK(gp, px, py, pz, on, r, j)                                                          \
+    {                                                                                                   \
+        const int4 fw_lo_ = grid_cell_of((gp), (float4)(fm_lane_min(px, on) - (r),                       \
+                                                         fm_lane_min(py, on) - (r),                       \
+                                                         fm_lane_min(pz, on) - (r), 0.0f));               \
+        const int4 fw_hi_ = grid_cell_of((gp), (float4)(fm_lane_max(px, on) + (r),                       \
+                                                         fm_lane_max(py, on) + (r),                       \
+                                                         fm_lane_max(pz, on) + (r), 0.0f));               \
+        for (int fw_z_ = fw_lo_.z; fw_z_ <= fw_hi_.z; ++fw_z_)                                          \
+            for (int fw_y_ = fw_lo_.y; fw_y_ <= fw_hi_.y; ++fw_y_) {                                    \
+                const uint2 fw_rng_ = grid_row_range((gp), fw_lo_.x, fw_hi_.x, fw_y_, fw_z_);           \
+                for (uint j = fw_rng_.x; j < fw_rng_.y; ++j)
+#define FM_LANES_WALK_END }}
+
+// The positions as three blocks x, y, z of n + SWCL_W floats (the padding
+// lets fm_repulsion_w load whole vectors at the end of a block).
+__kernel void force_model_soa(__global const float4* pos, uint n, __global float* soa) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    const float4 p = pos[i];
+    soa[i] = p.x;
+    soa[(n + SWCL_W) + i] = p.y;
+    soa[2 * (n + SWCL_W) + i] = p.z;
+}
+
+// (w / count) * sum added to acc in the lanes whose count is not 0.
+#define FM_ADD_MEAN_W(acc, w, cnt, sum) acc = select(acc, acc + ((w) / swcl_cvt_fw(cnt)) * (sum), (cnt) != 0u)
+
+__kernel void force_model_force_w(__global const float4* pos, __global const float4* vel,
+                                  __global const uint* ids, uint n, GRID_PARAMS, float4 zones, float4 weights,
+                                  float4 blend, uint terms, uint sample_cap, ulong seed, uint has_targets,
+                                  __global const uint* target_of,
+                                  __global const float4* targets, __global const uint* nbr_start,
+                                  __global const uint* nbr_index, __global const float4* by_target,
+                                  float4 frame_x, float4 frame_y, float4 frame_z, float t, uint step,
+                                  __global float4* force, NOISE_PARAMS, __global const float* soa) {
+    const uint base = get_global_id(0) * SWCL_W;
+    if (base >= n) return;
+    __global const float* pf = (__global const float*)pos;
+    __global const float* vf = (__global const float*)vel;
+    swcl_fw px, py, pz, ux, uy, uz;
+    noise_load_xyz_w(pf, base, n, &px, &py, &pz);
+    noise_load_xyz_w(vf, base, n, &ux, &uy, &uz);
+    const Grid g = GRID_MAKE();
+
+    const fm_uw self = (fm_uw)(base) + (fm_uw)(SWCL_LANES(FM_LANE_INDEX_));
+    const float r_rep2 = zones.x * zones.x, r_ali2 = zones.y * zones.y, r_att2 = zones.z * zones.z;
+    const swcl_fw zero = (swcl_fw)(0.0f);
+    swcl_fw rep_x = zero, rep_y = zero, rep_z = zero, ali_x = zero, ali_y = zero, ali_z = zero;
+    swcl_fw att_x = zero, att_y = zero, att_z = zero;
+    fm_uw n_rep = (fm_uw)(0u), n_ali = (fm_uw)(0u), n_att = (fm_uw)(0u);
+
+    const swcl_iw live = self < n;
+    if (terms & FM_REP) {
+        // Lane by lane (fm_repulsion_w): with R_rep a fraction of a cell, the
+        // lanes' boxes (1 to 8 cells) join into up to 27 cells, more
+        // candidates than the lanes' own walks visit together.
+        float s_rep[3 * SWCL_W];
+        uint c_rep[SWCL_W];
+        for (uint l = 0; l < SWCL_W; ++l) {
+            const uint i = base + l;
+            float4 rep = (float4)(0.0f);
+            uint nr = 0;
+            if (i < n) fm_repulsion_w(pos, soa, n, &g, i, (float4)(pos[i].xyz, 0.0f), zones.x, &rep, &nr);
+            s_rep[l] = rep.x; s_rep[SWCL_W + l] = rep.y; s_rep[2 * SWCL_W + l] = rep.z;
+            c_rep[l] = nr;
+        }
+        rep_x = FM_VLOAD_W(0, s_rep); rep_y = FM_VLOAD_W(1, s_rep); rep_z = FM_VLOAD_W(2, s_rep);
+        n_rep = FM_VLOAD_W(0, c_rep);
+    }
+    // The exact zones walk the union of the lanes' R_att boxes (many cells
+    // each, so the union adds few), each candidate tested against all lanes.
+    // A lane's own box lies inside the union and both walks go row by row
+    // (z, y) in slot order, so each lane meets its neighbours in the scalar
+    // kernel's order; the extra candidates are farther than R_att from it
+    // and fail its distance test.
+    if ((terms & (FM_ALI | FM_ATT)) && sample_cap == 0u) {
+        FM_LANES_WALK(&g, px, py, pz, live, zones.z, j) {
+            FM_ALI_ATT_W(j);
+        }
+        FM_LANES_WALK_END
+    } else if (terms & (FM_ALI | FM_ATT)) {
+        // The lanes' shared sample (SWCL_W divides FM_SAMPLE_GROUP), one
+        // load per sampled agent.
+        uint stride;
+        uint j = fm_sample_start(seed, base / FM_SAMPLE_GROUP, step, n, &stride);
+        for (uint k = 0; k < sample_cap; ++k) {
+            FM_ALI_ATT_W(j);
+            j += stride;
+            if (j >= n) j -= n;
+        }
+    }
+
+    swcl_fw fx = zero, fy = zero, fz = zero;
+    if (terms & FM_REP) {
+        FM_ADD_MEAN_W(fx, weights.x, n_rep, rep_x);
+        FM_ADD_MEAN_W(fy, weights.x, n_rep, rep_y);
+        FM_ADD_MEAN_W(fz, weights.x, n_rep, rep_z);
+    }
+    if (terms & FM_ALI) {
+        FM_ADD_MEAN_W(fx, weights.y, n_ali, ali_x);
+        FM_ADD_MEAN_W(fy, weights.y, n_ali, ali_y);
+        FM_ADD_MEAN_W(fz, weights.y, n_ali, ali_z);
+    }
+    if (terms & FM_ATT) {
+        FM_ADD_MEAN_W(fx, weights.z, n_att, att_x);
+        FM_ADD_MEAN_W(fy, weights.z, n_att, att_y);
+        FM_ADD_MEAN_W(fz, weights.z, n_att, att_z);
+    }
+    if (terms & FM_CUR) {  // Eq. 4
+        swcl_fw cx, cy, cz;
+        NOISE_VELOCITY_W(px, py, pz, t, &cx, &cy, &cz);
+        fx += cx; fy += cy; fz += cz;
+    }
+
+    swcl_fw ex = zero, ey = zero, ez = zero;
+    if (has_targets) {
+        // Each lane's target (lanes at or above n: agent n - 1's).
+        const fm_uw tgt = fm_gather_u_w(target_of, fm_gather_u_w(ids, min(self, n - 1u)));
+        if (terms & FM_CON) {
+            // fm_shape_force in lanes: each lane's target neighbours, up to
+            // the longest list; finished lanes read slot 0 (always there) and
+            // add nothing.
+            const fm_uw k0 = fm_gather_u_w(nbr_start, tgt);
+            const fm_uw cnt = select((fm_uw)(0u), fm_gather_u_w(nbr_start, tgt + 1u) - k0, live);
+            uint longest = 0;
+#define FM_LONGEST_(k) longest = max(longest, SWCL_LANE(cnt, k));
+            SWCL_EACH_LANE(FM_LONGEST_)
+#undef FM_LONGEST_
+            const float inv2s2 = 1.0f / (2.0f * zones.w * zones.w);
+            __global const float* bf = (__global const float*)by_target;
+            swcl_fw cx = zero, cy = zero, cz = zero;
+            for (uint k = 0; k < longest; ++k) {
+                const swcl_iw act = (fm_uw)(k) < cnt;
+                const fm_uw at = select((fm_uw)(0u), k0 + k, act);
+                const fm_uw o = select((fm_uw)(0u), fm_gather_u_w(nbr_index, at), act);
+                const swcl_fw qx = px - fm_gather_w(bf, o, 0), qy = py - fm_gather_w(bf, o, 1),
+                              qz = pz - fm_gather_w(bf, o, 2);
+                const swcl_fw m = fabs(qx) + fabs(qy) + fabs(qz);
+                const swcl_fw l = sqrt(qx * qx + qy * qy + qz * qz);
+                const swcl_fw el = exp(-m * m * inv2s2) / l;
+                const swcl_iw on = act & (l > 0.0f);
+                cx = select(cx, cx + el * qx, on);
+                cy = select(cy, cy + el * qy, on);
+                cz = select(cz, cz + el * qz, on);
+            }
+            const swcl_fw wc = blend.y / swcl_cvt_fw(cnt);
+            const swcl_iw some = cnt != 0u;
+            ex += select(zero, wc * cx, some);
+            ey += select(zero, wc * cy, some);
+            ez += select(zero, wc * cz, some);
+        }
+        if (terms & FM_DIS) {  // Eq. 6-7 as in force_model_force
+            __global const float* tf = (__global const float*)targets;
+            const swcl_fw tx = fm_gather_w(tf, tgt, 0), ty = fm_gather_w(tf, tgt, 1), tz = fm_gather_w(tf, tgt, 2);
+            const swcl_fw rx = FM_ROW(frame_x, tx, ty, tz) - px, ry = FM_ROW(frame_y, tx, ty, tz) - py,
+                          rz = FM_ROW(frame_z, tx, ty, tz) - pz;
+            const swcl_fw dd = sqrt(rx * rx + ry * ry + rz * rz);
+            const swcl_fw dn = fmin(dd / blend.z, 1.0f);
+            const swcl_fw h = weights.w * (4.0f * cbrt(dn - 0.5f) + 0.5f) / dd;
+            const swcl_iw on = dd > 0.0f;
+            ex = select(ex, ex + h * rx, on);
+            ey = select(ey, ey + h * ry, on);
+            ez = select(ez, ez + h * rz, on);
+        }
+    }
+    // §3, Eq. 1.
+    noise_store_w((__global float*)force, base, n, blend.x * fx + (1.0f - blend.x) * ex,
+                  blend.x * fy + (1.0f - blend.x) * ey, blend.x * fz + (1.0f - blend.x) * ez);
+}
+#endif
 
 // The insects' positions by target index (the target of agent ids[i]), so
 // that Eq. 5 reads a target neighbour's insect with one lookup.

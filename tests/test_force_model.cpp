@@ -12,6 +12,7 @@
 #include <random>
 
 #include "core/error.hpp"
+#include "core/philox.hpp"
 #include "io/scenario.hpp"
 #include "capi_fixture.hpp"
 #include "swarmcl/swarmcl.h"
@@ -247,6 +248,76 @@ TEST_F(ForceTerms, NeighbourSampleEstimatesTheZoneMeans) {
             EXPECT_LT(err_avg, 0.6 * err);
         }
         EXPECT_GT(err, 0.0);  // it did sample
+    }
+}
+
+TEST_F(ForceTerms, NeighbourSampleMatchesItsRule) {
+    // The sample rule (kernels/force_model.cl fm_sample_start,
+    // docs/force-model.md): slots [16 g, 16 g + 16) share j_k = start + k
+    // stride (mod n), Philox (seed, g, step, stream 16); each agent skips its
+    // own slot and counts the sampled agents within its zones.
+    for (uint32_t term : {kForceAlignment, kForceAttraction}) {
+        ForceModelConfig c = term_config(term);
+        c.r_att = 3.0f;
+        c.neighbor_sample = 64;
+        c.sample_seed = 7;
+        ForceModel model(*swarm, c);
+        const uint64_t step = 9;
+        const auto got = forces_by_id(*swarm, model, step);
+        std::vector<cl_uint> ids(n);
+        swarm->ids().download(swarm->context(), ids.data(), n);  // slot -> agent id
+        std::vector<D3> want(n);
+        for (uint32_t i = 0; i < n; ++i) {
+            const auto r = philox_for(c.sample_seed, i / 16, uint32_t(step), 16);
+            uint32_t j = uint32_t((uint64_t(r[0]) * n) >> 32);
+            const uint32_t stride = 1 + uint32_t((uint64_t(r[1]) * (n - 1)) >> 32);
+            const uint32_t a = ids[i];
+            D3 sum{0, 0, 0};
+            uint32_t count = 0;
+            for (uint32_t k = 0; k < c.neighbor_sample; ++k, j = (j + stride) % n) {
+                if (j == i) continue;
+                const uint32_t b = ids[j];
+                const D3 rv = sub(at(pos, b), at(pos, a));
+                const double d = norm(rv);
+                if (d < c.r_rep || d > c.r_att) continue;
+                if (d < c.r_ali && term == kForceAlignment) {
+                    const D3 du = sub(at(vel, b), at(vel, a));
+                    if (norm(du) > 0) add(sum, du, 1.0 / norm(du));
+                    ++count;
+                } else if (d >= c.r_ali && term == kForceAttraction) {
+                    add(sum, rv, 1.0 / d);
+                    ++count;
+                }
+            }
+            const double w = term == kForceAlignment ? c.w_ali : c.w_att;
+            for (int k = 0; k < 3; ++k) want[a][k] = count ? c.alpha * w * sum[k] / count : 0.0;
+        }
+        expect_close(got, want, term == kForceAlignment ? "sampled alignment" : "sampled attraction");
+    }
+}
+
+// On CPU devices the forces come from force_model_force_w (SWCL_W agents per
+// work-item, one neighbour sample per group of 16 slots): the same sample and
+// arithmetic as the one-agent kernel GPUs run, all terms, exact and sampled.
+TEST(ForceModel, WideKernelMatchesTheScalarOne) {
+    const uint32_t n = 1003;  // not a multiple of 16: the last work-item is partial
+    const auto pos = test::random_points(n, -2.0f, 2.0f, 21), vel = test::random_points(n, -0.5f, 0.5f, 22);
+    for (uint32_t cap : {0u, 64u}) {
+        auto forces = [&](const char* width) {
+            setenv("SWARMCL_NOISE_WIDTH", width, 1);
+            auto swarm = make_swarm(n, -3.0f, 3.0f, 0.5f, 3);
+            swarm->write(Attribute::Position, pos.data(), n);
+            swarm->write(Attribute::Velocity, vel.data(), n);
+            ForceModelConfig c = term_config(kForceAll);
+            c.r_att = 3.0f;
+            c.omega = 3.0f;
+            c.neighbor_sample = cap;
+            ForceModel model(*swarm, c);
+            return forces_by_id(*swarm, model, 5);
+        };
+        const auto scalar = forces("1"), wide = forces("16");
+        unsetenv("SWARMCL_NOISE_WIDTH");
+        EXPECT_EQ(scalar, wide) << "cap " << cap;
     }
 }
 

@@ -127,7 +127,11 @@ ForceModel::ForceModel(Swarm& swarm, ForceModelConfig config)
     validate(config_);
     Context& ctx = swarm.context();
     noise_ = std::make_unique<NoiseField>(ctx, config_.noise, &swarm.config().domain_min, &swarm.config().domain_max);
-    force_k_ = noise_->kernel("force_model.cl", "force_model_force");
+    // On CPU devices the explicit-width force kernel (NoiseField::width()
+    // agents per work-item; kernels/force_model.cl).
+    width_ = noise_->width();
+    force_k_ = noise_->kernel("force_model.cl", width_ > 1 ? "force_model_force_w" : "force_model_force");
+    if (width_ > 1) soa_k_ = noise_->kernel("force_model.cl", "force_model_soa");
     integrate_k_ = noise_->kernel("force_model.cl", "force_model_integrate");
     project_k_ = noise_->kernel("force_model.cl", "force_model_project");
     scatter_k_ = noise_->kernel("force_model.cl", "force_model_scatter");
@@ -166,6 +170,7 @@ void ForceModel::prepare(Swarm& swarm) {
     if (n == prepared_n_ && (n > 0 || targets_.empty())) return;
     prepared_n_ = n;
     targets_.clear();
+    kf_buf_.clear();
     same_topology_.clear();
     active_ = -1;
     if (n == 0) return;
@@ -185,9 +190,20 @@ void ForceModel::prepare(Swarm& swarm) {
     force_.allocate(ctx, n, "force model forces");
     target_of_buf_.allocate(ctx, n, "force model target_of");
     by_target_.allocate(ctx, n, "force model positions by target");
-    target_buf_.allocate(ctx, n, "force model targets");
-    nbr_start_buf_.allocate(ctx, size_t(n) + 1, "force model target neighbour ranges");
-    nbr_index_buf_.allocate(ctx, 1, "force model target neighbours");
+    kf_buf_.assign(targets_.size(), KeyframeBuffers{});
+    for (size_t k = 0; k < targets_.size(); ++k) {
+        const ShapeTargets& t = targets_[k];
+        KeyframeBuffers& b = kf_buf_[k];
+        std::vector<cl_float4> pts(n);
+        for (uint32_t i = 0; i < n; ++i)
+            pts[i] = cl_float4{{t.points[3 * i], t.points[3 * i + 1], t.points[3 * i + 2], 0}};
+        b.targets.allocate(ctx, n, "force model targets");
+        b.targets.upload(ctx, pts.data(), n);
+        b.nbr_start.allocate(ctx, t.nbr_start.size(), "force model target neighbour ranges");
+        b.nbr_start.upload(ctx, t.nbr_start.data(), t.nbr_start.size());
+        b.nbr_index.allocate(ctx, std::max<size_t>(t.nbr_index.size(), 1), "force model target neighbours");
+        b.nbr_index.upload(ctx, t.nbr_index.data(), t.nbr_index.size());
+    }
 }
 
 int ForceModel::keyframe_at(uint64_t step) const {
@@ -238,12 +254,6 @@ void ForceModel::activate(Swarm& swarm, int k) {
     Context& ctx = swarm.context();
     const ShapeTargets& t = targets_[size_t(k)];
     const uint32_t n = swarm.agent_count();
-    std::vector<cl_float4> pts(n);
-    for (uint32_t i = 0; i < n; ++i) pts[i] = cl_float4{{t.points[3 * i], t.points[3 * i + 1], t.points[3 * i + 2], 0}};
-    target_buf_.upload(ctx, pts.data(), n);
-    nbr_start_buf_.upload(ctx, t.nbr_start.data(), t.nbr_start.size());
-    nbr_index_buf_.reserve(ctx, std::max<size_t>(t.nbr_index.size(), 1), "force model target neighbours");
-    nbr_index_buf_.upload(ctx, t.nbr_index.data(), t.nbr_index.size());
     // A keyframe of the same animation as the active one keeps the
     // assignment (its targets correspond); otherwise assign anew from the
     // insects' current positions to the targets where they will be.
@@ -299,16 +309,29 @@ void ForceModel::enqueue_force(Swarm& swarm, uint64_t step) {
     kf.setArg(i++, cl_ulong(c.sample_seed));
     kf.setArg(i++, cl_uint(t ? 1 : 0));
     kf.setArg(i++, target_of_buf_.get());
-    kf.setArg(i++, target_buf_.get());
-    kf.setArg(i++, nbr_start_buf_.get());
-    kf.setArg(i++, nbr_index_buf_.get());
+    if (t) {
+        const KeyframeBuffers& b = kf_buf_[size_t(active_)];
+        kf.setArg(i++, b.targets.get());
+        kf.setArg(i++, b.nbr_start.get());
+        kf.setArg(i++, b.nbr_index.get());
+    } else {  // not read without targets (has_targets 0)
+        kf.setArg(i++, force_.get());
+        kf.setArg(i++, target_of_buf_.get());
+        kf.setArg(i++, target_of_buf_.get());
+    }
     kf.setArg(i++, by_target_.get());
     for (const cl_float4& row : frame) kf.setArg(i++, row);
     kf.setArg(i++, float(double(step) * dt));
     kf.setArg(i++, cl_uint(step));
     kf.setArg(i++, force_.get());
-    noise_->set_args(kf, i);
-    launch(swarm.context(), kf, n);
+    i = noise_->set_args(kf, i);
+    if (width_ > 1) {  // the wide kernel's repulsion reads the positions as x, y, z blocks
+        soa_.reserve(swarm.context(), 3 * (size_t(n) + width_), "force model positions by axis");
+        set_args(soa_k_, swarm.positions().get(), cl_uint(n), soa_.get());
+        launch(swarm.context(), soa_k_, n);
+        kf.setArg(i++, soa_.get());
+    }
+    launch(swarm.context(), kf, (n + width_ - 1) / width_);
 }
 
 std::vector<cl_float4> ForceModel::sample_mesh_obstacles(Swarm& swarm, const std::vector<float>& xyz) {

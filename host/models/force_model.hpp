@@ -147,17 +147,26 @@ private:
     std::unique_ptr<NoiseField> noise_;
     std::optional<MinDistance> mde_;
     std::optional<BSplinePath> path_;
-    cl::Kernel force_k_, integrate_k_, project_k_, scatter_k_;
+    cl::Kernel force_k_, integrate_k_, project_k_, scatter_k_, soa_k_;
+    uint32_t width_ = 1;  // agents per work-item of force_k_
     uint32_t prepared_n_ = 0;
     std::vector<ShapeTargets> targets_;  // per keyframe
     std::vector<bool> same_topology_;    // keyframe k corresponds sample by sample to k-1
     int active_ = -1;
     std::vector<uint32_t> target_of_;
-    DeviceBuffer<cl_float4> force_, target_buf_, prims_, by_target_;
-    DeviceBuffer<cl_uint> target_of_buf_, nbr_start_buf_, nbr_index_buf_;
+    DeviceBuffer<cl_float4> force_, prims_, by_target_;
+    DeviceBuffer<cl_uint> target_of_buf_;
+    // Per keyframe, uploaded once by prepare(): switching keyframes (every few
+    // steps in an animation) binds other buffers instead of uploading, which
+    // would wait for the queue.
+    struct KeyframeBuffers {
+        DeviceBuffer<cl_float4> targets;
+        DeviceBuffer<cl_uint> nbr_start, nbr_index;
+    };
+    std::vector<KeyframeBuffers> kf_buf_;
     uint32_t nprims_ = 0;
     Grid3 mesh_grid_{{0, 0, 0}, 1.0, {0, 0, 0}};  // no mesh obstacles: dims 0
-    DeviceBuffer<cl_float> mesh_phi_;
+    DeviceBuffer<cl_float> mesh_phi_, soa_;
     MdeCounters counters_;
 };
 
