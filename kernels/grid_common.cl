@@ -99,15 +99,21 @@ __attribute__((always_inline)) inline float grid_slab_distance(float x, float or
     return fmax(0.0f, fmax(lo - x, x - hi) - tol);
 }
 
-__attribute__((always_inline)) inline bool grid_row_x_range(const Grid* g, float4 p, float r, int y, int z, int* x0, int* x1) {
-    const float cell = 1.0f / g->inv_cell;
-    const float ey = grid_slab_distance(p.y, g->origin.y, cell, y, g->dims.y);
-    const float ez = grid_slab_distance(p.z, g->origin.z, cell, z, g->dims.z);
-    const float rr = r * 1.00001f;
-    const float rem = rr * rr - ey * ey - ez * ez;
+// The row's x cells from rem = r'^2 - ey^2 - ez^2 (r' = r * 1.00001, the
+// widened radius): split from grid_row_x_range so a caller walking many rows
+// computes the slab distance of each z (and the cell edge) once.
+__attribute__((always_inline)) inline bool grid_row_x_span(const Grid* g, float4 p, float rem, int* x0, int* x1) {
     if (rem < 0.0f) return false;
     const float rx = sqrt(rem);
     *x0 = grid_axis(p.x - rx, g->origin.x, g->inv_cell, g->dims.x);
     *x1 = grid_axis(p.x + rx, g->origin.x, g->inv_cell, g->dims.x);
     return true;
+}
+
+__attribute__((always_inline)) inline bool grid_row_x_range(const Grid* g, float4 p, float r, int y, int z, int* x0, int* x1) {
+    const float cell = 1.0f / g->inv_cell;
+    const float ey = grid_slab_distance(p.y, g->origin.y, cell, y, g->dims.y);
+    const float ez = grid_slab_distance(p.z, g->origin.z, cell, z, g->dims.z);
+    const float rr = r * 1.00001f;
+    return grid_row_x_span(g, p, rr * rr - ey * ey - ez * ez, x0, x1);
 }

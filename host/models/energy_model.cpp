@@ -105,7 +105,7 @@ EnergyModel::EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr
                                 (taylor_ ? " -DEM_TAYLOR_OA" : "");
     select_ = ctx.kernel("energy_model.cl", "energy_select", defines);
     terms_ = ctx.kernel("energy_model.cl", "energy_select", defines + " -DEM_TERMS");
-    centre_partial_ = ctx.kernel("energy_model.cl", "energy_centre_partial", defines);
+    prepare_ = ctx.kernel("energy_model.cl", "energy_prepare", defines);
     centre_final_ = ctx.kernel("energy_model.cl", "energy_centre_final", defines);
 
     // Velocities (float4, read for the chosen sample), and the planes of
@@ -144,6 +144,12 @@ EnergyModel::EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr
     centre_.fill(ctx, cl_float4{{0, 0, 0, 0}}, 1);
     partial_.allocate(ctx, kCentreChunks, "swarm centre partial sums");
     capacity_ = swarm.config().capacity;
+    // x, y, z planes of the positions, each padded by 16 slots at both ends
+    // (energy_select reads 16-slot windows that may start before slot 0 or
+    // end past the last agent, lanes masked); zeros, never read as positions.
+    pxyz_stride_ = capacity_ + 2 * kLanes;
+    pxyz_.allocate(ctx, 3 * size_t(pxyz_stride_), "position planes");
+    pxyz_.fill(ctx, 0.0f, 3 * size_t(pxyz_stride_));
     vel_out_.allocate(ctx, capacity_, "energy model velocities");
     goal_.allocate(ctx, capacity_, "keypoint goals");
     set_keypoints(config_.keypoints, config_.keypoints_closed);
@@ -185,21 +191,22 @@ void EnergyModel::set_keypoints(std::vector<std::array<float, 3>> keypoints, boo
     reset_goals(capacity_);
 }
 
-void EnergyModel::compute_centre(Swarm& swarm) {
+void EnergyModel::prepare(Swarm& swarm) {
     const uint32_t n = swarm.agent_count();
-    if (config_.has_fixed_centre) {
+    const bool fixed = config_.has_fixed_centre;
+    if (fixed && fixed_centre_n_ != n) {
         // Uploaded again only when the agent count (w) changes: no host wait per step.
-        if (fixed_centre_n_ != n) {
-            const auto& c = config_.fixed_centre;
-            const cl_float4 v{{c[0], c[1], c[2], float(n)}};
-            centre_.upload(ctx_, &v, 1);
-            fixed_centre_n_ = n;
-        }
-        return;
+        const auto& c = config_.fixed_centre;
+        const cl_float4 v{{c[0], c[1], c[2], float(n)}};
+        centre_.upload(ctx_, &v, 1);
+        fixed_centre_n_ = n;
     }
+    // Position planes always; the centre's partial sums unless it is fixed.
     const uint32_t chunk = std::max<uint32_t>(1, (n + kCentreChunks - 1) / kCentreChunks);
-    set_args(centre_partial_, swarm.positions().get(), n, chunk, partial_.get());
-    launch(ctx_, centre_partial_, kCentreChunks);
+    set_args(prepare_, swarm.positions().get(), n, chunk, cl_uint(fixed ? 0 : 1), partial_.get(), pxyz_.get(),
+             cl_uint(pxyz_stride_));
+    launch(ctx_, prepare_, kCentreChunks);
+    if (fixed) return;
     set_args(centre_final_, partial_.get(), kCentreChunks, centre_.get());
     launch(ctx_, centre_final_, 1);
 }
@@ -224,6 +231,8 @@ cl_uint EnergyModel::set_common_args(cl::Kernel& k, Swarm& swarm, uint64_t step)
     k.setArg(i++, kp_.get());
     k.setArg(i++, cl_uint(c.keypoints.size()));
     k.setArg(i++, goal_.get());
+    k.setArg(i++, pxyz_.get());
+    k.setArg(i++, cl_uint(pxyz_stride_));
     i = swarm.grid().set_grid_args(k, i);
     i = noise_->set_args(k, i);
     return i;
@@ -232,7 +241,7 @@ cl_uint EnergyModel::set_common_args(cl::Kernel& k, Swarm& swarm, uint64_t step)
 void EnergyModel::advance(Swarm& swarm, uint64_t step) {
     const uint32_t n = swarm.agent_count();
     swarm.ensure_grid();  // agents in cell order: neighbours via the grid
-    compute_centre(swarm);
+    prepare(swarm);
     cl_uint i = set_common_args(select_, swarm, step);
     select_.setArg(i++, swarm.scratch().get());
     select_.setArg(i++, vel_out_.get());
@@ -244,7 +253,7 @@ void EnergyModel::advance(Swarm& swarm, uint64_t step) {
 EnergyTerms EnergyModel::evaluate(Swarm& swarm, uint64_t step) {
     const uint32_t n = swarm.agent_count();
     swarm.ensure_grid();
-    compute_centre(swarm);
+    prepare(swarm);
     DeviceBuffer<cl_float> terms(ctx_, size_t(std::max(n, 1u)) * max_cand_ * 8, "energy terms");
     DeviceBuffer<cl_uint> chosen(ctx_, std::max(n, 1u), "chosen samples");
     DeviceBuffer<cl_uint> range(ctx_, 2 * size_t(std::max(n, 1u)), "candidate ranges");
