@@ -80,20 +80,6 @@ inline float em_hsum(emv v) {
     return c.x + c.y;
 }
 
-#ifdef EM_TAYLOR_OA
-// One neighbour of AN into the expansion's sums (see energy_select).
-#define EM_TAYLOR_ADD(s0, s1, s3, sxx, syy, szz, sxy, sxz, syz, q, d)                                \
-    {                                                                                                \
-        const float f0 = exp(a_oa * (d) - rho); /* as the 16-wide path */                           \
-        const float3 u = (q) / (d); /* d >= d_att1 > 0 */                                           \
-        const float k2 = f0 * (0.5f * a_oa * a_oa - 0.5f * a_oa / (d));                              \
-        s0 += f0;                                                                                    \
-        s1 += (f0 * a_oa) * u;                                                                       \
-        s3 += f0 * 0.5f * a_oa / (d);                                                                \
-        sxx += k2 * u.x * u.x; syy += k2 * u.y * u.y; szz += k2 * u.z * u.z;                         \
-        sxy += k2 * u.x * u.y; sxz += k2 * u.x * u.z; syz += k2 * u.y * u.z;                         \
-    }
-#endif
 
 // any() by halving ORs (PoCL's any on int16 tests the 16 lanes one by one).
 inline bool em_any(int16 m) {
@@ -220,7 +206,7 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
     uint nrep = 0u, natt = 0u;
     // One neighbour j at distance d (Eq. 4 for RN, Eq. 6 for AN).
 #ifdef EM_TAYLOR_OA
-#define EM_ATTRACT_SCALAR(q, d) EM_TAYLOR_ADD(s0, s1, s3, sxx, syy, szz, sxy, sxz, syz, (q), (d))
+#define EM_ATTRACT_SCALAR(q, d)  // not reached: the windows sum AN (EM_WINDOW_ATTRACT)
 #else
 #define EM_ATTRACT_SCALAR(q, d)                                                                      \
     for (uint k = 0; k < nchunks; ++k) {                                                             \
@@ -259,8 +245,9 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
     const float r_search = fmax(d_rep, d_att2);
     int4 blo, bhi;
     grid_search_box(&grid, p4, r_search, &blo, &bhi);
-    // grid_row_x_range with the slab distance of each z and the cell edge
-    // computed once (the same rem, in the same order, for every row).
+    // The rows of the box trimmed to the ball as grid_row_x_range does (the
+    // same operations, so the same cells), the slab distance of each z and
+    // the cell edge computed once and 8 rows (y) at a time in vector lanes.
     const float cell = 1.0f / grid.inv_cell;
     const float rr = r_search * 1.00001f, rr2 = rr * rr;
     // Windows of 16 slots, filled across rows: lanes [0, k) are slots
@@ -304,13 +291,16 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
         const emv f0 = select((emv)(0.0f), exp(a_oa * d - rho), att);                               \
         const emv inv_d = select((emv)(0.0f), 1.0f / d, att);                                       \
         const emv ux = qx * inv_d, uy = qy * inv_d, uz = qz * inv_d;                                \
+        const emv f0a = f0 * a_oa;                                                                   \
+        const emv h = f0a * inv_d;                                                                   \
         const emv k2 = f0 * (0.5f * a_oa * a_oa - 0.5f * a_oa * inv_d);                             \
-        v0 += f0;                                                                                    \
-        v1x += (f0 * a_oa) * ux; v1y += (f0 * a_oa) * uy; v1z += (f0 * a_oa) * uz;                  \
-        v3 += f0 * 0.5f * a_oa * inv_d;                                                              \
-        vxx += k2 * ux * ux; vyy += k2 * uy * uy; vzz += k2 * uz * uz;                               \
-        vxy += k2 * ux * uy; vxz += k2 * ux * uz; vyz += k2 * uy * uz;                               \
-        vatt -= att;                                                                                 \
+        const emv kx = k2 * ux, ky = k2 * uy, kz = k2 * uz;                                          \
+        v0 += f0;                                                                                   \
+        v1x += f0a * ux; v1y += f0a * uy; v1z += f0a * uz;                                          \
+        v3 += h; /* times 1/2 at the end */                                                         \
+        vxx += kx * ux; vyy += ky * uy; vzz += kz * uz;                                             \
+        vxy += kx * uy; vxz += kx * uz; vyz += ky * uz;                                             \
+        vatt -= att;                                                                                \
         const int16 one_by_one = near;
 #else
 #define EM_WINDOW_ATTRACT const int16 one_by_one = near | att;
@@ -318,30 +308,40 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
     uint pa = 0u, pk = 0u;  // pending: slots [pa, pa + pk), pk < EM_W, of rows already walked
     for (int gz = blo.z; gz <= bhi.z; ++gz) {
         const float ez = grid_slab_distance(p.z, grid.origin.z, cell, gz, grid.dims.z), ez2 = ez * ez;
-        for (int gy = blo.y; gy <= bhi.y; ++gy) {
-            const float ey = grid_slab_distance(p.y, grid.origin.y, cell, gy, grid.dims.y);
-            int x0, x1;
-            if (!grid_row_x_span(&grid, p4, rr2 - ey * ey - ez2, &x0, &x1)) continue;
-            const uint2 rng = grid_row_range(&grid, x0, x1, gy, gz);
-            uint j = rng.x;
-            while (j < rng.y) {
-                uint sa = j, sb = j, k = EM_W, nv = EM_W;
-                if (pk > 0u) {  // the pending slots, then this row's first ones
-                    const uint m = min((uint)EM_W - pk, rng.y - j);
-                    sa = pa;
-                    k = pk;
-                    sb = j - pk;  // may be below 0 by up to 15: the padding
-                    nv = pk + m;
-                    j += m;
-                    pk = 0u;
-                } else if (rng.y - j < (uint)EM_W) {  // the row's tail waits for the next row
-                    pa = j;
-                    pk = rng.y - j;
-                    break;
-                } else {
-                    j += EM_W;
+        for (int gy0 = blo.y; gy0 <= bhi.y; gy0 += 8) {
+            const float8 ey = grid_slab_distance8(p.y, grid.origin.y, cell,
+                                                  (int8)(gy0) + (int8)(0, 1, 2, 3, 4, 5, 6, 7), grid.dims.y);
+            const float8 rem = rr2 - ey * ey - ez2;
+            const float8 rx = sqrt(fmax(rem, 0.0f));
+            float remv[8];
+            int x0v[8], x1v[8];
+            vstore8(rem, 0, remv);
+            vstore8(grid_axis8(p.x - rx, grid.origin.x, grid.inv_cell, grid.dims.x), 0, x0v);
+            vstore8(grid_axis8(p.x + rx, grid.origin.x, grid.inv_cell, grid.dims.x), 0, x1v);
+            const int rows = min(8, bhi.y - gy0 + 1);
+            for (int l = 0; l < rows; ++l) {
+                if (remv[l] < 0.0f) continue;
+                const uint2 rng = grid_row_range(&grid, x0v[l], x1v[l], gy0 + l, gz);
+                uint j = rng.x;
+                while (j < rng.y) {
+                    uint sa = j, sb = j, k = EM_W, nv = EM_W;
+                    if (pk > 0u) {  // the pending slots, then this row's first ones
+                        const uint m = min((uint)EM_W - pk, rng.y - j);
+                        sa = pa;
+                        k = pk;
+                        sb = j - pk;  // may be below 0 by up to 15: the padding
+                        nv = pk + m;
+                        j += m;
+                        pk = 0u;
+                    } else if (rng.y - j < (uint)EM_W) {  // the row's tail waits for the next row
+                        pa = j;
+                        pk = rng.y - j;
+                        break;
+                    } else {
+                        j += EM_W;
+                    }
+                    EM_WINDOW(sa, sb, k, nv)
                 }
-                EM_WINDOW(sa, sb, k, nv)
             }
         }
     }
@@ -349,7 +349,7 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
 #ifdef EM_TAYLOR_OA
     s0 += em_hsum(v0);
     s1 += (float3)(em_hsum(v1x), em_hsum(v1y), em_hsum(v1z));
-    s3 += em_hsum(v3);
+    s3 += 0.5f * em_hsum(v3);
     sxx += em_hsum(vxx); syy += em_hsum(vyy); szz += em_hsum(vzz);
     sxy += em_hsum(vxy); sxz += em_hsum(vxz); syz += em_hsum(vyz);
     {

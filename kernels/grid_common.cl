@@ -99,10 +99,12 @@ __attribute__((always_inline)) inline float grid_slab_distance(float x, float or
     return fmax(0.0f, fmax(lo - x, x - hi) - tol);
 }
 
-// The row's x cells from rem = r'^2 - ey^2 - ez^2 (r' = r * 1.00001, the
-// widened radius): split from grid_row_x_range so a caller walking many rows
-// computes the slab distance of each z (and the cell edge) once.
-__attribute__((always_inline)) inline bool grid_row_x_span(const Grid* g, float4 p, float rem, int* x0, int* x1) {
+__attribute__((always_inline)) inline bool grid_row_x_range(const Grid* g, float4 p, float r, int y, int z, int* x0, int* x1) {
+    const float cell = 1.0f / g->inv_cell;
+    const float ey = grid_slab_distance(p.y, g->origin.y, cell, y, g->dims.y);
+    const float ez = grid_slab_distance(p.z, g->origin.z, cell, z, g->dims.z);
+    const float rr = r * 1.00001f;
+    const float rem = rr * rr - ey * ey - ez * ez;
     if (rem < 0.0f) return false;
     const float rx = sqrt(rem);
     *x0 = grid_axis(p.x - rx, g->origin.x, g->inv_cell, g->dims.x);
@@ -110,10 +112,16 @@ __attribute__((always_inline)) inline bool grid_row_x_span(const Grid* g, float4
     return true;
 }
 
-__attribute__((always_inline)) inline bool grid_row_x_range(const Grid* g, float4 p, float r, int y, int z, int* x0, int* x1) {
-    const float cell = 1.0f / g->inv_cell;
-    const float ey = grid_slab_distance(p.y, g->origin.y, cell, y, g->dims.y);
-    const float ez = grid_slab_distance(p.z, g->origin.z, cell, z, g->dims.z);
-    const float rr = r * 1.00001f;
-    return grid_row_x_span(g, p, rr * rr - ey * ey - ez * ez, x0, x1);
+// grid_axis and grid_slab_distance for 8 cells at once (k: their
+// coordinates along the axis), the same operations lane by lane, so the same
+// results: a caller trims 8 rows of the search box with one vector pass.
+inline int8 grid_axis8(float8 x, float origin, float inv_cell, int n) {
+    return convert_int8(clamp((x - origin) * inv_cell, 0.0f, (float)(n - 1)));
+}
+
+inline float8 grid_slab_distance8(float x, float origin, float cell, int8 k, int n) {
+    const float8 lo = select(origin + convert_float8(k) * cell, (float8)(-INFINITY), k == (int8)(0));
+    const float8 hi = select(origin + convert_float8(k + 1) * cell, (float8)(INFINITY), k == (int8)(n - 1));
+    const float tol = 2e-6f * (fabs(x) + fabs(origin) + cell * (float)n);
+    return fmax((float8)(0.0f), fmax(lo - x, x - hi) - tol);
 }
