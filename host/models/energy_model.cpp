@@ -238,6 +238,18 @@ cl_uint EnergyModel::set_common_args(cl::Kernel& k, Swarm& swarm, uint64_t step)
     return i;
 }
 
+void EnergyModel::launch_per_agent(cl::Kernel& k, uint32_t n) {
+    if (!n) return;
+    // Work-groups of at most 64 agents, about 8 per compute unit: PoCL's
+    // default makes 5 groups of 2000 for 10k agents (one of 2 cores runs 3)
+    // and a single group (one core) up to a few thousand.  energy_select
+    // uses no local memory; the padding work-items return at once.
+    const size_t cu = std::max<uint32_t>(1, ctx_.device().compute_units);
+    const size_t local = std::clamp<size_t>(n / (8 * cu), 1, 64);
+    ctx_.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange((n + local - 1) / local * local),
+                                      cl::NDRange(local));
+}
+
 void EnergyModel::advance(Swarm& swarm, uint64_t step) {
     const uint32_t n = swarm.agent_count();
     swarm.ensure_grid();  // agents in cell order: neighbours via the grid
@@ -245,7 +257,7 @@ void EnergyModel::advance(Swarm& swarm, uint64_t step) {
     cl_uint i = set_common_args(select_, swarm, step);
     select_.setArg(i++, swarm.scratch().get());
     select_.setArg(i++, vel_out_.get());
-    launch(ctx_, select_, n);
+    launch_per_agent(select_, n);
     if (n) ctx_.queue().enqueueCopyBuffer(vel_out_.get(), swarm.velocities().get(), 0, 0, size_t(n) * sizeof(cl_float4));
     swarm.swap_positions_with_scratch();
 }
@@ -262,7 +274,7 @@ EnergyTerms EnergyModel::evaluate(Swarm& swarm, uint64_t step) {
     terms_.setArg(i++, terms.get());
     terms_.setArg(i++, chosen.get());
     terms_.setArg(i++, range.get());
-    launch(ctx_, terms_, n);
+    launch_per_agent(terms_, n);
     EnergyTerms out;
     out.terms.resize(size_t(n) * max_cand_ * 8);
     out.chosen.resize(n);

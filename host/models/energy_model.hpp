@@ -101,6 +101,7 @@ public:
     static void validate(const EnergyModelConfig& config);
 
 private:
+    void launch_per_agent(cl::Kernel& k, uint32_t n);  // energy_select, one work-item per agent
     void prepare(Swarm& swarm);  // position planes and swarm centre, before the step kernel
     cl_uint set_common_args(cl::Kernel& k, Swarm& swarm, uint64_t step);
     void reset_goals(uint32_t capacity);
