@@ -84,20 +84,14 @@ inline float em_hsum(emv v) {
     return c.x + c.y;
 }
 
-#ifdef EM_TAYLOR_OA
-// One neighbour of AN into the expansion's sums (see energy_select).
-#define EM_TAYLOR_ADD(s0, s1, s3, sxx, syy, szz, sxy, sxz, syz, q, d)                                \
-    {                                                                                                \
-        const float f0 = exp(rho * ((d) / d_att1 - 1.0f));                                           \
-        const float3 u = (q) / (d); /* d >= d_att1 > 0 */                                           \
-        const float k2 = f0 * (0.5f * a_oa * a_oa - 0.5f * a_oa / (d));                              \
-        s0 += f0;                                                                                    \
-        s1 += (f0 * a_oa) * u;                                                                       \
-        s3 += f0 * 0.5f * a_oa / (d);                                                                \
-        sxx += k2 * u.x * u.x; syy += k2 * u.y * u.y; szz += k2 * u.z * u.z;                         \
-        sxy += k2 * u.x * u.y; sxz += k2 * u.x * u.z; syz += k2 * u.y * u.z;                         \
-    }
-#endif
+
+// any() by halving ORs (PoCL's any on int16 tests the 16 lanes one by one).
+inline bool em_any(int16 m) {
+    const int8 a = m.lo | m.hi;
+    const int4 b = a.lo | a.hi;
+    const int2 c = b.lo | b.hi;
+    return (c.x | c.y) < 0;
+}
 
 inline emv em_lenv(emv x, emv y, emv z) { return sqrt(x * x + y * y + z * z); }
 
@@ -142,6 +136,9 @@ inline emv em_closestv(float3 r0, float3 vs, emv vx, emv vy, emv vz, float h) {
 //   radii: (d_rep, d_att1, d_att2, rho); extra: (accel_time, danger_horizon, keypoint_reach, keypoints_closed);
 //   stim: 2 float4 per stimulus ((x, y, z, kind), (d_danger, vx, vy, vz)) at t = 0, nstim;
 //   kp: keypoints (float4), nkp, goal (per agent id);
+//   pxyz: the positions as x, y, z planes (slot order after EM_W slots of
+//         padding, pstride floats apart; energy_prepare), so a 16-slot
+//         window is a few vector loads;
 //   grid, noise.
 __kernel void energy_select(__global const float4* pos, __global const float4* vel, __global const uint* ids,
                             uint n, float dt, float t, uint step,
@@ -151,6 +148,7 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
                             __global const float4* centre, float8 w, float8 wd, float4 radii, float4 extra,
                             __global const float4* stim, uint nstim,
                             __global const float4* kp, uint nkp, __global uint* goal,
+                            __global const float* pxyz, uint pstride,
                             GRID_PARAMS, NOISE_PARAMS,
 #ifdef EM_TERMS
                             __global float* terms, __global uint* chosen, __global uint* cand_range
@@ -233,7 +231,7 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
     uint nrep = 0u, natt = 0u;
     // One neighbour j at distance d (Eq. 4 for RN, Eq. 6 for AN).
 #ifdef EM_TAYLOR_OA
-#define EM_ATTRACT_SCALAR(q, d) EM_TAYLOR_ADD(s0, s1, s3, sxx, syy, szz, sxy, sxz, syz, (q), (d))
+#define EM_ATTRACT_SCALAR(q, d)  // not reached: the windows sum AN (EM_WINDOW_ATTRACT)
 #else
 #define EM_ATTRACT_SCALAR(q, d)                                                                      \
     for (uint k = 0; k < nchunks; ++k) {                                                             \
@@ -272,67 +270,111 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
     const float r_search = fmax(d_rep, d_att2);
     int4 blo, bhi;
     grid_search_box(&grid, p4, r_search, &blo, &bhi);
-    for (int gz = blo.z; gz <= bhi.z; ++gz)
-        for (int gy = blo.y; gy <= bhi.y; ++gy) {
-            int x0, x1;
-            if (!grid_row_x_range(&grid, p4, r_search, gy, gz, &x0, &x1)) continue;
-            const uint2 rng = grid_row_range(&grid, x0, x1, gy, gz);
-            uint j = rng.x;
-            // 16 slots at a time; the last window is moved back to end at
-            // rng.y (lanes before j masked), so it never reads past the row
-            // (only earlier slots, which exist).  Windows before slot 16: one by one.
-            while (j < rng.y && rng.y >= (uint)EM_W) {
-                const uint w0 = min(j, rng.y - (uint)EM_W);
-                __global const float* b = (__global const float*)(pos + w0);
-                const float16 a0 = vload16(0, b), a1 = vload16(1, b), a2 = vload16(2, b), a3 = vload16(3, b);
-                const emv px = (emv)(a0.s048c, a1.s048c, a2.s048c, a3.s048c);
-                const emv py = (emv)(a0.s159d, a1.s159d, a2.s159d, a3.s159d);
-                const emv pz = (emv)(a0.s26ae, a1.s26ae, a2.s26ae, a3.s26ae);
-                const int16 slot = (int16)((int)w0) + lane;
-                const int16 valid = slot >= (int16)((int)j) && slot != (int16)((int)i);
-                const emv qx = p.x - px, qy = p.y - py, qz = p.z - pz;
-                const emv d = sqrt(qx * qx + qy * qy + qz * qz);
-                const int16 near = valid && d < d_rep;
-                const int16 att = valid && d >= d_att1 && d <= d_att2 && !(d < d_rep);
+    // The rows of the box trimmed to the ball as grid_row_x_range does (the
+    // same operations, so the same cells), the slab distance of each z and
+    // the cell edge computed once and 8 rows (y) at a time in vector lanes.
+    const float cell = 1.0f / grid.inv_cell;
+    const float rr = r_search * 1.00001f, rr2 = rr * rr;
+    // Windows of 16 slots, filled across rows: lanes [0, k) are slots
+    // sa + lane, lanes [k, nv) slots sb + lane (a row's tail, then the next
+    // row's head), so a row of 20 slots does not cost two whole windows.  The
+    // planes are padded by EM_W slots at both ends, so the loads of a window
+    // stay inside the buffer; lanes past nv and agent i itself are masked.
+    __global const float* const plane_x = pxyz + EM_W;
+    __global const float* const plane_y = plane_x + pstride;
+    __global const float* const plane_z = plane_y + pstride;
+#define EM_WINDOW(SA, SB, K, NV)                                                                     \
+    {                                                                                                \
+        const int16 first = lane < (int16)((int)(K));                                               \
+        const emv px = select(vload16(0, plane_x + (int)(SB)), vload16(0, plane_x + (int)(SA)), first);      \
+        const emv py = select(vload16(0, plane_y + (int)(SB)), vload16(0, plane_y + (int)(SA)), first);      \
+        const emv pz = select(vload16(0, plane_z + (int)(SB)), vload16(0, plane_z + (int)(SA)), first);      \
+        const int16 slot = select((int16)((int)(SB)), (int16)((int)(SA)), first) + lane;            \
+        const int16 valid = lane < (int16)((int)(NV)) && slot != (int16)((int)i);                   \
+        const emv qx = p.x - px, qy = p.y - py, qz = p.z - pz;                                      \
+        const emv d = sqrt(qx * qx + qy * qy + qz * qz);                                            \
+        const int16 near = valid && d < d_rep;                                                      \
+        const int16 att = valid && d >= d_att1 && d <= d_att2 && !(d < d_rep);                      \
+        EM_WINDOW_ATTRACT                                                                            \
+        if (em_any(one_by_one)) {                                                                    \
+            int nl[EM_W], sl[EM_W];                                                                  \
+            vstore16(one_by_one, 0, nl);                                                             \
+            vstore16(slot, 0, sl);                                                                   \
+            for (uint l = 0; l < (uint)EM_W; ++l)                                                    \
+                if (nl[l]) {                                                                         \
+                    const uint jj = (uint)sl[l];                                                     \
+                    const float4 pj = pos[jj];                                                       \
+                    const float dj = sqrt(dist2(p4, pj));                                            \
+                    EM_NEIGHBOR(jj, pj, dj)                                                          \
+                }                                                                                    \
+        }                                                                                            \
+    }
 #ifdef EM_TAYLOR_OA
-                const emv f0 = select((emv)(0.0f), exp(rho * (d / d_att1 - 1.0f)), att);
-                const emv inv_d = select((emv)(0.0f), 1.0f / d, att);
-                const emv ux = qx * inv_d, uy = qy * inv_d, uz = qz * inv_d;
-                const emv k2 = f0 * (0.5f * a_oa * a_oa - 0.5f * a_oa * inv_d);
-                v0 += f0;
-                v1x += (f0 * a_oa) * ux; v1y += (f0 * a_oa) * uy; v1z += (f0 * a_oa) * uz;
-                v3 += f0 * 0.5f * a_oa * inv_d;
-                vxx += k2 * ux * ux; vyy += k2 * uy * uy; vzz += k2 * uz * uz;
-                vxy += k2 * ux * uy; vxz += k2 * ux * uz; vyz += k2 * uy * uz;
-                vatt -= att;
-                const int16 one_by_one = near;  // RN: the candidates' sums need each neighbour
+    // exp(rho (d / d_att1 - 1)) as exp(a d - rho): no division.  RN
+    // neighbours one by one: the candidates' sums need each of them.
+#define EM_WINDOW_ATTRACT                                                                            \
+        const emv f0 = select((emv)(0.0f), exp(a_oa * d - rho), att);                               \
+        const emv inv_d = select((emv)(0.0f), 1.0f / d, att);                                       \
+        const emv ux = qx * inv_d, uy = qy * inv_d, uz = qz * inv_d;                                \
+        const emv f0a = f0 * a_oa;                                                                   \
+        const emv h = f0a * inv_d;                                                                   \
+        const emv k2 = f0 * (0.5f * a_oa * a_oa - 0.5f * a_oa * inv_d);                             \
+        const emv kx = k2 * ux, ky = k2 * uy, kz = k2 * uz;                                          \
+        v0 += f0;                                                                                   \
+        v1x += f0a * ux; v1y += f0a * uy; v1z += f0a * uz;                                          \
+        v3 += h; /* times 1/2 at the end */                                                         \
+        vxx += kx * ux; vyy += ky * uy; vzz += kz * uz;                                             \
+        vxy += kx * uy; vxz += kx * uz; vyz += ky * uz;                                             \
+        vatt -= att;                                                                                \
+        const int16 one_by_one = near;
 #else
-                const int16 one_by_one = near | att;
+#define EM_WINDOW_ATTRACT const int16 one_by_one = near | att;
 #endif
-                if (any(one_by_one)) {
-                    int nl[EM_W];
-                    vstore16(one_by_one, 0, nl);
-                    for (uint l = 0; l < (uint)EM_W; ++l)
-                        if (nl[l]) {
-                            const uint jj = w0 + l;
-                            const float4 pj = pos[jj];
-                            const float dj = sqrt(dist2(p4, pj));
-                            EM_NEIGHBOR(jj, pj, dj)
-                        }
+    uint pa = 0u, pk = 0u;  // pending: slots [pa, pa + pk), pk < EM_W, of rows already walked
+    for (int gz = blo.z; gz <= bhi.z; ++gz) {
+        const float ez = grid_slab_distance(p.z, grid.origin.z, cell, gz, grid.dims.z), ez2 = ez * ez;
+        for (int gy0 = blo.y; gy0 <= bhi.y; gy0 += 8) {
+            const float8 ey = grid_slab_distance8(p.y, grid.origin.y, cell,
+                                                  (int8)(gy0) + (int8)(0, 1, 2, 3, 4, 5, 6, 7), grid.dims.y);
+            const float8 rem = rr2 - ey * ey - ez2;
+            const float8 rx = sqrt(fmax(rem, 0.0f));
+            float remv[8];
+            int x0v[8], x1v[8];
+            vstore8(rem, 0, remv);
+            vstore8(grid_axis8(p.x - rx, grid.origin.x, grid.inv_cell, grid.dims.x), 0, x0v);
+            vstore8(grid_axis8(p.x + rx, grid.origin.x, grid.inv_cell, grid.dims.x), 0, x1v);
+            const int rows = min(8, bhi.y - gy0 + 1);
+            for (int l = 0; l < rows; ++l) {
+                if (remv[l] < 0.0f) continue;
+                const uint2 rng = grid_row_range(&grid, x0v[l], x1v[l], gy0 + l, gz);
+                uint j = rng.x;
+                while (j < rng.y) {
+                    uint sa = j, sb = j, k = EM_W, nv = EM_W;
+                    if (pk > 0u) {  // the pending slots, then this row's first ones
+                        const uint m = min((uint)EM_W - pk, rng.y - j);
+                        sa = pa;
+                        k = pk;
+                        sb = j - pk;  // may be below 0 by up to 15: the padding
+                        nv = pk + m;
+                        j += m;
+                        pk = 0u;
+                    } else if (rng.y - j < (uint)EM_W) {  // the row's tail waits for the next row
+                        pa = j;
+                        pk = rng.y - j;
+                        break;
+                    } else {
+                        j += EM_W;
+                    }
+                    EM_WINDOW(sa, sb, k, nv)
                 }
-                j = w0 + (uint)EM_W;
-            }
-            for (; j < rng.y; ++j) {
-                if (j == i) continue;
-                const float4 pj = pos[j];
-                const float d = sqrt(dist2(p4, pj));
-                EM_NEIGHBOR(j, pj, d)
             }
         }
+    }
+    if (pk > 0u) EM_WINDOW(pa, pa, pk, pk)
 #ifdef EM_TAYLOR_OA
     s0 += em_hsum(v0);
     s1 += (float3)(em_hsum(v1x), em_hsum(v1y), em_hsum(v1z));
-    s3 += em_hsum(v3);
+    s3 += 0.5f * em_hsum(v3);
     sxx += em_hsum(vxx); syy += em_hsum(vyy); szz += em_hsum(vzz);
     sxy += em_hsum(vxy); sxz += em_hsum(vxz); syz += em_hsum(vyz);
     {
@@ -342,14 +384,21 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
     }
 #endif
 
-    float best = INFINITY, best_viol = INFINITY;
-    uint best_c = 0u;
+    // Argmin per lane over the chunks (strict <: a lane keeps its first
+    // minimum), then over the lanes with ties to the lower index: the first
+    // candidate holding the minimum, as a scan in index order would pick.
+    // The key is (keep-out violation, energy): least violation first.
+    emv best_v = (emv)(INFINITY), best_viol = (emv)(INFINITY);
+    int16 best_k = (int16)(0);
+    // Terms whose weight is 0 are 0 (w * a finite exp): not evaluated.
+    const float inv_dt = 1.0f / dt;
+    const float inv_nrep = nrep ? 1.0f / (float)nrep : 0.0f, inv_natt = natt ? 1.0f / (float)natt : 0.0f;
     for (uint k = 0; k < nchunks; ++k) {
         const uint c = c0 + k * EM_W;
         const emv vx = EM_LOAD(EM_P_VX, c), vy = EM_LOAD(EM_P_VY, c), vz = EM_LOAD(EM_P_VZ, c);
         const emv hx = EM_LOAD(EM_P_VHX, c), hy = EM_LOAD(EM_P_VHY, c), hz = EM_LOAD(EM_P_VHZ, c);
         emv e[EM_TERM_COUNT];
-        e[W_REP] = nrep ? wt.s0 * (rep[k] / (float)nrep) : (emv)(0.0f);             // Eq. 4
+        e[W_REP] = nrep ? wt.s0 * (rep[k] * inv_nrep) : (emv)(0.0f);                // Eq. 4
 #ifdef EM_TAYLOR_OA
         const emv mx = vx * dt, my = vy * dt, mz = vz * dt;  // the candidates' displacements
         const emv oa_c = s0 + (s1.x * mx + s1.y * my + s1.z * mz) + s3 * (mx * mx + my * my + mz * mz) +
@@ -358,32 +407,38 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
 #else
         const emv oa_c = oa[k];
 #endif
-        e[W_OA] = natt ? wt.s1 * (oa_c / (float)natt) : (emv)(0.0f);                // Eq. 6
-        e[W_COS] = wt.s2 * exp(rho * em_dirv(hx, hy, hz, centre_hat));             // Eq. 7
-        e[W_DIR] = wt.s3 * exp(rho * em_dirv(hx, hy, hz, vt_hat));                 // Eq. 9
+        e[W_OA] = natt ? wt.s1 * (oa_c * inv_natt) : (emv)(0.0f);                   // Eq. 6
+        e[W_COS] = wt.s2 != 0.0f ? wt.s2 * exp(rho * em_dirv(hx, hy, hz, centre_hat)) : (emv)(0.0f);  // Eq. 7
+        e[W_DIR] = wt.s3 != 0.0f ? wt.s3 * exp(rho * em_dirv(hx, hy, hz, vt_hat)) : (emv)(0.0f);      // Eq. 9
         // Eq. 10 with a' = (v - v_t) / dt in m/s^2 like the dataset's a; the
         // magnitude difference is taken per data frame (times accel_time =
         // the data's frame time), the scale of the paper's a' = v - v_t.
-        const emv ax = (vx - vt.x) / dt, ay = (vy - vt.y) / dt, az = (vz - vt.z) / dt;
-        const emv alen = em_lenv(ax, ay, az);
-        const emv ainv = select((emv)(0.0f), 1.0f / alen, alen > 0.0f);  // em_unit: 0 for a zero vector
-        const emv da = em_lenv(ax * ainv - EM_LOAD(EM_P_AHX, c), ay * ainv - EM_LOAD(EM_P_AHY, c),
-                               az * ainv - EM_LOAD(EM_P_AHZ, c));
-        e[W_ACC] = wt.s4 * (exp(rho * da) + accel_time * fabs(alen - EM_LOAD(EM_P_AL, c)));
+        if (wt.s4 != 0.0f) {
+            const emv ax = (vx - vt.x) * inv_dt, ay = (vy - vt.y) * inv_dt, az = (vz - vt.z) * inv_dt;
+            const emv alen = em_lenv(ax, ay, az);
+            const emv ainv = select((emv)(0.0f), 1.0f / alen, alen > 0.0f);  // em_unit: 0 for a zero vector
+            const emv da = em_lenv(ax * ainv - EM_LOAD(EM_P_AHX, c), ay * ainv - EM_LOAD(EM_P_AHY, c),
+                                   az * ainv - EM_LOAD(EM_P_AHZ, c));
+            e[W_ACC] = wt.s4 * (exp(rho * da) + accel_time * fabs(alen - EM_LOAD(EM_P_AL, c)));
+        } else {
+            e[W_ACC] = (emv)(0.0f);
+        }
         // Eq. 11-12, summed over the stimuli.  A startling stimulus: Psi
         // from the closest approach within the horizon, for an agent it
         // startles (in reach within the horizon at its current velocity).
         // Keep-out (EM_KEEP_OUT, ours): `viol`, how far the candidate would
-        // enter d_danger (0: not at all), is compared before the energy.
+        // enter d_danger (0: not at all), is compared before the energy,
+        // whatever w_env.
+        const bool env_on = wt.s5 != 0.0f;
         emv env = (emv)(0.0f), viol = (emv)(0.0f);
-        for (uint s = 0; s < nstim; ++s) {
+        for (uint s = 0; s < (env_on || EM_KEEP_OUT ? nstim : 0u); ++s) {
             const float4 sp = em_stimulus(stim, s, t);
             if (sp.w == STIM_ATTRACT) {
-                env += exp(rho * em_dirv(hx, hy, hz, em_unit(sp.xyz - p)));
+                if (env_on) env += exp(rho * em_dirv(hx, hy, hz, em_unit(sp.xyz - p)));
             } else {
                 const float dd = stim[2 * s + 1].x;
                 const float3 r0 = p - sp.xyz, vs = stim[2 * s + 1].yzw;
-                const bool startled = em_closest(r0, vt - vs, h) < dd;
+                const bool startled = env_on && em_closest(r0, vt - vs, h) < dd;
                 if (startled || EM_KEEP_OUT) {
                     const emv dmin = em_closestv(r0, vs, vx, vy, vz, h);
                     if (startled) env += exp(rho * (1.0f - dmin / dd));
@@ -392,15 +447,18 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
             }
         }
         e[W_ENV] = wt.s5 * env;
-        e[W_N] = wt.s6 * exp(rho * em_dirv(hx, hy, hz, noise_hat));                // Eq. 13
-        e[W_USER] = wt.s7 * exp(rho * em_dirv(hx, hy, hz, cd_hat));                // Eq. 14
+        e[W_N] = wt.s6 != 0.0f ? wt.s6 * exp(rho * em_dirv(hx, hy, hz, noise_hat)) : (emv)(0.0f);     // Eq. 13
+        e[W_USER] = wt.s7 != 0.0f ? wt.s7 * exp(rho * em_dirv(hx, hy, hz, cd_hat)) : (emv)(0.0f);    // Eq. 14
         emv total = (emv)(0.0f);
         for (int q = 0; q < EM_TERM_COUNT; ++q) total += e[q];
-        float lanes[EM_W], vlanes[EM_W];
-        vstore16(total, 0, lanes);
-        vstore16(fmax(viol, 0.0f), 0, vlanes);
-        const uint nl = min((uint)EM_W, nc - k * EM_W);
+        viol = fmax(viol, 0.0f);
+        const int16 in_range = (int16)((int)(k * EM_W)) + lane < (int16)((int)nc);
+        const int16 lower = in_range && (viol < best_viol || (viol == best_viol && total < best_v));
+        best_viol = select(best_viol, viol, lower);
+        best_v = select(best_v, total, lower);
+        best_k = select(best_k, (int16)((int)k), lower);
 #ifdef EM_TERMS
+        const uint nl = min((uint)EM_W, nc - k * EM_W);
         for (int q = 0; q < EM_TERM_COUNT; ++q) {
             float tl[EM_W];
             vstore16(e[q], 0, tl);
@@ -408,14 +466,24 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
                 terms[((size_t)id * EM_MAX_CAND + k * EM_W + l) * EM_TERM_COUNT + q] = tl[l];
         }
 #endif
-        // Least keep-out violation first, then least energy; strict, in
-        // index order: ties keep the lowest sample index.
-        for (uint l = 0; l < nl; ++l)
-            if (vlanes[l] < best_viol || (vlanes[l] == best_viol && lanes[l] < best)) {
-                best_viol = vlanes[l];
-                best = lanes[l];
-                best_c = k * EM_W + l;
+    }
+    uint best_c = 0u;
+    {
+        float bv[EM_W], bviol[EM_W];
+        int bk[EM_W];
+        vstore16(best_v, 0, bv);
+        vstore16(best_viol, 0, bviol);
+        vstore16(best_k, 0, bk);
+        float best = INFINITY, least_viol = INFINITY;
+        for (uint l = 0; l < (uint)EM_W; ++l) {
+            const uint cl = (uint)bk[l] * EM_W + l;
+            if (bviol[l] < least_viol ||
+                (bviol[l] == least_viol && (bv[l] < best || (bv[l] == best && best < INFINITY && cl < best_c)))) {
+                least_viol = bviol[l];
+                best = bv[l];
+                best_c = cl;
             }
+        }
     }
 #ifdef EM_TERMS
     chosen[id] = c0 + best_c;
@@ -446,15 +514,25 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
 #endif
 }
 
-// Swarm centre (Eq. 7) without float atomics: chunk c sums slots
+// Before energy_select, once per step: the positions as x, y, z planes (the
+// float4 -> planes transpose of a 16-slot window compiled to ~60 shuffles
+// and scalar loads per window), and with `sum` the partial sums of the swarm
+// centre (Eq. 7) without float atomics: chunk c sums slots
 // [c * chunk, (c + 1) * chunk) in order, then one work-item sums the chunks
 // in order.  Same state, same sum, on every run.
-__kernel void energy_centre_partial(__global const float4* pos, uint n, uint chunk, __global float4* partial) {
+__kernel void energy_prepare(__global const float4* pos, uint n, uint chunk, uint sum, __global float4* partial,
+                             __global float* pxyz, uint pstride) {
     const uint c = get_global_id(0);
     const uint b = c * chunk, e = min(n, b + chunk);
     float4 s = (float4)(0.0f);
-    for (uint k = b; k < e; ++k) s += (float4)(pos[k].xyz, 1.0f);
-    partial[c] = s;
+    for (uint k = b; k < e; ++k) {
+        const float4 p = pos[k];
+        pxyz[EM_W + k] = p.x;  // after EM_W slots of padding (energy_select's windows)
+        pxyz[pstride + EM_W + k] = p.y;
+        pxyz[2u * (size_t)pstride + EM_W + k] = p.z;
+        s += (float4)(p.xyz, 1.0f);
+    }
+    if (sum) partial[c] = s;
 }
 
 __kernel void energy_centre_final(__global const float4* partial, uint chunks, __global float4* centre) {

@@ -111,3 +111,17 @@ __attribute__((always_inline)) inline bool grid_row_x_range(const Grid* g, float
     *x1 = grid_axis(p.x + rx, g->origin.x, g->inv_cell, g->dims.x);
     return true;
 }
+
+// grid_axis and grid_slab_distance for 8 cells at once (k: their
+// coordinates along the axis), the same operations lane by lane, so the same
+// results: a caller trims 8 rows of the search box with one vector pass.
+inline int8 grid_axis8(float8 x, float origin, float inv_cell, int n) {
+    return convert_int8(clamp((x - origin) * inv_cell, 0.0f, (float)(n - 1)));
+}
+
+inline float8 grid_slab_distance8(float x, float origin, float cell, int8 k, int n) {
+    const float8 lo = select(origin + convert_float8(k) * cell, (float8)(-INFINITY), k == (int8)(0));
+    const float8 hi = select(origin + convert_float8(k + 1) * cell, (float8)(INFINITY), k == (int8)(n - 1));
+    const float tol = 2e-6f * (fabs(x) + fabs(origin) + cell * (float)n);
+    return fmax((float8)(0.0f), fmax(lo - x, x - hi) - tol);
+}

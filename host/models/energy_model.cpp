@@ -106,7 +106,7 @@ EnergyModel::EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr
                                 (config_.keep_out ? "1" : "0");
     select_ = ctx.kernel("energy_model.cl", "energy_select", defines);
     terms_ = ctx.kernel("energy_model.cl", "energy_select", defines + " -DEM_TERMS");
-    centre_partial_ = ctx.kernel("energy_model.cl", "energy_centre_partial", defines);
+    prepare_ = ctx.kernel("energy_model.cl", "energy_prepare", defines);
     centre_final_ = ctx.kernel("energy_model.cl", "energy_centre_final", defines);
 
     // Velocities (float4, read for the chosen sample), and the planes of
@@ -145,6 +145,12 @@ EnergyModel::EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr
     centre_.fill(ctx, cl_float4{{0, 0, 0, 0}}, 1);
     partial_.allocate(ctx, kCentreChunks, "swarm centre partial sums");
     capacity_ = swarm.config().capacity;
+    // x, y, z planes of the positions, each padded by 16 slots at both ends
+    // (energy_select reads 16-slot windows that may start before slot 0 or
+    // end past the last agent, lanes masked); zeros, never read as positions.
+    pxyz_stride_ = capacity_ + 2 * kLanes;
+    pxyz_.allocate(ctx, 3 * size_t(pxyz_stride_), "position planes");
+    pxyz_.fill(ctx, 0.0f, 3 * size_t(pxyz_stride_));
     vel_out_.allocate(ctx, capacity_, "energy model velocities");
     goal_.allocate(ctx, capacity_, "keypoint goals");
     set_keypoints(config_.keypoints, config_.keypoints_closed);
@@ -186,21 +192,22 @@ void EnergyModel::set_keypoints(std::vector<std::array<float, 3>> keypoints, boo
     reset_goals(capacity_);
 }
 
-void EnergyModel::compute_centre(Swarm& swarm) {
+void EnergyModel::prepare(Swarm& swarm) {
     const uint32_t n = swarm.agent_count();
-    if (config_.has_fixed_centre) {
+    const bool fixed = config_.has_fixed_centre;
+    if (fixed && fixed_centre_n_ != n) {
         // Uploaded again only when the agent count (w) changes: no host wait per step.
-        if (fixed_centre_n_ != n) {
-            const auto& c = config_.fixed_centre;
-            const cl_float4 v{{c[0], c[1], c[2], float(n)}};
-            centre_.upload(ctx_, &v, 1);
-            fixed_centre_n_ = n;
-        }
-        return;
+        const auto& c = config_.fixed_centre;
+        const cl_float4 v{{c[0], c[1], c[2], float(n)}};
+        centre_.upload(ctx_, &v, 1);
+        fixed_centre_n_ = n;
     }
+    // Position planes always; the centre's partial sums unless it is fixed.
     const uint32_t chunk = std::max<uint32_t>(1, (n + kCentreChunks - 1) / kCentreChunks);
-    set_args(centre_partial_, swarm.positions().get(), n, chunk, partial_.get());
-    launch(ctx_, centre_partial_, kCentreChunks);
+    set_args(prepare_, swarm.positions().get(), n, chunk, cl_uint(fixed ? 0 : 1), partial_.get(), pxyz_.get(),
+             cl_uint(pxyz_stride_));
+    launch(ctx_, prepare_, kCentreChunks);
+    if (fixed) return;
     set_args(centre_final_, partial_.get(), kCentreChunks, centre_.get());
     launch(ctx_, centre_final_, 1);
 }
@@ -225,19 +232,37 @@ cl_uint EnergyModel::set_common_args(cl::Kernel& k, Swarm& swarm, uint64_t step)
     k.setArg(i++, kp_.get());
     k.setArg(i++, cl_uint(c.keypoints.size()));
     k.setArg(i++, goal_.get());
+    k.setArg(i++, pxyz_.get());
+    k.setArg(i++, cl_uint(pxyz_stride_));
     i = swarm.grid().set_grid_args(k, i);
     i = noise_->set_args(k, i);
     return i;
 }
 
+void EnergyModel::launch_per_agent(cl::Kernel& k, uint32_t n) {
+    if (!n) return;
+    if (!(ctx_.device().type & CL_DEVICE_TYPE_CPU)) {
+        launch(ctx_, k, n);  // GPUs: the driver's choice (warps, occupancy)
+        return;
+    }
+    // CPU devices: work-groups of at most 64 agents, about 8 per compute
+    // unit.  PoCL's default makes 5 groups of 2000 for 10k agents (one of 2
+    // cores runs 3) and a single group (one core) up to a few thousand.
+    // energy_select uses no local memory; the padding work-items return at once.
+    const size_t cu = std::max<uint32_t>(1, ctx_.device().compute_units);
+    const size_t local = std::clamp<size_t>(n / (8 * cu), 1, 64);
+    ctx_.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange((n + local - 1) / local * local),
+                                      cl::NDRange(local));
+}
+
 void EnergyModel::advance(Swarm& swarm, uint64_t step) {
     const uint32_t n = swarm.agent_count();
     swarm.ensure_grid();  // agents in cell order: neighbours via the grid
-    compute_centre(swarm);
+    prepare(swarm);
     cl_uint i = set_common_args(select_, swarm, step);
     select_.setArg(i++, swarm.scratch().get());
     select_.setArg(i++, vel_out_.get());
-    launch(ctx_, select_, n);
+    launch_per_agent(select_, n);
     if (n) ctx_.queue().enqueueCopyBuffer(vel_out_.get(), swarm.velocities().get(), 0, 0, size_t(n) * sizeof(cl_float4));
     swarm.swap_positions_with_scratch();
 }
@@ -245,7 +270,7 @@ void EnergyModel::advance(Swarm& swarm, uint64_t step) {
 EnergyTerms EnergyModel::evaluate(Swarm& swarm, uint64_t step) {
     const uint32_t n = swarm.agent_count();
     swarm.ensure_grid();
-    compute_centre(swarm);
+    prepare(swarm);
     DeviceBuffer<cl_float> terms(ctx_, size_t(std::max(n, 1u)) * max_cand_ * 8, "energy terms");
     DeviceBuffer<cl_uint> chosen(ctx_, std::max(n, 1u), "chosen samples");
     DeviceBuffer<cl_uint> range(ctx_, 2 * size_t(std::max(n, 1u)), "candidate ranges");
@@ -254,7 +279,7 @@ EnergyTerms EnergyModel::evaluate(Swarm& swarm, uint64_t step) {
     terms_.setArg(i++, terms.get());
     terms_.setArg(i++, chosen.get());
     terms_.setArg(i++, range.get());
-    launch(ctx_, terms_, n);
+    launch_per_agent(terms_, n);
     EnergyTerms out;
     out.terms.resize(size_t(n) * max_cand_ * 8);
     out.chosen.resize(n);

@@ -105,7 +105,8 @@ public:
     static void validate(const EnergyModelConfig& config);
 
 private:
-    void compute_centre(Swarm& swarm);
+    void launch_per_agent(cl::Kernel& k, uint32_t n);  // energy_select, one work-item per agent
+    void prepare(Swarm& swarm);  // position planes and swarm centre, before the step kernel
     cl_uint set_common_args(cl::Kernel& k, Swarm& swarm, uint64_t step);
     void reset_goals(uint32_t capacity);
 
@@ -119,11 +120,11 @@ private:
     DeviceBuffer<cl_float> ds_;
     float accel_time_ = 0.01f;
     bool taylor_ = false;
-    cl::Kernel select_, terms_, centre_partial_, centre_final_;
+    cl::Kernel select_, terms_, prepare_, centre_final_;
     DeviceBuffer<cl_float4> dv_, centre_, partial_, stim_, kp_, vel_out_;
     DeviceBuffer<cl_uint> group_start_, goal_;
-    DeviceBuffer<cl_float> group_min_speed_;
-    uint32_t capacity_ = 0;
+    DeviceBuffer<cl_float> group_min_speed_, pxyz_;
+    uint32_t capacity_ = 0, pxyz_stride_ = 0;
 };
 
 }  // namespace swarmcl
