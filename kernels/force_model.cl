@@ -117,14 +117,15 @@ SWCL_INLINE float4 fm_shape_force(__global const uint* nbr_start, __global const
 // Target data are by target index; target_of maps agent ids to target
 // indices; by_target holds each target's insect position this step
 // (force_model_scatter).
-__kernel void force_model_force(__global const float4* pos, __global const float4* vel,
-                                __global const uint* ids, uint n, GRID_PARAMS, float4 zones, float4 weights,
-                                float4 blend, uint terms, uint sample_cap, ulong seed, uint has_targets,
-                                __global const uint* target_of,
-                                __global const float4* targets, __global const uint* nbr_start,
-                                __global const uint* nbr_index, __global const float4* by_target,
-                                float4 frame_x, float4 frame_y, float4 frame_z, float t, uint step,
-                                __global float4* force, NOISE_PARAMS) {
+// The arguments of both force kernels (the wide one adds the x/y/z planes).
+#define FM_FORCE_PARAMS                                                                                 \
+    __global const float4 *pos, __global const float4 *vel, __global const uint *ids, uint n, GRID_PARAMS, \
+        float4 zones, float4 weights, float4 blend, uint terms, uint sample_cap, ulong seed, uint has_targets, \
+        __global const uint *target_of, __global const float4 *targets, __global const uint *nbr_start,    \
+        __global const uint *nbr_index, __global const float4 *by_target, float4 frame_x, float4 frame_y,  \
+        float4 frame_z, float t, uint step, __global float4 *force, NOISE_PARAMS
+
+__kernel void force_model_force(FM_FORCE_PARAMS) {
     const uint i = get_global_id(0);
     if (i >= n) return;
     const float4 p = (float4)(pos[i].xyz, 0.0f);
@@ -365,14 +366,7 @@ __kernel void force_model_soa(__global const float4* pos, uint n, __global float
 // (w / count) * sum added to acc in the lanes whose count is not 0.
 #define FM_ADD_MEAN_W(acc, w, cnt, sum) acc = select(acc, acc + ((w) / swcl_cvt_fw(cnt)) * (sum), (cnt) != 0u)
 
-__kernel void force_model_force_w(__global const float4* pos, __global const float4* vel,
-                                  __global const uint* ids, uint n, GRID_PARAMS, float4 zones, float4 weights,
-                                  float4 blend, uint terms, uint sample_cap, ulong seed, uint has_targets,
-                                  __global const uint* target_of,
-                                  __global const float4* targets, __global const uint* nbr_start,
-                                  __global const uint* nbr_index, __global const float4* by_target,
-                                  float4 frame_x, float4 frame_y, float4 frame_z, float t, uint step,
-                                  __global float4* force, NOISE_PARAMS, __global const float* soa) {
+__kernel void force_model_force_w(FM_FORCE_PARAMS, __global const float* soa) {
     const uint base = get_global_id(0) * SWCL_W;
     if (base >= n) return;
     __global const float* pf = (__global const float*)pos;
