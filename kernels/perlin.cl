@@ -101,6 +101,30 @@ SWCL_INLINE int swcl_perm2_at(int i) { return swcl_perm2[i & 255]; }
 #define SWCL_LO(p) ((p) & 255)
 #define SWCL_HI(p) ((p) >> 8)
 
+/* The corner hashes of lattice cell (X, Y, Z) from pair lookups (type T,
+ * lookup PAIR: scalar or lanes): the pairs hAA, hBA, hAB, hBB hold
+ * perm[perm[perm[X + cx] + Y + cy] + Z + cz] for cz = 0 (LO) and 1 (HI). */
+#define SWCL_HASH3_PAIRS(T, PAIR)                                                   \
+    const T pX = PAIR(X);                                                           \
+    const T A = SWCL_LO(pX) + Y, B = SWCL_HI(pX) + Y;                               \
+    const T pA = PAIR(A), pB = PAIR(B);                                             \
+    const T AA = SWCL_LO(pA) + Z, AB = SWCL_HI(pA) + Z;                             \
+    const T BA = SWCL_LO(pB) + Z, BB = SWCL_HI(pB) + Z;                             \
+    const T hAA = PAIR(AA), hBA = PAIR(BA), hAB = PAIR(AB), hBB = PAIR(BB);
+/* 4D: Zij = perm[perm[X + cx] + Y + cy] + Z (i = cx, j = cy); the pair Zij_cz
+ * at perm[Zij + cz] + W holds the corner hashes for cw = 0 (LO) and 1 (HI). */
+#define SWCL_HASH4_PAIRS(T, PAIR)                                                   \
+    const T pX = PAIR(X);                                                           \
+    const T P0 = SWCL_LO(pX) + Y, P1 = SWCL_HI(pX) + Y;                             \
+    const T p0 = PAIR(P0), p1 = PAIR(P1);                                           \
+    const T Z00 = SWCL_LO(p0) + Z, Z10 = SWCL_LO(p1) + Z;                           \
+    const T Z01 = SWCL_HI(p0) + Z, Z11 = SWCL_HI(p1) + Z;                           \
+    const T q00 = PAIR(Z00), q10 = PAIR(Z10), q01 = PAIR(Z01), q11 = PAIR(Z11);     \
+    const T Z00_0 = PAIR(SWCL_LO(q00) + W), Z00_1 = PAIR(SWCL_HI(q00) + W);         \
+    const T Z10_0 = PAIR(SWCL_LO(q10) + W), Z10_1 = PAIR(SWCL_HI(q10) + W);         \
+    const T Z01_0 = PAIR(SWCL_LO(q01) + W), Z01_1 = PAIR(SWCL_HI(q01) + W);         \
+    const T Z11_0 = PAIR(SWCL_LO(q11) + W), Z11_1 = PAIR(SWCL_HI(q11) + W);
+
 SWCL_INLINE int swcl_hash3(int X, int Y, int Z)
 {
     return swcl_perm_at(swcl_perm_at(swcl_perm_at(X) + Y) + Z);
@@ -173,12 +197,7 @@ SWCL_INLINE void swcl_perlin3_s(float px, float py, float pz, int ox, int oy, in
     const float u = swcl_fade(x), v = swcl_fade(y), w = swcl_fade(z);
     const float du = swcl_dfade(x), dv = swcl_dfade(y), dw = swcl_dfade(z);
     const float x1 = x - 1.0f, y1 = y - 1.0f, z1 = z - 1.0f;
-    const int pX = swcl_perm2_at(X);
-    const int A = SWCL_LO(pX) + Y, B = SWCL_HI(pX) + Y;
-    const int pA = swcl_perm2_at(A), pB = swcl_perm2_at(B);
-    const int AA = SWCL_LO(pA) + Z, AB = SWCL_HI(pA) + Z;
-    const int BA = SWCL_LO(pB) + Z, BB = SWCL_HI(pB) + Z;
-    const int hAA = swcl_perm2_at(AA), hBA = swcl_perm2_at(BA), hAB = swcl_perm2_at(AB), hBB = swcl_perm2_at(BB);
+    SWCL_HASH3_PAIRS(int, swcl_perm2_at)
     SWCL_CORNER3(SWCL_LO(hAA), x,  y,  z,  c000)
     SWCL_CORNER3(SWCL_LO(hBA), x1, y,  z,  c100)
     SWCL_CORNER3(SWCL_LO(hAB), x,  y1, z,  c010)
@@ -223,16 +242,7 @@ SWCL_INLINE void swcl_perlin4_s(float px, float py, float pz, float pw, int ox, 
     const float du = swcl_dfade(x), dv = swcl_dfade(y), ds = swcl_dfade(z), dq = swcl_dfade(w);
     const float x1 = x - 1.0f, y1 = y - 1.0f, z1 = z - 1.0f, w1 = w - 1.0f;
     /* hash4 = perm[perm[perm[perm[X]+Y]+Z]+W] */
-    const int pX = swcl_perm2_at(X);
-    const int P0 = SWCL_LO(pX) + Y, P1 = SWCL_HI(pX) + Y;
-    const int p0 = swcl_perm2_at(P0), p1 = swcl_perm2_at(P1);
-    const int Z00 = SWCL_LO(p0) + Z, Z10 = SWCL_LO(p1) + Z;         /* (cx, cy) */
-    const int Z01 = SWCL_HI(p0) + Z, Z11 = SWCL_HI(p1) + Z;
-    const int q00 = swcl_perm2_at(Z00), q10 = swcl_perm2_at(Z10), q01 = swcl_perm2_at(Z01), q11 = swcl_perm2_at(Z11);
-    const int Z00_0 = swcl_perm2_at(SWCL_LO(q00) + W), Z00_1 = swcl_perm2_at(SWCL_HI(q00) + W);
-    const int Z10_0 = swcl_perm2_at(SWCL_LO(q10) + W), Z10_1 = swcl_perm2_at(SWCL_HI(q10) + W);
-    const int Z01_0 = swcl_perm2_at(SWCL_LO(q01) + W), Z01_1 = swcl_perm2_at(SWCL_HI(q01) + W);
-    const int Z11_0 = swcl_perm2_at(SWCL_LO(q11) + W), Z11_1 = swcl_perm2_at(SWCL_HI(q11) + W);
+    SWCL_HASH4_PAIRS(int, swcl_perm2_at)
     SWCL_CORNER4(SWCL_H4(Z00, 0, 0), x,  y,  z,  w,  c0000)
     SWCL_CORNER4(SWCL_H4(Z10, 0, 0), x1, y,  z,  w,  c1000)
     SWCL_CORNER4(SWCL_H4(Z01, 0, 0), x,  y1, z,  w,  c0100)
@@ -462,12 +472,7 @@ SWCL_INLINE void swcl_perlin3_w(swcl_fw px, swcl_fw py, swcl_fw pz, int ox, int 
     const swcl_fw u = swcl_fade_w(x), v = swcl_fade_w(y), w = swcl_fade_w(z);
     const swcl_fw du = swcl_dfade_w(x), dv = swcl_dfade_w(y), dw = swcl_dfade_w(z);
     const swcl_fw x1 = x - 1.0f, y1 = y - 1.0f, z1 = z - 1.0f;
-    const swcl_iw pX = swcl_perm2_w(X);
-    const swcl_iw A = SWCL_LO(pX) + Y, B = SWCL_HI(pX) + Y;
-    const swcl_iw pA = swcl_perm2_w(A), pB = swcl_perm2_w(B);
-    const swcl_iw AA = SWCL_LO(pA) + Z, AB = SWCL_HI(pA) + Z;
-    const swcl_iw BA = SWCL_LO(pB) + Z, BB = SWCL_HI(pB) + Z;
-    const swcl_iw hAA = swcl_perm2_w(AA), hBA = swcl_perm2_w(BA), hAB = swcl_perm2_w(AB), hBB = swcl_perm2_w(BB);
+    SWCL_HASH3_PAIRS(swcl_iw, swcl_perm2_w)
     SWCL_CORNER3_W(SWCL_LO(hAA), x,  y,  z,  c000)
     SWCL_CORNER3_W(SWCL_LO(hBA), x1, y,  z,  c100)
     SWCL_CORNER3_W(SWCL_LO(hAB), x,  y1, z,  c010)
@@ -507,17 +512,7 @@ SWCL_INLINE void swcl_perlin4_w(swcl_fw px, swcl_fw py, swcl_fw pz, swcl_fw pw, 
     const swcl_fw u = swcl_fade_w(x), v = swcl_fade_w(y), s = swcl_fade_w(z), q = swcl_fade_w(w);
     const swcl_fw du = swcl_dfade_w(x), dv = swcl_dfade_w(y), ds = swcl_dfade_w(z), dq = swcl_dfade_w(w);
     const swcl_fw x1 = x - 1.0f, y1 = y - 1.0f, z1 = z - 1.0f, w1 = w - 1.0f;
-    const swcl_iw pX = swcl_perm2_w(X);
-    const swcl_iw P0 = SWCL_LO(pX) + Y, P1 = SWCL_HI(pX) + Y;
-    const swcl_iw p0 = swcl_perm2_w(P0), p1 = swcl_perm2_w(P1);
-    const swcl_iw Z00 = SWCL_LO(p0) + Z, Z10 = SWCL_LO(p1) + Z;
-    const swcl_iw Z01 = SWCL_HI(p0) + Z, Z11 = SWCL_HI(p1) + Z;
-    /* Zij_c: the pair at perm[Zij + c] + W. */
-    const swcl_iw q00 = swcl_perm2_w(Z00), q10 = swcl_perm2_w(Z10), q01 = swcl_perm2_w(Z01), q11 = swcl_perm2_w(Z11);
-    const swcl_iw Z00_0 = swcl_perm2_w(SWCL_LO(q00) + W), Z00_1 = swcl_perm2_w(SWCL_HI(q00) + W);
-    const swcl_iw Z10_0 = swcl_perm2_w(SWCL_LO(q10) + W), Z10_1 = swcl_perm2_w(SWCL_HI(q10) + W);
-    const swcl_iw Z01_0 = swcl_perm2_w(SWCL_LO(q01) + W), Z01_1 = swcl_perm2_w(SWCL_HI(q01) + W);
-    const swcl_iw Z11_0 = swcl_perm2_w(SWCL_LO(q11) + W), Z11_1 = swcl_perm2_w(SWCL_HI(q11) + W);
+    SWCL_HASH4_PAIRS(swcl_iw, swcl_perm2_w)
     SWCL_CORNER4_W(SWCL_H4(Z00, 0, 0), x,  y,  z,  w,  c0000)
     SWCL_CORNER4_W(SWCL_H4(Z10, 0, 0), x1, y,  z,  w,  c1000)
     SWCL_CORNER4_W(SWCL_H4(Z01, 0, 0), x,  y1, z,  w,  c0100)
