@@ -9,104 +9,69 @@
 namespace swarmcl {
 namespace {
 
-enum : uint8_t { kFar = 0, kTrial = 1, kKnown = 2 };
+// The march on a padded copy of the grid: a border of kPad cells on every
+// side that is impassable and never known, so neighbour indices (up to two
+// cells away for the second-order stencil) need no bounds checks.
+constexpr int64_t kPad = 2;
 
-}  // namespace
-
-void fast_march(const Grid3& g, const std::vector<double>& slowness, std::vector<double>& u,
-                const FastMarchingOptions& options) {
-    const size_t n = g.count();
-    require(slowness.size() == n && u.size() == n, "fast marching: arrays do not match the grid");
-    require(n < 0xFFFFFFFFu, "fast marching: too many cells");
-    const int64_t nx = g.dims[0], ny = g.dims[1], nz = g.dims[2];
-    const int64_t stride[3] = {1, nx, nx * ny};
-    const int64_t dim[3] = {nx, ny, nz};
-    const double h = g.h;
-
-    std::vector<uint8_t> state(n, kFar);
-    double f_min = kInf;
-    for (size_t c = 0; c < n; ++c) {
-        if (std::isfinite(u[c])) state[c] = kKnown;
-        f_min = std::min(f_min, slowness[c]);
-        require(slowness[c] > 0.0, "fast marching: slowness must be > 0 (+inf: impassable)");
-    }
-    if (!std::isfinite(f_min)) return;  // every cell impassable
-
-    // An untidy priority queue (Yatziv, Bartesaghi & Sapiro 2006; Dial's
-    // buckets): trial cells sit in buckets of width delta by value and are
-    // accepted bucket by bucket.  An update adds at least f h / sqrt(3) to
-    // the smallest known neighbour, so with delta <= f_min h / sqrt(3) no
-    // cell can change the value of another cell of its own bucket: the
-    // order within a bucket does not matter, and the result is that of the
-    // heap-ordered method up to rounding, in O(N) instead of O(N log N)
-    // (3.6x faster at 128^3, bench/fmm_bench.cpp).  Second order can add
-    // less; its buckets are half as wide.
-    const double delta = f_min * h / std::sqrt(3.0) * (options.second_order ? 0.5 : 1.0);
-    std::vector<std::vector<uint32_t>> buckets(64);
-    auto bucket_of = [&](double v) { return size_t(v / delta); };
-    auto enqueue = [&](size_t c) {
-        const size_t b = bucket_of(u[c]);
+template <bool kSecond>
+void march(std::vector<double>& known, std::vector<double>& trial, const std::vector<double>& f, const int64_t stride[3],
+           double h, double delta) {
+    // Dial's buckets (see fast_march): bucket b holds the cells whose value
+    // lies in [b delta, (b + 1) delta).
+    std::vector<std::vector<uint32_t>> buckets(64), spare;  // spare: drained buckets' storage, for reuse
+    size_t current = 0;
+    auto enqueue = [&](uint32_t p, size_t b) {
+        b = std::max(b, current);  // never below the bucket being drained (rounding could put it there)
         if (b >= buckets.size()) buckets.resize(std::max(b + 1, 2 * buckets.size()));
-        buckets[b].push_back(uint32_t(c));
+        std::vector<uint32_t>& q = buckets[b];
+        if (q.capacity() == 0 && !spare.empty()) {
+            q.swap(spare.back());
+            spare.pop_back();
+        }
+        q.push_back(p);
     };
 
-    // Solves the upwind quadratic at cell c from its known neighbours.
-    auto solve = [&](size_t c, const int64_t x[3]) -> double {
-        const double f = slowness[c];
-        double b1[3], b2[3];  // per axis: the smaller known neighbour, and the known cell beyond it
-        int axes = 0;
-        double best = kInf;
+    // Solves the upwind quadratic at cell p from its known neighbours
+    // (+inf when it has none).
+    auto solve = [&](size_t p) -> double {
+        const double fp = f[p], fh = fp * h;
+        double b1[3], b2[3] = {kInf, kInf, kInf};  // per axis: the smaller known neighbour, and the known cell beyond it
         for (int a = 0; a < 3; ++a) {
-            double m = kInf, m2 = kInf;
-            for (int side = -1; side <= 1; side += 2) {
-                const int64_t xa = x[a] + side;
-                if (xa < 0 || xa >= dim[a]) continue;
-                const size_t nb = c + side * stride[a];
-                if (state[nb] != kKnown || !(u[nb] < m)) continue;
-                m = u[nb];
-                m2 = kInf;
-                const int64_t xb = x[a] + 2 * side;
-                if (options.second_order && xb >= 0 && xb < dim[a]) {
-                    const size_t nb2 = c + 2 * side * stride[a];
-                    if (state[nb2] == kKnown && u[nb2] <= m) m2 = u[nb2];
-                }
-                best = std::min(best, m);
-            }
-            if (m < kInf) {
-                b1[axes] = m;
-                b2[axes] = m2;
-                ++axes;
+            const double lo = known[p - stride[a]], hi = known[p + stride[a]];
+            b1[a] = hi < lo ? hi : lo;  // a tie takes the lower side
+            if (kSecond) {
+                const double beyond = hi < lo ? known[p + 2 * stride[a]] : known[p - 2 * stride[a]];
+                if (beyond <= b1[a] && b1[a] < kInf) b2[a] = beyond;
             }
         }
-        if (axes == 0) return kInf;
         // First order: add axes in increasing order of their value while the
-        // solution stays above them.
-        double sorted[3] = {b1[0], axes > 1 ? b1[1] : kInf, axes > 2 ? b1[2] : kInf};
-        if (sorted[1] < sorted[0]) std::swap(sorted[0], sorted[1]);  // sort 3 (inf pads)
-        if (sorted[2] < sorted[1]) std::swap(sorted[1], sorted[2]);
-        if (sorted[1] < sorted[0]) std::swap(sorted[0], sorted[1]);
-        const double fh = f * h;
-        double result = sorted[0] + fh;
-        double s = sorted[0], s2 = sorted[0] * sorted[0];
-        for (int k = 1; k < axes && result > sorted[k]; ++k) {
-            s += sorted[k];
-            s2 += sorted[k] * sorted[k];
-            const double m = k + 1;
-            result = (s + std::sqrt(std::max(0.0, s * s - m * (s2 - fh * fh)))) / m;
-        }
-        if (options.second_order) {
+        // solution stays above them.  Sorted by min/max, not by branches
+        // (which the processor cannot predict here).
+        const double lo01 = std::min(b1[0], b1[1]), hi01 = std::max(b1[0], b1[1]);
+        const double s0 = std::min(lo01, b1[2]), s2 = std::max(hi01, b1[2]);
+        const double s1 = std::max(lo01, std::min(hi01, b1[2]));
+        // Each stage is computed and selected without a branch, as the
+        // processor cannot predict how many axes the solution uses.
+        const double r1 = s0 + fh;
+        const double s01 = s0 + s1, sq01 = s0 * s0 + s1 * s1;
+        const double r2 = (s01 + std::sqrt(std::max(0.0, s01 * s01 - 2.0 * (sq01 - fh * fh)))) / 2.0;
+        const double s012 = s01 + s2, sq012 = sq01 + s2 * s2;
+        const double r3 = (s012 + std::sqrt(std::max(0.0, s012 * s012 - 3.0 * (sq012 - fh * fh)))) / 3.0;
+        double result = r1 > s1 ? (r2 > s2 ? r3 : r2) : r1;
+        if (kSecond) {
             // sum_a c_a (u - b_a)^2 = f^2 over the axes the first-order
             // solution uses, with c = 9/(4h^2), b = (4 b1 - b2)/3 where the
             // cell beyond is known (one-sided second-order difference), else
             // c = 1/h^2, b = b1.  Kept only when it is a consistent upwind
             // value (between the smallest neighbour and the first-order one).
-            double A = 0, B = 0, C = -f * f;
+            double A = 0, B = 0, C = -fp * fp;
             bool any2 = false;
-            for (int k = 0; k < axes; ++k) {
-                if (!(b1[k] < result)) continue;
-                const bool two = b2[k] < kInf;
+            for (int a = 0; a < 3; ++a) {
+                if (!(b1[a] < result)) continue;
+                const bool two = b2[a] < kInf;
                 const double ca = two ? 9.0 / (4.0 * h * h) : 1.0 / (h * h);
-                const double ba = two ? (4.0 * b1[k] - b2[k]) / 3.0 : b1[k];
+                const double ba = two ? (4.0 * b1[a] - b2[a]) / 3.0 : b1[a];
                 any2 |= two;
                 A += ca;
                 B -= 2.0 * ca * ba;
@@ -115,46 +80,97 @@ void fast_march(const Grid3& g, const std::vector<double>& slowness, std::vector
             const double disc = B * B - 4 * A * C;
             if (any2 && disc >= 0) {
                 const double r2 = (-B + std::sqrt(disc)) / (2 * A);
-                if (r2 >= best && r2 <= result) result = r2;
+                if (r2 >= s0 && r2 <= result) result = r2;
             }
         }
         return result;
     };
 
-    auto push_neighbours = [&](size_t c) {
-        int64_t x[3] = {int64_t(c % nx), int64_t((c / nx) % ny), int64_t(c / (nx * ny))};
-        for (int a = 0; a < 3; ++a)
-            for (int side = -1; side <= 1; side += 2) {
-                const int64_t xa = x[a] + side;
-                if (xa < 0 || xa >= dim[a]) continue;
-                const size_t nb = c + side * stride[a];
-                if (state[nb] == kKnown || !std::isfinite(slowness[nb])) continue;
-                int64_t y[3] = {x[0], x[1], x[2]};
-                y[a] = xa;
-                const double v = solve(nb, y);
-                if (v < u[nb]) {
-                    u[nb] = v;
-                    state[nb] = kTrial;
-                    enqueue(nb);
-                }
-            }
+    auto visit = [&](size_t nb) {
+        if (known[nb] < kInf || f[nb] == kInf) return;  // accepted, impassable or border
+        const double v = solve(nb), t = trial[nb];
+        if (!(v < t)) return;
+        trial[nb] = v;
+        // A queued cell whose value stays in its bucket keeps its place (it
+        // is accepted with the value it has then).
+        const size_t b = size_t(v / delta);
+        if (!(t < kInf) || b != size_t(t / delta)) enqueue(uint32_t(nb), b);
+    };
+    auto push_neighbours = [&](size_t p) {
+        visit(p - stride[0]);
+        visit(p + stride[0]);
+        visit(p - stride[1]);
+        visit(p + stride[1]);
+        visit(p - stride[2]);
+        visit(p + stride[2]);
     };
 
-    for (size_t c = 0; c < n; ++c)
-        if (state[c] == kKnown) push_neighbours(c);
-    for (size_t b = 0; b < buckets.size(); ++b) {
-        // Rounding can put an update back into the current bucket: drain it.
-        while (!buckets[b].empty()) {
-            std::vector<uint32_t> cells;
-            cells.swap(buckets[b]);
-            for (uint32_t c : cells) {
-                if (state[c] == kKnown || bucket_of(u[c]) != b) continue;  // accepted, or moved to a lower bucket
-                state[c] = kKnown;
-                push_neighbours(c);
+    const size_t np = known.size();
+    for (size_t p = 0; p < np; ++p)
+        if (known[p] < kInf) push_neighbours(p);
+    for (current = 0; current < buckets.size(); ++current) {
+        // Accepting a cell can put a neighbour into this bucket by rounding:
+        // it is drained to the end (the index, as pushes may reallocate it).
+        for (size_t i = 0; i < buckets[current].size(); ++i) {
+            const uint32_t p = buckets[current][i];
+            if (known[p] < kInf) continue;  // accepted already: queued again when its value dropped a bucket
+            known[p] = trial[p];
+            push_neighbours(p);
+        }
+        buckets[current].clear();
+        if (buckets[current].capacity()) spare.push_back(std::move(buckets[current]));
+    }
+}
+
+}  // namespace
+
+void fast_march(const Grid3& g, const std::vector<double>& slowness, std::vector<double>& u,
+                const FastMarchingOptions& options) {
+    const size_t n = g.count();
+    require(slowness.size() == n && u.size() == n, "fast marching: arrays do not match the grid");
+    const int64_t nx = g.dims[0], ny = g.dims[1], nz = g.dims[2];
+    const int64_t px = nx + 2 * kPad, py = ny + 2 * kPad, pz = nz + 2 * kPad;
+    const size_t np = size_t(px * py * pz);
+    require(np < 0xFFFFFFFFu, "fast marching: too many cells");
+    const int64_t stride[3] = {1, px, px * py};
+    auto padded = [&](int64_t y, int64_t z) { return size_t(kPad + stride[1] * (y + kPad) + stride[2] * (z + kPad)); };
+
+    // known: the accepted value, +inf until then (the upwind stencil reads
+    // only these); trial: the tentative value; f: the slowness, +inf where
+    // impassable and on the border.
+    std::vector<double> known(np, kInf), trial(np, kInf), f(np, kInf);
+    double f_min = kInf;
+    for (int64_t z = 0; z < nz; ++z)
+        for (int64_t y = 0; y < ny; ++y) {
+            const size_t c0 = size_t(nx * (y + ny * z)), p0 = padded(y, z);
+            for (int64_t x = 0; x < nx; ++x) {
+                const double s = slowness[c0 + x];
+                require(s > 0.0, "fast marching: slowness must be > 0 (+inf: impassable)");
+                f_min = std::min(f_min, s);
+                f[p0 + x] = s;
+                if (std::isfinite(u[c0 + x])) known[p0 + x] = trial[p0 + x] = u[c0 + x];
             }
         }
-        std::vector<uint32_t>().swap(buckets[b]);
-    }
+    if (!std::isfinite(f_min)) return;  // every cell impassable
+
+    // An untidy priority queue (Yatziv, Bartesaghi & Sapiro 2006; Dial's
+    // buckets): trial cells sit in buckets of width delta by value and are
+    // accepted bucket by bucket, first in first out.  An update adds at least
+    // f h / sqrt(3) to the smallest known neighbour, so with delta <= f_min h
+    // / sqrt(3) a cell cannot change the value of a cell of its own bucket
+    // through its smallest neighbour; the result stays within first-order
+    // accuracy of the heap-ordered method, in O(N) instead of O(N log N)
+    // (3.6x faster at 128^3).  Second order can add less; its buckets are
+    // half as wide.
+    const double delta = g.h * f_min / std::sqrt(3.0) * (options.second_order ? 0.5 : 1.0);
+    if (options.second_order) march<true>(known, trial, f, stride, g.h, delta);
+    else march<false>(known, trial, f, stride, g.h, delta);
+
+    for (int64_t z = 0; z < nz; ++z)
+        for (int64_t y = 0; y < ny; ++y) {
+            const size_t c0 = size_t(nx * (y + ny * z)), p0 = padded(y, z);
+            std::copy(known.begin() + p0, known.begin() + p0 + nx, u.begin() + c0);
+        }
 }
 
 }  // namespace swarmcl
