@@ -6,6 +6,10 @@
 
 #include "core/error.hpp"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace swarmcl {
 namespace {
 
@@ -14,9 +18,51 @@ namespace {
 // cells away for the second-order stencil) need no bounds checks.
 constexpr int64_t kPad = 2;
 
+// The per-neighbour steps are lambdas called six times per accepted cell;
+// GCC would otherwise call them.
+#if defined(__GNUC__)
+#define SWARMCL_INLINE __attribute__((always_inline))
+#else
+#define SWARMCL_INLINE
+#endif
+
+// a < b ? a : b and a > b ? a : b without a branch: which neighbour is
+// smaller is a coin toss the processor cannot predict, and compilers turn
+// std::min into a branch in the big inlined loop.
+inline double min_nb(double a, double b) {
+#if defined(__SSE2__)
+    return _mm_cvtsd_f64(_mm_min_sd(_mm_set_sd(a), _mm_set_sd(b)));
+#else
+    return a < b ? a : b;
+#endif
+}
+// a > b ? x : y, likewise.
+inline double select_gt(double a, double b, double x, double y) {
+#if defined(__SSE2__)
+    const __m128d m = _mm_cmpgt_sd(_mm_set_sd(a), _mm_set_sd(b));
+    return _mm_cvtsd_f64(_mm_or_pd(_mm_and_pd(m, _mm_set_sd(x)), _mm_andnot_pd(m, _mm_set_sd(y))));
+#else
+    return a > b ? x : y;
+#endif
+}
+inline double max_nb(double a, double b) {
+#if defined(__SSE2__)
+    return _mm_cvtsd_f64(_mm_max_sd(_mm_set_sd(a), _mm_set_sd(b)));
+#else
+    return a > b ? a : b;
+#endif
+}
+
+enum : uint8_t { kOpen = 0, kKnown = 1, kBlocked = 2 };  // kOpen: far or trial; kBlocked: impassable or border
+
 template <bool kSecond>
-void march(std::vector<double>& known, std::vector<double>& trial, const std::vector<double>& f, const int64_t stride[3],
+void march(std::vector<double>& u, std::vector<uint8_t>& state, const std::vector<double>& f, const int64_t stride[3],
            double h, double delta) {
+    // The value of cell q for the stencil, +inf unless known: by an
+    // addition (exact: + 0 or + inf; u is never -inf or NaN), not a branch,
+    // which the processor could not predict.
+    const double add[3] = {kInf, 0.0, kInf};
+    auto known = [&](size_t q) { return u[q] + add[state[q]]; };
     // Dial's buckets (see fast_march): bucket b holds the cells whose value
     // lies in [b delta, (b + 1) delta).
     std::vector<std::vector<uint32_t>> buckets(64), spare;  // spare: drained buckets' storage, for reuse
@@ -34,31 +80,31 @@ void march(std::vector<double>& known, std::vector<double>& trial, const std::ve
 
     // Solves the upwind quadratic at cell p from its known neighbours
     // (+inf when it has none).
-    auto solve = [&](size_t p) -> double {
+    auto solve = [&](size_t p) SWARMCL_INLINE -> double {
         const double fp = f[p], fh = fp * h;
         double b1[3], b2[3] = {kInf, kInf, kInf};  // per axis: the smaller known neighbour, and the known cell beyond it
         for (int a = 0; a < 3; ++a) {
-            const double lo = known[p - stride[a]], hi = known[p + stride[a]];
-            b1[a] = hi < lo ? hi : lo;  // a tie takes the lower side
+            const double lo = known(p - stride[a]), hi = known(p + stride[a]);
+            b1[a] = min_nb(hi, lo);  // a tie takes the lower side
             if (kSecond) {
-                const double beyond = hi < lo ? known[p + 2 * stride[a]] : known[p - 2 * stride[a]];
+                const double beyond = known(hi < lo ? p + 2 * stride[a] : p - 2 * stride[a]);
                 if (beyond <= b1[a] && b1[a] < kInf) b2[a] = beyond;
             }
         }
         // First order: add axes in increasing order of their value while the
         // solution stays above them.  Sorted by min/max, not by branches
         // (which the processor cannot predict here).
-        const double lo01 = std::min(b1[0], b1[1]), hi01 = std::max(b1[0], b1[1]);
-        const double s0 = std::min(lo01, b1[2]), s2 = std::max(hi01, b1[2]);
-        const double s1 = std::max(lo01, std::min(hi01, b1[2]));
+        const double lo01 = min_nb(b1[0], b1[1]), hi01 = max_nb(b1[0], b1[1]);
+        const double s0 = min_nb(lo01, b1[2]), s2 = max_nb(hi01, b1[2]);
+        const double s1 = max_nb(lo01, min_nb(hi01, b1[2]));
         // Each stage is computed and selected without a branch, as the
         // processor cannot predict how many axes the solution uses.
         const double r1 = s0 + fh;
         const double s01 = s0 + s1, sq01 = s0 * s0 + s1 * s1;
-        const double r2 = (s01 + std::sqrt(std::max(0.0, s01 * s01 - 2.0 * (sq01 - fh * fh)))) / 2.0;
+        const double r2 = (s01 + std::sqrt(max_nb(s01 * s01 - 2.0 * (sq01 - fh * fh), 0.0))) / 2.0;
         const double s012 = s01 + s2, sq012 = sq01 + s2 * s2;
-        const double r3 = (s012 + std::sqrt(std::max(0.0, s012 * s012 - 3.0 * (sq012 - fh * fh)))) / 3.0;
-        double result = r1 > s1 ? (r2 > s2 ? r3 : r2) : r1;
+        const double r3 = (s012 + std::sqrt(max_nb(s012 * s012 - 3.0 * (sq012 - fh * fh), 0.0))) / 3.0;
+        double result = select_gt(r1, s1, select_gt(r2, s2, r3, r2), r1);
         if (kSecond) {
             // sum_a c_a (u - b_a)^2 = f^2 over the axes the first-order
             // solution uses, with c = 9/(4h^2), b = (4 b1 - b2)/3 where the
@@ -86,11 +132,11 @@ void march(std::vector<double>& known, std::vector<double>& trial, const std::ve
         return result;
     };
 
-    auto visit = [&](size_t nb) {
-        if (known[nb] < kInf || f[nb] == kInf) return;  // accepted, impassable or border
-        const double v = solve(nb), t = trial[nb];
+    auto visit = [&](size_t nb) SWARMCL_INLINE {
+        if (state[nb] != kOpen) return;
+        const double v = solve(nb), t = u[nb];
         if (!(v < t)) return;
-        trial[nb] = v;
+        u[nb] = v;
         // A queued cell whose value stays in its bucket keeps its place (it
         // is accepted with the value it has then).
         const size_t b = size_t(v / delta);
@@ -105,16 +151,16 @@ void march(std::vector<double>& known, std::vector<double>& trial, const std::ve
         visit(p + stride[2]);
     };
 
-    const size_t np = known.size();
+    const size_t np = u.size();
     for (size_t p = 0; p < np; ++p)
-        if (known[p] < kInf) push_neighbours(p);
+        if (state[p] == kKnown) push_neighbours(p);
     for (current = 0; current < buckets.size(); ++current) {
         // Accepting a cell can put a neighbour into this bucket by rounding:
         // it is drained to the end (the index, as pushes may reallocate it).
         for (size_t i = 0; i < buckets[current].size(); ++i) {
             const uint32_t p = buckets[current][i];
-            if (known[p] < kInf) continue;  // accepted already: queued again when its value dropped a bucket
-            known[p] = trial[p];
+            if (state[p] == kKnown) continue;  // accepted already: queued again when its value dropped a bucket
+            state[p] = kKnown;
             push_neighbours(p);
         }
         buckets[current].clear();
@@ -135,22 +181,26 @@ void fast_march(const Grid3& g, const std::vector<double>& slowness, std::vector
     const int64_t stride[3] = {1, px, px * py};
     auto padded = [&](int64_t y, int64_t z) { return size_t(kPad + stride[1] * (y + kPad) + stride[2] * (z + kPad)); };
 
-    // known: the accepted value, +inf until then (the upwind stencil reads
-    // only these); trial: the tentative value; f: the slowness, +inf where
-    // impassable and on the border.
-    std::vector<double> known(np, kInf), trial(np, kInf), f(np, kInf);
+    // u: the known or tentative value (+inf: far); state: which; f: the
+    // slowness (+inf where impassable and on the border).
+    std::vector<double> pu(np, kInf), f(np, kInf);
+    std::vector<uint8_t> state(np, kBlocked);
     double f_min = kInf;
+    bool positive = true;
     for (int64_t z = 0; z < nz; ++z)
         for (int64_t y = 0; y < ny; ++y) {
             const size_t c0 = size_t(nx * (y + ny * z)), p0 = padded(y, z);
             for (int64_t x = 0; x < nx; ++x) {
                 const double s = slowness[c0 + x];
-                require(s > 0.0, "fast marching: slowness must be > 0 (+inf: impassable)");
+                positive &= s > 0.0;
                 f_min = std::min(f_min, s);
                 f[p0 + x] = s;
-                if (std::isfinite(u[c0 + x])) known[p0 + x] = trial[p0 + x] = u[c0 + x];
+                const bool known = std::isfinite(u[c0 + x]);
+                if (known) pu[p0 + x] = u[c0 + x];
+                state[p0 + x] = known ? kKnown : std::isfinite(s) ? kOpen : kBlocked;
             }
         }
+    require(positive, "fast marching: slowness must be > 0 (+inf: impassable)");
     if (!std::isfinite(f_min)) return;  // every cell impassable
 
     // An untidy priority queue (Yatziv, Bartesaghi & Sapiro 2006; Dial's
@@ -163,13 +213,13 @@ void fast_march(const Grid3& g, const std::vector<double>& slowness, std::vector
     // (3.6x faster at 128^3).  Second order can add less; its buckets are
     // half as wide.
     const double delta = g.h * f_min / std::sqrt(3.0) * (options.second_order ? 0.5 : 1.0);
-    if (options.second_order) march<true>(known, trial, f, stride, g.h, delta);
-    else march<false>(known, trial, f, stride, g.h, delta);
+    if (options.second_order) march<true>(pu, state, f, stride, g.h, delta);
+    else march<false>(pu, state, f, stride, g.h, delta);
 
     for (int64_t z = 0; z < nz; ++z)
         for (int64_t y = 0; y < ny; ++y) {
             const size_t c0 = size_t(nx * (y + ny * z)), p0 = padded(y, z);
-            std::copy(known.begin() + p0, known.begin() + p0 + nx, u.begin() + c0);
+            std::copy(pu.begin() + p0, pu.begin() + p0 + nx, u.begin() + c0);
         }
 }
 
