@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <utility>
 
 #include "core/error.hpp"
@@ -53,16 +54,26 @@ inline double max_nb(double a, double b) {
 #endif
 }
 
-enum : uint8_t { kOpen = 0, kKnown = 1, kBlocked = 2 };  // kOpen: far or trial; kBlocked: impassable or border
+// One cell of the padded copy: its value (known or tentative; +inf: far or
+// blocked) beside its slowness, whose sign tells the state: > 0 open (far or
+// trial), < 0 known or blocked (impassable or border: -inf, with u = +inf).
+// Together, as the stencil of a cell reads both for its neighbours.
+struct Cell {
+    double u;
+    double f;
+};
 
 template <bool kSecond>
-void march(std::vector<double>& u, std::vector<uint8_t>& state, const std::vector<double>& f, const int64_t stride[3],
-           double h, double delta) {
-    // The value of cell q for the stencil, +inf unless known: by an
-    // addition (exact: + 0 or + inf; u is never -inf or NaN), not a branch,
-    // which the processor could not predict.
-    const double add[3] = {kInf, 0.0, kInf};
-    auto known = [&](size_t q) { return u[q] + add[state[q]]; };
+void march(Cell* cell, size_t np, const int64_t stride[3], double h, double delta) {
+    // The value of cell q for the stencil, +inf unless known: u + 0 or
+    // u + inf by the sign bit of f (exact; u is never -inf or NaN), not a
+    // branch, as the processor could not predict which neighbours are known.
+    const double add[2] = {kInf, 0.0};
+    auto known = [&](size_t q) {
+        uint64_t bits;
+        std::memcpy(&bits, &cell[q].f, sizeof bits);
+        return cell[q].u + add[bits >> 63];
+    };
     // Dial's buckets (see fast_march): bucket b holds the cells whose value
     // lies in [b delta, (b + 1) delta).
     std::vector<std::vector<uint32_t>> buckets(64), spare;  // spare: drained buckets' storage, for reuse
@@ -81,7 +92,7 @@ void march(std::vector<double>& u, std::vector<uint8_t>& state, const std::vecto
     // Solves the upwind quadratic at cell p from its known neighbours
     // (+inf when it has none).
     auto solve = [&](size_t p) SWARMCL_INLINE -> double {
-        const double fp = f[p], fh = fp * h;
+        const double fp = cell[p].f, fh = fp * h;
         double b1[3], b2[3] = {kInf, kInf, kInf};  // per axis: the smaller known neighbour, and the known cell beyond it
         for (int a = 0; a < 3; ++a) {
             const double lo = known(p - stride[a]), hi = known(p + stride[a]);
@@ -133,10 +144,10 @@ void march(std::vector<double>& u, std::vector<uint8_t>& state, const std::vecto
     };
 
     auto visit = [&](size_t nb) SWARMCL_INLINE {
-        if (state[nb] != kOpen) return;
-        const double v = solve(nb), t = u[nb];
+        if (!(cell[nb].f > 0.0)) return;  // known or blocked
+        const double v = solve(nb), t = cell[nb].u;
         if (!(v < t)) return;
-        u[nb] = v;
+        cell[nb].u = v;
         // A queued cell whose value stays in its bucket keeps its place (it
         // is accepted with the value it has then).
         const size_t b = size_t(v / delta);
@@ -151,16 +162,15 @@ void march(std::vector<double>& u, std::vector<uint8_t>& state, const std::vecto
         visit(p + stride[2]);
     };
 
-    const size_t np = u.size();
     for (size_t p = 0; p < np; ++p)
-        if (state[p] == kKnown) push_neighbours(p);
+        if (cell[p].f < 0.0 && cell[p].u < kInf) push_neighbours(p);
     for (current = 0; current < buckets.size(); ++current) {
         // Accepting a cell can put a neighbour into this bucket by rounding:
         // it is drained to the end (the index, as pushes may reallocate it).
         for (size_t i = 0; i < buckets[current].size(); ++i) {
             const uint32_t p = buckets[current][i];
-            if (state[p] == kKnown) continue;  // accepted already: queued again when its value dropped a bucket
-            state[p] = kKnown;
+            if (cell[p].f < 0.0) continue;  // accepted already: queued again when its value dropped a bucket
+            cell[p].f = -cell[p].f;
             push_neighbours(p);
         }
         buckets[current].clear();
@@ -181,23 +191,18 @@ void fast_march(const Grid3& g, const std::vector<double>& slowness, std::vector
     const int64_t stride[3] = {1, px, px * py};
     auto padded = [&](int64_t y, int64_t z) { return size_t(kPad + stride[1] * (y + kPad) + stride[2] * (z + kPad)); };
 
-    // u: the known or tentative value (+inf: far); state: which; f: the
-    // slowness (+inf where impassable and on the border).
-    std::vector<double> pu(np, kInf), f(np, kInf);
-    std::vector<uint8_t> state(np, kBlocked);
+    std::vector<Cell> cell(np, Cell{kInf, -kInf});
     double f_min = kInf;
     bool positive = true;
     for (int64_t z = 0; z < nz; ++z)
         for (int64_t y = 0; y < ny; ++y) {
             const size_t c0 = size_t(nx * (y + ny * z)), p0 = padded(y, z);
             for (int64_t x = 0; x < nx; ++x) {
-                const double s = slowness[c0 + x];
+                const double s = slowness[c0 + x], v = u[c0 + x];
                 positive &= s > 0.0;
                 f_min = std::min(f_min, s);
-                f[p0 + x] = s;
-                const bool known = std::isfinite(u[c0 + x]);
-                if (known) pu[p0 + x] = u[c0 + x];
-                state[p0 + x] = known ? kKnown : std::isfinite(s) ? kOpen : kBlocked;
+                const bool known = std::isfinite(v);
+                cell[p0 + x] = known ? Cell{v, -s} : Cell{kInf, std::isfinite(s) ? s : -kInf};
             }
         }
     require(positive, "fast marching: slowness must be > 0 (+inf: impassable)");
@@ -213,13 +218,13 @@ void fast_march(const Grid3& g, const std::vector<double>& slowness, std::vector
     // (3.6x faster at 128^3).  Second order can add less; its buckets are
     // half as wide.
     const double delta = g.h * f_min / std::sqrt(3.0) * (options.second_order ? 0.5 : 1.0);
-    if (options.second_order) march<true>(pu, state, f, stride, g.h, delta);
-    else march<false>(pu, state, f, stride, g.h, delta);
+    if (options.second_order) march<true>(cell.data(), np, stride, g.h, delta);
+    else march<false>(cell.data(), np, stride, g.h, delta);
 
     for (int64_t z = 0; z < nz; ++z)
         for (int64_t y = 0; y < ny; ++y) {
             const size_t c0 = size_t(nx * (y + ny * z)), p0 = padded(y, z);
-            std::copy(pu.begin() + p0, pu.begin() + p0 + nx, u.begin() + c0);
+            for (int64_t x = 0; x < nx; ++x) u[c0 + x] = cell[p0 + x].u;
         }
 }
 
