@@ -162,6 +162,29 @@ void march(Cell* cell, size_t np, const int64_t stride[3], double h, double delt
         visit(p + stride[2]);
     };
 
+    // The cells accepting p reads: its neighbours and their stencils, two
+    // cells out along the axes, one along the diagonals.  A bucket is a
+    // list in no spatial order, so each of these is a cache miss unless
+    // fetched while earlier cells are accepted (about 30% of the march at
+    // 128^3).
+    auto prefetch_stencil = [&](size_t q) SWARMCL_INLINE {  // (GCC drops a prefetch-only function it does not inline)
+#if defined(__GNUC__)
+        const int64_t sy = stride[1], sz = stride[2];
+        for (const int64_t o : {-2 * sz, -sz - sy, -sz + sy, -2 * sy, sy - sz, sy + sz, 2 * sy, 2 * sz})
+            __builtin_prefetch(&cell[q + o]);
+        for (const int64_t o : {-sz, -sy, int64_t(0), sy, sz}) {  // with the cells beside them along x
+            __builtin_prefetch(&cell[q + o - 1]);
+            __builtin_prefetch(&cell[q + o]);
+            __builtin_prefetch(&cell[q + o + 1]);
+        }
+        __builtin_prefetch(&cell[q - 2]);
+        __builtin_prefetch(&cell[q + 2]);
+#else
+        (void)q;
+#endif
+    };
+    constexpr size_t kAhead = 4;  // entries ahead: enough to hide the latency, not so many the lines are evicted again
+
     for (size_t p = 0; p < np; ++p)
         if (cell[p].f < 0.0 && cell[p].u < kInf) push_neighbours(p);
     for (current = 0; current < buckets.size(); ++current) {
@@ -169,6 +192,7 @@ void march(Cell* cell, size_t np, const int64_t stride[3], double h, double delt
         // it is drained to the end (the index, as pushes may reallocate it).
         for (size_t i = 0; i < buckets[current].size(); ++i) {
             const uint32_t p = buckets[current][i];
+            if (i + kAhead < buckets[current].size()) prefetch_stencil(buckets[current][i + kAhead]);
             if (cell[p].f < 0.0) continue;  // accepted already: queued again when its value dropped a bucket
             cell[p].f = -cell[p].f;
             push_neighbours(p);
