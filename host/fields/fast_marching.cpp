@@ -37,6 +37,13 @@ inline double min_nb(double a, double b) {
     return a < b ? a : b;
 #endif
 }
+inline double max_nb(double a, double b) {
+#if defined(__SSE2__)
+    return _mm_cvtsd_f64(_mm_max_sd(_mm_set_sd(a), _mm_set_sd(b)));
+#else
+    return a > b ? a : b;
+#endif
+}
 // a > b ? x : y, likewise.
 inline double select_gt(double a, double b, double x, double y) {
 #if defined(__SSE2__)
@@ -44,13 +51,6 @@ inline double select_gt(double a, double b, double x, double y) {
     return _mm_cvtsd_f64(_mm_or_pd(_mm_and_pd(m, _mm_set_sd(x)), _mm_andnot_pd(m, _mm_set_sd(y))));
 #else
     return a > b ? x : y;
-#endif
-}
-inline double max_nb(double a, double b) {
-#if defined(__SSE2__)
-    return _mm_cvtsd_f64(_mm_max_sd(_mm_set_sd(a), _mm_set_sd(b)));
-#else
-    return a > b ? a : b;
 #endif
 }
 
