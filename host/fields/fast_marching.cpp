@@ -79,7 +79,7 @@ void march(Cell* cell, size_t np, const int64_t stride[3], double h, double delt
     std::vector<std::vector<uint32_t>> buckets(64), spare;  // spare: drained buckets' storage, for reuse
     size_t current = 0;
     auto enqueue = [&](uint32_t p, size_t b) {
-        b = std::max(b, current);  // never below the bucket being drained (rounding could put it there)
+        b = std::max(b, current);  // never below the bucket being drained (a bucket drained is not visited again)
         if (b >= buckets.size()) buckets.resize(std::max(b + 1, 2 * buckets.size()));
         std::vector<uint32_t>& q = buckets[b];
         if (q.capacity() == 0 && !spare.empty()) {
@@ -240,7 +240,9 @@ void fast_march(const Grid3& g, const std::vector<double>& slowness, std::vector
     // through its smallest neighbour; the result stays within first-order
     // accuracy of the heap-ordered method, in O(N) instead of O(N log N)
     // (3.6x faster at 128^3).  Second order can add less; its buckets are
-    // half as wide.
+    // half as wide, and a value that still falls below the bucket being
+    // drained (the second-order stencil keeps it only above the smallest
+    // neighbour) joins that bucket.
     const double delta = g.h * f_min / std::sqrt(3.0) * (options.second_order ? 0.5 : 1.0);
     if (options.second_order) march<true>(cell.data(), np, stride, g.h, delta);
     else march<false>(cell.data(), np, stride, g.h, delta);
