@@ -33,5 +33,10 @@ private:
 inline void require(bool ok, const std::string& message) {
     if (!ok) fail(Status::InvalidArgument, message);
 }
+// A literal message builds no std::string unless the check fails (the
+// std::string overload would construct one on every call, even in hot loops).
+inline void require(bool ok, const char* message) {
+    if (!ok) fail(Status::InvalidArgument, message);
+}
 
 }  // namespace swarmcl
