@@ -186,6 +186,54 @@ SWCL_INLINE void swcl_grad4_s(int h, float* gx, float* gy, float* gz, float* gw)
     const float R##y = A##y + (t) * (B##y - A##y) + ((AX) == 1 ? (dt) * (B##v - A##v) : 0.0f); \
     const float R##z = A##z + (t) * (B##z - A##z) + ((AX) == 2 ? (dt) * (B##v - A##v) : 0.0f);
 
+/* The 8 corners (gradient . offset) and the x, y, z lerps of value and
+ * gradient after SWCL_HASH3_PAIRS, for the scalar core (SWCL_CORNER3,
+ * SWCL_DLERP3) and the lanes (the _W macros); result in rv, rx, ry, rz. */
+#define SWCL_NOISE3_BODY(CORNER, DLERP) \
+    CORNER(SWCL_LO(hAA), x,  y,  z,  c000) \
+    CORNER(SWCL_LO(hBA), x1, y,  z,  c100) \
+    CORNER(SWCL_LO(hAB), x,  y1, z,  c010) \
+    CORNER(SWCL_LO(hBB), x1, y1, z,  c110) \
+    CORNER(SWCL_HI(hAA), x,  y,  z1, c001) \
+    CORNER(SWCL_HI(hBA), x1, y,  z1, c101) \
+    CORNER(SWCL_HI(hAB), x,  y1, z1, c011) \
+    CORNER(SWCL_HI(hBB), x1, y1, z1, c111) \
+    DLERP(u, du, 0, c000, c100, a00) \
+    DLERP(u, du, 0, c010, c110, a10) \
+    DLERP(u, du, 0, c001, c101, a01) \
+    DLERP(u, du, 0, c011, c111, a11) \
+    DLERP(v, dv, 1, a00, a10, b0) \
+    DLERP(v, dv, 1, a01, a11, b1) \
+    DLERP(w, dw, 2, b0, b1, r)
+
+/* 4D: the 16 corners after SWCL_HASH4_PAIRS (SWCL_H4, below), then the x, y,
+ * z and w lerps as the reference's nested lerps; result in rv, rx .. rw. */
+#define SWCL_NOISE4_BODY(CORNER, DLERP) \
+    CORNER(SWCL_H4(Z00, 0, 0), x,  y,  z,  w,  c0000) \
+    CORNER(SWCL_H4(Z10, 0, 0), x1, y,  z,  w,  c1000) \
+    CORNER(SWCL_H4(Z01, 0, 0), x,  y1, z,  w,  c0100) \
+    CORNER(SWCL_H4(Z11, 0, 0), x1, y1, z,  w,  c1100) \
+    CORNER(SWCL_H4(Z00, 1, 0), x,  y,  z1, w,  c0010) \
+    CORNER(SWCL_H4(Z10, 1, 0), x1, y,  z1, w,  c1010) \
+    CORNER(SWCL_H4(Z01, 1, 0), x,  y1, z1, w,  c0110) \
+    CORNER(SWCL_H4(Z11, 1, 0), x1, y1, z1, w,  c1110) \
+    CORNER(SWCL_H4(Z00, 0, 1), x,  y,  z,  w1, c0001) \
+    CORNER(SWCL_H4(Z10, 0, 1), x1, y,  z,  w1, c1001) \
+    CORNER(SWCL_H4(Z01, 0, 1), x,  y1, z,  w1, c0101) \
+    CORNER(SWCL_H4(Z11, 0, 1), x1, y1, z,  w1, c1101) \
+    CORNER(SWCL_H4(Z00, 1, 1), x,  y,  z1, w1, c0011) \
+    CORNER(SWCL_H4(Z10, 1, 1), x1, y,  z1, w1, c1011) \
+    CORNER(SWCL_H4(Z01, 1, 1), x,  y1, z1, w1, c0111) \
+    CORNER(SWCL_H4(Z11, 1, 1), x1, y1, z1, w1, c1111) \
+    DLERP(u, du, 0, c0000, c1000, a000) DLERP(u, du, 0, c0100, c1100, a100) \
+    DLERP(u, du, 0, c0010, c1010, a010) DLERP(u, du, 0, c0110, c1110, a110) \
+    DLERP(u, du, 0, c0001, c1001, a001) DLERP(u, du, 0, c0101, c1101, a101) \
+    DLERP(u, du, 0, c0011, c1011, a011) DLERP(u, du, 0, c0111, c1111, a111) \
+    DLERP(v, dv, 1, a000, a100, b00) DLERP(v, dv, 1, a010, a110, b10) \
+    DLERP(v, dv, 1, a001, a101, b01) DLERP(v, dv, 1, a011, a111, b11) \
+    DLERP(s, ds, 2, b00, b10, e0) DLERP(s, ds, 2, b01, b11, e1) \
+    DLERP(q, dq, 3, e0, e1, r)
+
 /* Improved noise and its gradient at p, lattice shifted by (ox, oy, oz) whole
  * cells (scalar core). */
 SWCL_INLINE void swcl_perlin3_s(float px, float py, float pz, int ox, int oy, int oz,
@@ -198,21 +246,7 @@ SWCL_INLINE void swcl_perlin3_s(float px, float py, float pz, int ox, int oy, in
     const float du = swcl_dfade(x), dv = swcl_dfade(y), dw = swcl_dfade(z);
     const float x1 = x - 1.0f, y1 = y - 1.0f, z1 = z - 1.0f;
     SWCL_HASH3_PAIRS(int, swcl_perm2_at)
-    SWCL_CORNER3(SWCL_LO(hAA), x,  y,  z,  c000)
-    SWCL_CORNER3(SWCL_LO(hBA), x1, y,  z,  c100)
-    SWCL_CORNER3(SWCL_LO(hAB), x,  y1, z,  c010)
-    SWCL_CORNER3(SWCL_LO(hBB), x1, y1, z,  c110)
-    SWCL_CORNER3(SWCL_HI(hAA), x,  y,  z1, c001)
-    SWCL_CORNER3(SWCL_HI(hBA), x1, y,  z1, c101)
-    SWCL_CORNER3(SWCL_HI(hAB), x,  y1, z1, c011)
-    SWCL_CORNER3(SWCL_HI(hBB), x1, y1, z1, c111)
-    SWCL_DLERP3(u, du, 0, c000, c100, a00)
-    SWCL_DLERP3(u, du, 0, c010, c110, a10)
-    SWCL_DLERP3(u, du, 0, c001, c101, a01)
-    SWCL_DLERP3(u, du, 0, c011, c111, a11)
-    SWCL_DLERP3(v, dv, 1, a00, a10, b0)
-    SWCL_DLERP3(v, dv, 1, a01, a11, b1)
-    SWCL_DLERP3(w, dw, 2, b0, b1, r)
+    SWCL_NOISE3_BODY(SWCL_CORNER3, SWCL_DLERP3)
     *val = rv; *gx = rx; *gy = ry; *gz = rz;
 }
 
@@ -243,31 +277,7 @@ SWCL_INLINE void swcl_perlin4_s(float px, float py, float pz, float pw, int ox, 
     const float x1 = x - 1.0f, y1 = y - 1.0f, z1 = z - 1.0f, w1 = w - 1.0f;
     /* hash4 = perm[perm[perm[perm[X]+Y]+Z]+W] */
     SWCL_HASH4_PAIRS(int, swcl_perm2_at)
-    SWCL_CORNER4(SWCL_H4(Z00, 0, 0), x,  y,  z,  w,  c0000)
-    SWCL_CORNER4(SWCL_H4(Z10, 0, 0), x1, y,  z,  w,  c1000)
-    SWCL_CORNER4(SWCL_H4(Z01, 0, 0), x,  y1, z,  w,  c0100)
-    SWCL_CORNER4(SWCL_H4(Z11, 0, 0), x1, y1, z,  w,  c1100)
-    SWCL_CORNER4(SWCL_H4(Z00, 1, 0), x,  y,  z1, w,  c0010)
-    SWCL_CORNER4(SWCL_H4(Z10, 1, 0), x1, y,  z1, w,  c1010)
-    SWCL_CORNER4(SWCL_H4(Z01, 1, 0), x,  y1, z1, w,  c0110)
-    SWCL_CORNER4(SWCL_H4(Z11, 1, 0), x1, y1, z1, w,  c1110)
-    SWCL_CORNER4(SWCL_H4(Z00, 0, 1), x,  y,  z,  w1, c0001)
-    SWCL_CORNER4(SWCL_H4(Z10, 0, 1), x1, y,  z,  w1, c1001)
-    SWCL_CORNER4(SWCL_H4(Z01, 0, 1), x,  y1, z,  w1, c0101)
-    SWCL_CORNER4(SWCL_H4(Z11, 0, 1), x1, y1, z,  w1, c1101)
-    SWCL_CORNER4(SWCL_H4(Z00, 1, 1), x,  y,  z1, w1, c0011)
-    SWCL_CORNER4(SWCL_H4(Z10, 1, 1), x1, y,  z1, w1, c1011)
-    SWCL_CORNER4(SWCL_H4(Z01, 1, 1), x,  y1, z1, w1, c0111)
-    SWCL_CORNER4(SWCL_H4(Z11, 1, 1), x1, y1, z1, w1, c1111)
-    /* x, then y, then z, then w, as the reference (nested lerps) */
-    SWCL_DLERP4(u, du, 0, c0000, c1000, a000) SWCL_DLERP4(u, du, 0, c0100, c1100, a100)
-    SWCL_DLERP4(u, du, 0, c0010, c1010, a010) SWCL_DLERP4(u, du, 0, c0110, c1110, a110)
-    SWCL_DLERP4(u, du, 0, c0001, c1001, a001) SWCL_DLERP4(u, du, 0, c0101, c1101, a101)
-    SWCL_DLERP4(u, du, 0, c0011, c1011, a011) SWCL_DLERP4(u, du, 0, c0111, c1111, a111)
-    SWCL_DLERP4(v, dv, 1, a000, a100, b00) SWCL_DLERP4(v, dv, 1, a010, a110, b10)
-    SWCL_DLERP4(v, dv, 1, a001, a101, b01) SWCL_DLERP4(v, dv, 1, a011, a111, b11)
-    SWCL_DLERP4(s, ds, 2, b00, b10, e0) SWCL_DLERP4(s, ds, 2, b01, b11, e1)
-    SWCL_DLERP4(q, dq, 3, e0, e1, r)
+    SWCL_NOISE4_BODY(SWCL_CORNER4, SWCL_DLERP4)
     *val = rv; *gx = rx; *gy = ry; *gz = rz; *gw = rw;
 }
 
@@ -473,21 +483,7 @@ SWCL_INLINE void swcl_perlin3_w(swcl_fw px, swcl_fw py, swcl_fw pz, int ox, int 
     const swcl_fw du = swcl_dfade_w(x), dv = swcl_dfade_w(y), dw = swcl_dfade_w(z);
     const swcl_fw x1 = x - 1.0f, y1 = y - 1.0f, z1 = z - 1.0f;
     SWCL_HASH3_PAIRS(swcl_iw, swcl_perm2_w)
-    SWCL_CORNER3_W(SWCL_LO(hAA), x,  y,  z,  c000)
-    SWCL_CORNER3_W(SWCL_LO(hBA), x1, y,  z,  c100)
-    SWCL_CORNER3_W(SWCL_LO(hAB), x,  y1, z,  c010)
-    SWCL_CORNER3_W(SWCL_LO(hBB), x1, y1, z,  c110)
-    SWCL_CORNER3_W(SWCL_HI(hAA), x,  y,  z1, c001)
-    SWCL_CORNER3_W(SWCL_HI(hBA), x1, y,  z1, c101)
-    SWCL_CORNER3_W(SWCL_HI(hAB), x,  y1, z1, c011)
-    SWCL_CORNER3_W(SWCL_HI(hBB), x1, y1, z1, c111)
-    SWCL_DLERP3_W(u, du, 0, c000, c100, a00)
-    SWCL_DLERP3_W(u, du, 0, c010, c110, a10)
-    SWCL_DLERP3_W(u, du, 0, c001, c101, a01)
-    SWCL_DLERP3_W(u, du, 0, c011, c111, a11)
-    SWCL_DLERP3_W(v, dv, 1, a00, a10, b0)
-    SWCL_DLERP3_W(v, dv, 1, a01, a11, b1)
-    SWCL_DLERP3_W(w, dw, 2, b0, b1, r)
+    SWCL_NOISE3_BODY(SWCL_CORNER3_W, SWCL_DLERP3_W)
     *val = rv; *gx = rx; *gy = ry; *gz = rz;
 }
 
@@ -513,30 +509,7 @@ SWCL_INLINE void swcl_perlin4_w(swcl_fw px, swcl_fw py, swcl_fw pz, swcl_fw pw, 
     const swcl_fw du = swcl_dfade_w(x), dv = swcl_dfade_w(y), ds = swcl_dfade_w(z), dq = swcl_dfade_w(w);
     const swcl_fw x1 = x - 1.0f, y1 = y - 1.0f, z1 = z - 1.0f, w1 = w - 1.0f;
     SWCL_HASH4_PAIRS(swcl_iw, swcl_perm2_w)
-    SWCL_CORNER4_W(SWCL_H4(Z00, 0, 0), x,  y,  z,  w,  c0000)
-    SWCL_CORNER4_W(SWCL_H4(Z10, 0, 0), x1, y,  z,  w,  c1000)
-    SWCL_CORNER4_W(SWCL_H4(Z01, 0, 0), x,  y1, z,  w,  c0100)
-    SWCL_CORNER4_W(SWCL_H4(Z11, 0, 0), x1, y1, z,  w,  c1100)
-    SWCL_CORNER4_W(SWCL_H4(Z00, 1, 0), x,  y,  z1, w,  c0010)
-    SWCL_CORNER4_W(SWCL_H4(Z10, 1, 0), x1, y,  z1, w,  c1010)
-    SWCL_CORNER4_W(SWCL_H4(Z01, 1, 0), x,  y1, z1, w,  c0110)
-    SWCL_CORNER4_W(SWCL_H4(Z11, 1, 0), x1, y1, z1, w,  c1110)
-    SWCL_CORNER4_W(SWCL_H4(Z00, 0, 1), x,  y,  z,  w1, c0001)
-    SWCL_CORNER4_W(SWCL_H4(Z10, 0, 1), x1, y,  z,  w1, c1001)
-    SWCL_CORNER4_W(SWCL_H4(Z01, 0, 1), x,  y1, z,  w1, c0101)
-    SWCL_CORNER4_W(SWCL_H4(Z11, 0, 1), x1, y1, z,  w1, c1101)
-    SWCL_CORNER4_W(SWCL_H4(Z00, 1, 1), x,  y,  z1, w1, c0011)
-    SWCL_CORNER4_W(SWCL_H4(Z10, 1, 1), x1, y,  z1, w1, c1011)
-    SWCL_CORNER4_W(SWCL_H4(Z01, 1, 1), x,  y1, z1, w1, c0111)
-    SWCL_CORNER4_W(SWCL_H4(Z11, 1, 1), x1, y1, z1, w1, c1111)
-    SWCL_DLERP4_W(u, du, 0, c0000, c1000, a000) SWCL_DLERP4_W(u, du, 0, c0100, c1100, a100)
-    SWCL_DLERP4_W(u, du, 0, c0010, c1010, a010) SWCL_DLERP4_W(u, du, 0, c0110, c1110, a110)
-    SWCL_DLERP4_W(u, du, 0, c0001, c1001, a001) SWCL_DLERP4_W(u, du, 0, c0101, c1101, a101)
-    SWCL_DLERP4_W(u, du, 0, c0011, c1011, a011) SWCL_DLERP4_W(u, du, 0, c0111, c1111, a111)
-    SWCL_DLERP4_W(v, dv, 1, a000, a100, b00) SWCL_DLERP4_W(v, dv, 1, a010, a110, b10)
-    SWCL_DLERP4_W(v, dv, 1, a001, a101, b01) SWCL_DLERP4_W(v, dv, 1, a011, a111, b11)
-    SWCL_DLERP4_W(s, ds, 2, b00, b10, e0) SWCL_DLERP4_W(s, ds, 2, b01, b11, e1)
-    SWCL_DLERP4_W(q, dq, 3, e0, e1, r)
+    SWCL_NOISE4_BODY(SWCL_CORNER4_W, SWCL_DLERP4_W)
     *val = rv; *gx = rx; *gy = ry; *gz = rz; *gw = rw;
 }
 
