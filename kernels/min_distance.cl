@@ -18,6 +18,20 @@ inline float3 coincident_direction(ulong seed, uint self, uint other) {
     return self < other ? d : -d;
 }
 
+// One candidate of the pass: pushes p away from q by half the overlap
+// when they are closer than d_min (slots i != j).
+#define MDE_CANDIDATE(i, j)                                                                          \
+    {                                                                                                \
+        const float4 q_ = pos[j];                                                                    \
+        const float d2_ = dist2(p, q_);                                                              \
+        if ((j) != (i) && d2_ < d2_min) {                                                            \
+            const float d_ = sqrt(d2_);                                                              \
+            const float3 dir_ = d_ > 0.0f ? (p.xyz - q_.xyz) / d_ : coincident_direction(seed, ids[i], ids[j]); \
+            push += 0.5f * (d_min - d_) * dir_;                                                      \
+            touched = true;                                                                          \
+        }                                                                                            \
+    }
+
 __kernel void min_distance_enforce(__global const float4* pos, __global const uint* ids, uint n,
                                    GRID_PARAMS, float d_min, ulong seed, __global float4* out,
                                    __global volatile uint* moved) {
@@ -29,18 +43,170 @@ __kernel void min_distance_enforce(__global const float4* pos, __global const ui
     const float d2_min = d_min * d_min;
     float3 push = (float3)(0.0f);
     bool touched = false;
-    GRID_FOR_EACH_CANDIDATE(&g, p, d_min, j) {
-        if (j == i) continue;
-        const float d2 = dist2(p, pos[j]);
-        if (d2 >= d2_min) continue;
-        const float d = sqrt(d2);
-        const float3 dir = d > 0.0f ? (p.xyz - pos[j].xyz) / d : coincident_direction(seed, ids[i], ids[j]);
-        push += 0.5f * (d_min - d) * dir;
-        touched = true;
-    } GRID_END_FOR
+    int4 lo, hi;
+    grid_search_box(&g, p, d_min, &lo, &hi);
+    if (hi.y - lo.y <= 1 && hi.z - lo.z <= 1) {
+        // At most 2 x 2 rows (always when the cell is at least 2 d_min): their
+        // slots in one loop, rows in the order of GRID_FOR_EACH_CANDIDATE, so
+        // the sum is the same; one loop exit to mispredict instead of four.
+        const int y1 = hi.y, z1 = hi.z;
+        const uint2 r0 = grid_row_range(&g, lo.x, hi.x, lo.y, lo.z);
+        const uint2 r1 = y1 > lo.y ? grid_row_range(&g, lo.x, hi.x, y1, lo.z) : (uint2)(0u);
+        const uint2 r2 = z1 > lo.z ? grid_row_range(&g, lo.x, hi.x, lo.y, z1) : (uint2)(0u);
+        const uint2 r3 = y1 > lo.y && z1 > lo.z ? grid_row_range(&g, lo.x, hi.x, y1, z1) : (uint2)(0u);
+        const uint c1 = r0.y - r0.x, c2 = c1 + (r1.y - r1.x), c3 = c2 + (r2.y - r2.x), total = c3 + (r3.y - r3.x);
+        for (uint t = 0; t < total; ++t) {
+            const uint j = t < c1 ? r0.x + t : t < c2 ? r1.x + (t - c1) : t < c3 ? r2.x + (t - c2) : r3.x + (t - c3);
+            MDE_CANDIDATE(i, j)
+        }
+    } else {
+        GRID_FOR_EACH_CANDIDATE(&g, p, d_min, j) MDE_CANDIDATE(i, j) GRID_END_FOR
+    }
     out[i] = (float4)(p.xyz + push, 0.0f);
     if (touched) {
         atomic_inc(&moved[0]);
         atomic_inc(&moved[1]);
     }
 }
+
+#ifdef MDE_WIDTH
+// min_distance_enforce on MDE_WIDTH (8 or 16) consecutive slots per
+// work-item (CPU devices).  The scalar kernel's cost is its branches: every
+// agent walks 4 rows of 1 to 3 candidates (cell = 2 d_min), and each short
+// loop's exit mispredicts.  Here the lanes walk their own boxes in lockstep
+// (rows z then y, slots ascending: each lane's visiting order, arithmetic and
+// so its sum are the scalar kernel's, bitwise); a lane past its own rows or
+// slots is masked.
+#if MDE_WIDTH == 8
+typedef float8 mde_fw;
+typedef int8 mde_iw;
+#define mde_cvt_iw convert_int8
+#define mde_vload vload8
+#define mde_vstore vstore8
+#define MDE_LANE_IDS (mde_iw)(0, 1, 2, 3, 4, 5, 6, 7)
+#define MDE_LANES(E) E(0), E(1), E(2), E(3), E(4), E(5), E(6), E(7)
+#define MDE_EACH_LANE(E) E(0) E(1) E(2) E(3) E(4) E(5) E(6) E(7)
+inline int mde_hmax(int8 v) { const int4 b = max(v.lo, v.hi); const int2 c = max(b.lo, b.hi); return max(c.x, c.y); }
+inline int mde_hsum(int8 v) { const int4 b = v.lo + v.hi; const int2 c = b.lo + b.hi; return c.x + c.y; }
+#elif MDE_WIDTH == 16
+typedef float16 mde_fw;
+typedef int16 mde_iw;
+#define mde_cvt_iw convert_int16
+#define mde_vload vload16
+#define mde_vstore vstore16
+#define MDE_LANE_IDS (mde_iw)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15)
+#define MDE_LANES(E) E(0), E(1), E(2), E(3), E(4), E(5), E(6), E(7), \
+                     E(8), E(9), E(a), E(b), E(c), E(d), E(e), E(f)
+#define MDE_EACH_LANE(E) E(0) E(1) E(2) E(3) E(4) E(5) E(6) E(7) \
+                         E(8) E(9) E(a) E(b) E(c) E(d) E(e) E(f)
+inline int mde_hmax(int16 v) {
+    const int8 a = max(v.lo, v.hi); const int4 b = max(a.lo, a.hi); const int2 c = max(b.lo, b.hi);
+    return max(c.x, c.y);
+}
+inline int mde_hsum(int16 v) {
+    const int8 a = v.lo + v.hi; const int4 b = a.lo + a.hi; const int2 c = b.lo + b.hi;
+    return c.x + c.y;
+}
+#else
+#error "MDE_WIDTH must be 8 or 16"
+#endif
+
+// The lanes of a 32-bit array at the indices idx (every index valid: callers
+// send masked lanes to index 0).
+#define MDE_GATHER_LANE_(k) a[idx.s##k]
+inline mde_iw mde_gather_i(__global const int* a, mde_iw idx) { return (mde_iw)(MDE_LANES(MDE_GATHER_LANE_)); }
+// x, y, z of the positions at slots idx: one float4 load per lane.
+#define MDE_LOAD_P_(k) const float4 P##k = pos[idx.s##k];
+#define MDE_PX_(k) P##k.x
+#define MDE_PY_(k) P##k.y
+#define MDE_PZ_(k) P##k.z
+inline void mde_gather_xyz(__global const float4* pos, mde_iw idx, mde_fw* x, mde_fw* y, mde_fw* z) {
+    MDE_EACH_LANE(MDE_LOAD_P_)
+    *x = (mde_fw)(MDE_LANES(MDE_PX_));
+    *y = (mde_fw)(MDE_LANES(MDE_PY_));
+    *z = (mde_fw)(MDE_LANES(MDE_PZ_));
+}
+
+// grid_axis lane by lane: the same operations, so the same cells.
+inline mde_iw mde_axis(mde_fw x, float origin, float inv_cell, int n) {
+    return mde_cvt_iw(clamp((x - origin) * inv_cell, 0.0f, (float)(n - 1)));
+}
+
+__kernel void min_distance_enforce_w(__global const float4* pos, __global const uint* ids, uint n,
+                                     GRID_PARAMS, float d_min, ulong seed, __global float4* out,
+                                     __global volatile uint* moved) {
+    const uint base = get_global_id(0) * MDE_WIDTH;
+    if (base >= n) return;
+    const mde_iw slot = (int)base + MDE_LANE_IDS;
+    const mde_iw live = slot < (int)n;
+    mde_fw px, py, pz;
+    mde_gather_xyz(pos, select((mde_iw)(0), slot, live), &px, &py, &pz);
+    // grid_search_box: the cells of p - r and p + r.
+    const mde_iw x0 = mde_axis(px - d_min, grid_origin.x, grid_inv_cell, grid_dims.x);
+    const mde_iw x1 = mde_axis(px + d_min, grid_origin.x, grid_inv_cell, grid_dims.x);
+    const mde_iw y0 = mde_axis(py - d_min, grid_origin.y, grid_inv_cell, grid_dims.y);
+    const mde_iw y1 = mde_axis(py + d_min, grid_origin.y, grid_inv_cell, grid_dims.y);
+    const mde_iw z0 = mde_axis(pz - d_min, grid_origin.z, grid_inv_cell, grid_dims.z);
+    const mde_iw z1 = mde_axis(pz + d_min, grid_origin.z, grid_inv_cell, grid_dims.z);
+    const int ny = mde_hmax(select((mde_iw)(0), y1 - y0, live));
+    const int nz = mde_hmax(select((mde_iw)(0), z1 - z0, live));
+    const float d2_min = d_min * d_min;
+    mde_fw sx = (mde_fw)(0.0f), sy = (mde_fw)(0.0f), sz = (mde_fw)(0.0f);
+    mde_iw touched = (mde_iw)(0);
+    __global const int* cs = (__global const int*)grid_cell_start;
+    for (int dz = 0; dz <= nz; ++dz) {
+        const mde_iw z = z0 + dz;
+        for (int dy = 0; dy <= ny; ++dy) {
+            const mde_iw y = y0 + dy;
+            const mde_iw row_ok = live & (z <= z1) & (y <= y1);
+            // grid_row_range (indices below 2^31: the host checks the cell count)
+            const mde_iw row = grid_dims.x * (y + grid_dims.y * z);
+            const mde_iw j0 = mde_gather_i(cs, select((mde_iw)(0), row + x0, row_ok));
+            const mde_iw j1 = mde_gather_i(cs, select((mde_iw)(0), row + x1 + 1, row_ok));
+            const mde_iw len = select((mde_iw)(0), j1 - j0, row_ok);
+            const int steps = mde_hmax(len);
+            for (int t = 0; t < steps; ++t) {
+                const mde_iw j = j0 + t;
+                const mde_iw in_row = (mde_iw)(t) < len;
+                mde_fw qx, qy, qz;
+                mde_gather_xyz(pos, select((mde_iw)(0), j, in_row), &qx, &qy, &qz);
+                // dist2: d = p - q, d.x*d.x + d.y*d.y + d.z*d.z
+                const mde_fw dx = px - qx, dy_ = py - qy, dz_ = pz - qz;
+                const mde_fw d2 = dx * dx + dy_ * dy_ + dz_ * dz_;
+                const mde_iw hit = in_row & (j != slot) & (d2 < d2_min);
+                if (!any(hit)) continue;
+                const mde_fw d = sqrt(d2);
+                const mde_fw k = 0.5f * (d_min - d);
+                mde_fw ux = dx / d, uy = dy_ / d, uz = dz_ / d;
+                const mde_iw coincident = hit & (d2 == 0.0f);
+                if (any(coincident)) {  // rare: the scalar kernel's Philox direction, lane by lane
+                    float ax[MDE_WIDTH], ay[MDE_WIDTH], az[MDE_WIDTH];
+                    mde_vstore(ux, 0, ax); mde_vstore(uy, 0, ay); mde_vstore(uz, 0, az);
+#define MDE_COINCIDENT_(l)                                                                        \
+                    if (coincident.s##l) {                                                        \
+                        const float3 c = coincident_direction(seed, ids[slot.s##l], ids[j.s##l]); \
+                        ax[0x##l] = c.x; ay[0x##l] = c.y; az[0x##l] = c.z;                        \
+                    }
+                    MDE_EACH_LANE(MDE_COINCIDENT_)
+#undef MDE_COINCIDENT_
+                    ux = mde_vload(0, ax); uy = mde_vload(0, ay); uz = mde_vload(0, az);
+                }
+                sx = select(sx, sx + k * ux, hit);
+                sy = select(sy, sy + k * uy, hit);
+                sz = select(sz, sz + k * uz, hit);
+                touched |= hit;
+            }
+        }
+    }
+    const mde_fw ox = px + sx, oy = py + sy, oz = pz + sz;
+#define MDE_STORE_(l) \
+    if (base + 0x##l < n) out[base + 0x##l] = (float4)(ox.s##l, oy.s##l, oz.s##l, 0.0f);
+    MDE_EACH_LANE(MDE_STORE_)
+#undef MDE_STORE_
+    const uint count = (uint)mde_hsum(touched & 1);
+    if (count) {
+        atomic_add(&moved[0], count);
+        atomic_add(&moved[1], count);
+    }
+}
+#endif

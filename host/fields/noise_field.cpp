@@ -23,6 +23,8 @@ constexpr uint64_t kMaxBakedNodes = uint64_t(1) << 27;
 // work-items, GPUs run them one point per work-item.
 constexpr uint32_t kCpuNoiseWidth = 16;
 
+}  // namespace
+
 uint32_t preferred_noise_width(const DeviceEntry& device) {
     const char* env = std::getenv("SWARMCL_NOISE_WIDTH");
     if (env && *env) {
@@ -34,6 +36,8 @@ uint32_t preferred_noise_width(const DeviceEntry& device) {
     }
     return (device.type & CL_DEVICE_TYPE_CPU) ? kCpuNoiseWidth : 1;
 }
+
+namespace {
 
 bool finite3(const std::array<float, 3>& v) {
     return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);

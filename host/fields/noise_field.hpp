@@ -14,6 +14,11 @@
 
 namespace swarmcl {
 
+// Points per work-item of the explicit-width kernels on `device`: 16 on CPU
+// devices, 1 elsewhere; $SWARMCL_NOISE_WIDTH = 1, 8 or 16 overrides it
+// (docs/noise.md).  Throws InvalidArgument for another value.
+uint32_t preferred_noise_width(const DeviceEntry& device);
+
 enum class NoiseType : int { Curl = 0, Perlin = 1, White = 2, Gaussian = 3 };
 
 // A boundary of the curl potential (Eq. 2): an obstacle or a half space.

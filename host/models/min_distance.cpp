@@ -1,5 +1,8 @@
 #include "models/min_distance.hpp"
 
+#include <string>
+
+#include "fields/noise_field.hpp"
 #include "swarm/swarm.hpp"
 
 namespace swarmcl {
@@ -19,23 +22,36 @@ StepStats MdeCounters::take(Swarm& swarm) {
     return s;
 }
 
+namespace {
+// The explicit-width kernel where the noise module uses one (CPU devices;
+// $SWARMCL_NOISE_WIDTH = 1 selects the scalar kernel everywhere).
+uint32_t mde_width(Context& ctx) { return preferred_noise_width(ctx.device()); }
+}  // namespace
+
 MinDistance::MinDistance(Context& ctx, float d_min, uint64_t seed)
-    : d_min_(d_min), seed_(seed), kernel_(ctx.kernel("min_distance.cl", "min_distance_enforce")) {}
+    : d_min_(d_min), seed_(seed), width_(mde_width(ctx)),
+      kernel_(ctx.kernel("min_distance.cl", "min_distance_enforce")) {
+    if (width_ > 1) wide_ = ctx.kernel("min_distance.cl", "min_distance_enforce_w", "-DMDE_WIDTH=" + std::to_string(width_));
+}
 
 void MinDistance::apply(Swarm& swarm, DeviceBuffer<cl_uint>& moved) {
     swarm.ensure_grid();
     const uint32_t n = swarm.agent_count();
+    // The wide kernel indexes floats and cells with 32-bit signed lanes.
+    const bool wide = width_ > 1 && uint64_t(n) * 4 < (uint64_t(1) << 31) &&
+                      uint64_t(swarm.grid().geometry().cell_count()) + 1 < (uint64_t(1) << 31);
+    cl::Kernel& k = wide ? wide_ : kernel_;
     cl_uint i = 0;
-    kernel_.setArg(i++, swarm.positions().get());
-    kernel_.setArg(i++, swarm.ids().get());
-    kernel_.setArg(i++, n);
-    i = swarm.grid().set_grid_args(kernel_, i);
-    kernel_.setArg(i++, d_min_);
-    kernel_.setArg(i++, cl_ulong(seed_));
-    kernel_.setArg(i++, swarm.scratch().get());
-    kernel_.setArg(i++, moved.get());
+    k.setArg(i++, swarm.positions().get());
+    k.setArg(i++, swarm.ids().get());
+    k.setArg(i++, n);
+    i = swarm.grid().set_grid_args(k, i);
+    k.setArg(i++, d_min_);
+    k.setArg(i++, cl_ulong(seed_));
+    k.setArg(i++, swarm.scratch().get());
+    k.setArg(i++, moved.get());
     swarm.context().queue().enqueueFillBuffer(moved.get(), cl_uint(0), 0, sizeof(cl_uint));
-    launch(swarm.context(), kernel_, n);
+    launch(swarm.context(), k, wide ? (n + width_ - 1) / width_ : n);
     swarm.swap_positions_with_scratch();
 }
 

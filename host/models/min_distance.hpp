@@ -35,11 +35,16 @@ public:
     void apply(Swarm& swarm, DeviceBuffer<cl_uint>& moved);
 
     float distance() const { return d_min_; }
+    // Agents per work-item of the pass: the explicit-width kernel
+    // (min_distance_enforce_w, 8 or 16 lanes) on CPU devices, 1 elsewhere or
+    // with $SWARMCL_NOISE_WIDTH = 1.
+    uint32_t width() const { return width_; }
 
 private:
     float d_min_;
     uint64_t seed_;
-    cl::Kernel kernel_;
+    uint32_t width_;
+    cl::Kernel kernel_, wide_;
 };
 
 }  // namespace swarmcl

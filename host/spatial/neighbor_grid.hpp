@@ -61,6 +61,7 @@ private:
     Context& ctx_;
     GridGeometry geometry_;
     uint32_t ncells_;
+    uint32_t cells_per_item_;  // grid_place
     uint32_t capacity_ = 0;
     uint32_t radix_bits_, radix_passes_;
     bool layout_valid_ = false;

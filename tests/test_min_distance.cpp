@@ -1,0 +1,137 @@
+// Minimum distance enforcement (kernels/min_distance.cl) on crowded swarms:
+// one pass against a brute-force host reference, and the explicit-width
+// kernel (CPU devices) against the one-agent-per-work-item kernel, bitwise,
+// for cells of 2 d_min (the 2 x 2-row fast path), of d_min / 2 (wider boxes)
+// and of 3 d_min, with agents outside the domain and on the same point.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+#include "models/min_distance.hpp"
+#include "test_support.hpp"
+
+using namespace swarmcl;
+using namespace swarmcl::test;
+
+namespace {
+
+struct Pass {
+    std::vector<cl_float4> before, after;  // slot order (the grid's)
+    std::vector<cl_uint> ids;
+    cl_uint moved[2] = {0, 0};
+    uint32_t width = 0;
+};
+
+// A crowded cube [-1, 1]^3 with 2% of the agents outside it and 1% on the
+// same point as another agent.
+std::vector<float> crowded_points(uint32_t n, uint32_t seed) {
+    auto xyz = random_points(n, -1.0f, 1.0f, seed);
+    for (uint32_t i = 0; i < n; i += 50) xyz[3 * i] = 1.3f + 0.01f * float(i % 7);
+    for (uint32_t i = 7; i + 1 < n; i += 100)
+        for (int a = 0; a < 3; ++a) xyz[3 * (i + 1) + a] = xyz[3 * i + a];
+    return xyz;
+}
+
+// One MDE pass with the kernel `width` selects ($SWARMCL_NOISE_WIDTH as
+// the library reads it; "" keeps the environment's choice).
+Pass run_pass(const std::vector<float>& xyz, float cell, float d_min, const char* width) {
+    auto ctx = shared_context();
+    const uint32_t n = uint32_t(xyz.size() / 3);
+    Swarm swarm(ctx, cube_config(n, -1.0f, 1.0f, cell));
+    swarm.write(Attribute::Position, xyz.data(), n);
+    const char* env = std::getenv("SWARMCL_NOISE_WIDTH");
+    const std::string saved = env ? env : "";
+    if (*width) setenv("SWARMCL_NOISE_WIDTH", width, 1);
+    MinDistance mde(*ctx, d_min, 99);
+    if (env) setenv("SWARMCL_NOISE_WIDTH", saved.c_str(), 1); else unsetenv("SWARMCL_NOISE_WIDTH");
+    DeviceBuffer<cl_uint> moved(*ctx, 2, "moved");
+    moved.fill(*ctx, 0u, 2);
+    swarm.ensure_grid();
+    Pass p;
+    p.width = mde.width();
+    p.before.resize(n);
+    p.after.resize(n);
+    p.ids.resize(n);
+    swarm.positions().download(*ctx, p.before.data(), n);
+    swarm.ids().download(*ctx, p.ids.data(), n);
+    mde.apply(swarm, moved);
+    swarm.positions().download(*ctx, p.after.data(), n);  // still the slot order: no rebuild yet
+    moved.download(*ctx, p.moved, 2);
+    return p;
+}
+
+struct Case {
+    float cell, d_min;
+};
+const Case kCases[] = {{0.1f, 0.05f}, {0.05f, 0.1f}, {0.3f, 0.1f}};
+
+}  // namespace
+
+// Every agent moves by the sum, in slot order, of half the overlap along the
+// pair direction over the agents closer than d_min (Jacobi: positions before
+// the pass).  Pairs on the same point take a Philox direction; their agents
+// are checked for the distance they end apart instead.
+TEST(MinDistance, OnePassMatchesBruteForceReference) {
+    const auto xyz = crowded_points(6000, 5);
+    for (const auto& c : kCases) {
+        SCOPED_TRACE("cell " + std::to_string(c.cell) + ", d_min " + std::to_string(c.d_min));
+        const Pass p = run_pass(xyz, c.cell, c.d_min, "");
+        const uint32_t n = uint32_t(p.before.size());
+        const float d2_min = c.d_min * c.d_min;
+        uint32_t touched = 0, checked = 0;
+        double err = 0;
+        for (uint32_t i = 0; i < n; ++i) {
+            const float* pi = p.before[i].s;
+            float push[3] = {0, 0, 0};
+            bool any = false, coincident = false;
+            for (uint32_t j = 0; j < n; ++j) {
+                if (j == i) continue;
+                const float* pj = p.before[j].s;
+                const float d2 = dist2(pi, pj);
+                if (!(d2 < d2_min)) continue;
+                any = true;
+                if (d2 == 0.0f) {
+                    coincident = true;
+                    continue;
+                }
+                const float d = std::sqrt(d2), k = 0.5f * (c.d_min - d);
+                for (int a = 0; a < 3; ++a) push[a] += k * ((pi[a] - pj[a]) / d);
+            }
+            touched += any ? 1u : 0u;
+            if (coincident) continue;
+            ++checked;
+            for (int a = 0; a < 3; ++a)
+                err = std::max(err, double(std::fabs(p.after[i].s[a] - (pi[a] + push[a]))));
+        }
+        EXPECT_GT(touched, n / 4) << "the case must crowd the swarm";
+        EXPECT_GT(checked, n - n / 20);
+        EXPECT_LT(err, 1e-6) << "max |device - reference| (m)";
+        EXPECT_EQ(p.moved[0], touched);
+        EXPECT_EQ(p.moved[1], touched);
+    }
+}
+
+// The explicit-width kernel gives bitwise the results of the scalar kernel
+// (the same candidates in the same order, the same arithmetic), tails and
+// coincident agents included.
+TEST(MinDistance, WideKernelEqualsScalarKernelBitwise) {
+    for (uint32_t n : {6000u, 6007u, 5u}) {
+        const auto xyz = crowded_points(n, 11 + n);
+        for (const auto& c : kCases) {
+            SCOPED_TRACE("n " + std::to_string(n) + ", cell " + std::to_string(c.cell));
+            const Pass scalar = run_pass(xyz, c.cell, c.d_min, "1");
+            ASSERT_EQ(scalar.width, 1u);
+            for (const char* w : {"8", "16"}) {
+                const Pass wide = run_pass(xyz, c.cell, c.d_min, w);
+                ASSERT_EQ(wide.width, uint32_t(std::atoi(w)));
+                ASSERT_EQ(std::memcmp(wide.before.data(), scalar.before.data(), n * sizeof(cl_float4)), 0);
+                EXPECT_EQ(std::memcmp(wide.after.data(), scalar.after.data(), n * sizeof(cl_float4)), 0)
+                    << "width " << w;
+                EXPECT_EQ(wide.moved[0], scalar.moved[0]) << "width " << w;
+            }
+        }
+    }
+}
