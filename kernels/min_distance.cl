@@ -88,6 +88,7 @@ typedef int8 mde_iw;
 #define MDE_EACH_LANE(E) E(0) E(1) E(2) E(3) E(4) E(5) E(6) E(7)
 inline int mde_hmax(int8 v) { const int4 b = max(v.lo, v.hi); const int2 c = max(b.lo, b.hi); return max(c.x, c.y); }
 inline int mde_hsum(int8 v) { const int4 b = v.lo + v.hi; const int2 c = b.lo + b.hi; return c.x + c.y; }
+inline int mde_hmin(int8 v) { const int4 b = min(v.lo, v.hi); const int2 c = min(b.lo, b.hi); return min(c.x, c.y); }
 #elif MDE_WIDTH == 16
 typedef float16 mde_fw;
 typedef int16 mde_iw;
@@ -102,6 +103,10 @@ typedef int16 mde_iw;
 inline int mde_hmax(int16 v) {
     const int8 a = max(v.lo, v.hi); const int4 b = max(a.lo, a.hi); const int2 c = max(b.lo, b.hi);
     return max(c.x, c.y);
+}
+inline int mde_hmin(int16 v) {
+    const int8 a = min(v.lo, v.hi); const int4 b = min(a.lo, a.hi); const int2 c = min(b.lo, b.hi);
+    return min(c.x, c.y);
 }
 inline int mde_hsum(int16 v) {
     const int8 a = v.lo + v.hi; const int4 b = a.lo + a.hi; const int2 c = b.lo + b.hi;
@@ -130,6 +135,42 @@ inline void mde_gather_xyz(__global const float4* pos, mde_iw idx, mde_fw* x, md
 // grid_axis lane by lane: the same operations, so the same cells.
 inline mde_iw mde_axis(mde_fw x, float origin, float inv_cell, int n) {
     return mde_cvt_iw(clamp((x - origin) * inv_cell, 0.0f, (float)(n - 1)));
+}
+
+// Candidate slots j (lanes where in_row) at qx, qy, qz: the scalar
+// MDE_CANDIDATE lane by lane.  dist2: d = p - q, d.x*d.x + d.y*d.y + d.z*d.z.
+#define MDE_CANDIDATE_W(QX, QY, QZ)                                                                   \
+    {                                                                                                 \
+        const mde_fw dx = px - (QX), dy_ = py - (QY), dz_ = pz - (QZ);                                \
+        const mde_fw d2 = dx * dx + dy_ * dy_ + dz_ * dz_;                                            \
+        const mde_iw hit = in_row & (j != slot) & (d2 < d2_min);                                      \
+        if (any(hit)) {                                                                               \
+            const mde_fw d = sqrt(d2);                                                                \
+            const mde_fw k = 0.5f * (d_min - d);                                                      \
+            mde_fw ux = dx / d, uy = dy_ / d, uz = dz_ / d;                                           \
+            const mde_iw coincident = hit & (d2 == 0.0f);                                             \
+            if (any(coincident)) mde_coincident(coincident, slot, j, ids, seed, &ux, &uy, &uz);       \
+            sx = select(sx, sx + k * ux, hit);                                                        \
+            sy = select(sy, sy + k * uy, hit);                                                        \
+            sz = select(sz, sz + k * uz, hit);                                                        \
+            touched |= hit;                                                                           \
+        }                                                                                             \
+    }
+
+// Rare: the scalar kernel's Philox direction for agents on the same point,
+// lane by lane.
+inline void mde_coincident(mde_iw coincident, mde_iw slot, mde_iw j, __global const uint* ids, ulong seed,
+                           mde_fw* ux, mde_fw* uy, mde_fw* uz) {
+    float ax[MDE_WIDTH], ay[MDE_WIDTH], az[MDE_WIDTH];
+    mde_vstore(*ux, 0, ax); mde_vstore(*uy, 0, ay); mde_vstore(*uz, 0, az);
+#define MDE_COINCIDENT_(l)                                                                        \
+    if (coincident.s##l) {                                                                        \
+        const float3 c = coincident_direction(seed, ids[slot.s##l], ids[j.s##l]);                 \
+        ax[0x##l] = c.x; ay[0x##l] = c.y; az[0x##l] = c.z;                                        \
+    }
+    MDE_EACH_LANE(MDE_COINCIDENT_)
+#undef MDE_COINCIDENT_
+    *ux = mde_vload(0, ax); *uy = mde_vload(0, ay); *uz = mde_vload(0, az);
 }
 
 __kernel void min_distance_enforce_w(__global const float4* pos, __global const uint* ids, uint n,
@@ -165,36 +206,27 @@ __kernel void min_distance_enforce_w(__global const float4* pos, __global const 
             const mde_iw j1 = mde_gather_i(cs, select((mde_iw)(0), row + x1 + 1, row_ok));
             const mde_iw len = select((mde_iw)(0), j1 - j0, row_ok);
             const int steps = mde_hmax(len);
-            for (int t = 0; t < steps; ++t) {
-                const mde_iw j = j0 + t;
-                const mde_iw in_row = (mde_iw)(t) < len;
-                mde_fw qx, qy, qz;
-                mde_gather_xyz(pos, select((mde_iw)(0), j, in_row), &qx, &qy, &qz);
-                // dist2: d = p - q, d.x*d.x + d.y*d.y + d.z*d.z
-                const mde_fw dx = px - qx, dy_ = py - qy, dz_ = pz - qz;
-                const mde_fw d2 = dx * dx + dy_ * dy_ + dz_ * dz_;
-                const mde_iw hit = in_row & (j != slot) & (d2 < d2_min);
-                if (!any(hit)) continue;
-                const mde_fw d = sqrt(d2);
-                const mde_fw k = 0.5f * (d_min - d);
-                mde_fw ux = dx / d, uy = dy_ / d, uz = dz_ / d;
-                const mde_iw coincident = hit & (d2 == 0.0f);
-                if (any(coincident)) {  // rare: the scalar kernel's Philox direction, lane by lane
-                    float ax[MDE_WIDTH], ay[MDE_WIDTH], az[MDE_WIDTH];
-                    mde_vstore(ux, 0, ax); mde_vstore(uy, 0, ay); mde_vstore(uz, 0, az);
-#define MDE_COINCIDENT_(l)                                                                        \
-                    if (coincident.s##l) {                                                        \
-                        const float3 c = coincident_direction(seed, ids[slot.s##l], ids[j.s##l]); \
-                        ax[0x##l] = c.x; ay[0x##l] = c.y; az[0x##l] = c.z;                        \
-                    }
-                    MDE_EACH_LANE(MDE_COINCIDENT_)
-#undef MDE_COINCIDENT_
-                    ux = mde_vload(0, ax); uy = mde_vload(0, ay); uz = mde_vload(0, az);
+            // Lanes whose ranges lie close together in the slot order (the
+            // same row, or neighbouring rows of a dense grid): walk the union
+            // of the ranges once, each candidate loaded once for all lanes.
+            // Otherwise each lane its own range, in lockstep.
+            const int lo = mde_hmin(select((mde_iw)(INT_MAX), j0, row_ok));
+            const int hi = mde_hmax(select((mde_iw)(0), j1, row_ok));
+            if (hi - lo <= 8 * steps) {
+                for (int jj = lo; jj < hi; ++jj) {
+                    const float4 qv = pos[jj];
+                    const mde_iw j = (mde_iw)(jj);
+                    const mde_iw in_row = row_ok & (j >= j0) & (j < j1);
+                    MDE_CANDIDATE_W((mde_fw)(qv.x), (mde_fw)(qv.y), (mde_fw)(qv.z))
                 }
-                sx = select(sx, sx + k * ux, hit);
-                sy = select(sy, sy + k * uy, hit);
-                sz = select(sz, sz + k * uz, hit);
-                touched |= hit;
+            } else {
+                for (int t = 0; t < steps; ++t) {
+                    const mde_iw j = j0 + t;
+                    const mde_iw in_row = (mde_iw)(t) < len;
+                    mde_fw qx, qy, qz;
+                    mde_gather_xyz(pos, select((mde_iw)(0), j, in_row), &qx, &qy, &qz);
+                    MDE_CANDIDATE_W(qx, qy, qz)
+                }
             }
         }
     }

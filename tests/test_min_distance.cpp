@@ -1,8 +1,9 @@
 // Minimum distance enforcement (kernels/min_distance.cl) on crowded swarms:
 // one pass against a brute-force host reference, and the explicit-width
 // kernel (CPU devices) against the one-agent-per-work-item kernel, bitwise,
-// for cells of 2 d_min (the 2 x 2-row fast path), of d_min / 2 (wider boxes)
-// and of 3 d_min, with agents outside the domain and on the same point.
+// for cells of 2 d_min (the 2 x 2-row fast path), of d_min / 2 (wider boxes),
+// of 2.5 d_min and of 6 d_min (the scalar kernel on every device), with
+// agents outside the domain and on the same point.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -23,6 +24,7 @@ struct Pass {
     std::vector<cl_uint> ids;
     cl_uint moved[2] = {0, 0};
     uint32_t width = 0;
+    bool wide = false;  // the explicit-width kernel ran
 };
 
 // A crowded cube [-1, 1]^3 with 2% of the agents outside it and 1% on the
@@ -52,6 +54,7 @@ Pass run_pass(const std::vector<float>& xyz, float cell, float d_min, const char
     swarm.ensure_grid();
     Pass p;
     p.width = mde.width();
+    p.wide = mde.uses_wide_kernel(swarm.grid().geometry(), n);
     p.before.resize(n);
     p.after.resize(n);
     p.ids.resize(n);
@@ -65,8 +68,9 @@ Pass run_pass(const std::vector<float>& xyz, float cell, float d_min, const char
 
 struct Case {
     float cell, d_min;
+    bool wide;  // the explicit-width kernel runs (cells of at most 3 d_min)
 };
-const Case kCases[] = {{0.1f, 0.05f}, {0.05f, 0.1f}, {0.3f, 0.1f}};
+const Case kCases[] = {{0.1f, 0.05f, true}, {0.05f, 0.1f, true}, {0.25f, 0.1f, true}, {0.6f, 0.1f, false}};
 
 }  // namespace
 
@@ -127,6 +131,7 @@ TEST(MinDistance, WideKernelEqualsScalarKernelBitwise) {
             for (const char* w : {"8", "16"}) {
                 const Pass wide = run_pass(xyz, c.cell, c.d_min, w);
                 ASSERT_EQ(wide.width, uint32_t(std::atoi(w)));
+                ASSERT_EQ(wide.wide, c.wide);
                 ASSERT_EQ(std::memcmp(wide.before.data(), scalar.before.data(), n * sizeof(cl_float4)), 0);
                 EXPECT_EQ(std::memcmp(wide.after.data(), scalar.after.data(), n * sizeof(cl_float4)), 0)
                     << "width " << w;

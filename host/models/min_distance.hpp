@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "device/buffer.hpp"
+#include "spatial/grid_geometry.hpp"
 #include "swarm/behavior.hpp"
 
 namespace swarmcl {
@@ -35,10 +36,13 @@ public:
     void apply(Swarm& swarm, DeviceBuffer<cl_uint>& moved);
 
     float distance() const { return d_min_; }
-    // Agents per work-item of the pass: the explicit-width kernel
-    // (min_distance_enforce_w, 8 or 16 lanes) on CPU devices, 1 elsewhere or
-    // with $SWARMCL_NOISE_WIDTH = 1.
+    // Agents per work-item of the explicit-width kernel
+    // (min_distance_enforce_w, 8 or 16 lanes) on CPU devices, used where the
+    // grid's cells are at most 3 d_min; 1 (the scalar kernel everywhere) on
+    // other devices or with $SWARMCL_NOISE_WIDTH = 1.
     uint32_t width() const { return width_; }
+    // Whether a pass over n agents on a grid `g` runs the wide kernel.
+    bool uses_wide_kernel(const GridGeometry& g, uint32_t n) const;
 
 private:
     float d_min_;
