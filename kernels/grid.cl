@@ -3,20 +3,19 @@
 // reordering of agent data into cell order.
 //
 // The sort starts from the "layout", the order the state is in now: the cell
-// of every slot (old_key) and the cell ranges (old_start) of the last build
-// whose permutation was applied.  (An invalid layout has old_key = ncells,
-// "no cell", and old_start all zero: every agent then counts as moved.)  An
-// agent still in its layout cell is a "stayer"; the stayers, in slot order,
-// are already sorted by (cell, id).  Only the "movers" are sorted: compacted
-// in slot order, sorted by cell with a stable LSD radix sort (per-block digit
-// histograms, no atomics), then each cell's movers are sorted by id and
-// merged into its stayers.  With
-//   L[c] = movers whose old cell is below c,  A[c] = movers whose new cell is below c,
-// the new start of cell c is old_start[c] - L[c] + A[c]: no counts and no
-// scan over the cells.  A simulation step moves a few agents to another
-// cell, so a rebuild costs a few streaming passes over the slots and a sort
-// of the movers; a fresh write in random order sorts everything with the
-// same kernels.
+// of every slot (old_key) of the last build whose permutation was applied.
+// (An invalid layout has old_key = ncells, "no cell": every agent then counts
+// as moved.)  An agent still in its layout cell is a "stayer"; the stayers,
+// in slot order, are already sorted by (cell, id).  Only the "movers" are
+// sorted: compacted in slot order, sorted by cell with a stable LSD radix
+// sort (per-block digit histograms, no atomics), then each run of equal
+// cells by id.  The new order is the merge of the two sorted lists (merge
+// path: every work-item finds its start by a binary search), and the cell
+// starts follow from the merged keys in one pass.  A simulation step moves
+// some agents to another cell, so a rebuild costs a few streaming passes over
+// the slots and a sort of the movers; a fresh write in random order sorts
+// everything with the same kernels.  (No pass visits the cells one by one:
+// a sparse grid, 4 cells per agent, costs only the writes of its starts.)
 //
 // Every kernel's result depends only on its inputs (no atomics, fixed
 // partitions), and the final order is by (cell, id): two runs give bitwise
@@ -54,40 +53,34 @@ __kernel void grid_keys_count(__global const float4* pos, uint n, GRID_PARAMS, _
 }
 
 // Compacts the movers in slot order: r_key = new cell, r_slot = slot, r_id =
-// agent id, r_old = layout cell (ascending, as the layout is sorted by cell).
-// The last chunk writes the number of movers to *m.
+// agent id; and the stayers' slots in slot order (st_slot: sorted by (cell,
+// id), as the layout is).  The last chunk writes the number of movers to *m.
 __kernel void grid_movers_write(__global const uint* keys, __global const uint* old_key, __global const uint* ids,
                                 uint n, uint nchunks, __global const uint* counts, __global uint* r_key,
-                                __global uint* r_slot, __global uint* r_id, __global uint* r_old,
+                                __global uint* r_slot, __global uint* r_id, __global uint* st_slot,
                                 __global uint* m) {
     const uint b = get_global_id(0);
     if (b >= nchunks) return;
     uint out = 0;
     for (uint i = 0; i < b; ++i) out += counts[i];
     if (b == nchunks - 1u) *m = out + counts[b];
-    if (counts[b] == 0u) return;
     const uint size = chunk_size(n, nchunks);
     const uint begin = min(b * size, n), end = min(begin + size, n);
+    uint stay = begin - out;  // stayers before this chunk
+    if (counts[b] == 0u) {
+        for (uint s = begin; s < end; ++s) st_slot[stay++] = s;
+        return;
+    }
     for (uint s = begin; s < end; ++s) {
-        const uint k = keys[s], o = old_key[s];
-        if (k != o) {
-            r_key[out] = k;
+        if (keys[s] != old_key[s]) {
+            r_key[out] = keys[s];
             r_slot[out] = s;
             r_id[out] = ids[s];
-            r_old[out] = o;
             ++out;
+        } else {
+            st_slot[stay++] = s;
         }
     }
-}
-
-// The first index of the ascending arr[0, m) whose value is >= v.
-inline uint lower_bound(__global const uint* arr, uint m, uint v) {
-    uint lo = 0u, hi = m;
-    while (lo < hi) {
-        const uint mid = lo + (hi - lo) / 2u;
-        if (arr[mid] < v) lo = mid + 1u; else hi = mid;
-    }
-    return lo;
 }
 
 // Stable LSD radix sort of the *m movers by cell, one digit per pass.
@@ -190,81 +183,79 @@ inline void sort_by_id(__global uint* slot, __global uint* id, uint len) {
     }
 }
 
-// The new order, cells [b * cells_per_item, ...) per work-item.  With the
-// movers' layout cells r_old (ascending) and new cells m_key (sorted), L[c]
-// and A[c] are positions in those arrays, found by one binary search per
-// work-item and then walked.  start[c] = old_start[c] - L[c] + A[c];
-// perm[new slot] = old slot: the cell's stayers (in layout order, so by id;
-// every slot of the layout range when none left the cell) merged by id with
-// its movers (m_slot/m_id [A[c], A[c+1]), sorted by id here in place);
-// new_key[new slot] = cell (the next layout).  start[ncells] = n.
-__kernel void grid_place(__global const uint* keys, uint n, __global const uint* old_start,
-                         __global const uint* r_old, __global const uint* m_ptr, __global const uint* m_key,
-                         __global uint* m_slot, __global uint* m_id, __global const uint* ids, uint ncells,
-                         uint cells_per_item, __global uint* start, __global uint* perm, __global uint* new_key) {
+// After the radix sort the movers are sorted by cell, in slot order within
+// a cell: chunk b sorts by id each run of equal cells that starts in it.
+__kernel void grid_sort_runs(__global const uint* m_ptr, __global const uint* m_key, __global uint* m_slot,
+                             __global uint* m_id, uint nchunks) {
     const uint b = get_global_id(0);
-    const uint c0 = b * cells_per_item;
-    if (c0 >= ncells) return;
-    const uint c1 = min(c0 + cells_per_item, ncells);
+    if (b >= nchunks) return;
     const uint m = *m_ptr;
-    uint l = lower_bound(r_old, m, c0), a = lower_bound(m_key, m, c0);
-    uint os = old_start[c0];
-    uint t = os - l + a;
-    for (uint c = c0; c < c1; ++c) {
-        // Cells [c, e) before the next one a mover leaves or enters hold
-        // stayers only, in layout order: their ranges all shift by the same
-        // delta, so they are placed in streaming passes, not cell by cell
-        // (the common case of a simulation step, and of sparse grids).
-        const uint e = min(min(l < m ? r_old[l] : ncells, a < m ? m_key[a] : ncells), c1);
-        if (e > c) {
-            const uint delta = t - os;  // wraps as uint: start = old + delta
-            for (uint k = c; k < e; ++k) start[k] = old_start[k] + delta;
-            const uint oe = old_start[e];
-            for (uint s = os; s < oe; ++s) {
-                perm[s + delta] = s;
-                new_key[s + delta] = keys[s];  // a stayer: its cell
-            }
-            t += oe - os;
-            os = oe;
-            c = e - 1u;
-            continue;
-        }
-        const uint oe = old_start[c + 1u];
-        uint l1 = l, a1 = a;
-        while (l1 < m && r_old[l1] == c) ++l1;
-        while (a1 < m && m_key[a1] == c) ++a1;
-        const uint ns = t;
-        start[c] = ns;
-        if (l1 == l) {
-            for (uint s = os; s < oe; ++s) perm[t++] = s;
-        } else {
-            for (uint s = os; s < oe; ++s)
-                if (keys[s] == c) perm[t++] = s;
-        }
-        if (a1 > a) {
-            const uint na = a1 - a;
-            __global uint* ms = m_slot + a;
-            __global uint* mi = m_id + a;
-            sort_by_id(ms, mi, na);
-            // Merge from the back: stayers perm[ns, t), movers [0, na).
-            uint i = t - ns, j = na, k = t + na;
-            uint si = i > 0u ? ids[perm[ns + i - 1u]] : 0u;
-            while (j > 0u) {
-                if (i > 0u && si > mi[j - 1u]) {
-                    perm[--k] = perm[ns + --i];
-                    si = i > 0u ? ids[perm[ns + i - 1u]] : 0u;
-                } else {
-                    perm[--k] = ms[--j];
-                }
-            }
-            t += na;
-        }
-        for (uint s = ns; s < t; ++s) new_key[s] = c;
-        os = oe;
-        l = l1;
-        a = a1;
+    const uint size = chunk_size(m, nchunks);
+    const uint begin = min(b * size, m), end = min(begin + size, m);
+    uint j = begin;
+    // A run that started in the chunk before is that chunk's.
+    if (j > 0u) while (j < end && m_key[j] == m_key[j - 1u]) ++j;
+    while (j < end) {
+        uint e = j + 1u;
+        while (e < m && m_key[e] == m_key[j]) ++e;
+        if (e - j > 1u) sort_by_id(m_slot + j, m_id + j, e - j);
+        j = e;
     }
-    if (c1 == ncells) start[ncells] = n;
+}
+
+// The new order is the merge by (cell, id) of the stayers (st_slot, in
+// layout order) and the sorted movers (m_key, m_slot, m_id).  Work-item b
+// writes the outputs [b * per_item, ...): it finds how many stayers come
+// before its first output by a binary search on the merge path, then merges.
+// perm[new slot] = old slot; new_key[new slot] = cell (the next layout).
+inline bool stayer_first(uint sk, uint sid, uint mk, uint mid) { return sk < mk || (sk == mk && sid < mid); }
+
+__kernel void grid_merge(__global const uint* keys, __global const uint* ids, __global const uint* st_slot,
+                         __global const uint* m_ptr, __global const uint* m_key, __global const uint* m_slot,
+                         __global const uint* m_id, uint n, uint per_item, __global uint* perm,
+                         __global uint* new_key) {
+    const uint b = get_global_id(0);
+    const uint d0 = b * per_item;
+    if (d0 >= n) return;
+    const uint d1 = min(d0 + per_item, n);
+    const uint m = *m_ptr, ns = n - m;
+    uint lo = d0 > m ? d0 - m : 0u, hi = min(d0, ns);
+    while (lo < hi) {  // stayers among the first d0 outputs
+        const uint i = lo + (hi - lo) / 2u, j = d0 - 1u - i;
+        const uint s = st_slot[i];
+        if (stayer_first(keys[s], ids[s], m_key[j], m_id[j])) lo = i + 1u; else hi = i;
+    }
+    uint i = lo, j = d0 - lo;
+    for (uint d = d0; d < d1; ++d) {
+        const uint s = i < ns ? st_slot[i] : 0u;
+        const bool take_stayer = i < ns && (j >= m || stayer_first(keys[s], ids[s], m_key[j], m_id[j]));
+        if (take_stayer) {
+            perm[d] = s;
+            new_key[d] = keys[s];
+            ++i;
+        } else {
+            perm[d] = m_slot[j];
+            new_key[d] = m_key[j];
+            ++j;
+        }
+    }
+}
+
+// Cell starts from the sorted keys: output d opens the cells after its
+// predecessor's up to its own (start = d), the last output's successors up
+// to ncells get n.  Every start written once; outputs [b * per_item, ...).
+__kernel void grid_starts(__global const uint* new_key, uint n, uint ncells, uint per_item, __global uint* start) {
+    const uint b = get_global_id(0);
+    const uint d0 = b * per_item;
+    if (d0 >= n) return;
+    const uint d1 = min(d0 + per_item, n);
+    uint c = d0 == 0u ? 0u : new_key[d0 - 1u] + 1u;
+    for (uint d = d0; d < d1; ++d) {
+        const uint k = new_key[d];
+        for (; c <= k; ++c) start[c] = d;
+    }
+    if (d1 == n)
+        for (; c <= ncells; ++c) start[c] = n;
 }
 
 // Reordering into cell order: dst[s] = src[perm[s]].

@@ -10,11 +10,10 @@ namespace {
 constexpr uint32_t kMoverChunks = 512;   // slots: mover counts and compaction
 constexpr uint32_t kMinChunkSlots = 256; // ... but at least this many slots each
 constexpr uint32_t kRadixBlocks = 64;    // movers: radix histograms and scatter
-// Cells per work-item of grid_place: on a CPU long runs (its two binary
-// searches per work-item cost more than the cells for a sparse grid: 4M
-// cells at 1M agents, 64 per item took ~20% more CPU time than 1024); a GPU
-// wants the work-items.
-constexpr uint32_t kCellsPerItemCpu = 1024, kCellsPerItemGpu = 64;
+// Outputs per work-item of grid_merge and grid_starts: on a CPU long runs
+// (each merge work-item starts with a binary search); a GPU wants the
+// work-items.
+constexpr uint32_t kOutputsPerItemCpu = 4096, kOutputsPerItemGpu = 256;
 constexpr uint32_t kMaxRadixBits = 9;    // digit width: 2^9 x kRadixBlocks histogram
 
 uint32_t div_up(uint32_t a, uint32_t b) { return (a + b - 1) / b; }
@@ -22,7 +21,7 @@ uint32_t div_up(uint32_t a, uint32_t b) { return (a + b - 1) / b; }
 
 NeighborGrid::NeighborGrid(Context& ctx, const GridGeometry& geometry, uint32_t capacity)
     : ctx_(ctx), geometry_(geometry), ncells_(geometry.cell_count()),
-      cells_per_item_((ctx.device().type & CL_DEVICE_TYPE_CPU) ? kCellsPerItemCpu : kCellsPerItemGpu) {
+      outputs_per_item_((ctx.device().type & CL_DEVICE_TYPE_CPU) ? kOutputsPerItemCpu : kOutputsPerItemGpu) {
     // Digits of the cell keys (0 .. ncells-1): as few passes as the width
     // needs at <= kMaxRadixBits bits each, the bits spread evenly.
     uint32_t key_bits = 1;
@@ -35,7 +34,7 @@ NeighborGrid::NeighborGrid(Context& ctx, const GridGeometry& geometry, uint32_t 
     keys_.allocate(ctx, capacity, "grid keys");
     perm_.allocate(ctx, capacity, "grid permutation");
     layout_key_.allocate(ctx, capacity, "grid layout keys");
-    for (auto* b : {&r_key_, &r_slot_, &r_id_, &r_old_, &t_key_, &t_slot_, &t_id_})
+    for (auto* b : {&r_key_, &r_slot_, &r_id_, &st_slot_, &t_key_, &t_slot_, &t_id_})
         b->allocate(ctx, capacity, "grid movers");
     movers_.allocate(ctx, 1, "grid mover count");
     start_.allocate(ctx, size_t(ncells_) + 1, "grid cell starts");
@@ -46,7 +45,6 @@ NeighborGrid::NeighborGrid(Context& ctx, const GridGeometry& geometry, uint32_t 
     // An empty grid is valid too: every cell range empty.
     start_.fill(ctx, 0u, size_t(ncells_) + 1);
     // An invalid layout (see invalidate_layout).
-    layout_start_.fill(ctx, 0u, size_t(ncells_) + 1);
     layout_key_.fill(ctx, ncells_, capacity);
 
     keys_k_ = ctx.kernel("grid.cl", "grid_keys_count");
@@ -54,7 +52,9 @@ NeighborGrid::NeighborGrid(Context& ctx, const GridGeometry& geometry, uint32_t 
     radix_hist_ = ctx.kernel("grid.cl", "radix_hist");
     radix_scatter_ = ctx.kernel("grid.cl", "radix_scatter");
     radix_rows_ = ctx.kernel("grid.cl", "radix_rows");
-    place_ = ctx.kernel("grid.cl", "grid_place");
+    sort_runs_ = ctx.kernel("grid.cl", "grid_sort_runs");
+    merge_ = ctx.kernel("grid.cl", "grid_merge");
+    starts_ = ctx.kernel("grid.cl", "grid_starts");
     permute_state_ = ctx.kernel("grid.cl", "permute_state");
 }
 
@@ -75,7 +75,6 @@ void NeighborGrid::invalidate_layout() {
         std::swap(start_, layout_start_);
         start_in_layout_ = false;
     }
-    layout_start_.fill(ctx_, 0u, size_t(ncells_) + 1);
     layout_key_.fill(ctx_, ncells_, capacity_);
     layout_valid_ = false;
     layout_n_ = 0;
@@ -107,9 +106,9 @@ void NeighborGrid::build(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<
     stage("grid_keys_count");
 
     // The movers compacted in slot order: r_key = new cell, r_slot = slot,
-    // r_id = id, r_old = layout cell.
+    // r_id = id; the stayers' slots in st_slot.
     set_args(movers_write_, keys_.get(), layout_key_.get(), ids.get(), n, chunks, chunk_counts_.get(), r_key_.get(),
-             r_slot_.get(), r_id_.get(), r_old_.get(), movers_.get());
+             r_slot_.get(), r_id_.get(), st_slot_.get(), movers_.get());
     launch(ctx_, movers_write_, chunks);
     stage("movers_write");
     // Stable radix sort of the movers by new cell.
@@ -129,15 +128,20 @@ void NeighborGrid::build(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<
         std::swap(sin, sout);
         std::swap(iin, iout);
     }
+    set_args(sort_runs_, movers_.get(), kin->get(), sin->get(), iin->get(), kRadixBlocks);
+    launch(ctx_, sort_runs_, kRadixBlocks);
     stage("radix sort of movers");
-    // Cell starts, the permutation and the next layout's keys (into the
-    // radix sort's free key buffer), cell by cell.
+    // The merge of stayers and movers: the permutation and the next layout's
+    // keys (into the radix sort's free key buffer); then the cell starts.
     pending_key_ = kout;
-    set_args(place_, keys_.get(), n, layout_start_.get(), r_old_.get(), movers_.get(), kin->get(),
-             sin->get(), iin->get(), ids.get(), ncells_, cells_per_item_, start_.get(), perm_.get(),
-             pending_key_->get());
-    launch(ctx_, place_, div_up(ncells_, cells_per_item_));
-    stage("grid_place");
+    const uint32_t items = div_up(n, outputs_per_item_);
+    set_args(merge_, keys_.get(), ids.get(), st_slot_.get(), movers_.get(), kin->get(), sin->get(), iin->get(), n,
+             outputs_per_item_, perm_.get(), pending_key_->get());
+    launch(ctx_, merge_, items);
+    stage("grid_merge");
+    set_args(starts_, pending_key_->get(), n, ncells_, outputs_per_item_, start_.get());
+    launch(ctx_, starts_, items);
+    stage("grid_starts");
 }
 
 void NeighborGrid::permute_state(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<cl_float4>& vel,

@@ -61,7 +61,7 @@ private:
     Context& ctx_;
     GridGeometry geometry_;
     uint32_t ncells_;
-    uint32_t cells_per_item_;  // grid_place
+    uint32_t outputs_per_item_;  // grid_merge, grid_starts
     uint32_t capacity_ = 0;
     uint32_t radix_bits_, radix_passes_;
     bool layout_valid_ = false;
@@ -69,14 +69,15 @@ private:
     uint32_t layout_n_ = 0;
     uint32_t built_n_ = 0;
     // Per slot: keys (cell), perm, layout_key (the layout's cell); the
-    // movers (r_*) and the radix sort's other half (t_*).  Per cell (+1):
-    // start, layout_start.  hist/totals: radix.
-    DeviceBuffer<cl_uint> keys_, perm_, layout_key_, r_key_, r_slot_, r_id_, r_old_, t_key_, t_slot_, t_id_, movers_;
+    // movers (r_*), the radix sort's other half (t_*), the stayers' slots.
+    // Per cell (+1): start, layout_start.  hist/totals: radix.
+    DeviceBuffer<cl_uint> keys_, perm_, layout_key_, r_key_, r_slot_, r_id_, st_slot_, t_key_, t_slot_, t_id_,
+        movers_;
     DeviceBuffer<cl_uint>* pending_key_ = nullptr;  // the last build's keys in its order (r_key_ or t_key_)
     DeviceBuffer<cl_uint> start_, layout_start_, chunk_counts_;
     DeviceBuffer<cl_uint> hist_, totals_;
     cl::Kernel keys_k_, movers_write_, radix_hist_, radix_scatter_;
-    cl::Kernel radix_rows_, place_, permute_state_;
+    cl::Kernel radix_rows_, sort_runs_, merge_, starts_, permute_state_;
 };
 
 }  // namespace swarmcl
