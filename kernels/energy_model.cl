@@ -139,6 +139,7 @@ inline emv em_closestv(float3 r0, float3 vs, emv vx, emv vy, emv vz, float h) {
 //   pxyz: the positions as x, y, z planes (slot order after EM_W slots of
 //         padding, pstride floats apart; energy_prepare), so a 16-slot
 //         window is a few vector loads;
+//   noise_pre: f_N at each slot (EM_NOISE_PRE: noise_sample_w);
 //   grid, noise.
 __kernel void energy_select(__global const float4* pos, __global const float4* vel, __global const uint* ids,
                             uint n, float dt, float t, uint step,
@@ -148,7 +149,7 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
                             __global const float4* centre, float8 w, float8 wd, float4 radii, float4 extra,
                             __global const float4* stim, uint nstim,
                             __global const float4* kp, uint nkp, __global uint* goal,
-                            __global const float* pxyz, uint pstride,
+                            __global const float* pxyz, uint pstride, __global const float4* noise_pre,
                             GRID_PARAMS, NOISE_PARAMS,
 #ifdef EM_TERMS
                             __global float* terms, __global uint* chosen, __global uint* cand_range
@@ -182,7 +183,17 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
     const float3 vt_hat = em_unit(vt);
     const float3 centre_hat = em_unit(centre[0].xyz - p);  // Eq. 7
     float nx, ny, nz;
+#ifdef EM_NOISE_PRE
+    // Sampled for all agents beforehand by the noise module's explicit-width
+    // kernel (noise_sample_w, the same field, the same values as the host
+    // reference's NoiseField::sample).
+    {
+        const float4 nv = noise_pre[i];
+        nx = nv.x; ny = nv.y; nz = nv.z;
+    }
+#else
     NOISE_VELOCITY_S(p.x, p.y, p.z, t, id, step, &nx, &ny, &nz);
+#endif
     const float3 noise_hat = em_unit((float3)(nx, ny, nz));  // f_N, Eq. 13
     // f_CD (Eq. 15): towards the agent's goal keypoint.
     float3 cd_hat = (float3)(0.0f);
