@@ -139,6 +139,7 @@ inline emv em_closestv(float3 r0, float3 vs, emv vx, emv vy, emv vz, float h) {
 //   pxyz: the positions as x, y, z planes (slot order after EM_W slots of
 //         padding, pstride floats apart; energy_prepare), so a 16-slot
 //         window is a few vector loads;
+//   noise_pre: f_N at each slot (EM_NOISE_PRE: noise_sample_w);
 //   grid, noise.
 __kernel void energy_select(__global const float4* pos, __global const float4* vel, __global const uint* ids,
                             uint n, float dt, float t, uint step,
@@ -148,7 +149,7 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
                             __global const float4* centre, float8 w, float8 wd, float4 radii, float4 extra,
                             __global const float4* stim, uint nstim,
                             __global const float4* kp, uint nkp, __global uint* goal,
-                            __global const float* pxyz, uint pstride,
+                            __global const float* pxyz, uint pstride, __global const float4* noise_pre,
                             GRID_PARAMS, NOISE_PARAMS,
 #ifdef EM_TERMS
                             __global float* terms, __global uint* chosen, __global uint* cand_range
@@ -159,6 +160,11 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
     const uint i = get_global_id(0);
     if (i >= n) return;
     const float d_rep = radii.x, d_att1 = radii.y, d_att2 = radii.z, rho = radii.w;
+    // Every exp(rho x) as exp2(rho2 x), rho2 = rho log2(e) (one rounding
+    // more: relative error 1e-6 at most here): PoCL's exp2 on float16 is
+    // cheaper than its exp (6-7% of the step on the 2-core AVX2 PoCL CPU,
+    // bench/energy_bench.cpp, docs/energy-model.md section 6).
+    const float rho2 = rho * 1.44269504088896341f;
     const float accel_time = extra.x, horizon = extra.y, reach = extra.z;
     const int closed = extra.w != 0.0f;
     const float4 p4 = pos[i];
@@ -177,7 +183,17 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
     const float3 vt_hat = em_unit(vt);
     const float3 centre_hat = em_unit(centre[0].xyz - p);  // Eq. 7
     float nx, ny, nz;
+#ifdef EM_NOISE_PRE
+    // Sampled for all agents beforehand by the noise module's explicit-width
+    // kernel (noise_sample_w, the same field, the same values as the host
+    // reference's NoiseField::sample).
+    {
+        const float4 nv = noise_pre[i];
+        nx = nv.x; ny = nv.y; nz = nv.z;
+    }
+#else
     NOISE_VELOCITY_S(p.x, p.y, p.z, t, id, step, &nx, &ny, &nz);
+#endif
     const float3 noise_hat = em_unit((float3)(nx, ny, nz));  // f_N, Eq. 13
     // f_CD (Eq. 15): towards the agent's goal keypoint.
     float3 cd_hat = (float3)(0.0f);
@@ -223,7 +239,7 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
     float s0 = 0.0f, s3 = 0.0f;
     float3 s1 = (float3)(0.0f);
     float sxx = 0.0f, syy = 0.0f, szz = 0.0f, sxy = 0.0f, sxz = 0.0f, syz = 0.0f;
-    const float a_oa = rho / d_att1;
+    const float a_oa = rho / d_att1, a2_oa = rho2 / d_att1;  // a, and a log2(e)
 #else
     emv oa[EM_CHUNKS];
     for (uint k = 0; k < nchunks; ++k) oa[k] = (emv)(0.0f);
@@ -238,7 +254,7 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
         const uint c = c0 + k * EM_W;                                                                \
         const emv x = (q).x + EM_LOAD(EM_P_VX, c) * dt, y = (q).y + EM_LOAD(EM_P_VY, c) * dt,        \
                   z = (q).z + EM_LOAD(EM_P_VZ, c) * dt;                                              \
-        oa[k] += exp(rho * (em_lenv(x, y, z) / d_att1 - 1.0f));                                      \
+        oa[k] += exp2(rho2 * (em_lenv(x, y, z) / d_att1 - 1.0f));                                      \
     }
 #endif
 #define EM_NEIGHBOR(jj, pj, d)                                                                       \
@@ -249,7 +265,7 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
             const uint c = c0 + k * EM_W;                                                            \
             const emv x = q.x + EM_LOAD(EM_P_VX, c) * dt, y = q.y + EM_LOAD(EM_P_VY, c) * dt,        \
                       z = q.z + EM_LOAD(EM_P_VZ, c) * dt;                                            \
-            rep[k] += exp(rho * (1.0f - em_lenv(x, y, z) / d_rep));                                  \
+            rep[k] += exp2(rho2 * (1.0f - em_lenv(x, y, z) / d_rep));                                  \
         }                                                                                            \
         ++nrep;                                                                                      \
     } else if ((d) >= d_att1 && (d) <= d_att2) {                                                     \
@@ -310,10 +326,10 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
         }                                                                                            \
     }
 #ifdef EM_TAYLOR_OA
-    // exp(rho (d / d_att1 - 1)) as exp(a d - rho): no division.  RN
+    // exp(rho (d / d_att1 - 1)) as exp2(a log2(e) d - rho2): no division.  RN
     // neighbours one by one: the candidates' sums need each of them.
 #define EM_WINDOW_ATTRACT                                                                            \
-        const emv f0 = select((emv)(0.0f), exp(a_oa * d - rho), att);                               \
+        const emv f0 = select((emv)(0.0f), exp2(a2_oa * d - rho2), att);                               \
         const emv inv_d = select((emv)(0.0f), 1.0f / d, att);                                       \
         const emv ux = qx * inv_d, uy = qy * inv_d, uz = qz * inv_d;                                \
         const emv f0a = f0 * a_oa;                                                                   \
@@ -408,8 +424,8 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
         const emv oa_c = oa[k];
 #endif
         e[W_OA] = natt ? wt.s1 * (oa_c * inv_natt) : (emv)(0.0f);                   // Eq. 6
-        e[W_COS] = wt.s2 != 0.0f ? wt.s2 * exp(rho * em_dirv(hx, hy, hz, centre_hat)) : (emv)(0.0f);  // Eq. 7
-        e[W_DIR] = wt.s3 != 0.0f ? wt.s3 * exp(rho * em_dirv(hx, hy, hz, vt_hat)) : (emv)(0.0f);      // Eq. 9
+        e[W_COS] = wt.s2 != 0.0f ? wt.s2 * exp2(rho2 * em_dirv(hx, hy, hz, centre_hat)) : (emv)(0.0f);  // Eq. 7
+        e[W_DIR] = wt.s3 != 0.0f ? wt.s3 * exp2(rho2 * em_dirv(hx, hy, hz, vt_hat)) : (emv)(0.0f);      // Eq. 9
         // Eq. 10 with a' = (v - v_t) / dt in m/s^2 like the dataset's a; the
         // magnitude difference is taken per data frame (times accel_time =
         // the data's frame time), the scale of the paper's a' = v - v_t.
@@ -419,7 +435,7 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
             const emv ainv = select((emv)(0.0f), 1.0f / alen, alen > 0.0f);  // em_unit: 0 for a zero vector
             const emv da = em_lenv(ax * ainv - EM_LOAD(EM_P_AHX, c), ay * ainv - EM_LOAD(EM_P_AHY, c),
                                    az * ainv - EM_LOAD(EM_P_AHZ, c));
-            e[W_ACC] = wt.s4 * (exp(rho * da) + accel_time * fabs(alen - EM_LOAD(EM_P_AL, c)));
+            e[W_ACC] = wt.s4 * (exp2(rho2 * da) + accel_time * fabs(alen - EM_LOAD(EM_P_AL, c)));
         } else {
             e[W_ACC] = (emv)(0.0f);
         }
@@ -434,21 +450,21 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
         for (uint s = 0; s < (env_on || EM_KEEP_OUT ? nstim : 0u); ++s) {
             const float4 sp = em_stimulus(stim, s, t);
             if (sp.w == STIM_ATTRACT) {
-                if (env_on) env += exp(rho * em_dirv(hx, hy, hz, em_unit(sp.xyz - p)));
+                if (env_on) env += exp2(rho2 * em_dirv(hx, hy, hz, em_unit(sp.xyz - p)));
             } else {
                 const float dd = stim[2 * s + 1].x;
                 const float3 r0 = p - sp.xyz, vs = stim[2 * s + 1].yzw;
                 const bool startled = env_on && em_closest(r0, vt - vs, h) < dd;
                 if (startled || EM_KEEP_OUT) {
                     const emv dmin = em_closestv(r0, vs, vx, vy, vz, h);
-                    if (startled) env += exp(rho * (1.0f - dmin / dd));
+                    if (startled) env += exp2(rho2 * (1.0f - dmin / dd));
                     if (EM_KEEP_OUT) viol = fmax(viol, 1.0f - dmin / dd);
                 }
             }
         }
         e[W_ENV] = wt.s5 * env;
-        e[W_N] = wt.s6 != 0.0f ? wt.s6 * exp(rho * em_dirv(hx, hy, hz, noise_hat)) : (emv)(0.0f);     // Eq. 13
-        e[W_USER] = wt.s7 != 0.0f ? wt.s7 * exp(rho * em_dirv(hx, hy, hz, cd_hat)) : (emv)(0.0f);    // Eq. 14
+        e[W_N] = wt.s6 != 0.0f ? wt.s6 * exp2(rho2 * em_dirv(hx, hy, hz, noise_hat)) : (emv)(0.0f);     // Eq. 13
+        e[W_USER] = wt.s7 != 0.0f ? wt.s7 * exp2(rho2 * em_dirv(hx, hy, hz, cd_hat)) : (emv)(0.0f);    // Eq. 14
         emv total = (emv)(0.0f);
         for (int q = 0; q < EM_TERM_COUNT; ++q) total += e[q];
         viol = fmax(viol, 0.0f);

@@ -101,12 +101,22 @@ EnergyModel::EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr
     float vmax = 0.0f;
     for (const auto& v : d.v) vmax = std::max(vmax, std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
     taylor_ = !config_.exact_attraction && config_.rho / config_.d_att1 * vmax * swarm.config().dt <= 0.4f;
+    // f_N for all agents at once by the noise module's explicit-width kernel
+    // (noise_sample_w, width() agents per work-item) where it covers this
+    // field (CPU devices; noise_->width() > 1: curl, Perlin, baked, fields
+    // of position and time only, so slot order is as good as agent id),
+    // else per agent in energy_select (the random types are keyed by id).
+    // The scalar curl noise was about 14% of energy_select on the 2-core
+    // AVX2 PoCL CPU (docs/energy-model.md, section 6).
+    noise_pre_ = noise_->width() > 1;
     const std::string defines = noise_->defines() + " -DEM_MAX_CAND=" + std::to_string(max_cand_) +
+                                (noise_pre_ ? " -DEM_NOISE_PRE" : "") +
                                 (taylor_ ? " -DEM_TAYLOR_OA" : "") + " -DEM_KEEP_OUT=" +
                                 (config_.keep_out ? "1" : "0");
     select_ = ctx.kernel("energy_model.cl", "energy_select", defines);
     terms_ = ctx.kernel("energy_model.cl", "energy_select", defines + " -DEM_TERMS");
     prepare_ = ctx.kernel("energy_model.cl", "energy_prepare", defines);
+    if (noise_pre_) noise_sample_ = noise_->kernel("noise_field.cl", "noise_sample_w");
     centre_final_ = ctx.kernel("energy_model.cl", "energy_centre_final", defines);
 
     // Velocities (float4, read for the chosen sample), and the planes of
@@ -151,6 +161,7 @@ EnergyModel::EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr
     pxyz_stride_ = capacity_ + 2 * kLanes;
     pxyz_.allocate(ctx, 3 * size_t(pxyz_stride_), "position planes");
     pxyz_.fill(ctx, 0.0f, 3 * size_t(pxyz_stride_));
+    noise_buf_.allocate(ctx, noise_pre_ ? capacity_ : 1, "noise velocities");
     vel_out_.allocate(ctx, capacity_, "energy model velocities");
     goal_.allocate(ctx, capacity_, "keypoint goals");
     set_keypoints(config_.keypoints, config_.keypoints_closed);
@@ -212,6 +223,22 @@ void EnergyModel::prepare(Swarm& swarm) {
     launch(ctx_, centre_final_, 1);
 }
 
+void EnergyModel::sample_noise(Swarm& swarm, uint64_t step) {
+    const uint32_t n = swarm.agent_count();
+    if (!noise_pre_ || !n) return;
+    // Time and step as Swarm::set_step_args passes them to energy_select.
+    const float dt = swarm.config().dt;
+    cl_uint i = 0;
+    noise_sample_.setArg(i++, swarm.positions().get());
+    noise_sample_.setArg(i++, cl_uint(n));
+    noise_sample_.setArg(i++, float(double(step) * dt));
+    noise_sample_.setArg(i++, cl_uint(step));
+    i = noise_->set_args(noise_sample_, i);
+    noise_sample_.setArg(i++, noise_buf_.get());
+    const uint32_t w = noise_->width();
+    launch(ctx_, noise_sample_, (n + w - 1) / w);
+}
+
 cl_uint EnergyModel::set_common_args(cl::Kernel& k, Swarm& swarm, uint64_t step) {
     const auto& c = config_;
     cl_uint i = swarm.set_step_args(k, step);
@@ -234,6 +261,7 @@ cl_uint EnergyModel::set_common_args(cl::Kernel& k, Swarm& swarm, uint64_t step)
     k.setArg(i++, goal_.get());
     k.setArg(i++, pxyz_.get());
     k.setArg(i++, cl_uint(pxyz_stride_));
+    k.setArg(i++, noise_buf_.get());
     i = swarm.grid().set_grid_args(k, i);
     i = noise_->set_args(k, i);
     return i;
@@ -259,6 +287,7 @@ void EnergyModel::advance(Swarm& swarm, uint64_t step) {
     const uint32_t n = swarm.agent_count();
     swarm.ensure_grid();  // agents in cell order: neighbours via the grid
     prepare(swarm);
+    sample_noise(swarm, step);
     cl_uint i = set_common_args(select_, swarm, step);
     select_.setArg(i++, swarm.scratch().get());
     select_.setArg(i++, vel_out_.get());
@@ -271,6 +300,7 @@ EnergyTerms EnergyModel::evaluate(Swarm& swarm, uint64_t step) {
     const uint32_t n = swarm.agent_count();
     swarm.ensure_grid();
     prepare(swarm);
+    sample_noise(swarm, step);
     DeviceBuffer<cl_float> terms(ctx_, size_t(std::max(n, 1u)) * max_cand_ * 8, "energy terms");
     DeviceBuffer<cl_uint> chosen(ctx_, std::max(n, 1u), "chosen samples");
     DeviceBuffer<cl_uint> range(ctx_, 2 * size_t(std::max(n, 1u)), "candidate ranges");

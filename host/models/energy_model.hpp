@@ -108,6 +108,7 @@ private:
     void launch_per_agent(cl::Kernel& k, uint32_t n);  // energy_select, one work-item per agent
     void prepare(Swarm& swarm);  // position planes and swarm centre, before the step kernel
     cl_uint set_common_args(cl::Kernel& k, Swarm& swarm, uint64_t step);
+    void sample_noise(Swarm& swarm, uint64_t step);
     void reset_goals(uint32_t capacity);
 
     Context& ctx_;  // the swarm's (a swarm keeps its context alive)
@@ -120,8 +121,9 @@ private:
     DeviceBuffer<cl_float> ds_;
     float accel_time_ = 0.01f;
     bool taylor_ = false;
-    cl::Kernel select_, terms_, prepare_, centre_final_;
-    DeviceBuffer<cl_float4> dv_, centre_, partial_, stim_, kp_, vel_out_;
+    cl::Kernel select_, terms_, prepare_, centre_final_, noise_sample_;
+    bool noise_pre_ = false;  // f_N sampled beforehand by noise_sample_w (CPU devices)
+    DeviceBuffer<cl_float4> dv_, centre_, partial_, stim_, kp_, vel_out_, noise_buf_;
     DeviceBuffer<cl_uint> group_start_, goal_;
     DeviceBuffer<cl_float> group_min_speed_, pxyz_;
     uint32_t capacity_ = 0, pxyz_stride_ = 0;
