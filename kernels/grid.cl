@@ -250,8 +250,17 @@ __kernel void grid_starts(__global const uint* new_key, uint n, uint ncells, uin
     if (d0 >= n) return;
     const uint d1 = min(d0 + per_item, n);
     uint c = d0 == 0u ? 0u : new_key[d0 - 1u] + 1u;
+    // Cells up to lim are this work-item's to write.
+    const uint lim = d1 == n ? ncells : new_key[d1 - 1u];
     for (uint d = d0; d < d1; ++d) {
         const uint k = new_key[d];
+        // A gap of up to 8 cells (the common case) as one store of 8 without
+        // a loop to mispredict: cells past k get d for now and their own
+        // output's value when it comes (later in this loop).
+        if (k - c < 8u && k >= c && c + 8u <= lim + 1u) {
+            vstore8((uint8)(d), 0, start + c);
+            c = k + 1u;
+        }
         for (; c <= k; ++c) start[c] = d;
     }
     if (d1 == n)
