@@ -16,8 +16,8 @@ constexpr float kPrimSphere = 2.0f, kPrimBox = 3.0f;
 // The fine grid (kernels/force_model.cl): work-items of its bounding box
 // pass, radix blocks and digit width (as spatial/neighbor_grid.cpp), padding
 // of the sorted copy's blocks (FM_SOA_PAD), and cells per agent at most.
-constexpr uint32_t kFineChunks = 64, kFineRadixBlocks = 64, kFineMaxRadixBits = 9, kFineSoaPad = 16;
-constexpr uint32_t kFineCellsPerAgent = 2, kFineMinCells = 1024;
+constexpr uint32_t kFineChunks = 16, kFineRadixBlocks = 16, kFineMaxRadixBits = 9, kFineSoaPad = 16;
+constexpr uint32_t kFineCellsPerAgent = 8, kFineMinCells = 1024;
 
 void require_finite_positive(float v, const char* name, bool allow_zero = false) {
     require(std::isfinite(v) && (allow_zero ? v >= 0.0f : v > 0.0f),
@@ -142,7 +142,7 @@ ForceModel::ForceModel(Swarm& swarm, ForceModelConfig config)
     fine_keys_k_ = noise_->kernel("force_model.cl", "force_model_fine_keys");
     fine_starts_k_ = noise_->kernel("force_model.cl", "force_model_fine_starts");
     fine_gather_k_ = noise_->kernel("force_model.cl", "force_model_fine_gather");
-    mde_k_ = noise_->kernel("force_model.cl", "force_model_mde");
+    mde_k_ = noise_->kernel("force_model.cl", width_ > 1 ? "force_model_mde_w" : "force_model_mde");
     repulsion_k_ = noise_->kernel("force_model.cl", width_ > 1 ? "force_model_repulsion_w" : "force_model_repulsion");
     radix_hist_k_ = ctx.kernel("grid.cl", "radix_hist");
     radix_rows_k_ = ctx.kernel("grid.cl", "radix_rows");
@@ -342,8 +342,10 @@ void ForceModel::enqueue_force(Swarm& swarm, uint64_t step) {
     kf.setArg(i++, cl_uint(step));
     kf.setArg(i++, force_.get());
     rep_.reserve(swarm.context(), n, "force model repulsion");
+    fine_current_ = false;
     if (c.terms & kForceRepulsion) {  // exact, through the fine grid
         build_fine_grid(swarm);
+        fine_current_ = true;
         set_args(repulsion_k_, fine_soa_.get(), fine_sorted_slot_->get(), cl_uint(n), fine_geo_.get(),
                  fine_start_.get(), c.r_rep, rep_.get());
         launch(swarm.context(), repulsion_k_, (n + width_ - 1) / width_);
@@ -421,7 +423,7 @@ void ForceModel::build_fine_grid(Swarm& swarm) {
         launch(ctx, radix_scatter_k_, kFineRadixBlocks);
     }
     fine_sorted_slot_ = &fine_slot_[in];
-    set_args(fine_starts_k_, fine_key_[in].get(), cl_uint(n), cl_uint(fine_max_cells_), fine_start_.get());
+    set_args(fine_starts_k_, fine_key_[in].get(), cl_uint(n), fine_geo_.get(), fine_start_.get());
     launch(ctx, fine_starts_k_, n + 1);
     set_args(fine_gather_k_, pos.get(), fine_sorted_slot_->get(), cl_uint(n), fine_soa_.get());
     launch(ctx, fine_gather_k_, n);
@@ -433,11 +435,20 @@ void ForceModel::enforce_min_distance(Swarm& swarm) {
     DeviceBuffer<cl_uint>& moved = counters_.device();
     ctx.queue().enqueueFillBuffer(moved.get(), cl_uint(0), 0, sizeof(cl_uint));
     if (n == 0) return;
-    build_fine_grid(swarm);
+    // The fine grid of this step's forces, built before the Newton step
+    // moved each agent by at most max_speed dt (force_model_mde), or one of
+    // the current positions.
+    float slack = 0.0f;
+    if (fine_current_) {
+        slack = 1.001f * config_.max_speed * swarm.config().dt;
+    } else {
+        build_fine_grid(swarm);
+    }
+    fine_current_ = false;
     set_args(mde_k_, swarm.positions().get(), swarm.ids().get(), cl_uint(n), fine_geo_.get(), fine_start_.get(),
-             fine_soa_.get(), fine_sorted_slot_->get(), config_.min_distance, cl_ulong(config_.noise.seed),
+             fine_sorted_slot_->get(), config_.min_distance, slack, cl_ulong(config_.noise.seed),
              swarm.scratch().get(), moved.get());
-    launch(ctx, mde_k_, n);
+    launch(ctx, mde_k_, (n + width_ - 1) / width_);
     swarm.swap_positions_with_scratch();
 }
 

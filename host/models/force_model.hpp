@@ -174,6 +174,7 @@ private:
     // into the other of each pair), cell starts, the sorted positions.
     cl::Kernel fine_bounds_k_, fine_geometry_k_, fine_keys_k_, fine_starts_k_, fine_gather_k_, mde_k_, repulsion_k_;
     cl::Kernel radix_hist_k_, radix_rows_k_, radix_scatter_k_;
+    bool fine_current_ = false;  // built by this step's enqueue_force, slots unchanged since
     uint32_t fine_n_ = 0, fine_max_cells_ = 0, fine_radix_bits_ = 0, fine_radix_passes_ = 0;
     DeviceBuffer<cl_float4> fine_part_, fine_geo_, rep_;  // rep_: repulsion sums by slot
     DeviceBuffer<cl_uint> fine_key_[2], fine_slot_[2], fine_spare_[2], fine_count_, fine_start_, fine_hist_,
