@@ -396,12 +396,10 @@ __kernel void force_model_force(FM_FORCE_PARAMS) {
 #if SWCL_W == 16
 typedef uint16 fm_uw;
 #define FM_VLOAD_W vload16
-#define FM_VSTORE_W vstore16
 #define FM_AS_UW as_uint16
 #else
 typedef uint8 fm_uw;
 #define FM_VLOAD_W vload8
-#define FM_VSTORE_W vstore8
 #define FM_AS_UW as_uint8
 #endif
 #define FM_LANE_INDEX_(k) SWCL_LANE_I(k)
@@ -544,90 +542,6 @@ __kernel void force_model_repulsion_w(__global const float* fine_soa, __global c
             (float4)(SWCL_LANE(rep_x, l), SWCL_LANE(rep_y, l), SWCL_LANE(rep_z, l), as_float(SWCL_LANE(n_rep, l)));
     SWCL_EACH_LANE(FM_STORE_REP_)
 #undef FM_STORE_REP_
-}
-
-// force_model_mde on SWCL_W consecutive agents of the fine grid's order,
-// taken a row of their (build-time) cells at a time as in
-// force_model_repulsion_w: the union of the lanes' boxes (radius the
-// largest reach) is walked once, each candidate tested against all lanes.
-// Every agent within d_min of a lane lies in that lane's own box, which the
-// union holds, and both walks go row by row in slot order: each lane adds
-// the same pushes in the same order as force_model_mde (bitwise).
-__kernel void force_model_mde_w(__global const float4* pos, __global const uint* ids, uint n,
-                                __global const float4* fine_geo, __global const uint* fine_start,
-                                __global const uint* fine_slot, float d_min, float slack, ulong seed,
-                                __global float4* out, __global volatile uint* moved) {
-    const uint base = get_global_id(0) * SWCL_W;
-    if (base >= n) return;
-    const Grid g = fm_fine_grid(fine_geo, fine_start);
-    const fm_uw k = (fm_uw)(base) + (fm_uw)(SWCL_LANES(FM_LANE_INDEX_));
-    const swcl_iw live = k < n;
-    const fm_uw slot = fm_gather_u_w(fine_slot, min(k, n - 1u));
-    __global const float* pf = (__global const float*)pos;
-    const swcl_fw px = fm_gather_w(pf, slot, 0), py = fm_gather_w(pf, slot, 1), pz = fm_gather_w(pf, slot, 2);
-    const swcl_fw reach = d_min + slack + 1e-6f * (1.0f + fabs(px) + fabs(py) + fabs(pz));
-    const float d2_min = d_min * d_min;
-    const swcl_iw row = swcl_cvt_iw(clamp((py - g.origin.y) * g.inv_cell, 0.0f, (float)(g.dims.y - 1))) +
-                        g.dims.y * swcl_cvt_iw(clamp((pz - g.origin.z) * g.inv_cell, 0.0f, (float)(g.dims.z - 1)));
-    const swcl_fw zero = (swcl_fw)(0.0f);
-    swcl_fw push_x = zero, push_y = zero, push_z = zero;
-    swcl_iw touched = (swcl_iw)(0);
-    swcl_iw todo = live;
-    while (any(todo)) {
-        int r0 = 0;
-        bool found = false;
-#define FM_FIRST_ROW_(l) if (!found && SWCL_LANE(todo, l)) { r0 = SWCL_LANE(row, l); found = true; }
-        SWCL_EACH_LANE(FM_FIRST_ROW_)
-#undef FM_FIRST_ROW_
-        const swcl_iw on = todo & (row == r0);
-        todo &= ~on;
-        const float rmax = fm_lane_max(reach, on);
-        FM_LANES_WALK(&g, px, py, pz, on, rmax, j) {
-            const uint sj = fine_slot[j];
-            const float4 q = pos[sj];
-            const swcl_fw dx = px - q.x, dy = py - q.y, dz = pz - q.z;
-            const swcl_fw d2 = dx * dx + dy * dy + dz * dz;
-            const swcl_iw hit = on & (slot != sj) & (d2 < d2_min);
-            if (any(hit)) {
-                const swcl_fw d = sqrt(d2);
-                const swcl_fw h = 0.5f * (d_min - d);
-                const swcl_iw apart = hit & (d > 0.0f);
-                push_x = select(push_x, push_x + h * (dx / d), apart);
-                push_y = select(push_y, push_y + h * (dy / d), apart);
-                push_z = select(push_z, push_z + h * (dz / d), apart);
-                touched |= hit;
-                if (any(hit & (d == 0.0f))) {  // coincident: force_model_mde's direction, lane by lane
-                    float hx[SWCL_W], hy[SWCL_W], hz[SWCL_W];
-                    FM_VSTORE_W(push_x, 0, hx); FM_VSTORE_W(push_y, 0, hy); FM_VSTORE_W(push_z, 0, hz);
-#define FM_COINCIDENT_(l)                                                                                   \
-                    if (SWCL_LANE(hit, l) && SWCL_LANE(d, l) == 0.0f) {                                     \
-                        const float3 dir = fm_coincident_direction(seed, ids[SWCL_LANE(slot, l)], ids[sj]); \
-                        const float3 pu = (float3)(hx[SWCL_LANE_I(l)], hy[SWCL_LANE_I(l)], hz[SWCL_LANE_I(l)]) + \
-                                          0.5f * (d_min - 0.0f) * dir;                                      \
-                        hx[SWCL_LANE_I(l)] = pu.x; hy[SWCL_LANE_I(l)] = pu.y; hz[SWCL_LANE_I(l)] = pu.z;     \
-                    }
-                    SWCL_EACH_LANE(FM_COINCIDENT_)
-#undef FM_COINCIDENT_
-                    push_x = FM_VLOAD_W(0, hx); push_y = FM_VLOAD_W(0, hy); push_z = FM_VLOAD_W(0, hz);
-                }
-            }
-        }
-        FM_LANES_WALK_END
-    }
-    uint count = 0;
-#define FM_STORE_MDE_(l)                                                                                       \
-    if (base + SWCL_LANE_I(l) < n) {                                                                           \
-        out[SWCL_LANE(slot, l)] = (float4)(SWCL_LANE(px, l) + SWCL_LANE(push_x, l),                             \
-                                           SWCL_LANE(py, l) + SWCL_LANE(push_y, l),                             \
-                                           SWCL_LANE(pz, l) + SWCL_LANE(push_z, l), 0.0f);                      \
-        count += SWCL_LANE(touched, l) ? 1u : 0u;                                                              \
-    }
-    SWCL_EACH_LANE(FM_STORE_MDE_)
-#undef FM_STORE_MDE_
-    if (count) {
-        atomic_add(&moved[0], count);
-        atomic_add(&moved[1], count);
-    }
 }
 
 // (w / count) * sum added to acc in the lanes whose count is not 0.

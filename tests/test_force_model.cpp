@@ -698,8 +698,8 @@ TEST(ForcePathFrame, OrientOffIsTheTranslationOnly) {
 // along a Philox direction), against a brute-force reference in double on
 // the positions after the Newton step.  With repulsion on, MDE reuses the
 // fine grid built for the forces before the Newton step moved the agents
-// (force_model_mde's slack); without it, one built after.  The wide kernels
-// (16 agents per work-item) give bitwise the scalar ones' positions.
+// (force_model_mde's slack); without it, one built after.  Runs with the
+// wide force kernels give bitwise the scalar ones' positions.
 TEST(ForceModel, MinDistanceMatchesItsReference) {
     const uint32_t n = 600;
     auto pos = test::random_points(n, -0.4f, 0.4f, 31);

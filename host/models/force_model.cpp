@@ -142,7 +142,9 @@ ForceModel::ForceModel(Swarm& swarm, ForceModelConfig config)
     fine_keys_k_ = noise_->kernel("force_model.cl", "force_model_fine_keys");
     fine_starts_k_ = noise_->kernel("force_model.cl", "force_model_fine_starts");
     fine_gather_k_ = noise_->kernel("force_model.cl", "force_model_fine_gather");
-    mde_k_ = noise_->kernel("force_model.cl", width_ > 1 ? "force_model_mde_w" : "force_model_mde");
+    // One agent per work-item on every device: with a few candidates per
+    // agent, 16 lanes walking the union of their boxes measured slower.
+    mde_k_ = noise_->kernel("force_model.cl", "force_model_mde");
     repulsion_k_ = noise_->kernel("force_model.cl", width_ > 1 ? "force_model_repulsion_w" : "force_model_repulsion");
     radix_hist_k_ = ctx.kernel("grid.cl", "radix_hist");
     radix_rows_k_ = ctx.kernel("grid.cl", "radix_rows");
@@ -448,7 +450,7 @@ void ForceModel::enforce_min_distance(Swarm& swarm) {
     set_args(mde_k_, swarm.positions().get(), swarm.ids().get(), cl_uint(n), fine_geo_.get(), fine_start_.get(),
              fine_sorted_slot_->get(), config_.min_distance, slack, cl_ulong(config_.noise.seed),
              swarm.scratch().get(), moved.get());
-    launch(ctx, mde_k_, (n + width_ - 1) / width_);
+    launch(ctx, mde_k_, n);
     swarm.swap_positions_with_scratch();
 }
 
