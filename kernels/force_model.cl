@@ -100,15 +100,22 @@ __kernel void force_model_fine_geometry(__global const float4* part, uint nchunk
         lo = fmin(lo, part[2 * b]);
         hi = fmax(hi, part[2 * b + 1]);
     }
-    if (!(lo.x <= hi.x)) lo = hi = (float4)(0.0f);  // no agents
-    const float4 ext = hi - lo;
+    float4 ext = hi - lo;
+    // No agents, or a box too large for a float volume: one cell (agents are
+    // clamped into it; queries stay exact, only slow).
+    if (!(lo.x <= hi.x) || !(ext.x * ext.y * ext.z < INFINITY)) ext = (float4)(0.0f);
+    if (!(lo.x <= hi.x)) lo = (float4)(0.0f);
     float h = fmax(h_min, cbrt(ext.x * ext.y * ext.z / (float)max_cells));
-    int4 dims;
-    for (;;) {
-        dims = (int4)((int)(ext.x / h) + 1, (int)(ext.y / h) + 1, (int)(ext.z / h) + 1, 0);
-        if ((ulong)dims.x * (ulong)dims.y * (ulong)dims.z <= (ulong)max_cells) break;
+    float4 fd;
+    for (;;) {  // cells per axis counted in float, so a huge extent cannot overflow
+        fd = floor(ext / h) + 1.0f;
+        const float m = (float)max_cells;
+        if (fd.x <= m && fd.y <= m && fd.z <= m &&
+            (ulong)fd.x * (ulong)fd.y * (ulong)fd.z <= (ulong)max_cells)
+            break;
         h *= 1.25f;
     }
+    const int4 dims = (int4)((int)fd.x, (int)fd.y, (int)fd.z, 0);
     geo[0] = (float4)(lo.xyz, 1.0f / h);
     geo[1] = (float4)(as_float(dims.x), as_float(dims.y), as_float(dims.z), as_float(dims.x * dims.y * dims.z));
 }
@@ -391,8 +398,9 @@ __kernel void force_model_force(FM_FORCE_PARAMS) {
 // scalar kernel's tests and arithmetic in the same order (bitwise the same
 // forces: tests/test_force_model.cpp): each candidate of the shared sample
 // and of the union of the lanes' R_att boxes (exact zones) is loaded once
-// and tested against all lanes; repulsion tests 16 candidates of one lane's
-// box at a time; Eq. 5's target neighbours are gathered per lane.
+// and tested against all lanes; Eq. 5's target neighbours are gathered per
+// lane.  Repulsion comes from force_model_repulsion_w (below, in the fine
+// grid's order), read by slot.
 #if SWCL_W == 16
 typedef uint16 fm_uw;
 #define FM_VLOAD_W vload16

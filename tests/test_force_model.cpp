@@ -207,6 +207,18 @@ TEST_F(ForceTerms, InteractionZonesMatchBruteForce) {
     }
 }
 
+TEST_F(ForceTerms, RepulsionStaysExactWithFarOutliers) {
+    // The fine grid spans the agents' bounding box with at most 8 cells per
+    // agent: two agents thousands of metres out make its cells huge, and
+    // repulsion must still find every pair (only slower).
+    pos[0] = 5000.0f; pos[1] = -4000.0f; pos[2] = 3000.0f;
+    pos[3] = -3000.0f; pos[4] = 2000.0f; pos[5] = -6000.0f;
+    swarm->write(Attribute::Position, pos.data(), n);
+    const ForceModelConfig c = term_config(kForceRepulsion);
+    ForceModel model(*swarm, c);
+    expect_close(forces_by_id(*swarm, model), interaction(c, kForceRepulsion), "repulsion with outliers");
+}
+
 TEST_F(ForceTerms, NeighbourSampleEstimatesTheZoneMeans) {
     // Sampling 64 agents of the swarm per step: over the Philox draws of
     // many steps the zone means approach the exact ones.
