@@ -50,20 +50,193 @@
         }                                                                     \
     }
 
-// §4.1, Eq. 2-3, repulsion zone of the agent in slot i at p: every agent
-// within R_rep through the grid (exact).
-SWCL_INLINE void fm_repulsion(__global const float4* pos, const Grid* g, uint i, float4 p, float r_rep,
+// ---- the fine grid of repulsion and MDE -----------------------------------
+//
+// R_rep (0.3 m) and the MDE distance are a fraction of the swarm grid's cell
+// (interaction_radius, 2 m in the example scenarios), so walking that grid's
+// cells visits hundreds of agents for each few within R_rep, and more as the
+// shape densifies.  The force model therefore keeps a grid of its own for
+// them: cells of edge max(R_rep, the cube root of the swarm's bounding box
+// volume / max_cells) over the bounding box of the agents (computed on the
+// device every build, so it follows the swarm), and a copy of the positions
+// sorted by (fine cell, slot) in x, y, z blocks.  The swarm's state and slot
+// order are untouched.  Everything here is deterministic: min/max are exact,
+// the sort is grid.cl's stable radix sort of the slots, and each cell's
+// range is written by exactly one work-item.
+//
+// Geometry (geo[0], geo[1]): origin xyz and 1 / cell edge in w; cells per
+// axis and their product as int bits.  The copy's blocks are n + FM_SOA_PAD
+// floats apart (vector loads may read past a row's end).
+#define FM_SOA_PAD 16u
+
+SWCL_INLINE Grid fm_fine_grid(__global const float4* geo, __global const uint* start) {
+    const float4 a = geo[0], b = geo[1];
+    return grid_make((float4)(a.xyz, 0.0f), a.w, (int4)(as_int(b.x), as_int(b.y), as_int(b.z), 0), start);
+}
+
+// Chunk b's bounding box: part[2 b], part[2 b + 1] (empty: +inf, -inf).
+__kernel void force_model_fine_bounds(__global const float4* pos, uint n, uint nchunks, __global float4* part) {
+    const uint b = get_global_id(0);
+    if (b >= nchunks) return;
+    const uint size = (n + nchunks - 1u) / nchunks;
+    const uint begin = min(b * size, n), end = min(begin + size, n);
+    float4 lo = (float4)(INFINITY), hi = (float4)(-INFINITY);
+    for (uint s = begin; s < end; ++s) {
+        const float4 p = (float4)(pos[s].xyz, 0.0f);
+        lo = fmin(lo, p);
+        hi = fmax(hi, p);
+    }
+    part[2 * b] = lo;
+    part[2 * b + 1] = hi;
+}
+
+// One work-item: the box of all chunks, then the cell edge h >= h_min with at
+// most max_cells cells over it.
+__kernel void force_model_fine_geometry(__global const float4* part, uint nchunks, float h_min, uint max_cells,
+                                        __global float4* geo) {
+    if (get_global_id(0) != 0) return;
+    float4 lo = (float4)(INFINITY), hi = (float4)(-INFINITY);
+    for (uint b = 0; b < nchunks; ++b) {
+        lo = fmin(lo, part[2 * b]);
+        hi = fmax(hi, part[2 * b + 1]);
+    }
+    float4 ext = hi - lo;
+    // No agents, or a box too large for a float volume: one cell (agents are
+    // clamped into it; queries stay exact, only slow).
+    if (!(lo.x <= hi.x) || !(ext.x * ext.y * ext.z < INFINITY)) ext = (float4)(0.0f);
+    if (!(lo.x <= hi.x)) lo = (float4)(0.0f);
+    float h = fmax(h_min, cbrt(ext.x * ext.y * ext.z / (float)max_cells));
+    float4 fd;
+    for (;;) {  // cells per axis counted in float, so a huge extent cannot overflow
+        fd = floor(ext / h) + 1.0f;
+        const float m = (float)max_cells;
+        if (fd.x <= m && fd.y <= m && fd.z <= m &&
+            (ulong)fd.x * (ulong)fd.y * (ulong)fd.z <= (ulong)max_cells)
+            break;
+        h *= 1.25f;
+    }
+    const int4 dims = (int4)((int)fd.x, (int)fd.y, (int)fd.z, 0);
+    geo[0] = (float4)(lo.xyz, 1.0f / h);
+    geo[1] = (float4)(as_float(dims.x), as_float(dims.y), as_float(dims.z), as_float(dims.x * dims.y * dims.z));
+}
+
+// keys[s] = fine cell of slot s, slots[s] = s; *count = n (the radix sort's
+// length).
+__kernel void force_model_fine_keys(__global const float4* pos, uint n, __global const float4* geo,
+                                    __global uint* keys, __global uint* slots, __global uint* count) {
+    const uint s = get_global_id(0);
+    if (s >= n) return;
+    if (s == 0) *count = n;
+    const Grid g = fm_fine_grid(geo, 0);
+    keys[s] = grid_cell_index(&g, grid_cell_of(&g, (float4)(pos[s].xyz, 0.0f)));
+    slots[s] = s;
+}
+
+// start[c] = first sorted slot of cell c, for c in [0, ncells] (ncells: the
+// geometry's): item k writes the cells in (key[k - 1], key[k]], item n the
+// rest.
+__kernel void force_model_fine_starts(__global const uint* skeys, uint n, __global const float4* geo,
+                                      __global uint* start) {
+    const uint k = get_global_id(0);
+    if (k > n) return;
+    const uint from = k == 0u ? 0u : skeys[k - 1u] + 1u;
+    const uint to = k == n ? as_uint(geo[1].w) : skeys[k];
+    for (uint c = from; c <= to; ++c) start[c] = k;
+}
+
+// The sorted copy of the positions (x, y, z blocks).
+__kernel void force_model_fine_gather(__global const float4* pos, __global const uint* sslot, uint n,
+                                      __global float* soa) {
+    const uint k = get_global_id(0);
+    if (k >= n) return;
+    const float4 p = pos[sslot[k]];
+    soa[k] = p.x;
+    soa[(n + FM_SOA_PAD) + k] = p.y;
+    soa[2 * (n + FM_SOA_PAD) + k] = p.z;
+}
+
+// A position of the sorted copy.
+#define FM_SOA_AT(soa, n, k) \
+    ((float4)((soa)[k], (soa)[((n) + FM_SOA_PAD) + (k)], (soa)[2 * ((n) + FM_SOA_PAD) + (k)], 0.0f))
+
+// §4.1, Eq. 2-3, repulsion zone of the agent at p: every agent within R_rep
+// through the fine grid (exact), in the fine grid's order; the agent itself
+// (r_ij = 0) is skipped with any coincident one.
+SWCL_INLINE void fm_repulsion(__global const float* soa, uint n, const Grid* g, float4 p, float r_rep,
                               float4* rep, uint* n_rep) {
     const float r_rep2 = r_rep * r_rep;
     GRID_FOR_EACH_CANDIDATE(g, p, r_rep, j) {
-        if (j == i) continue;
-        const float4 q = (float4)(pos[j].xyz, 0.0f);
+        const float4 q = FM_SOA_AT(soa, n, j);
         const float d2 = dist2(q, p);
         if (d2 >= r_rep2 || d2 == 0.0f) continue;
         *rep -= (q - p) * rsqrt(d2);
         ++*n_rep;
     }
     GRID_END_FOR
+}
+
+// Repulsion of every agent, one per work-item in the fine grid's order:
+// rep[slot] = (the sum of Eq. 2's repulsion zone, its count as uint bits).
+// The force kernels read it by slot.
+__kernel void force_model_repulsion(__global const float* fine_soa, __global const uint* fine_slot, uint n,
+                                    __global const float4* fine_geo, __global const uint* fine_start, float r_rep,
+                                    __global float4* rep_out) {
+    const uint k = get_global_id(0);
+    if (k >= n) return;
+    const Grid fg = fm_fine_grid(fine_geo, fine_start);
+    float4 rep = (float4)(0.0f);
+    uint nr = 0;
+    fm_repulsion(fine_soa, n, &fg, FM_SOA_AT(fine_soa, n, k), r_rep, &rep, &nr);
+    rep_out[fine_slot[k]] = (float4)(rep.xyz, as_float(nr));
+}
+
+// Minimum distance enforcement (kernels/min_distance.cl, the same pushes and
+// coincident directions) through the fine grid built on the current
+// positions: out[i] = pos[i] + the pushes of every other agent closer than
+// d_min, in the fine grid's order.
+inline float3 fm_coincident_direction(ulong seed, uint self, uint other) {
+    const uint lo = min(self, other), hi = max(self, other);
+    const float4 u = swcl_rand_uniform4(seed, lo, hi, 3u);  // min_distance.cl's SWCL_STREAM_MDE
+    float3 d = (float3)(2.0f * u.x - 1.0f, 2.0f * u.y - 1.0f, 2.0f * u.z - 1.0f + 1e-3f);
+    d = normalize(d);
+    return self < other ? d : -d;
+}
+
+// One agent per work-item in the fine grid's order.  The grid may be the one
+// built for this step's forces, before the Newton step moved every agent by
+// at most `slack` (max speed * dt, with margin): then an agent within d_min
+// of p now was within d_min + slack of it at the build, so the box of that
+// radius (widened by the rounding of coordinates of p's magnitude) holds its
+// cell, and the test uses the current positions pos[slot].
+__kernel void force_model_mde(__global const float4* pos, __global const uint* ids, uint n,
+                              __global const float4* fine_geo, __global const uint* fine_start,
+                              __global const uint* fine_slot, float d_min, float slack, ulong seed,
+                              __global float4* out, __global volatile uint* moved) {
+    const uint k = get_global_id(0);
+    if (k >= n) return;
+    const Grid g = fm_fine_grid(fine_geo, fine_start);
+    const uint i = fine_slot[k];
+    const float4 p = (float4)(pos[i].xyz, 0.0f);
+    const float reach = d_min + slack + 1e-6f * (1.0f + fabs(p.x) + fabs(p.y) + fabs(p.z));
+    const float d2_min = d_min * d_min;
+    float3 push = (float3)(0.0f);
+    bool touched = false;
+    GRID_FOR_EACH_CANDIDATE(&g, p, reach, j) {
+        const uint sj = fine_slot[j];
+        if (sj == i) continue;
+        const float4 q = pos[sj];
+        const float d2 = dist2(p, q);
+        if (d2 >= d2_min) continue;
+        const float d = sqrt(d2);
+        const float3 dir = d > 0.0f ? (p.xyz - q.xyz) / d : fm_coincident_direction(seed, ids[i], ids[sj]);
+        push += 0.5f * (d_min - d) * dir;
+        touched = true;
+    } GRID_END_FOR
+    out[i] = (float4)(p.xyz + push, 0.0f);
+    if (touched) {
+        atomic_inc(&moved[0]);
+        atomic_inc(&moved[1]);
+    }
 }
 
 // Start and stride of the neighbour sample of sample group grp (Philox keyed
@@ -123,7 +296,7 @@ SWCL_INLINE float4 fm_shape_force(__global const uint* nbr_start, __global const
         float4 zones, float4 weights, float4 blend, uint terms, uint sample_cap, ulong seed, uint has_targets, \
         __global const uint *target_of, __global const float4 *targets, __global const uint *nbr_start,    \
         __global const uint *nbr_index, __global const float4 *by_target, float4 frame_x, float4 frame_y,  \
-        float4 frame_z, float t, uint step, __global float4 *force, NOISE_PARAMS
+        float4 frame_z, float t, uint step, __global float4 *force, __global const float4 *rep_in, NOISE_PARAMS
 
 __kernel void force_model_force(FM_FORCE_PARAMS) {
     const uint i = get_global_id(0);
@@ -144,7 +317,11 @@ __kernel void force_model_force(FM_FORCE_PARAMS) {
     float4 rep = (float4)(0.0f), ali = (float4)(0.0f), att = (float4)(0.0f);
     uint n_rep = 0, n_ali = 0, n_att = 0;
     const Grid g = GRID_MAKE();
-    if (terms & FM_REP) fm_repulsion(pos, &g, i, p, zones.x, &rep, &n_rep);
+    if (terms & FM_REP) {  // force_model_repulsion's
+        const float4 r = rep_in[i];
+        rep = (float4)(r.xyz, 0.0f);
+        n_rep = as_uint(r.w);
+    }
     if (terms & (FM_ALI | FM_ATT)) {
         if (sample_cap == 0u) {
             fm_ali_att_exact(pos, vel, &g, i, p, u, zones, &ali, &n_ali, &att, &n_att);
@@ -221,8 +398,9 @@ __kernel void force_model_force(FM_FORCE_PARAMS) {
 // scalar kernel's tests and arithmetic in the same order (bitwise the same
 // forces: tests/test_force_model.cpp): each candidate of the shared sample
 // and of the union of the lanes' R_att boxes (exact zones) is loaded once
-// and tested against all lanes; repulsion tests 16 candidates of one lane's
-// box at a time; Eq. 5's target neighbours are gathered per lane.
+// and tested against all lanes; Eq. 5's target neighbours are gathered per
+// lane.  Repulsion comes from force_model_repulsion_w (below, in the fine
+// grid's order), read by slot.
 #if SWCL_W == 16
 typedef uint16 fm_uw;
 #define FM_VLOAD_W vload16
@@ -279,43 +457,6 @@ SWCL_INLINE fm_uw fm_gather_u_w(__global const uint* a, fm_uw j) { return (fm_uw
         n_att -= FM_AS_UW(is_att);                                                \
     }
 
-// fm_repulsion for one agent with its candidates tested SWCL_W at a time
-// (consecutive slots: whole vector loads from the positions' x, y, z blocks,
-// force_model_soa; lanes past the row's end are masked); the few within
-// R_rep are then
-// added one by one in slot order with the scalar arithmetic, so the sum is
-// bitwise fm_repulsion's.
-#define FM_HIT_BIT_(k) | (SWCL_LANE(hit, k) ? 1u << SWCL_LANE_I(k) : 0u)
-SWCL_INLINE void fm_repulsion_w(__global const float4* pos, __global const float* soa, uint n, const Grid* g, uint i,
-                                float4 p, float r_rep, float4* rep, uint* n_rep) {
-    const float r_rep2 = r_rep * r_rep;
-    const fm_uw lane = (fm_uw)(SWCL_LANES(FM_LANE_INDEX_));
-    int4 lo, hi;
-    grid_search_box(g, p, r_rep, &lo, &hi);
-    for (int z = lo.z; z <= hi.z; ++z)
-        for (int y = lo.y; y <= hi.y; ++y) {
-            const uint2 rng = grid_row_range(g, lo.x, hi.x, y, z);
-            for (uint j0 = rng.x; j0 < rng.y; j0 += SWCL_W) {
-                // soa holds SWCL_W - 1 slots of padding after each block.
-                const swcl_fw qx = FM_VLOAD_W(0, soa + j0), qy = FM_VLOAD_W(0, soa + (n + SWCL_W) + j0),
-                              qz = FM_VLOAD_W(0, soa + 2 * (n + SWCL_W) + j0);
-                const swcl_fw dx = qx - p.x, dy = qy - p.y, dz = qz - p.z;
-                const swcl_fw d2 = dx * dx + dy * dy + dz * dz;
-                const fm_uw j = (fm_uw)(j0) + lane;
-                const swcl_iw hit = (j < rng.y) & (j != i) & (d2 < r_rep2) & (d2 != 0.0f);
-                if (!any(hit)) continue;
-                uint bits = 0u SWCL_EACH_LANE(FM_HIT_BIT_);
-                while (bits) {
-                    const uint k = 31u - clz(bits & (0u - bits));  // lowest set bit
-                    bits &= bits - 1u;
-                    const float4 q = (float4)(pos[j0 + k].xyz, 0.0f);
-                    *rep -= (q - p) * rsqrt(dist2(q, p));
-                    ++*n_rep;
-                }
-            }
-        }
-}
-#undef FM_HIT_BIT_
 
 // Smallest and largest lane of v among the lanes `on`.
 SWCL_INLINE float fm_lane_min(swcl_fw v, swcl_iw on) {
@@ -352,21 +493,69 @@ SWCL_INLINE float fm_lane_max(swcl_fw v, swcl_iw on) {
                 for (uint j = fw_rng_.x; j < fw_rng_.y; ++j)
 #define FM_LANES_WALK_END }}
 
-// The positions as three blocks x, y, z of n + SWCL_W floats (the padding
-// lets fm_repulsion_w load whole vectors at the end of a block).
-__kernel void force_model_soa(__global const float4* pos, uint n, __global float* soa) {
-    const uint i = get_global_id(0);
-    if (i >= n) return;
-    const float4 p = pos[i];
-    soa[i] = p.x;
-    soa[(n + SWCL_W) + i] = p.y;
-    soa[2 * (n + SWCL_W) + i] = p.z;
+// force_model_repulsion on SWCL_W consecutive agents of the fine grid's
+// order (neighbours in a row of fine cells).  The lanes are taken a row
+// (y, z) of their cells at a time, and the union of those lanes' R_rep boxes
+// is walked once, each candidate tested against all of them.  A lane's own
+// box lies inside the union and both walks go row by row in slot order, so
+// each lane meets its neighbours in fm_repulsion's order with the same
+// arithmetic: bitwise force_model_repulsion's sums (the extra candidates are
+// farther than R_rep and fail the test).
+__kernel void force_model_repulsion_w(__global const float* fine_soa, __global const uint* fine_slot, uint n,
+                                      __global const float4* fine_geo, __global const uint* fine_start,
+                                      float r_rep, __global float4* rep_out) {
+    const uint base = get_global_id(0) * SWCL_W;
+    if (base >= n) return;
+    const Grid fg = fm_fine_grid(fine_geo, fine_start);
+    const uint stride = n + FM_SOA_PAD;
+    // FM_SOA_PAD >= SWCL_W - 1 readable floats after each block.
+    const swcl_fw px = FM_VLOAD_W(0, fine_soa + base), py = FM_VLOAD_W(0, fine_soa + stride + base),
+                  pz = FM_VLOAD_W(0, fine_soa + 2 * stride + base);
+    const fm_uw k = (fm_uw)(base) + (fm_uw)(SWCL_LANES(FM_LANE_INDEX_));
+    const swcl_iw live = k < n;
+    const float r_rep2 = r_rep * r_rep;
+    // Each lane's row of fine cells (only groups the lanes).
+    const swcl_iw row = swcl_cvt_iw(clamp((py - fg.origin.y) * fg.inv_cell, 0.0f, (float)(fg.dims.y - 1))) +
+                        fg.dims.y * swcl_cvt_iw(clamp((pz - fg.origin.z) * fg.inv_cell, 0.0f, (float)(fg.dims.z - 1)));
+    const swcl_fw zero = (swcl_fw)(0.0f);
+    swcl_fw rep_x = zero, rep_y = zero, rep_z = zero;
+    fm_uw n_rep = (fm_uw)(0u);
+    swcl_iw todo = live;
+    while (any(todo)) {
+        int r0 = 0;
+        bool found = false;
+#define FM_FIRST_ROW_(l) if (!found && SWCL_LANE(todo, l)) { r0 = SWCL_LANE(row, l); found = true; }
+        SWCL_EACH_LANE(FM_FIRST_ROW_)
+#undef FM_FIRST_ROW_
+        const swcl_iw on = todo & (row == r0);
+        todo &= ~on;
+        FM_LANES_WALK(&fg, px, py, pz, on, r_rep, j) {
+            const float qx = fine_soa[j], qy = fine_soa[stride + j], qz = fine_soa[2 * stride + j];
+            const swcl_fw dx = qx - px, dy = qy - py, dz = qz - pz;
+            const swcl_fw d2 = dx * dx + dy * dy + dz * dz;
+            const swcl_iw hit = on & (d2 < r_rep2) & (d2 != 0.0f);
+            if (any(hit)) {
+                const swcl_fw rs = rsqrt(d2);
+                rep_x = select(rep_x, rep_x - dx * rs, hit);
+                rep_y = select(rep_y, rep_y - dy * rs, hit);
+                rep_z = select(rep_z, rep_z - dz * rs, hit);
+                n_rep -= FM_AS_UW(hit);  // true is -1
+            }
+        }
+        FM_LANES_WALK_END
+    }
+#define FM_STORE_REP_(l) \
+    if (base + SWCL_LANE_I(l) < n) \
+        rep_out[fine_slot[base + SWCL_LANE_I(l)]] = \
+            (float4)(SWCL_LANE(rep_x, l), SWCL_LANE(rep_y, l), SWCL_LANE(rep_z, l), as_float(SWCL_LANE(n_rep, l)));
+    SWCL_EACH_LANE(FM_STORE_REP_)
+#undef FM_STORE_REP_
 }
 
 // (w / count) * sum added to acc in the lanes whose count is not 0.
 #define FM_ADD_MEAN_W(acc, w, cnt, sum) acc = select(acc, acc + ((w) / swcl_cvt_fw(cnt)) * (sum), (cnt) != 0u)
 
-__kernel void force_model_force_w(FM_FORCE_PARAMS, __global const float* soa) {
+__kernel void force_model_force_w(FM_FORCE_PARAMS) {
     const uint base = get_global_id(0) * SWCL_W;
     if (base >= n) return;
     __global const float* pf = (__global const float*)pos;
@@ -385,20 +574,10 @@ __kernel void force_model_force_w(FM_FORCE_PARAMS, __global const float* soa) {
 
     const swcl_iw live = self < n;
     if (terms & FM_REP) {
-        // Lane by lane (fm_repulsion_w): with R_rep a fraction of a cell, the
-        // lanes' boxes (1 to 8 cells) join into up to 27 cells, more
-        // candidates than the lanes' own walks visit together.
-        float s_rep[3 * SWCL_W];
+        // force_model_repulsion(_w)'s sums and counts, by slot.
+        noise_load_xyz_w((__global const float*)rep_in, base, n, &rep_x, &rep_y, &rep_z);
         uint c_rep[SWCL_W];
-        for (uint l = 0; l < SWCL_W; ++l) {
-            const uint i = base + l;
-            float4 rep = (float4)(0.0f);
-            uint nr = 0;
-            if (i < n) fm_repulsion_w(pos, soa, n, &g, i, (float4)(pos[i].xyz, 0.0f), zones.x, &rep, &nr);
-            s_rep[l] = rep.x; s_rep[SWCL_W + l] = rep.y; s_rep[2 * SWCL_W + l] = rep.z;
-            c_rep[l] = nr;
-        }
-        rep_x = FM_VLOAD_W(0, s_rep); rep_y = FM_VLOAD_W(1, s_rep); rep_z = FM_VLOAD_W(2, s_rep);
+        for (uint l = 0; l < SWCL_W; ++l) c_rep[l] = base + l < n ? as_uint(rep_in[base + l].w) : 0u;
         n_rep = FM_VLOAD_W(0, c_rep);
     }
     // The exact zones walk the union of the lanes' R_att boxes (many cells
@@ -527,6 +706,23 @@ inline float fm_obstacle(__global const float4* prims, uint k, float4 p, float4*
     return b.d;
 }
 
+// A lower bound of fm_obstacle's distance without its square roots and
+// Hessian, for skipping obstacles out of reach: for a rounded box
+// (swcl_dist_box) the same m = max(|p - c| - (h - rr), 0) as there, and
+// its d = m ||t||_4 - rr with t = qa / m, whose largest component is exactly
+// 1, so the norm is >= 1 and d >= m - rr; less 1e-6 m, far more than the
+// rounding of the norm's square roots, so the bound holds for the computed d
+// too and skipping changes no bit.  -inf (no bound) for other primitives,
+// which are cheap.
+inline float fm_obstacle_bound(__global const float4* prims, uint k, float4 p) {
+    const float4 a = prims[2 * k], b = prims[2 * k + 1];
+    if (swcl_prim_type(a) != SWCL_PRIM_BOX) return -INFINITY;
+    const float3 q = fabs(p.xyz - a.xyz) - (b.xyz - b.w);
+    const float3 qa = fmax(q, (float3)(0.0f));
+    const float m = fmax(qa.x, fmax(qa.y, qa.z));
+    return m > 0.0f ? (m - b.w) - 1e-6f * m : -INFINITY;
+}
+
 // Mesh obstacles: the signed distance grid of their union (host
 // fields/sdf.hpp, cell-centred; origin_h = min corner, cell edge) read
 // trilinearly, with the gradient of that trilinear interpolant as the
@@ -578,6 +774,7 @@ __kernel void force_model_integrate(__global float4* pos, __global float4* vel, 
     if (s > max_speed) u *= max_speed / s;
     else if (s < cruise_speed && s > 0.0f) u *= cruise_speed / s;
     for (uint k = 0; k < nprims; ++k) {
+        if (fm_obstacle_bound(prims, k, p) >= range) continue;  // d >= range: nothing to do
         float4 nrm;
         const float d = fm_obstacle(prims, k, p, &nrm);
         if (d < range) {
@@ -609,6 +806,7 @@ __kernel void force_model_project(__global float4* pos, uint n, __global const f
     if (i >= n) return;
     float4 p = (float4)(pos[i].xyz, 0.0f);
     for (uint k = 0; k < nprims; ++k) {
+        if (fm_obstacle_bound(prims, k, p) >= 0.0f) continue;  // d >= 0: outside
         float4 nrm;
         const float d = fm_obstacle(prims, k, p, &nrm);
         if (d < 0.0f) p -= d * nrm;

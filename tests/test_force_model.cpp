@@ -207,6 +207,18 @@ TEST_F(ForceTerms, InteractionZonesMatchBruteForce) {
     }
 }
 
+TEST_F(ForceTerms, RepulsionStaysExactWithFarOutliers) {
+    // The fine grid spans the agents' bounding box with at most 8 cells per
+    // agent: two agents thousands of metres out make its cells huge, and
+    // repulsion must still find every pair (only slower).
+    pos[0] = 5000.0f; pos[1] = -4000.0f; pos[2] = 3000.0f;
+    pos[3] = -3000.0f; pos[4] = 2000.0f; pos[5] = -6000.0f;
+    swarm->write(Attribute::Position, pos.data(), n);
+    const ForceModelConfig c = term_config(kForceRepulsion);
+    ForceModel model(*swarm, c);
+    expect_close(forces_by_id(*swarm, model), interaction(c, kForceRepulsion), "repulsion with outliers");
+}
+
 TEST_F(ForceTerms, NeighbourSampleEstimatesTheZoneMeans) {
     // Sampling 64 agents of the swarm per step: over the Philox draws of
     // many steps the zone means approach the exact ones.
@@ -691,6 +703,78 @@ TEST(ForcePathFrame, OrientOffIsTheTranslationOnly) {
         if (orient) EXPECT_LT(same, 4 * q.size() / 2);  // turned on the curve
         else EXPECT_EQ(same, 4 * q.size());              // exactly today's targets
     }
+}
+
+// MDE (after the Newton step) through the model's fine grid: every pair
+// closer than d_min pushed apart by half the overlap each (coincident pairs
+// along a Philox direction), against a brute-force reference in double on
+// the positions after the Newton step.  With repulsion on, MDE reuses the
+// fine grid built for the forces before the Newton step moved the agents
+// (force_model_mde's slack); without it, one built after.  Runs with the
+// wide force kernels give bitwise the scalar ones' positions.
+TEST(ForceModel, MinDistanceMatchesItsReference) {
+    const uint32_t n = 600;
+    auto pos = test::random_points(n, -0.4f, 0.4f, 31);
+    const auto vel = test::random_points(n, -0.3f, 0.3f, 32);  // below max_speed: no clamp
+    for (int k = 0; k < 3; ++k) pos[3 + k] = pos[k];         // agents 0 and 1 coincide
+    const float d_min = 0.08f;
+    std::vector<std::vector<float>> by_width;
+    for (uint32_t terms : {uint32_t(kForceRepulsion), 0u}) {
+        for (const char* width : {"1", "16"}) {
+            setenv("SWARMCL_NOISE_WIDTH", width, 1);
+            auto swarm = make_swarm(n, -3.0f, 3.0f, 0.5f, 3);
+            swarm->write(Attribute::Position, pos.data(), n);
+            swarm->write(Attribute::Velocity, vel.data(), n);
+            ForceModelConfig c;
+            c.terms = terms;
+            c.w_rep = 0.0f;  // F = 0 exactly: the Newton step only moves by u dt
+            c.cruise_speed = 0.0f;
+            c.min_distance = d_min;
+            auto model = std::make_shared<ForceModel>(*swarm, c);
+            swarm->set_behavior(model);
+            swarm->step(1);
+            std::vector<float> got(3 * size_t(n));
+            swarm->read(Attribute::Position, got.data(), n);
+            const auto stats = model->take_stats(*swarm);
+            unsetenv("SWARMCL_NOISE_WIDTH");
+            // The reference: r += u dt in float (as the kernel), then MDE.
+            const float dt = swarm->config().dt;
+            std::vector<double> moved(3 * size_t(n));
+            for (size_t a = 0; a < moved.size(); ++a) moved[a] = double(pos[a] + dt * vel[a]);
+            uint32_t touched = 0;
+            size_t bad = 0;
+            for (uint32_t i = 0; i < n; ++i) {
+                D3 want{moved[3 * i], moved[3 * i + 1], moved[3 * i + 2]};
+                bool t = false;
+                for (uint32_t j = 0; j < n; ++j) {
+                    if (j == i) continue;
+                    const D3 r{moved[3 * i] - moved[3 * j], moved[3 * i + 1] - moved[3 * j + 1],
+                               moved[3 * i + 2] - moved[3 * j + 2]};
+                    const double d = norm(r);
+                    if (d >= d_min) continue;
+                    t = true;
+                    if (d > 0.0) add(want, r, 0.5 * (d_min - d) / d);
+                }
+                touched += t;
+                if (i <= 1) {  // the coincident pair: pushed d_min / 2 apart each way, opposite
+                    continue;
+                }
+                for (int k = 0; k < 3; ++k)
+                    if (std::fabs(got[3 * i + k] - want[k]) > 2e-6) {
+                        if (bad++ < 5) ADD_FAILURE() << "agent " << i << " axis " << k << ": " << got[3 * i + k] << " vs " << want[k];
+                    }
+            }
+            EXPECT_EQ(bad, 0u) << "terms " << terms << " width " << width;
+            const D3 a0 = at(got, 0), a1 = at(got, 1);
+            EXPECT_GT(norm(sub(a0, a1)), 0.5 * d_min) << "the coincident pair separates";
+            ASSERT_TRUE(stats.has_value());
+            EXPECT_EQ(stats->mde_moved_last, touched);
+            EXPECT_GT(touched, n / 4);  // the test has many close pairs
+            by_width.push_back(got);
+        }
+    }
+    EXPECT_EQ(by_width[0], by_width[1]) << "wide and scalar MDE, grid of the forces";
+    EXPECT_EQ(by_width[2], by_width[3]) << "wide and scalar MDE, grid after the Newton step";
 }
 
 TEST(ForceModelProperties, SameSeedSameRun) {

@@ -142,12 +142,15 @@ private:
     void prepare(Swarm& swarm);                 // targets for the agent count
     void activate(Swarm& swarm, int keyframe);  // upload targets, assign
     void enqueue_force(Swarm& swarm, uint64_t step);
+    // The fine grid of repulsion and MDE over the current positions
+    // (kernels/force_model.cl, "the fine grid").
+    void build_fine_grid(Swarm& swarm);
+    void enforce_min_distance(Swarm& swarm);
 
     ForceModelConfig config_;
     std::unique_ptr<NoiseField> noise_;
-    std::optional<MinDistance> mde_;
     std::optional<BSplinePath> path_;
-    cl::Kernel force_k_, integrate_k_, project_k_, scatter_k_, soa_k_;
+    cl::Kernel force_k_, integrate_k_, project_k_, scatter_k_;
     uint32_t width_ = 1;  // agents per work-item of force_k_
     uint32_t prepared_n_ = 0;
     std::vector<ShapeTargets> targets_;  // per keyframe
@@ -166,7 +169,18 @@ private:
     std::vector<KeyframeBuffers> kf_buf_;
     uint32_t nprims_ = 0;
     Grid3 mesh_grid_{{0, 0, 0}, 1.0, {0, 0, 0}};  // no mesh obstacles: dims 0
-    DeviceBuffer<cl_float> mesh_phi_, soa_;
+    DeviceBuffer<cl_float> mesh_phi_;
+    // The fine grid: bounding box parts, geometry, keys and slots (sorted
+    // into the other of each pair), cell starts, the sorted positions.
+    cl::Kernel fine_bounds_k_, fine_geometry_k_, fine_keys_k_, fine_starts_k_, fine_gather_k_, mde_k_, repulsion_k_;
+    cl::Kernel radix_hist_k_, radix_rows_k_, radix_scatter_k_;
+    bool fine_current_ = false;  // built by this step's enqueue_force, slots unchanged since
+    uint32_t fine_n_ = 0, fine_max_cells_ = 0, fine_radix_bits_ = 0, fine_radix_passes_ = 0;
+    DeviceBuffer<cl_float4> fine_part_, fine_geo_, rep_;  // rep_: repulsion sums by slot
+    DeviceBuffer<cl_uint> fine_key_[2], fine_slot_[2], fine_spare_[2], fine_count_, fine_start_, fine_hist_,
+        fine_totals_;
+    DeviceBuffer<cl_uint>* fine_sorted_slot_ = nullptr;
+    DeviceBuffer<cl_float> fine_soa_;
     MdeCounters counters_;
 };
 
