@@ -10,6 +10,7 @@
 #include "noise_field.cl"
 #include "grid_common.cl"
 #include "philox.cl"
+#include "min_distance_common.cl"
 
 // Philox stream of the neighbour sample (keyed by seed, sample group, step).
 #define FM_STREAM_SAMPLE 16u
@@ -190,18 +191,10 @@ __kernel void force_model_repulsion(__global const float* fine_soa, __global con
     rep_out[fine_slot[k]] = (float4)(rep.xyz, as_float(nr));
 }
 
-// Minimum distance enforcement (kernels/min_distance.cl, the same pushes and
-// coincident directions) through the fine grid built on the current
-// positions: out[i] = pos[i] + the pushes of every other agent closer than
-// d_min, in the fine grid's order.
-inline float3 fm_coincident_direction(ulong seed, uint self, uint other) {
-    const uint lo = min(self, other), hi = max(self, other);
-    const float4 u = swcl_rand_uniform4(seed, lo, hi, 3u);  // min_distance.cl's SWCL_STREAM_MDE
-    float3 d = (float3)(2.0f * u.x - 1.0f, 2.0f * u.y - 1.0f, 2.0f * u.z - 1.0f + 1e-3f);
-    d = normalize(d);
-    return self < other ? d : -d;
-}
-
+// Minimum distance enforcement (the pair rule MDE_CANDIDATE of
+// min_distance_common.cl, as the swarm's MDE pass) through the fine grid
+// built on the current positions: out[i] = pos[i] + the pushes of every other
+// agent closer than d_min, in the fine grid's order.
 // One agent per work-item in the fine grid's order.  The grid may be the one
 // built for this step's forces, before the Newton step moved every agent by
 // at most `slack` (max speed * dt, with margin): then an agent within d_min
@@ -223,14 +216,7 @@ __kernel void force_model_mde(__global const float4* pos, __global const uint* i
     bool touched = false;
     GRID_FOR_EACH_CANDIDATE(&g, p, reach, j) {
         const uint sj = fine_slot[j];
-        if (sj == i) continue;
-        const float4 q = pos[sj];
-        const float d2 = dist2(p, q);
-        if (d2 >= d2_min) continue;
-        const float d = sqrt(d2);
-        const float3 dir = d > 0.0f ? (p.xyz - q.xyz) / d : fm_coincident_direction(seed, ids[i], ids[sj]);
-        push += 0.5f * (d_min - d) * dir;
-        touched = true;
+        MDE_CANDIDATE(i, sj)
     } GRID_END_FOR
     out[i] = (float4)(p.xyz + push, 0.0f);
     if (touched) {

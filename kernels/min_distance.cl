@@ -3,34 +3,7 @@
 // overlap along the pair's direction.  Jacobi style — every agent reads the
 // positions before the pass and writes a new array — so the result does not
 // depend on the order agents are processed in.
-#include "grid_common.cl"
-#include "philox.cl"
-
-#define SWCL_STREAM_MDE 3u
-
-// Direction for two agents on the same point: a Philox direction keyed by the
-// pair, pointing opposite ways for the two, so they separate deterministically.
-inline float3 coincident_direction(ulong seed, uint self, uint other) {
-    const uint lo = min(self, other), hi = max(self, other);
-    const float4 u = swcl_rand_uniform4(seed, lo, hi, SWCL_STREAM_MDE);
-    float3 d = (float3)(2.0f * u.x - 1.0f, 2.0f * u.y - 1.0f, 2.0f * u.z - 1.0f + 1e-3f);
-    d = normalize(d);
-    return self < other ? d : -d;
-}
-
-// One candidate of the pass: pushes p away from q by half the overlap
-// when they are closer than d_min (slots i != j).
-#define MDE_CANDIDATE(i, j)                                                                          \
-    {                                                                                                \
-        const float4 q_ = pos[j];                                                                    \
-        const float d2_ = dist2(p, q_);                                                              \
-        if ((j) != (i) && d2_ < d2_min) {                                                            \
-            const float d_ = sqrt(d2_);                                                              \
-            const float3 dir_ = d_ > 0.0f ? (p.xyz - q_.xyz) / d_ : coincident_direction(seed, ids[i], ids[j]); \
-            push += 0.5f * (d_min - d_) * dir_;                                                      \
-            touched = true;                                                                          \
-        }                                                                                            \
-    }
+#include "min_distance_common.cl"
 
 __kernel void min_distance_enforce(__global const float4* pos, __global const uint* ids, uint n,
                                    GRID_PARAMS, float d_min, ulong seed, __global float4* out,
