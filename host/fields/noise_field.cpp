@@ -229,6 +229,23 @@ void NoiseField::bake() {
     baked_ready_ = true;
 }
 
+cl::Kernel NoiseField::sample_kernel() const {
+    return kernel("noise_field.cl", width() > 1 ? "noise_sample_w" : "noise_sample");
+}
+
+void NoiseField::enqueue_sample(cl::Kernel& kernel, const DeviceBuffer<cl_float4>& points, uint32_t n, float time,
+                                uint32_t step, DeviceBuffer<cl_float4>& out) {
+    cl_uint i = 0;
+    kernel.setArg(i++, points.get());
+    kernel.setArg(i++, cl_uint(n));
+    kernel.setArg(i++, time);
+    kernel.setArg(i++, step);
+    i = set_args(kernel, i);
+    kernel.setArg(i, out.get());
+    const uint32_t w = width();
+    launch(ctx_, kernel, (size_t(n) + w - 1) / w);
+}
+
 void NoiseField::sample(const float* xyz, size_t n, float time, uint32_t step, float* out) {
     require(xyz != nullptr || n == 0, "noise sample: points is NULL");
     require(out != nullptr || n == 0, "noise sample: out is NULL");
@@ -247,16 +264,8 @@ void NoiseField::sample(const float* xyz, size_t n, float time, uint32_t step, f
     if (n == 0) return;
     DeviceBuffer<cl_float4> in(ctx_, n, "noise sample points"), result(ctx_, n, "noise sample results");
     in.upload(ctx_, points.data(), n);
-    const uint32_t w = width();
-    cl::Kernel kernel = this->kernel("noise_field.cl", w > 1 ? "noise_sample_w" : "noise_sample");
-    cl_uint i = 0;
-    kernel.setArg(i++, in.get());
-    kernel.setArg(i++, cl_uint(n));
-    kernel.setArg(i++, time);
-    kernel.setArg(i++, step);
-    i = set_args(kernel, i);
-    kernel.setArg(i, result.get());
-    launch(ctx_, kernel, (n + w - 1) / w);
+    cl::Kernel kernel = sample_kernel();
+    enqueue_sample(kernel, in, uint32_t(n), time, step, result);
     result.download(ctx_, points.data(), n);
     for (size_t p = 0; p < n; ++p)
         for (int a = 0; a < 3; ++a) out[3 * p + a] = points[p].s[a];

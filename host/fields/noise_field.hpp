@@ -83,6 +83,12 @@ public:
     // Samples at n packed xyz points into out (packed xyz); point i counts as
     // agent i for the random noise types.
     void sample(const float* xyz, size_t n, float time, uint32_t step, float* out);
+    // The sampling kernel for this field (noise_sample_w when width() > 1,
+    // else noise_sample), and its launch on n device points into out
+    // (float4 each; enqueued only): for models that sample every agent.
+    cl::Kernel sample_kernel() const;
+    void enqueue_sample(cl::Kernel& kernel, const DeviceBuffer<cl_float4>& points, uint32_t n, float time,
+                        uint32_t step, DeviceBuffer<cl_float4>& out);
 
     static void validate(const NoiseConfig& config);
 

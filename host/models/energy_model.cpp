@@ -116,7 +116,7 @@ EnergyModel::EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr
     select_ = ctx.kernel("energy_model.cl", "energy_select", defines);
     terms_ = ctx.kernel("energy_model.cl", "energy_select", defines + " -DEM_TERMS");
     prepare_ = ctx.kernel("energy_model.cl", "energy_prepare", defines);
-    if (noise_pre_) noise_sample_ = noise_->kernel("noise_field.cl", "noise_sample_w");
+    if (noise_pre_) noise_sample_ = noise_->sample_kernel();
     centre_final_ = ctx.kernel("energy_model.cl", "energy_centre_final", defines);
 
     // Velocities (float4, read for the chosen sample), and the planes of
@@ -227,16 +227,8 @@ void EnergyModel::sample_noise(Swarm& swarm, uint64_t step) {
     const uint32_t n = swarm.agent_count();
     if (!noise_pre_ || !n) return;
     // Time and step as Swarm::set_step_args passes them to energy_select.
-    const float dt = swarm.config().dt;
-    cl_uint i = 0;
-    noise_sample_.setArg(i++, swarm.positions().get());
-    noise_sample_.setArg(i++, cl_uint(n));
-    noise_sample_.setArg(i++, float(double(step) * dt));
-    noise_sample_.setArg(i++, cl_uint(step));
-    i = noise_->set_args(noise_sample_, i);
-    noise_sample_.setArg(i++, noise_buf_.get());
-    const uint32_t w = noise_->width();
-    launch(ctx_, noise_sample_, (n + w - 1) / w);
+    noise_->enqueue_sample(noise_sample_, swarm.positions(), n, float(double(step) * swarm.config().dt),
+                           uint32_t(step), noise_buf_);
 }
 
 cl_uint EnergyModel::set_common_args(cl::Kernel& k, Swarm& swarm, uint64_t step) {
