@@ -1,6 +1,7 @@
 // A typed device buffer that owns its cl::Buffer (released with it) and knows
 // its element count.
 #pragma once
+#include <algorithm>
 #include <cstddef>
 #include <string>
 
@@ -58,10 +59,45 @@ void set_args(cl::Kernel& kernel, const Args&... args) {
     (kernel.setArg(index++, args), ...);
 }
 
-// Enqueues a 1-D kernel over `n` work-items with the local size left to the
-// implementation (DESIGN.md: PoCL picks it best).
+// The local size launch() uses on CPU devices for n work-items: the largest
+// of a fixed set (PoCL compiles each local size apart) that still gives at
+// least 16 work-groups per compute unit, so the threads finish close
+// together.  Left to itself, PoCL 3.1 makes one work-group of any global size
+// up to ~1000 (one thread runs it all: the force model's 625 work-items of
+// 16 agents at 10k) and 5 groups of 2000 for 10000 (one of 2 cores runs 3);
+// measured with a kernel that reports get_local_size.  DESIGN.md's "let
+// PoCL choose" is kept for GPUs.
+inline size_t cpu_local_size(size_t n, const DeviceEntry& device) {
+    const size_t groups = 16 * size_t(std::max<uint32_t>(1, device.compute_units));
+    for (size_t local : {4096, 1024, 256, 64})
+        if (local <= device.max_work_group_size && (n + local - 1) / local >= groups) return local;
+    return std::min<size_t>(16, std::max<size_t>(1, device.max_work_group_size));
+}
+
+// Enqueues a 1-D kernel over `n` work-items.  GPUs: the local size left to
+// the driver.  CPU devices: cpu_local_size(), the global size rounded up to a
+// multiple of it, so every kernel launched here returns at once for ids >= n
+// (each checks its own count).
 inline void launch(Context& ctx, cl::Kernel& kernel, size_t n) {
-    if (n) ctx.queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(n), cl::NullRange);
+    if (!n) return;
+    if (!(ctx.device().type & CL_DEVICE_TYPE_CPU)) {
+        ctx.queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(n), cl::NullRange);
+        return;
+    }
+    const size_t local = cpu_local_size(n, ctx.device());
+    ctx.queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange((n + local - 1) / local * local),
+                                     cl::NDRange(local));
+}
+
+// Enqueues a 1-D kernel over `n` work-items that each process a long chunk
+// (a few hundred work-items at most, and exactly n of them).  CPU devices:
+// each work-item is its own work-group, so any thread can take any chunk
+// (the grid merge over 245 chunks ran on one of 2 cores before).  Other
+// devices: the driver's choice.
+inline void launch_chunks(Context& ctx, cl::Kernel& kernel, size_t n) {
+    if (!n) return;
+    const bool cpu = (ctx.device().type & CL_DEVICE_TYPE_CPU) != 0;
+    ctx.queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(n), cpu ? cl::NDRange(1) : cl::NullRange);
 }
 
 }  // namespace swarmcl

@@ -58,6 +58,7 @@ std::vector<DeviceEntry> list_devices() {
             e.version = trim(device.getInfo<CL_DEVICE_VERSION>());
             e.type = device.getInfo<CL_DEVICE_TYPE>();
             e.compute_units = device.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
+            e.max_work_group_size = device.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
             e.global_memory = device.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
             e.max_allocation = device.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
             out.push_back(std::move(e));

@@ -18,6 +18,7 @@ struct DeviceEntry {
     std::string version;
     cl_device_type type = 0;
     uint32_t compute_units = 0;
+    size_t max_work_group_size = 1;
     uint64_t global_memory = 0;
     uint64_t max_allocation = 0;
 };

@@ -217,7 +217,7 @@ void EnergyModel::prepare(Swarm& swarm) {
     const uint32_t chunk = std::max<uint32_t>(1, (n + kCentreChunks - 1) / kCentreChunks);
     set_args(prepare_, swarm.positions().get(), n, chunk, cl_uint(fixed ? 0 : 1), partial_.get(), pxyz_.get(),
              cl_uint(pxyz_stride_));
-    launch(ctx_, prepare_, kCentreChunks);
+    launch_chunks(ctx_, prepare_, kCentreChunks);
     if (fixed) return;
     set_args(centre_final_, partial_.get(), kCentreChunks, centre_.get());
     launch(ctx_, centre_final_, 1);

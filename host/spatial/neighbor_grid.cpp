@@ -102,14 +102,14 @@ void NeighborGrid::build(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<
     keys_k_.setArg(7, chunks);
     keys_k_.setArg(8, keys_.get());
     keys_k_.setArg(9, chunk_counts_.get());
-    launch(ctx_, keys_k_, chunks);
+    launch_chunks(ctx_, keys_k_, chunks);
     stage("grid_keys_count");
 
     // The movers compacted in slot order: r_key = new cell, r_slot = slot,
     // r_id = id; the stayers' slots in st_slot.
     set_args(movers_write_, keys_.get(), layout_key_.get(), ids.get(), n, chunks, chunk_counts_.get(), r_key_.get(),
              r_slot_.get(), r_id_.get(), st_slot_.get(), movers_.get());
-    launch(ctx_, movers_write_, chunks);
+    launch_chunks(ctx_, movers_write_, chunks);
     stage("movers_write");
     // Stable radix sort of the movers by new cell.
     DeviceBuffer<cl_uint>*kin = &r_key_, *sin = &r_slot_, *iin = &r_id_;
@@ -137,10 +137,10 @@ void NeighborGrid::build(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<
     const uint32_t items = div_up(n, outputs_per_item_);
     set_args(merge_, keys_.get(), ids.get(), st_slot_.get(), movers_.get(), kin->get(), sin->get(), iin->get(), n,
              outputs_per_item_, perm_.get(), pending_key_->get());
-    launch(ctx_, merge_, items);
+    launch_chunks(ctx_, merge_, items);
     stage("grid_merge");
     set_args(starts_, pending_key_->get(), n, ncells_, outputs_per_item_, start_.get());
-    launch(ctx_, starts_, items);
+    launch_chunks(ctx_, starts_, items);
     stage("grid_starts");
 }
 
