@@ -25,8 +25,10 @@ StepStats MdeCounters::take(Swarm& swarm) {
 namespace {
 // Measured on 1M agents at 0.05 m (2-core PoCL CPU, CPU time of the pass):
 // the wide kernel takes 0.55x the scalar one's at cells of 2 d_min, the same
-// at 3 and 4 d_min, 1.6x at 6 d_min.
-constexpr float kWideCellPerDistance = 3.0f;
+// at 3 and 4 d_min, 1.6x at 6 d_min.  Since it prefetches its cell starts
+// (1M locusts, AVX-512 EPYC, d_min 0.1 m): 0.8x at 4.4 d_min, about the same
+// at 6, 1.3x at 9 and 1.8x at 12.
+constexpr float kWideCellPerDistance = 5.0f;
 // The explicit-width kernel where the noise module uses one (CPU devices;
 // $SWARMCL_NOISE_WIDTH = 1 selects the scalar kernel everywhere).
 uint32_t mde_width(Context& ctx) { return preferred_noise_width(ctx.device()); }

@@ -38,7 +38,7 @@ public:
     float distance() const { return d_min_; }
     // Agents per work-item of the explicit-width kernel
     // (min_distance_enforce_w, 8 or 16 lanes) on CPU devices, used where the
-    // grid's cells are at most 3 d_min; 1 (the scalar kernel everywhere) on
+    // grid's cells are at most 5 d_min; 1 (the scalar kernel everywhere) on
     // other devices or with $SWARMCL_NOISE_WIDTH = 1.
     uint32_t width() const { return width_; }
     // Whether a pass over n agents on a grid `g` runs the wide kernel.

@@ -1,0 +1,22 @@
+// swarmcl — kernels/prefetch.cl
+//
+// SWCL_PREFETCH(p): a hint that the cache line of the global pointer p will be
+// read soon, for loads whose address depends on data (cell starts, baked
+// nodes), which otherwise wait on memory one after another.  On x86 CPU
+// devices it is the compiler's prefetch builtin, through an integer cast (CPU
+// devices have one flat address space).  PoCL's OpenCL prefetch() built-in
+// emits no instruction (perf annotate of the kernel shows none), so it is not
+// used.  Other devices: nothing.
+#ifndef SWCL_PREFETCH_CL
+#define SWCL_PREFETCH_CL
+
+#if defined(__x86_64__) && defined(__has_builtin)
+#if __has_builtin(__builtin_prefetch)
+#define SWCL_PREFETCH(p) __builtin_prefetch((const void*)(size_t)(p))
+#endif
+#endif
+#ifndef SWCL_PREFETCH
+#define SWCL_PREFETCH(p) ((void)0)
+#endif
+
+#endif  // SWCL_PREFETCH_CL
