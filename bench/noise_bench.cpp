@@ -82,7 +82,7 @@ struct Options {
     std::fprintf(stderr,
                  "%s\nusage: noise_bench [--sizes 1000000,2000000,4000000] [--repeats 5] [--quick]\n"
                  "                   [--agents 1000000] [--steps 10] [--threads 2] [--device SELECTOR]\n"
-                 "                   [--json PATH] [--seed S]\n"
+                 "                   [--json PATH] [--seed S] [--bake 64]\n"
                  "  --quick: sizes 1000000, 3 repeats, 5 steps\n",
                  msg);
     std::exit(2);
@@ -127,6 +127,10 @@ Options parse(int argc, char** argv) {
             } else if (a == "--radius") {
                 o.radius = std::stof(v);
                 if (!(o.radius > 0.0f)) usage("--radius must be > 0");
+            } else if (a == "--bake") {
+                const int b = std::stoi(v);
+                if (b < 2 || b > 512) usage("--bake must be in [2, 512]");
+                o.bake = uint32_t(b);
             } else if (a == "--threads") {
                 o.threads = std::stoi(v);
                 if (o.threads < 1) usage("--threads must be >= 1");
