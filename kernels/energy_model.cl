@@ -536,9 +536,10 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
 // centre (Eq. 7) without float atomics: chunk c sums slots
 // [c * chunk, (c + 1) * chunk) in order, then one work-item sums the chunks
 // in order.  Same state, same sum, on every run.
-__kernel void energy_prepare(__global const float4* pos, uint n, uint chunk, uint sum, __global float4* partial,
-                             __global float* pxyz, uint pstride) {
+__kernel void energy_prepare(__global const float4* pos, uint n, uint chunk, uint sum, uint nchunks,
+                             __global float4* partial, __global float* pxyz, uint pstride) {
     const uint c = get_global_id(0);
+    if (c >= nchunks) return;
     const uint b = c * chunk, e = min(n, b + chunk);
     float4 s = (float4)(0.0f);
     for (uint k = b; k < e; ++k) {

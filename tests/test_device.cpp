@@ -6,8 +6,11 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <regex>
+#include <sstream>
 
 #include "core/error.hpp"
+#include "device/buffer.hpp"
 #include "device/context.hpp"
 #include "device/device_list.hpp"
 #include "device/kernel_sources.hpp"
@@ -140,6 +143,61 @@ TEST(Kernels, KernelDirMatchingTheEmbeddedSourcesWorks) {
     ScopedEnv env("SWARMCL_KERNEL_DIR", std::string(SWARMCL_SOURCE_DIR) + "/kernels");
     Context ctx("", "");
     EXPECT_NO_THROW(ctx.program("neighbors.cl"));
+}
+
+
+// launch() on CPU devices: a local size from the fixed set (each one is a
+// PoCL compile), at most the device's limit, and enough work-groups that
+// both threads of a 2-core device stay busy: PoCL alone made one group of
+// any global size up to ~1000.
+TEST(Launch, CpuLocalSizeComesFromAFixedSetWithEnoughGroups) {
+    DeviceEntry d;
+    d.compute_units = 2;
+    d.max_work_group_size = 4096;
+    const std::vector<size_t> allowed = {16, 64, 256, 1024, 4096};
+    for (size_t n : {size_t(1), size_t(37), size_t(300), size_t(625), size_t(1000), size_t(10000), size_t(10007),
+                     size_t(62500), size_t(1000000), size_t(50000000)}) {
+        const size_t local = cpu_local_size(n, d);
+        EXPECT_NE(std::find(allowed.begin(), allowed.end(), local), allowed.end()) << n;
+        const size_t groups = (n + local - 1) / local;
+        if (n >= 32 * 16) EXPECT_GE(groups, 32u) << n;   // 16 per compute unit
+        if (n >= 32 * 4096) EXPECT_EQ(local, 4096u) << n;  // no more groups than needed
+    }
+    EXPECT_EQ(cpu_local_size(1000, d), 16u);
+    EXPECT_EQ(cpu_local_size(10000, d), 256u);
+    d.max_work_group_size = 128;  // a device with a lower limit
+    for (size_t n : {size_t(100), size_t(1000000)}) EXPECT_LE(cpu_local_size(n, d), 128u) << n;
+    d.max_work_group_size = 1;
+    EXPECT_EQ(cpu_local_size(1000000, d), 1u);
+}
+
+// launch() pads the global size to a multiple of the local size on CPU
+// devices, so every kernel must return for ids past its count before it
+// touches memory.  Checked on the sources: each kernel body opens with an
+// early return.
+TEST(Kernels, EveryKernelReturnsForWorkItemsPastItsCount) {
+    size_t kernels = 0;
+    for (const auto& entry : fs::directory_iterator(fs::path(SWARMCL_SOURCE_DIR) / "kernels")) {
+        if (entry.path().extension() != ".cl") continue;
+        std::ifstream in(entry.path());
+        std::stringstream ss;
+        ss << in.rdbuf();
+        // Without line comments (they hold semicolons).
+        const std::string src = std::regex_replace(ss.str(), std::regex("//[^\n]*"), "");
+        const std::regex kernel(R"(__kernel\s+void\s+(\w+)\s*\()");
+        for (auto it = std::sregex_iterator(src.begin(), src.end(), kernel); it != std::sregex_iterator(); ++it) {
+            ++kernels;
+            const size_t body = src.find('{', size_t(it->position()));
+            ASSERT_NE(body, std::string::npos);
+            // The first four statements of the body.
+            size_t end = body;
+            for (int k = 0; k < 4 && end != std::string::npos; ++k) end = src.find(';', end + 1);
+            const std::string head = src.substr(body, end == std::string::npos ? std::string::npos : end - body + 1);
+            EXPECT_TRUE(std::regex_search(head, std::regex(R"(if \([^;]*\) return;)")))
+                << (*it)[1] << " in " << entry.path().filename() << " does not return early past its count";
+        }
+    }
+    EXPECT_GT(kernels, 40u);
 }
 
 }  // namespace

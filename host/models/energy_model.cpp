@@ -215,8 +215,8 @@ void EnergyModel::prepare(Swarm& swarm) {
     }
     // Position planes always; the centre's partial sums unless it is fixed.
     const uint32_t chunk = std::max<uint32_t>(1, (n + kCentreChunks - 1) / kCentreChunks);
-    set_args(prepare_, swarm.positions().get(), n, chunk, cl_uint(fixed ? 0 : 1), partial_.get(), pxyz_.get(),
-             cl_uint(pxyz_stride_));
+    set_args(prepare_, swarm.positions().get(), n, chunk, cl_uint(fixed ? 0 : 1), kCentreChunks, partial_.get(),
+             pxyz_.get(), cl_uint(pxyz_stride_));
     launch_chunks(ctx_, prepare_, kCentreChunks);
     if (fixed) return;
     set_args(centre_final_, partial_.get(), kCentreChunks, centre_.get());
