@@ -67,10 +67,13 @@ void set_args(cl::Kernel& kernel, const Args&... args) {
 // 16 agents at 10k) and 5 groups of 2000 for 10000 (one of 2 cores runs 3);
 // measured with a kernel that reports get_local_size.  DESIGN.md's "let
 // PoCL choose" is kept for GPUs.
-inline size_t cpu_local_size(size_t n, const DeviceEntry& device) {
+// max_local caps it for kernels with much private memory per work-item
+// (PoCL keeps a work-group's private data together).
+inline size_t cpu_local_size(size_t n, const DeviceEntry& device, size_t max_local = 4096) {
     const size_t groups = 16 * size_t(std::max<uint32_t>(1, device.compute_units));
     for (size_t local : {4096, 1024, 256, 64})
-        if (local <= device.max_work_group_size && (n + local - 1) / local >= groups) return local;
+        if (local <= max_local && local <= device.max_work_group_size && (n + local - 1) / local >= groups)
+            return local;
     return std::min<size_t>(16, std::max<size_t>(1, device.max_work_group_size));
 }
 
@@ -78,13 +81,13 @@ inline size_t cpu_local_size(size_t n, const DeviceEntry& device) {
 // the driver.  CPU devices: cpu_local_size(), the global size rounded up to a
 // multiple of it, so every kernel launched here returns at once for ids >= n
 // (each checks its own count).
-inline void launch(Context& ctx, cl::Kernel& kernel, size_t n) {
+inline void launch(Context& ctx, cl::Kernel& kernel, size_t n, size_t max_local = 4096) {
     if (!n) return;
     if (!(ctx.device().type & CL_DEVICE_TYPE_CPU)) {
         ctx.queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(n), cl::NullRange);
         return;
     }
-    const size_t local = cpu_local_size(n, ctx.device());
+    const size_t local = cpu_local_size(n, ctx.device(), max_local);
     ctx.queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange((n + local - 1) / local * local),
                                      cl::NDRange(local));
 }

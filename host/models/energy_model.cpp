@@ -260,19 +260,10 @@ cl_uint EnergyModel::set_common_args(cl::Kernel& k, Swarm& swarm, uint64_t step)
 }
 
 void EnergyModel::launch_per_agent(cl::Kernel& k, uint32_t n) {
-    if (!n) return;
-    if (!(ctx_.device().type & CL_DEVICE_TYPE_CPU)) {
-        launch(ctx_, k, n);  // GPUs: the driver's choice (warps, occupancy)
-        return;
-    }
-    // CPU devices: work-groups of at most 64 agents, about 8 per compute
-    // unit.  PoCL's default makes 5 groups of 2000 for 10k agents (one of 2
-    // cores runs 3) and a single group (one core) up to a few thousand.
-    // energy_select uses no local memory; the padding work-items return at once.
-    const size_t cu = std::max<uint32_t>(1, ctx_.device().compute_units);
-    const size_t local = std::clamp<size_t>(n / (8 * cu), 1, 64);
-    ctx_.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange((n + local - 1) / local * local),
-                                      cl::NDRange(local));
+    // CPU devices: work-groups of at most 64 agents (launch()'s policy
+    // otherwise): energy_select's private candidate state for 4096 agents
+    // per group overflowed PoCL's thread stack at 100k agents.
+    launch(ctx_, k, n, 64);
 }
 
 void EnergyModel::advance(Swarm& swarm, uint64_t step) {
