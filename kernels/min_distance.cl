@@ -184,14 +184,14 @@ __kernel void min_distance_enforce_w(__global const float4* pos, __global const 
         // (a sparse grid: ~0.3 agents per cell), and each gather of them
         // waited on memory.  Prefetch a few lines of each stream ahead of
         // the last lane (MDE 20.5 -> 15 ms at 1M locusts).
-        const int sy = grid_dims.x, sz = grid_dims.x * grid_dims.y;
-        const int c = MDE_LAST(x0) + sy * (MDE_LAST(y0) + grid_dims.y * MDE_LAST(z0)) + MDE_PREFETCH_CELLS;
-        if (c + sy + sz + 16 * MDE_PREFETCH_LINES < sz * grid_dims.z) {
+        const int row = grid_dims.x, plane = grid_dims.x * grid_dims.y;
+        const int c = MDE_LAST(x0) + row * (MDE_LAST(y0) + grid_dims.y * MDE_LAST(z0)) + MDE_PREFETCH_CELLS;
+        if (c + row + plane + 16 * MDE_PREFETCH_LINES < plane * grid_dims.z) {
             for (int l = 0; l < MDE_PREFETCH_LINES; ++l) {
                 SWCL_PREFETCH(cs + c + 16 * l);
-                SWCL_PREFETCH(cs + c + sy + 16 * l);
-                SWCL_PREFETCH(cs + c + sz + 16 * l);
-                SWCL_PREFETCH(cs + c + sy + sz + 16 * l);
+                SWCL_PREFETCH(cs + c + row + 16 * l);
+                SWCL_PREFETCH(cs + c + plane + 16 * l);
+                SWCL_PREFETCH(cs + c + row + plane + 16 * l);
             }
         }
     }

@@ -1,8 +1,8 @@
 // swarmcl — kernels/prefetch.cl
 //
 // SWCL_PREFETCH(p): a hint that the cache line of the global pointer p will be
-// read soon, for loads whose address depends on data (cell starts, baked
-// nodes), which otherwise wait on memory one after another.  On x86 CPU
+// read soon, for loads whose address depends on data (the MDE pass's cell
+// starts), which otherwise wait on memory one after another.  On x86 CPU
 // devices it is the compiler's prefetch builtin, through an integer cast (CPU
 // devices have one flat address space).  PoCL's OpenCL prefetch() built-in
 // emits no instruction (perf annotate of the kernel shows none), so it is not

@@ -66,9 +66,9 @@ void set_args(cl::Kernel& kernel, const Args&... args) {
 // up to ~1000 (one thread runs it all: the force model's 625 work-items of
 // 16 agents at 10k) and 5 groups of 2000 for 10000 (one of 2 cores runs 3);
 // measured with a kernel that reports get_local_size.  DESIGN.md's "let
-// PoCL choose" is kept for GPUs.
-// max_local caps it for kernels with much private memory per work-item
-// (PoCL keeps a work-group's private data together).
+// PoCL choose" is kept for GPUs.  max_local caps it for kernels with much
+// private memory per work-item (PoCL keeps a work-group's private data
+// together).
 inline size_t cpu_local_size(size_t n, const DeviceEntry& device, size_t max_local = 4096) {
     const size_t groups = 16 * size_t(std::max<uint32_t>(1, device.compute_units));
     for (size_t local : {4096, 1024, 256, 64})
