@@ -1,7 +1,7 @@
 /* The C side of bench/python_step_bench.py: the same swarmcl calls as the
  * Python loop, timed the same way.  Built on the fly by the Python script
  * against the very library the Python package loads:
- *   cc -O2 -std=c99 -I capi/include bench/c_step_bench.c <libswarmcl.so.0> -o ...
+ *   cc -O2 -std=c99 -I capi/include bench/c_step_bench.c <libswarmcl.so.0.2> -o ...
  * Usage: c_step_bench MODE AGENTS STEPS_PER_CALL CALLS REPEATS SYNC [DEVICE]
  *   MODE ballistic|field, SYNC end|each (read positions after the last call
  *   only, or after every call).  Prints one JSON object. */
@@ -68,7 +68,7 @@ int main(int argc, char** argv) {
         md.goal_speed = 1.5f;
         md.goal_falloff = 1.0f;
         md.min_distance = 0.03f;
-        CHECK(swcl_swarm_set_field_model(swarm, &md));
+        CHECK(swcl_swarm_field_set_model(swarm, &md));
     }
     float* pos = (float*)malloc(sizeof(float) * 3 * (size_t)agents);
     if (!pos) return 1;

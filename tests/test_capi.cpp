@@ -38,7 +38,7 @@ protected:
 
 TEST(CApiBasics, VersionAndStatusStrings) {
     EXPECT_EQ(swcl_version(), uint32_t(SWCL_VERSION_NUMBER));
-    EXPECT_STREQ(swcl_version_string(), "0.1.0");
+    EXPECT_STREQ(swcl_version_string(), "0.2.0");
     EXPECT_STREQ(swcl_status_string(SWCL_OK), "SWCL_OK");
     EXPECT_STREQ(swcl_status_string(SWCL_ERROR_INVALID_HANDLE), "SWCL_ERROR_INVALID_HANDLE");
     EXPECT_STREQ(swcl_status_string(swcl_status(12345)), "SWCL_UNKNOWN_STATUS");

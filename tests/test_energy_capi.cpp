@@ -156,16 +156,16 @@ TEST_F(EnergyCapi, ModelOnASwarmWithStimuliAndKeypoints) {
     const float kp[9] = {0.2f, 0, 0, 0, 0.2f, 0, -0.2f, 0, 0};
     d.keypoints = kp;
     d.keypoint_count = 1;  // fewer than 2
-    EXPECT_EQ(swcl_swarm_set_energy_model(s, data_, &d), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_swarm_energy_set_model(s, data_, &d), SWCL_ERROR_INVALID_ARGUMENT);
     EXPECT_NE(std::string(swcl_last_error()).find("at least 2"), std::string::npos) << swcl_last_error();
     d.keypoint_count = 3;
     d.weights.user = 1.0f;
-    ASSERT_EQ(swcl_swarm_set_energy_model(s, data_, &d), SWCL_OK) << swcl_last_error();
+    ASSERT_EQ(swcl_swarm_energy_set_model(s, data_, &d), SWCL_OK) << swcl_last_error();
     std::vector<int32_t> goals(40);
-    ASSERT_EQ(swcl_swarm_energy_goals(s, goals.data(), 40), SWCL_OK);
+    ASSERT_EQ(swcl_swarm_energy_get_goals(s, goals.data(), 40), SWCL_OK);
     for (int32_t g : goals) EXPECT_EQ(g, -1);
     ASSERT_EQ(swcl_swarm_step(s, 5), SWCL_OK) << swcl_last_error();
-    ASSERT_EQ(swcl_swarm_energy_goals(s, goals.data(), 40), SWCL_OK);
+    ASSERT_EQ(swcl_swarm_energy_get_goals(s, goals.data(), 40), SWCL_OK);
     for (int32_t g : goals) EXPECT_TRUE(g >= 0 && g < 3);
     const swcl_stimulus st[2] = {{SWCL_STIMULUS_ATTRACT, {0, 0, 0}, {0, 0, 0}, 0.0f},
                                  {SWCL_STIMULUS_STARTLE, {0.1f, 0, 0}, {0, 0, 0.1f}, 0.2f}};
@@ -182,10 +182,10 @@ TEST_F(EnergyCapi, ModelOnASwarmWithStimuliAndKeypoints) {
     // A bad descriptor leaves the model in place.
     swcl_energy_model_desc bad = d;
     bad.rho = -1.0f;
-    EXPECT_EQ(swcl_swarm_set_energy_model(s, data_, &bad), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_swarm_energy_set_model(s, data_, &bad), SWCL_ERROR_INVALID_ARGUMENT);
     EXPECT_EQ(swcl_swarm_energy_set_keypoints(s, kp, 3, 1), SWCL_OK);
     swcl_dataset gone{12345};
-    EXPECT_EQ(swcl_swarm_set_energy_model(s, gone, &d), SWCL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(swcl_swarm_energy_set_model(s, gone, &d), SWCL_ERROR_INVALID_HANDLE);
 }
 
 TEST_F(EnergyCapi, ScenarioModelTypeEnergy) {
@@ -209,7 +209,7 @@ TEST_F(EnergyCapi, ScenarioModelTypeEnergy) {
     swarms_.push_back(s);
     ASSERT_EQ(swcl_swarm_step(s, 20), SWCL_OK) << swcl_last_error();
     std::vector<int32_t> goals(30);
-    EXPECT_EQ(swcl_swarm_energy_goals(s, goals.data(), 30), SWCL_OK);  // an energy model is attached
+    EXPECT_EQ(swcl_swarm_energy_get_goals(s, goals.data(), 30), SWCL_OK);  // an energy model is attached
     swcl_scenario_destroy(sc);
 
     auto refused = [&](const std::string& model, const char* expect) {
@@ -262,7 +262,7 @@ TEST_F(EnergyCapi, StartFromTracksContinuesThem) {
     EXPECT_FLOAT_EQ(p[4], 0.16f);
     EXPECT_NEAR(v[4], 2.0f, 1e-3f);
     swcl_energy_model_desc d = swcl_energy_model_desc_default();
-    ASSERT_EQ(swcl_swarm_set_energy_model(s, data_, &d), SWCL_OK) << swcl_last_error();
+    ASSERT_EQ(swcl_swarm_energy_set_model(s, data_, &d), SWCL_OK) << swcl_last_error();
     ASSERT_EQ(swcl_swarm_step(s, 10), SWCL_OK);
     // Too many tracks for the capacity; a short track.
     std::vector<uint32_t> many(300, 3);

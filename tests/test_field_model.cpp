@@ -54,7 +54,7 @@ protected:
         ASSERT_EQ(swcl_swarm_write(s, SWCL_ATTRIBUTE_POSITION, p.data(), p.size() / 3), SWCL_OK) << swcl_last_error();
     }
     static void set_model(swcl_swarm s, const swcl_field_model_desc& m) {
-        ASSERT_EQ(swcl_swarm_set_field_model(s, &m), SWCL_OK) << swcl_last_error();
+        ASSERT_EQ(swcl_swarm_field_set_model(s, &m), SWCL_OK) << swcl_last_error();
     }
     static void step(swcl_swarm s, uint32_t n) { ASSERT_EQ(swcl_swarm_step(s, n), SWCL_OK) << swcl_last_error(); }
     static swcl_step_stats stats(swcl_swarm s) {
@@ -366,7 +366,7 @@ TEST_F(FieldModelTest, BadInputKeepsThePreviousModel) {
     set_model(s, a);
 
     auto refused = [&](const swcl_field_model_desc& m, const char* name) {
-        EXPECT_EQ(swcl_swarm_set_field_model(s, &m), SWCL_ERROR_INVALID_ARGUMENT) << name;
+        EXPECT_EQ(swcl_swarm_field_set_model(s, &m), SWCL_ERROR_INVALID_ARGUMENT) << name;
         const std::string msg = swcl_last_error();
         EXPECT_NE(msg.find(name), std::string::npos) << "message '" << msg << "' does not name '" << name << "'";
     };
@@ -401,7 +401,7 @@ TEST_F(FieldModelTest, BadInputKeepsThePreviousModel) {
     m = a;
     m.noise.struct_size = 0;
     refused(m, "struct_size");
-    EXPECT_EQ(swcl_swarm_set_field_model(s, nullptr), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_swarm_field_set_model(s, nullptr), SWCL_ERROR_INVALID_ARGUMENT);
 
     // Still model A: each agent moves dt * 1 m/s towards the goal.
     step(s, 1);
@@ -420,12 +420,12 @@ TEST_F(FieldModelTest, DestroyedSwarmIsAnInvalidHandle) {
     ASSERT_EQ(swcl_swarm_create(ctx_, &d, &s), SWCL_OK);
     ASSERT_EQ(swcl_swarm_destroy(s), SWCL_OK);
     const swcl_field_model_desc m = swcl_field_model_desc_default();
-    EXPECT_EQ(swcl_swarm_set_field_model(s, &m), SWCL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(swcl_swarm_field_set_model(s, &m), SWCL_ERROR_INVALID_HANDLE);
     swcl_step_stats st{};
     st.struct_size = sizeof(st);
     EXPECT_EQ(swcl_swarm_take_step_stats(s, &st), SWCL_ERROR_INVALID_HANDLE);
     EXPECT_EQ(swcl_swarm_clear_model(s), SWCL_ERROR_INVALID_HANDLE);
-    EXPECT_EQ(swcl_swarm_set_field_model(swcl_swarm{0xdeadbeefULL}, &m), SWCL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(swcl_swarm_field_set_model(swcl_swarm{0xdeadbeefULL}, &m), SWCL_ERROR_INVALID_HANDLE);
 }
 
 }  // namespace

@@ -881,27 +881,27 @@ TEST_F(ForceCApi, ShapesKeyframesPathAndTargets) {
     k[1].scale = 2.0f;
     d.keyframes = k;
     d.keyframe_count = 2;
-    ASSERT_EQ(swcl_swarm_set_force_model(swarm, &d), SWCL_OK) << swcl_last_error();
+    ASSERT_EQ(swcl_swarm_force_set_model(swarm, &d), SWCL_OK) << swcl_last_error();
     std::vector<float> targets(600);
-    EXPECT_EQ(swcl_swarm_get_force_targets(swarm, targets.data(), 200), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_swarm_force_get_targets(swarm, targets.data(), 200), SWCL_ERROR_INVALID_ARGUMENT);
     ASSERT_EQ(swcl_swarm_step(swarm, 1), SWCL_OK) << swcl_last_error();
-    ASSERT_EQ(swcl_swarm_get_force_targets(swarm, targets.data(), 200), SWCL_OK) << swcl_last_error();
+    ASSERT_EQ(swcl_swarm_force_get_targets(swarm, targets.data(), 200), SWCL_OK) << swcl_last_error();
     for (size_t i = 0; i < 200; ++i) {  // on the tetrahedron: in the unit corner, x+y+z <= 1
         EXPECT_GE(std::min({targets[3 * i], targets[3 * i + 1], targets[3 * i + 2]}), -1e-6f);
         EXPECT_LE(targets[3 * i] + targets[3 * i + 1] + targets[3 * i + 2], 1.0f + 1e-5f);
     }
     ASSERT_EQ(swcl_swarm_step(swarm, 5), SWCL_OK);
-    ASSERT_EQ(swcl_swarm_get_force_targets(swarm, targets.data(), 200), SWCL_OK);
+    ASSERT_EQ(swcl_swarm_force_get_targets(swarm, targets.data(), 200), SWCL_OK);
     float zmax = 0.0f, xmax = 0.0f;
     for (size_t i = 0; i < 200; ++i) zmax = std::max(zmax, std::fabs(targets[3 * i + 2])), xmax = std::max(xmax, targets[3 * i]);
     EXPECT_LE(zmax, 0.3f + 1e-5f);  // the heart: 0.3 deep after scaling by 2
     EXPECT_GT(xmax, 1.5f);
     // A path moves the targets with the step count.
     const float path[] = {0, 0, 0, 1, 0, 0, 2, 0, 0, 3, 0, 0};
-    ASSERT_EQ(swcl_swarm_set_force_path(swarm, path, 4, 0.6f), SWCL_OK) << swcl_last_error();
+    ASSERT_EQ(swcl_swarm_force_set_path(swarm, path, 4, 0.6f), SWCL_OK) << swcl_last_error();
     ASSERT_EQ(swcl_swarm_step(swarm, 1), SWCL_OK);
     std::vector<float> moved(600);
-    ASSERT_EQ(swcl_swarm_get_force_targets(swarm, moved.data(), 200), SWCL_OK);
+    ASSERT_EQ(swcl_swarm_force_get_targets(swarm, moved.data(), 200), SWCL_OK);
     // 7 steps at 0.6 m/s and dt 1/60: 0.07 m along x.
     double dx = 0;
     for (size_t i = 0; i < 200; ++i) dx += (moved[3 * i] - targets[3 * i]) / 200.0;
@@ -926,10 +926,10 @@ TEST_F(ForceCApi, TargetsTurnWithThePathUnlessOrientIsOff) {
         d.path = path;
         d.path_point_count = 4;
         d.path_speed = 0.5f;
-        EXPECT_EQ(swcl_swarm_set_force_model(swarm, &d), SWCL_OK) << swcl_last_error();
+        EXPECT_EQ(swcl_swarm_force_set_model(swarm, &d), SWCL_OK) << swcl_last_error();
         EXPECT_EQ(swcl_swarm_step(swarm, 1), SWCL_OK) << swcl_last_error();
         std::vector<float> t(600);
-        EXPECT_EQ(swcl_swarm_get_force_targets(swarm, t.data(), 200), SWCL_OK) << swcl_last_error();
+        EXPECT_EQ(swcl_swarm_force_get_targets(swarm, t.data(), 200), SWCL_OK) << swcl_last_error();
         std::array<float, 2> lo{1e9f, 1e9f}, hi{-1e9f, -1e9f};
         for (size_t i = 0; i < 200; ++i)
             for (int a = 0; a < 2; ++a) lo[a] = std::min(lo[a], t[3 * i + a]), hi[a] = std::max(hi[a], t[3 * i + a]);
@@ -947,32 +947,32 @@ TEST_F(ForceCApi, TargetsTurnWithThePathUnlessOrientIsOff) {
     EXPECT_GT(old[1], 2.0f);
     swcl_force_model_desc d = swcl_force_model_desc_default();
     d.path_orient = 2;
-    EXPECT_EQ(swcl_swarm_set_force_model(swarm, &d), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_swarm_force_set_model(swarm, &d), SWCL_ERROR_INVALID_ARGUMENT);
     EXPECT_NE(std::string(swcl_last_error()).find("path_orient"), std::string::npos) << swcl_last_error();
     d = swcl_force_model_desc_default();
     d.struct_size = offsetof(swcl_force_model_desc, path_orient) - 4;
-    EXPECT_EQ(swcl_swarm_set_force_model(swarm, &d), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_swarm_force_set_model(swarm, &d), SWCL_ERROR_INVALID_ARGUMENT);
 }
 
 TEST_F(ForceCApi, BadInputChangesNothing) {
     swcl_force_model_desc d = swcl_force_model_desc_default();
     d.alpha = 1.2f;
-    EXPECT_EQ(swcl_swarm_set_force_model(swarm, &d), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_swarm_force_set_model(swarm, &d), SWCL_ERROR_INVALID_ARGUMENT);
     EXPECT_NE(std::string(swcl_last_error()).find("alpha"), std::string::npos) << swcl_last_error();
     // No force model yet: keyframes and path need one.
     swcl_keyframe k{};
     k.shape = "sphere";
-    EXPECT_EQ(swcl_swarm_set_force_keyframes(swarm, &k, 1, 0), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_swarm_force_set_keyframes(swarm, &k, 1, 0), SWCL_ERROR_INVALID_ARGUMENT);
     d = swcl_force_model_desc_default();
-    ASSERT_EQ(swcl_swarm_set_force_model(swarm, &d), SWCL_OK) << swcl_last_error();
+    ASSERT_EQ(swcl_swarm_force_set_model(swarm, &d), SWCL_OK) << swcl_last_error();
     swcl_keyframe two[2] = {k, k};
     two[0].frame = 9;
     two[1].frame = 3;
-    EXPECT_EQ(swcl_swarm_set_force_keyframes(swarm, two, 2, 0), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_swarm_force_set_keyframes(swarm, two, 2, 0), SWCL_ERROR_INVALID_ARGUMENT);
     EXPECT_NE(std::string(swcl_last_error()).find("increasing frame order"), std::string::npos);
     two[1].shape = "griffin";
     two[1].frame = 12;
-    EXPECT_EQ(swcl_swarm_set_force_keyframes(swarm, two, 2, 0), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_swarm_force_set_keyframes(swarm, two, 2, 0), SWCL_ERROR_INVALID_ARGUMENT);
     EXPECT_NE(std::string(swcl_last_error()).find("keyframes[1]"), std::string::npos) << swcl_last_error();
     const float flat[] = {0, 0, 0, 1, 0, 0, 2, 0, 0};  // collinear: degenerate
     const uint32_t tri[] = {0, 1, 2};
@@ -981,14 +981,14 @@ TEST_F(ForceCApi, BadInputChangesNothing) {
     bad.vertex_count = 3;
     bad.triangles = tri;
     bad.triangle_count = 1;
-    EXPECT_EQ(swcl_swarm_set_force_keyframes(swarm, &bad, 1, 0), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_swarm_force_set_keyframes(swarm, &bad, 1, 0), SWCL_ERROR_INVALID_ARGUMENT);
     const float path[] = {0, 0, 0, 1, 0, 0, 2, 0, 0};
-    EXPECT_EQ(swcl_swarm_set_force_path(swarm, path, 3, 1.0f), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_swarm_force_set_path(swarm, path, 3, 1.0f), SWCL_ERROR_INVALID_ARGUMENT);
     EXPECT_NE(std::string(swcl_last_error()).find("at least 4"), std::string::npos);
-    EXPECT_EQ(swcl_swarm_set_force_path(swarm, nullptr, 4, 1.0f), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_swarm_force_set_path(swarm, nullptr, 4, 1.0f), SWCL_ERROR_INVALID_ARGUMENT);
     // The model in place still runs, and reports its MDE counts.
     d.min_distance = 0.5f;  // 200 agents in a 6 m box: some are closer
-    ASSERT_EQ(swcl_swarm_set_force_model(swarm, &d), SWCL_OK) << swcl_last_error();
+    ASSERT_EQ(swcl_swarm_force_set_model(swarm, &d), SWCL_OK) << swcl_last_error();
     EXPECT_EQ(swcl_swarm_step(swarm, 2), SWCL_OK) << swcl_last_error();
     swcl_step_stats st;
     st.struct_size = sizeof(st);

@@ -290,7 +290,7 @@ protected:
     // The current model's first target (its keyframe's offset tells models apart).
     float first_target_x() {
         float xyz[3] = {0, 0, 0};
-        EXPECT_EQ(swcl_swarm_get_force_targets(swarm, xyz, 1), SWCL_OK) << swcl_last_error();
+        EXPECT_EQ(swcl_swarm_force_get_targets(swarm, xyz, 1), SWCL_OK) << swcl_last_error();
         return xyz[0];
     }
 };
@@ -326,7 +326,7 @@ TEST_F(ForceMeshCApi, MeshesObjFilesAndPrimitivesAndBadInputChangesNothing) {
     o[3].radius = 0.3f;
     d.mesh_obstacles = o;
     d.mesh_obstacle_count = 4;
-    ASSERT_EQ(swcl_swarm_set_force_model(swarm, &d), SWCL_OK) << swcl_last_error();
+    ASSERT_EQ(swcl_swarm_force_set_model(swarm, &d), SWCL_OK) << swcl_last_error();
     ASSERT_EQ(swcl_swarm_step(swarm, 2), SWCL_OK) << swcl_last_error();
     EXPECT_GT(first_target_x(), 15.0f);
 
@@ -337,7 +337,7 @@ TEST_F(ForceMeshCApi, MeshesObjFilesAndPrimitivesAndBadInputChangesNothing) {
     k2.offset[0] = -20.0f;
     bad.keyframes = &k2;
     auto rejected = [&](const swcl_force_model_desc& b, swcl_status want, const char* needle) {
-        EXPECT_EQ(swcl_swarm_set_force_model(swarm, &b), want) << needle;
+        EXPECT_EQ(swcl_swarm_force_set_model(swarm, &b), want) << needle;
         EXPECT_NE(std::string(swcl_last_error()).find(needle), std::string::npos) << swcl_last_error();
         EXPECT_GT(first_target_x(), 15.0f);
     };
@@ -379,7 +379,7 @@ TEST_F(ForceMeshCApi, MeshesObjFilesAndPrimitivesAndBadInputChangesNothing) {
         b = bad;
         b.mesh_obstacles = &ob;
         b.mesh_obstacle_count = 1;
-        EXPECT_NE(swcl_swarm_set_force_model(swarm, &b), SWCL_OK);
+        EXPECT_NE(swcl_swarm_force_set_model(swarm, &b), SWCL_OK);
         EXPECT_GT(first_target_x(), 15.0f);
     }
 
@@ -389,7 +389,7 @@ TEST_F(ForceMeshCApi, MeshesObjFilesAndPrimitivesAndBadInputChangesNothing) {
     b.struct_size = uint32_t(offsetof(swcl_force_model_desc, path_orient) + sizeof(b.path_orient));
     b.mesh_obstacles = nullptr;
     b.mesh_obstacle_count = 7;
-    ASSERT_EQ(swcl_swarm_set_force_model(swarm, &b), SWCL_OK) << swcl_last_error();
+    ASSERT_EQ(swcl_swarm_force_set_model(swarm, &b), SWCL_OK) << swcl_last_error();
     ASSERT_EQ(swcl_swarm_step(swarm, 1), SWCL_OK) << swcl_last_error();
     EXPECT_LT(first_target_x(), -15.0f);
     std::vector<float> p(3 * 100);  // waits for the steps before the context goes

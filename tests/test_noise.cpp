@@ -514,7 +514,7 @@ TEST(Perlin, VectorNoiseMatchesReferenceAndSeededChannelsAreIndependent) {
 struct Scene {
     std::string name;
     swcl_noise_desc desc = swcl_noise_desc_default();
-    std::vector<swcl_boundary> bounds;
+    std::vector<swcl_obstacle> bounds;
     std::vector<R::Prim> prims;
     R::CurlParams c;
     R::V3 lo{-3, -3, -3}, hi{3, 3, 3};
@@ -553,16 +553,16 @@ void add_walls(Scene& s, float lo, float hi) {
     s.hi = {hi, hi, hi};
 }
 void add_sphere(Scene& s, R::V3 c, float r) {
-    swcl_boundary b{};
-    b.type = SWCL_BOUNDARY_SPHERE;
+    swcl_obstacle b{};
+    b.type = SWCL_OBSTACLE_SPHERE;
     for (int a = 0; a < 3; ++a) b.center[a] = float(c[a]);
     b.radius = r;
     s.bounds.push_back(b);
     s.prims.push_back({{float(c[0]), float(c[1]), float(c[2]), float(R::PRIM_SPHERE)}, {r, 0, 0, 0}});
 }
 void add_box(Scene& s, R::V3 c, R::V3 h, float rr) {
-    swcl_boundary b{};
-    b.type = SWCL_BOUNDARY_BOX;
+    swcl_obstacle b{};
+    b.type = SWCL_OBSTACLE_BOX;
     for (int a = 0; a < 3; ++a) { b.center[a] = float(c[a]); b.half_extents[a] = float(h[a]); }
     b.radius = rr;
     s.bounds.push_back(b);
@@ -1036,22 +1036,26 @@ TEST_F(NoiseBadInput, Boundaries) {
     d.boundaries = nullptr;
     expect_refused(d, "boundaries");
 
-    swcl_boundary b{};
+    swcl_obstacle b{};
     d = d_;
     d.boundaries = &b;
     d.boundary_count = 1;
-    b.type = SWCL_BOUNDARY_BOX;  // empty box
+    b.type = SWCL_OBSTACLE_BOX;  // empty box
     expect_refused(d, "half_extents");
     b.half_extents[0] = b.half_extents[1] = 0.5f;  // one zero extent
     expect_refused(d, "half_extents");
-    b = swcl_boundary{};
-    b.type = SWCL_BOUNDARY_SPHERE;  // zero radius
+    b = swcl_obstacle{};
+    b.type = SWCL_OBSTACLE_SPHERE;  // zero radius
     expect_refused(d, "radius");
     b.radius = std::nanf("");
     expect_refused(d, "radius");
-    b = swcl_boundary{};
-    b.type = SWCL_BOUNDARY_PLANE;  // zero normal
+    b = swcl_obstacle{};
+    b.type = SWCL_OBSTACLE_PLANE;  // zero normal
     expect_refused(d, "normal");
+    b = swcl_obstacle{};
+    b.type = SWCL_OBSTACLE_CYLINDER;  // the one obstacle type, but not an analytic boundary
+    b.radius = b.height = 0.5f;
+    expect_refused(d, "boundaries[0]: type 4 is not one of SPHERE, BOX, PLANE");
 }
 
 TEST_F(NoiseBadInput, Baking) {

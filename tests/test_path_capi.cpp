@@ -70,10 +70,10 @@ TEST_F(PathCApi, DefaultsAreThePapers) {
 TEST_F(PathCApi, RunsMovesGoalsAndReportsStats) {
     swcl_path_model_desc d = desc();
     d.min_distance = 0.01f;
-    ASSERT_EQ(swcl_swarm_set_path_model(swarm, &d), SWCL_OK) << swcl_last_error();
+    ASSERT_EQ(swcl_swarm_path_set_model(swarm, &d), SWCL_OK) << swcl_last_error();
     swcl_path_info info{};
     info.struct_size = sizeof(info);
-    ASSERT_EQ(swcl_swarm_get_path_info(swarm, &info), SWCL_OK);
+    ASSERT_EQ(swcl_swarm_path_get_info(swarm, &info), SWCL_OK);
     EXPECT_EQ(info.grid[0], 24u);
     EXPECT_NEAR(info.cell, 2.0f / 24, 1e-6);
     EXPECT_GT(info.preprocess_seconds, 0.0);
@@ -86,14 +86,14 @@ TEST_F(PathCApi, RunsMovesGoalsAndReportsStats) {
     g.type = SWCL_GOAL_POINT;
     g.center[0] = -0.8f;
     double seconds = -1;
-    ASSERT_EQ(swcl_swarm_set_path_goals(swarm, 0, &g, 1, &seconds), SWCL_OK) << swcl_last_error();
+    ASSERT_EQ(swcl_swarm_path_set_goals(swarm, 0, &g, 1, &seconds), SWCL_OK) << swcl_last_error();
     EXPECT_GT(seconds, 0.0);
-    ASSERT_EQ(swcl_swarm_get_path_info(swarm, &info), SWCL_OK);
+    ASSERT_EQ(swcl_swarm_path_get_info(swarm, &info), SWCL_OK);
     EXPECT_EQ(info.recomputes, 1u);
     g.center[0] = 5.0f;  // outside the grid
-    EXPECT_EQ(swcl_swarm_set_path_goals(swarm, 0, &g, 1, nullptr), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_swarm_path_set_goals(swarm, 0, &g, 1, nullptr), SWCL_ERROR_INVALID_ARGUMENT);
     EXPECT_NE(std::string(swcl_last_error()).find("outside the grid"), std::string::npos);
-    EXPECT_EQ(swcl_swarm_set_path_goals(swarm, 1, &g, 1, nullptr), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_swarm_path_set_goals(swarm, 1, &g, 1, nullptr), SWCL_ERROR_INVALID_ARGUMENT);
     std::vector<float> p(3 * 64);
     ASSERT_EQ(swcl_swarm_step(swarm, 5), SWCL_OK);
     ASSERT_EQ(swcl_swarm_read(swarm, SWCL_ATTRIBUTE_POSITION, p.data(), 64), SWCL_OK);
@@ -102,13 +102,13 @@ TEST_F(PathCApi, RunsMovesGoalsAndReportsStats) {
 
 TEST_F(PathCApi, BadInputKeepsThePreviousModel) {
     swcl_path_model_desc good = desc();
-    ASSERT_EQ(swcl_swarm_set_path_model(swarm, &good), SWCL_OK) << swcl_last_error();
+    ASSERT_EQ(swcl_swarm_path_set_model(swarm, &good), SWCL_OK) << swcl_last_error();
     auto refused = [&](swcl_path_model_desc d, swcl_status want, const char* words) {
-        EXPECT_EQ(swcl_swarm_set_path_model(swarm, &d), want) << words;
+        EXPECT_EQ(swcl_swarm_path_set_model(swarm, &d), want) << words;
         EXPECT_NE(std::string(swcl_last_error()).find(words), std::string::npos) << swcl_last_error();
         swcl_path_info info{};
         info.struct_size = sizeof(info);
-        EXPECT_EQ(swcl_swarm_get_path_info(swarm, &info), SWCL_OK);
+        EXPECT_EQ(swcl_swarm_path_get_info(swarm, &info), SWCL_OK);
         EXPECT_EQ(info.grid[0], 24u);  // still the first model
     };
     {
@@ -175,8 +175,8 @@ TEST_F(PathCApi, BadInputKeepsThePreviousModel) {
     }
     swcl_swarm none{};
     swcl_path_model_desc d = desc();
-    EXPECT_EQ(swcl_swarm_set_path_model(none, &d), SWCL_ERROR_INVALID_HANDLE);
-    EXPECT_EQ(swcl_swarm_set_path_model(swarm, nullptr), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_swarm_path_set_model(none, &d), SWCL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(swcl_swarm_path_set_model(swarm, nullptr), SWCL_ERROR_INVALID_ARGUMENT);
 }
 
 TEST(PathScenario, ExamplesBuildAndKeysAreChecked) {

@@ -13,6 +13,21 @@
 #include "swarm/swarm.hpp"
 #include "swarmcl/swarmcl.h"
 
+// guarded() converts a swarmcl::Status by value: the two enums must agree
+// value for value (swcl_status values never change).
+#define SWCL_SAME_STATUS(c, cpp) static_assert(int(c) == int(swarmcl::Status::cpp), #c " != Status::" #cpp)
+SWCL_SAME_STATUS(SWCL_OK, Ok);
+SWCL_SAME_STATUS(SWCL_ERROR_INVALID_ARGUMENT, InvalidArgument);
+SWCL_SAME_STATUS(SWCL_ERROR_INVALID_HANDLE, InvalidHandle);
+SWCL_SAME_STATUS(SWCL_ERROR_NO_DEVICE, NoDevice);
+SWCL_SAME_STATUS(SWCL_ERROR_BUILD, Build);
+SWCL_SAME_STATUS(SWCL_ERROR_OUT_OF_MEMORY, OutOfMemory);
+SWCL_SAME_STATUS(SWCL_ERROR_IO, Io);
+SWCL_SAME_STATUS(SWCL_ERROR_PARSE, Parse);
+SWCL_SAME_STATUS(SWCL_ERROR_OPENCL, OpenCL);
+SWCL_SAME_STATUS(SWCL_ERROR_INTERNAL, Internal);
+#undef SWCL_SAME_STATUS
+
 namespace swarmcl::capi {
 
 void set_last_error(const std::string& message);

@@ -81,7 +81,7 @@ std::vector<std::array<float, 3>> keypoints_from(const float* xyz, uint32_t coun
 
 EnergyModel& energy_model_of(Swarm& s) {
     auto* m = dynamic_cast<EnergyModel*>(s.behavior());
-    if (!m) fail(Status::InvalidArgument, "the swarm has no energy model (swcl_swarm_set_energy_model)");
+    if (!m) fail(Status::InvalidArgument, "the swarm has no energy model (swcl_swarm_energy_set_model)");
     return *m;
 }
 
@@ -213,7 +213,7 @@ swcl_energy_model_desc swcl_energy_model_desc_default(void) {
     return d;
 }
 
-swcl_status swcl_swarm_set_energy_model(swcl_swarm swarm, swcl_dataset dataset, const swcl_energy_model_desc* desc) {
+swcl_status swcl_swarm_energy_set_model(swcl_swarm swarm, swcl_dataset dataset, const swcl_energy_model_desc* desc) {
     return with_swarm(__func__, swarm, [&](Swarm& s) {
         check_struct_size(desc, sizeof(swcl_energy_model_desc), "desc");
         check_struct_size(&desc->noise, sizeof(swcl_noise_desc), "desc->noise");
@@ -252,7 +252,7 @@ swcl_status swcl_swarm_energy_set_keypoints(swcl_swarm swarm, const float* xyz, 
     });
 }
 
-swcl_status swcl_swarm_energy_goals(swcl_swarm swarm, int32_t* out_goals, size_t count) {
+swcl_status swcl_swarm_energy_get_goals(swcl_swarm swarm, int32_t* out_goals, size_t count) {
     return with_swarm(__func__, swarm, [&](Swarm& s) {
         require(out_goals != nullptr || count == 0, "out_goals is NULL");
         require(count == s.agent_count(), "count is " + std::to_string(count) + " but the swarm has " +

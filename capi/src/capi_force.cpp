@@ -49,7 +49,7 @@ std::vector<float> path_from(const float* points, uint32_t count) {
 
 ForceModel& force_model_of(Swarm& s) {
     auto* m = dynamic_cast<ForceModel*>(s.behavior());
-    require(m != nullptr, "the swarm has no force model (swcl_swarm_set_force_model first)");
+    require(m != nullptr, "the swarm has no force model (swcl_swarm_force_set_model first)");
     return *m;
 }
 
@@ -92,7 +92,7 @@ swcl_force_model_desc swcl_force_model_desc_default(void) {
     return d;
 }
 
-swcl_status swcl_swarm_set_force_model(swcl_swarm swarm, const swcl_force_model_desc* desc) {
+swcl_status swcl_swarm_force_set_model(swcl_swarm swarm, const swcl_force_model_desc* desc) {
     return with_swarm(__func__, swarm, [&](Swarm& s) {
         // The first version of the descriptor ended before path_orient.
         check_struct_size(desc, offsetof(swcl_force_model_desc, path_orient), "desc");
@@ -130,19 +130,9 @@ swcl_status swcl_swarm_set_force_model(swcl_swarm swarm, const swcl_force_model_
         c.path_speed = d.path_speed;
         require(d.obstacles != nullptr || d.obstacle_count == 0,
                 "obstacles is NULL but obstacle_count is " + std::to_string(d.obstacle_count));
-        for (uint32_t i = 0; i < d.obstacle_count; ++i) {
-            const swcl_boundary& b = d.obstacles[i];
-            Boundary o;
-            require(b.type == SWCL_BOUNDARY_SPHERE || b.type == SWCL_BOUNDARY_BOX,
-                    "force model obstacles[" + std::to_string(i) + "]: only spheres and boxes");
-            o.kind = b.type == SWCL_BOUNDARY_SPHERE ? Boundary::Kind::Sphere : Boundary::Kind::Box;
-            for (int a = 0; a < 3; ++a) {
-                o.center[a] = b.center[a];
-                o.half_extents[a] = b.half_extents[a];
-            }
-            o.radius = b.radius;
-            c.obstacles.push_back(o);
-        }
+        for (uint32_t i = 0; i < d.obstacle_count; ++i)
+            c.obstacles.push_back(
+                obstacle_boundary(d.obstacles[i], "force model obstacles[" + std::to_string(i) + "]", false));
         c.obstacle_range = d.obstacle_range;
         if (d.struct_size >= offsetof(swcl_force_model_desc, path_orient) + sizeof(d.path_orient)) {
             require(d.path_orient <= 1u, "force model path_orient must be 0 or 1");
@@ -161,7 +151,7 @@ swcl_status swcl_swarm_set_force_model(swcl_swarm swarm, const swcl_force_model_
     });
 }
 
-swcl_status swcl_swarm_set_force_keyframes(swcl_swarm swarm, const swcl_keyframe* keyframes, uint32_t count,
+swcl_status swcl_swarm_force_set_keyframes(swcl_swarm swarm, const swcl_keyframe* keyframes, uint32_t count,
                                            uint32_t period) {
     return with_swarm(__func__, swarm, [&](Swarm& s) {
         ForceModelConfig c = force_model_of(s).config();
@@ -171,7 +161,7 @@ swcl_status swcl_swarm_set_force_keyframes(swcl_swarm swarm, const swcl_keyframe
     });
 }
 
-swcl_status swcl_swarm_set_force_path(swcl_swarm swarm, const float* points, uint32_t count, float speed) {
+swcl_status swcl_swarm_force_set_path(swcl_swarm swarm, const float* points, uint32_t count, float speed) {
     return with_swarm(__func__, swarm, [&](Swarm& s) {
         ForceModelConfig c = force_model_of(s).config();
         c.path = path_from(points, count);
@@ -180,7 +170,7 @@ swcl_status swcl_swarm_set_force_path(swcl_swarm swarm, const float* points, uin
     });
 }
 
-swcl_status swcl_swarm_get_force_targets(swcl_swarm swarm, float* out_xyz, size_t count) {
+swcl_status swcl_swarm_force_get_targets(swcl_swarm swarm, float* out_xyz, size_t count) {
     return with_swarm(__func__, swarm, [&](Swarm& s) {
         check_out(out_xyz, "out_xyz");
         require(count <= s.agent_count(), "count " + std::to_string(count) + " exceeds the agent count " +

@@ -5,6 +5,7 @@
 
 #include "capi_common.hpp"
 #include "capi_noise.hpp"
+#include "capi_obstacle.hpp"
 #include "fields/noise_field.hpp"
 #include "models/field_model.hpp"
 
@@ -32,24 +33,8 @@ NoiseConfig noise_config_from(const swcl_noise_desc& d) {
     require(d.boundaries != nullptr || d.boundary_count == 0,
             "noise boundaries is NULL but boundary_count is " + std::to_string(d.boundary_count));
     require(d.boundary_count <= 4096, "noise boundary_count above 4096");
-    for (uint32_t i = 0; i < d.boundary_count; ++i) {
-        const swcl_boundary& b = d.boundaries[i];
-        Boundary out;
-        switch (b.type) {
-            case SWCL_BOUNDARY_SPHERE: out.kind = Boundary::Kind::Sphere; break;
-            case SWCL_BOUNDARY_BOX: out.kind = Boundary::Kind::Box; break;
-            case SWCL_BOUNDARY_PLANE: out.kind = Boundary::Kind::Plane; break;
-            default: fail(Status::InvalidArgument, "noise boundaries[" + std::to_string(i) + "]: unknown type");
-        }
-        for (int a = 0; a < 3; ++a) {
-            out.center[a] = b.center[a];
-            out.half_extents[a] = b.half_extents[a];
-            out.normal[a] = b.normal[a];
-        }
-        out.radius = b.radius;
-        out.offset = b.offset;
-        c.boundaries.push_back(out);
-    }
+    for (uint32_t i = 0; i < d.boundary_count; ++i)
+        c.boundaries.push_back(obstacle_boundary(d.boundaries[i], "noise boundaries[" + std::to_string(i) + "]", true));
     c.baked = d.baked != 0;
     c.finite_difference = d.finite_difference != 0;
     c.fd_step = d.fd_step;
@@ -98,7 +83,7 @@ swcl_field_model_desc swcl_field_model_desc_default(void) {
     return d;
 }
 
-swcl_status swcl_swarm_set_field_model(swcl_swarm swarm, const swcl_field_model_desc* desc) {
+swcl_status swcl_swarm_field_set_model(swcl_swarm swarm, const swcl_field_model_desc* desc) {
     return with_swarm(__func__, swarm, [&](Swarm& s) {
         check_struct_size(desc, sizeof(swcl_field_model_desc), "desc");
         check_struct_size(&desc->noise, sizeof(swcl_noise_desc), "desc->noise");

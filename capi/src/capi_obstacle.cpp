@@ -28,11 +28,41 @@ TriangleMesh obstacle_mesh(const swcl_obstacle& o, const std::string& what) {
                 require(std::isfinite(o.radius) && o.radius > 0 && std::isfinite(o.height) && o.height > 0,
                         "cylinder radius and height must be > 0");
                 return cylinder_mesh({o.center[0], o.center[1], o.center[2]}, o.radius, o.height, 48);
+            case SWCL_OBSTACLE_PLANE:
+                fail(Status::InvalidArgument, what + ": a PLANE is not a mesh (only the noise field's "
+                                                     "boundaries take planes)");
         }
     } catch (const Error& e) {
         throw Error(e.status(), what + ": " + e.what());
     }
     fail(Status::InvalidArgument, what + ": unknown obstacle type");
+}
+
+Boundary obstacle_boundary(const swcl_obstacle& o, const std::string& what, bool allow_plane) {
+    Boundary b;
+    switch (o.type) {
+        case SWCL_OBSTACLE_SPHERE: b.kind = Boundary::Kind::Sphere; break;
+        case SWCL_OBSTACLE_BOX: b.kind = Boundary::Kind::Box; break;
+        case SWCL_OBSTACLE_PLANE:
+            if (allow_plane) {
+                b.kind = Boundary::Kind::Plane;
+                break;
+            }
+            [[fallthrough]];
+        default:
+            fail(Status::InvalidArgument, what + ": type " + std::to_string(int(o.type)) + " is not one of SPHERE, BOX" +
+                                              (allow_plane ? ", PLANE" : "") +
+                                              " (meshes, OBJ files and cylinders go where a model builds a "
+                                              "signed distance grid)");
+    }
+    for (int a = 0; a < 3; ++a) {
+        b.center[a] = o.center[a];
+        b.half_extents[a] = o.half_extents[a];
+        b.normal[a] = o.normal[a];
+    }
+    b.radius = o.radius;
+    b.offset = o.offset;
+    return b;
 }
 
 }  // namespace swarmcl::capi

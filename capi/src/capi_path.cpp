@@ -55,7 +55,7 @@ swcl_path_model_desc swcl_path_model_desc_default(void) {
     return d;
 }
 
-swcl_status swcl_swarm_set_path_model(swcl_swarm swarm, const swcl_path_model_desc* desc) {
+swcl_status swcl_swarm_path_set_model(swcl_swarm swarm, const swcl_path_model_desc* desc) {
     return with_swarm(__func__, swarm, [&](Swarm& s) {
         check_struct_size(desc, sizeof(swcl_path_model_desc), "desc");
         check_struct_size(&desc->noise, sizeof(swcl_noise_desc), "desc->noise");
@@ -89,21 +89,21 @@ swcl_status swcl_swarm_set_path_model(swcl_swarm swarm, const swcl_path_model_de
     });
 }
 
-swcl_status swcl_swarm_set_path_goals(swcl_swarm swarm, uint32_t group, const swcl_goal* goals, uint32_t goal_count,
+swcl_status swcl_swarm_path_set_goals(swcl_swarm swarm, uint32_t group, const swcl_goal* goals, uint32_t goal_count,
                                       double* out_seconds) {
     return with_swarm(__func__, swarm, [&](Swarm& s) {
         auto* model = dynamic_cast<PathModel*>(s.behavior());
-        require(model != nullptr, "the swarm has no path model (swcl_swarm_set_path_model)");
+        require(model != nullptr, "the swarm has no path model (swcl_swarm_path_set_model)");
         const double t = model->set_goals(group, goals_from(goals, goal_count, "goals"));
         if (out_seconds) *out_seconds = t;
     });
 }
 
-swcl_status swcl_swarm_get_path_info(swcl_swarm swarm, swcl_path_info* out) {
+swcl_status swcl_swarm_path_get_info(swcl_swarm swarm, swcl_path_info* out) {
     return with_swarm(__func__, swarm, [&](Swarm& s) {
         check_struct_size(out, sizeof(swcl_path_info), "out");
         auto* model = dynamic_cast<PathModel*>(s.behavior());
-        require(model != nullptr, "the swarm has no path model (swcl_swarm_set_path_model)");
+        require(model != nullptr, "the swarm has no path model (swcl_swarm_path_set_model)");
         swcl_path_info r;
         std::memset(&r, 0, sizeof(r));
         r.struct_size = sizeof(r);

@@ -83,7 +83,7 @@ int main(int argc, char** argv) {
     model.goal_speed = 1.5f;
     model.goal_falloff = 1.0f;
     model.min_distance = mde;
-    CHECK(swcl_swarm_set_field_model(swarm, &model));
+    CHECK(swcl_swarm_field_set_model(swarm, &model));
 
     vel = malloc(sizeof(float) * 3 * n);
     dist = malloc(sizeof(float) * n);

@@ -22,7 +22,7 @@ _SWARM_DEFAULT = lib.swcl_swarm_desc_default()
 
 
 def version() -> str:
-    """The version of the loaded library, e.g. '0.1.0'."""
+    """The version of the loaded library, e.g. '0.2.0'."""
     return ffi.string(lib.swcl_version_string()).decode()
 
 
@@ -262,7 +262,7 @@ class Swarm(_Handle):
         if not isinstance(model, FieldModel):
             raise TypeError(f"set_field_model: expected a FieldModel, got {type(model).__name__}")
         desc, _keep = model.to_c()
-        check(lib.swcl_swarm_set_field_model(self._h, desc))
+        check(lib.swcl_swarm_field_set_model(self._h, desc))
 
     # ---- the force model (docs/force-model.md) -----------------------------------------
 
@@ -272,27 +272,27 @@ class Swarm(_Handle):
         if not isinstance(model, ForceModel):
             raise TypeError(f"set_force_model: expected a ForceModel, got {type(model).__name__}")
         desc, _keep = model.to_c()
-        check(lib.swcl_swarm_set_force_model(self._h, desc))
+        check(lib.swcl_swarm_force_set_model(self._h, desc))
 
     def set_force_keyframes(self, keyframes, period: int = 0) -> None:
         """Replaces the force model's keyframes (a list of Keyframe)."""
         from .force import keyframes_to_c
         keep: list = []
         arr, count = keyframes_to_c(list(keyframes), keep)
-        check(lib.swcl_swarm_set_force_keyframes(self._h, arr, count, int(period)))
+        check(lib.swcl_swarm_force_set_keyframes(self._h, arr, count, int(period)))
 
     def set_force_path(self, points, speed: float) -> None:
         """Replaces the force model's path: B-spline control points (K >= 4, 3), m/s."""
         from .force import path_to_c
         keep: list = []
         ptr, count = path_to_c(points, keep)
-        check(lib.swcl_swarm_set_force_path(self._h, ptr, count, float(speed)))
+        check(lib.swcl_swarm_force_set_path(self._h, ptr, count, float(speed)))
 
     def force_targets(self, out: Optional[np.ndarray] = None) -> np.ndarray:
         """Each agent's current target point (N, 3) float32, agent-id order."""
         n = self.agent_count
         out = _out_array(out, (n, 3), np.float32, "force_targets")
-        check(lib.swcl_swarm_get_force_targets(self._h, _fptr(out), n))
+        check(lib.swcl_swarm_force_get_targets(self._h, _fptr(out), n))
         return out
     # ---- the path model (bindings/python/swarmcl/path.py) -----------------------------
 
@@ -302,7 +302,7 @@ class Swarm(_Handle):
         if not isinstance(model, PathModel):
             raise TypeError(f"set_path_model: expected a PathModel, got {type(model).__name__}")
         desc, _keep = model.to_c()
-        check(lib.swcl_swarm_set_path_model(self._h, desc))
+        check(lib.swcl_swarm_path_set_model(self._h, desc))
 
     def set_path_goals(self, group: int, goals) -> float:
         """Moves a group's goals (its cost field is recomputed); returns the seconds it took."""
@@ -310,7 +310,7 @@ class Swarm(_Handle):
         keep: list = []
         arr, n = _goals_to_c(goals, keep)
         seconds = ffi.new("double*")
-        check(lib.swcl_swarm_set_path_goals(self._h, group, arr, n, seconds))
+        check(lib.swcl_swarm_path_set_goals(self._h, group, arr, n, seconds))
         return float(seconds[0])
 
     def path_info(self):
@@ -318,7 +318,7 @@ class Swarm(_Handle):
         from .path import PathInfo
         out = ffi.new("swcl_path_info*")
         out.struct_size = ffi.sizeof("swcl_path_info")
-        check(lib.swcl_swarm_get_path_info(self._h, out))
+        check(lib.swcl_swarm_path_get_info(self._h, out))
         return PathInfo(grid=tuple(int(out.grid[a]) for a in range(3)), cell=float(out.cell),
                         grid_min=tuple(float(out.grid_min[a]) for a in range(3)),
                         preprocess_seconds=float(out.preprocess_seconds), groups=int(out.groups),

@@ -8,7 +8,7 @@ of truth; nothing is copied by hand.
 Where things are found (first hit wins):
 
 library
-  1. ``$SWARMCL_LIBRARY`` (a path to ``libswarmcl.so.0`` / ``.dylib`` / ``.dll``)
+  1. ``$SWARMCL_LIBRARY`` (a path to ``libswarmcl.so.0.2`` / ``.dylib`` / ``.dll``)
   2. inside the package: ``swarmcl/lib/`` (where the wheel installs it)
   3. development fallback, only when the package is imported from a source
      checkout (``bindings/python/swarmcl``): ``$SWARMCL_BUILD_DIR`` or
@@ -82,8 +82,8 @@ def _library_names() -> list[str]:
     if sys.platform == "win32":
         return ["swarmcl.dll", "libswarmcl.dll"]
     if sys.platform == "darwin":
-        return ["libswarmcl.0.dylib", "libswarmcl.dylib"]
-    return ["libswarmcl.so.0", "libswarmcl.so"]
+        return ["libswarmcl.0.2.dylib", "libswarmcl.dylib"]
+    return ["libswarmcl.so.0.2", "libswarmcl.so"]
 
 
 def _find_library() -> Path:

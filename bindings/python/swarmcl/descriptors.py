@@ -31,7 +31,8 @@ def _enum(name: str, ctype: str, prefix: str) -> type:
 NoiseType = _enum("NoiseType", "swcl_noise_type", "SWCL_NOISE_")
 NoiseType.__doc__ = "swcl_noise_type: CURL, PERLIN, WHITE, GAUSSIAN (a str such as 'curl' works too)."
 DeviceType = _enum("DeviceType", "swcl_device_type", "SWCL_DEVICE_TYPE_")
-BoundaryType = _enum("BoundaryType", "swcl_boundary_type", "SWCL_BOUNDARY_")
+ObstacleType = _enum("ObstacleType", "swcl_obstacle_type", "SWCL_OBSTACLE_")
+ObstacleType.__doc__ = "swcl_obstacle_type: the C API's one obstacle type (MESH, OBJ, BOX, SPHERE, CYLINDER, PLANE)."
 
 
 def noise_type(value: Union[str, int, "NoiseType"]) -> "NoiseType":
@@ -123,16 +124,16 @@ class Plane:
 
 def _boundary_to_c(b, dst) -> None:
     if isinstance(b, Sphere):
-        dst.type = BoundaryType.SPHERE
+        dst.type = ObstacleType.SPHERE
         dst.center = _vec3(b.center, "Sphere.center")
         dst.radius = b.radius
     elif isinstance(b, Box):
-        dst.type = BoundaryType.BOX
+        dst.type = ObstacleType.BOX
         dst.center = _vec3(b.center, "Box.center")
         dst.half_extents = _vec3(b.half_extents, "Box.half_extents")
         dst.radius = b.radius
     elif isinstance(b, Plane):
-        dst.type = BoundaryType.PLANE
+        dst.type = ObstacleType.PLANE
         dst.normal = _vec3(b.normal, "Plane.normal")
         dst.offset = b.offset
     else:
@@ -140,10 +141,10 @@ def _boundary_to_c(b, dst) -> None:
 
 
 def _boundary_from_c(c):
-    t = BoundaryType(c.type)
-    if t == BoundaryType.SPHERE:
+    t = ObstacleType(c.type)
+    if t == ObstacleType.SPHERE:
         return Sphere(_tuple3(c.center), _f32(c.radius))
-    if t == BoundaryType.BOX:
+    if t == ObstacleType.BOX:
         return Box(_tuple3(c.center), _tuple3(c.half_extents), _f32(c.radius))
     return Plane(_tuple3(c.normal), _f32(c.offset))
 
@@ -196,7 +197,7 @@ class NoiseDesc:
             dst.region_max = _vec3(hi, "NoiseDesc.region[1]")
         bounds = list(self.boundaries or [])
         if bounds:
-            arr = ffi.new("swcl_boundary[]", len(bounds))
+            arr = ffi.new("swcl_obstacle[]", len(bounds))
             for i, b in enumerate(bounds):
                 _boundary_to_c(b, arr[i])
             keep.append(arr)

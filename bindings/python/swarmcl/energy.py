@@ -289,7 +289,7 @@ def set_energy_model(swarm, dataset: Dataset, model: Optional[EnergyModel] = Non
     if not isinstance(model, EnergyModel):
         raise TypeError(f"set_energy_model: expected an EnergyModel, got {type(model).__name__}")
     desc, _keep = model.to_c()
-    check(lib.swcl_swarm_set_energy_model(swarm._h, dataset._h, desc))
+    check(lib.swcl_swarm_energy_set_model(swarm._h, dataset._h, desc))
 
 
 def set_stimuli(swarm, stimuli: Sequence[Stimulus]) -> None:
@@ -306,7 +306,7 @@ def set_keypoints(swarm, keypoints, closed: bool = True) -> None:
 def goals(swarm) -> np.ndarray:
     n = swarm.agent_count
     out = np.empty(n, dtype=np.int32)
-    check(lib.swcl_swarm_energy_goals(swarm._h, ffi.from_buffer("int32_t[]", out) if n else ffi.NULL, n))
+    check(lib.swcl_swarm_energy_get_goals(swarm._h, ffi.from_buffer("int32_t[]", out) if n else ffi.NULL, n))
     return out
 
 

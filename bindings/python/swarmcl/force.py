@@ -147,7 +147,7 @@ class ForceModel:
         p.keyframes, p.keyframe_count = keyframes_to_c(self.keyframes, keep)
         p.keyframe_period = int(self.keyframe_period)
         p.path, p.path_point_count = path_to_c(self.path, keep)
-        obs = ffi.new("swcl_boundary[]", max(len(self.obstacles), 1))
+        obs = ffi.new("swcl_obstacle[]", max(len(self.obstacles), 1))
         keep.append(obs)
         for i, b in enumerate(self.obstacles):
             if not isinstance(b, (Sphere, Box)):

@@ -36,13 +36,17 @@
 extern "C" {
 #endif
 
+/* ==== STABLE: the core ========================================================
+ * Version, status codes, devices, contexts, swarms, neighbour search, scenario
+ * files and recording.  Nothing here changes before 1.0 except by additions. */
+
 /* ---- version ------------------------------------------------------------ */
 
 #define SWCL_VERSION_MAJOR 0
-#define SWCL_VERSION_MINOR 1
+#define SWCL_VERSION_MINOR 2
 #define SWCL_VERSION_PATCH 0
 /* major * 10000 + minor * 100 + patch */
-#define SWCL_VERSION_NUMBER 100
+#define SWCL_VERSION_NUMBER 200
 
 /* The version of the library actually loaded (compare with SWCL_VERSION_NUMBER). */
 SWCL_API uint32_t swcl_version(void);
@@ -162,6 +166,21 @@ SWCL_API swcl_status swcl_swarm_read(swcl_swarm swarm, swcl_attribute attribute,
  * model agents move ballistically (p += v dt). */
 SWCL_API swcl_status swcl_swarm_step(swcl_swarm swarm, uint32_t steps);
 
+/* Back to ballistic motion. */
+SWCL_API swcl_status swcl_swarm_clear_model(swcl_swarm swarm);
+
+typedef struct swcl_step_stats {
+    uint32_t struct_size;
+    uint32_t agents;
+    uint32_t mde_moved_last;       /* agents moved by MDE in the last step */
+    uint64_t mde_moved_total;      /* agents moved, summed over the steps since the last call */
+    uint64_t steps;                /* steps since the last call */
+} swcl_step_stats;
+
+/* Statistics of the swarm's minimum distance enforcement stage since the
+ * last call (waits for the device); zeros where the model runs none. */
+SWCL_API swcl_status swcl_swarm_take_step_stats(swcl_swarm swarm, swcl_step_stats* out);
+
 /* ---- neighbour search ----------------------------------------------------
  * Queries run on the device over the swarm's uniform grid (cell size =
  * interaction_radius) at the swarm's current positions.  Results are per agent
@@ -191,6 +210,107 @@ SWCL_API swcl_status swcl_swarm_neighbor_lists(swcl_swarm swarm, float radius,
                                                uint32_t* out_truncated);
 
 
+/* ---- scenario files --------------------------------------------------------
+ * A JSON description of a run (docs/scenarios.md): model and parameters, agents
+ * and their initial distribution, domain, obstacles, goal, steps, dt, seed and
+ * outputs.  Loading validates everything; an error names the line and column
+ * of malformed JSON, or the key path of a bad value
+ * ("model.noise.scale: expected a number > 0"), with SWCL_ERROR_PARSE
+ * (SWCL_ERROR_IO when the file cannot be read). */
+
+typedef struct swcl_scenario { uint64_t id; } swcl_scenario;
+
+SWCL_API swcl_status swcl_scenario_load(const char* path, swcl_scenario* out);
+/* The same from JSON text of `length` bytes. */
+SWCL_API swcl_status swcl_scenario_parse(const char* text, size_t length, swcl_scenario* out);
+SWCL_API swcl_status swcl_scenario_destroy(swcl_scenario scenario);
+
+typedef enum swcl_export_format {
+    SWCL_EXPORT_CSV = 1,   /* <base>.csv: id,frame,P.x,P.y,P.z,v.x,v.y,v.z */
+    SWCL_EXPORT_NPY = 2,   /* <base>_positions.npy, <base>_velocities.npy: float32 (frames, N, 3) */
+    SWCL_EXPORT_VTP = 4    /* <base>_<frame>.vtp per frame and <base>.pvd for ParaView */
+} swcl_export_format;
+
+typedef struct swcl_scenario_info {
+    uint32_t struct_size;
+    uint32_t agents;
+    uint32_t steps;
+    uint32_t output_every;     /* record every k-th step */
+    uint32_t output_formats;   /* swcl_export_format bits */
+    float dt;
+    uint64_t seed;
+    char name[128];
+    char output_dir[1024];
+    char model[32];            /* "field", "path", "force", "energy" or "ballistic" */
+    float min_distance;        /* the field model's MDE distance (0: none) */
+} swcl_scenario_info;
+
+/* out->struct_size must be set by the caller. */
+SWCL_API swcl_status swcl_scenario_get_info(swcl_scenario scenario, swcl_scenario_info* out);
+/* A swarm as the scenario describes it: agents placed, velocities set, model
+ * attached. */
+SWCL_API swcl_status swcl_scenario_create_swarm(swcl_scenario scenario, swcl_context context,
+                                                swcl_swarm* out);
+
+/* ---- recording trajectories -------------------------------------------------
+ * Writes frames of a swarm to `dir` (created if missing) in the chosen formats.
+ * Every file is written to a temporary name and renamed when complete, so an
+ * interrupted run never leaves a truncated file behind; without
+ * swcl_recorder_finish the CSV, .npy and .pvd files are discarded. */
+
+typedef struct swcl_recorder { uint64_t id; } swcl_recorder;
+
+SWCL_API swcl_status swcl_recorder_create(const char* dir, const char* basename, uint32_t formats,
+                                          swcl_recorder* out);
+/* Reads the swarm's positions and velocities and appends them as `frame` at
+ * simulation time `time` (s). */
+SWCL_API swcl_status swcl_recorder_add_frame(swcl_recorder recorder, swcl_swarm swarm, uint32_t frame,
+                                             double time);
+SWCL_API swcl_status swcl_recorder_finish(swcl_recorder recorder);
+SWCL_API swcl_status swcl_recorder_destroy(swcl_recorder recorder);
+
+/* ==== EXPERIMENTAL: the models ================================================
+ * Obstacles, noise fields and the four models of the papers.  Their functions
+ * and descriptors may still change between 0.x minor versions (a descriptor
+ * only grows at its end, read through struct_size); everything above this line
+ * is the stable core, which does not change before 1.0 except by additions.
+ * docs/c-api.md says which is which and why. */
+
+/* ---- obstacles ---------------------------------------------------------------
+ * One obstacle type for every model.  Where a model takes a shape analytically
+ * (the noise field's boundaries of the curl-noise paper's Eq. 2, the force
+ * model's obstacle ramp, Eq. 8-9) it takes SPHERE, BOX and PLANE; where it
+ * builds a signed distance grid (the path model, the force model's
+ * mesh_obstacles) it takes MESH, OBJ, BOX, SPHERE and CYLINDER as triangle
+ * meshes.  Arrays and the path are copied by the call.  Degenerate triangles
+ * are skipped; NaN coordinates and out-of-range indices are errors. */
+
+typedef enum swcl_obstacle_type {
+    SWCL_OBSTACLE_MESH = 0,      /* vertices (packed xyz), indices (3 per triangle) */
+    SWCL_OBSTACLE_OBJ = 1,       /* path of a Wavefront OBJ file */
+    SWCL_OBSTACLE_BOX = 2,       /* center, half_extents; radius = edge rounding where the
+                                    box is analytic (0: a small default, the noise field
+                                    needs rounded edges), unused where it is meshed */
+    SWCL_OBSTACLE_SPHERE = 3,    /* center, radius */
+    SWCL_OBSTACLE_CYLINDER = 4,  /* center = centre of the bottom cap, radius, height (along +z) */
+    SWCL_OBSTACLE_PLANE = 5      /* half space dot(normal, x) >= offset is free (analytic only) */
+} swcl_obstacle_type;
+
+typedef struct swcl_obstacle {
+    swcl_obstacle_type type;
+    const float* vertices;
+    uint32_t vertex_count;
+    const uint32_t* indices;
+    uint32_t triangle_count;
+    const char* path;
+    float center[3];
+    float half_extents[3];
+    float radius;
+    float height;
+    float normal[3];
+    float offset;
+} swcl_obstacle;
+
 /* ---- noise fields ---------------------------------------------------------
  * The four noise functions of the data-driven noise paper (§4.2.1) and the
  * boundary-aware curl noise of the curl-noise paper (§4, Eq. 1-3):
@@ -209,22 +329,6 @@ typedef enum swcl_noise_type {
     SWCL_NOISE_GAUSSIAN = 3
 } swcl_noise_type;
 
-typedef enum swcl_boundary_type {
-    SWCL_BOUNDARY_SPHERE = 0,  /* obstacle: center, radius */
-    SWCL_BOUNDARY_BOX = 1,     /* obstacle: center, half_extents, radius = edge rounding
-                                  (0: a small default; the field needs rounded edges) */
-    SWCL_BOUNDARY_PLANE = 2    /* half space dot(normal, x) >= offset is free */
-} swcl_boundary_type;
-
-typedef struct swcl_boundary {
-    swcl_boundary_type type;
-    float center[3];
-    float radius;
-    float half_extents[3];
-    float normal[3];
-    float offset;
-} swcl_boundary;
-
 typedef struct swcl_noise_desc {
     uint32_t struct_size;
     swcl_noise_type type;          /* default CURL */
@@ -238,7 +342,7 @@ typedef struct swcl_noise_desc {
                                       boundaries", §4); default 0 */
     float region_min[3];           /* walls and bake region; all zero: the swarm's */
     float region_max[3];           /* domain (required without a swarm) */
-    const swcl_boundary* boundaries;  /* obstacles, copied by the call */
+    const swcl_obstacle* boundaries;  /* SPHERE, BOX and PLANE obstacles of Eq. 2, copied */
     uint32_t boundary_count;
     int32_t baked;                 /* 1: bake onto a grid over the region, then
                                       sample trilinearly (CURL and PERLIN, static) */
@@ -277,21 +381,7 @@ typedef struct swcl_field_model_desc {
 SWCL_API swcl_field_model_desc swcl_field_model_desc_default(void);
 /* Makes the field model move the swarm from the next step on (a baked noise
  * is baked here).  On failure the swarm keeps its previous model. */
-SWCL_API swcl_status swcl_swarm_set_field_model(swcl_swarm swarm, const swcl_field_model_desc* desc);
-/* Back to ballistic motion. */
-SWCL_API swcl_status swcl_swarm_clear_model(swcl_swarm swarm);
-
-typedef struct swcl_step_stats {
-    uint32_t struct_size;
-    uint32_t agents;
-    uint32_t mde_moved_last;       /* agents moved by MDE in the last step */
-    uint64_t mde_moved_total;      /* agents moved, summed over the steps since the last call */
-    uint64_t steps;                /* steps since the last call */
-} swcl_step_stats;
-
-/* Model statistics since the last call (waits for the device). */
-SWCL_API swcl_status swcl_swarm_take_step_stats(swcl_swarm swarm, swcl_step_stats* out);
-
+SWCL_API swcl_status swcl_swarm_field_set_model(swcl_swarm swarm, const swcl_field_model_desc* desc);
 /* ---- the path model ---------------------------------------------------------
  * The curl-noise paper's full model (§5-6, Eq. 9; docs/path-field.md): obstacle
  * meshes -> signed distance grid (Eq. 5) -> repulsion (Eq. 6) -> minimum cost
@@ -299,7 +389,7 @@ SWCL_API swcl_status swcl_swarm_take_step_stats(swcl_swarm swarm, swcl_step_stat
  * global velocity -grad C/|grad C| * s0 (Eq. 8), added to the curl noise whose
  * boundaries now include the meshes; position update; MDE.  Agents form
  * groups (consecutive agent ids), each with its own goals and cost field.
- * Preprocessing happens in swcl_swarm_set_path_model. */
+ * Preprocessing happens in swcl_swarm_path_set_model. */
 
 typedef enum swcl_goal_type {
     SWCL_GOAL_POINT = 0,   /* center */
@@ -313,29 +403,6 @@ typedef struct swcl_goal {
     float radius;
     float half_extents[3];
 } swcl_goal;
-
-typedef enum swcl_obstacle_type {
-    SWCL_OBSTACLE_MESH = 0,      /* vertices (packed xyz), indices (3 per triangle) */
-    SWCL_OBSTACLE_OBJ = 1,       /* path of a Wavefront OBJ file */
-    SWCL_OBSTACLE_BOX = 2,       /* center, half_extents */
-    SWCL_OBSTACLE_SPHERE = 3,    /* center, radius */
-    SWCL_OBSTACLE_CYLINDER = 4   /* center = centre of the bottom cap, radius, height (along +z) */
-} swcl_obstacle_type;
-
-/* A mesh obstacle; the arrays and the path are copied by the call.  Degenerate
- * triangles are skipped; NaN coordinates and out-of-range indices are errors. */
-typedef struct swcl_obstacle {
-    swcl_obstacle_type type;
-    const float* vertices;
-    uint32_t vertex_count;
-    const uint32_t* indices;
-    uint32_t triangle_count;
-    const char* path;
-    float center[3];
-    float half_extents[3];
-    float radius;
-    float height;
-} swcl_obstacle;
 
 typedef struct swcl_path_group {
     uint32_t agents;               /* consecutive agent ids; the last group takes the rest */
@@ -368,10 +435,10 @@ SWCL_API swcl_path_model_desc swcl_path_model_desc_default(void);
 /* Preprocesses and makes the path model move the swarm.  Bad meshes, goals
  * outside the grid or inside an obstacle, grids of 0 or too many cells: an
  * error status, and the swarm keeps its previous model. */
-SWCL_API swcl_status swcl_swarm_set_path_model(swcl_swarm swarm, const swcl_path_model_desc* desc);
+SWCL_API swcl_status swcl_swarm_path_set_model(swcl_swarm swarm, const swcl_path_model_desc* desc);
 /* Moves a group's goals (chasing, §7): its cost field is recomputed;
  * out_seconds (may be NULL) receives the time it took. */
-SWCL_API swcl_status swcl_swarm_set_path_goals(swcl_swarm swarm, uint32_t group, const swcl_goal* goals,
+SWCL_API swcl_status swcl_swarm_path_set_goals(swcl_swarm swarm, uint32_t group, const swcl_goal* goals,
                                                uint32_t goal_count, double* out_seconds);
 
 typedef struct swcl_path_info {
@@ -387,7 +454,7 @@ typedef struct swcl_path_info {
 
 /* out->struct_size must be set by the caller; SWCL_ERROR_INVALID_ARGUMENT when
  * the swarm has no path model. */
-SWCL_API swcl_status swcl_swarm_get_path_info(swcl_swarm swarm, swcl_path_info* out);
+SWCL_API swcl_status swcl_swarm_path_get_info(swcl_swarm swarm, swcl_path_info* out);
 
 
 /* ---- FASTSWARM: data-driven energy model ---------------------------------
@@ -495,7 +562,7 @@ SWCL_API swcl_energy_model_desc swcl_energy_model_desc_default(void);
 /* Makes the energy model with `dataset` move the swarm from the next step on
  * (the dataset is kept alive by the model).  On failure the swarm keeps its
  * previous model. */
-SWCL_API swcl_status swcl_swarm_set_energy_model(swcl_swarm swarm, swcl_dataset dataset,
+SWCL_API swcl_status swcl_swarm_energy_set_model(swcl_swarm swarm, swcl_dataset dataset,
                                                  const swcl_energy_model_desc* desc);
 /* Replace the stimuli or keypoints of the swarm's energy model (new keypoints
  * restart every agent's traversal).  SWCL_ERROR_INVALID_ARGUMENT if the swarm
@@ -504,7 +571,7 @@ SWCL_API swcl_status swcl_swarm_energy_set_stimuli(swcl_swarm swarm, const swcl_
 SWCL_API swcl_status swcl_swarm_energy_set_keypoints(swcl_swarm swarm, const float* xyz, uint32_t count,
                                                      int32_t closed);
 /* Per agent (id order): the goal keypoint index, -1 before the first step. */
-SWCL_API swcl_status swcl_swarm_energy_goals(swcl_swarm swarm, int32_t* out_goals, size_t count);
+SWCL_API swcl_status swcl_swarm_energy_get_goals(swcl_swarm swarm, int32_t* out_goals, size_t count);
 /* Trajectory synthesis (§5.2.3): one agent per track (arrays as in
  * swcl_dataset_from_tracks; desc: unit_scale, gaps, smoothing; NULL: defaults)
  * placed at the last sample of the track's last gap-free segment with its last
@@ -576,7 +643,7 @@ typedef struct swcl_force_model_desc {
     const float* path;             /* B-spline control points, packed xyz (>= 4), copied */
     uint32_t path_point_count;     /* 0: no path */
     float path_speed;              /* m/s along the path */
-    const swcl_boundary* obstacles;  /* spheres and boxes (Eq. 8-9), copied */
+    const swcl_obstacle* obstacles;  /* SPHERE and BOX obstacles (Eq. 8-9), copied */
     uint32_t obstacle_count;
     float obstacle_range;          /* L of Eq. 9, m (default 1) */
     /* Added after the first version (a struct_size that ends before it reads
@@ -601,78 +668,52 @@ typedef struct swcl_force_model_desc {
 SWCL_API swcl_force_model_desc swcl_force_model_desc_default(void);
 /* Makes the force model move the swarm from the next step on (target meshes
  * are sampled here).  On failure the swarm keeps its previous model. */
-SWCL_API swcl_status swcl_swarm_set_force_model(swcl_swarm swarm, const swcl_force_model_desc* desc);
+SWCL_API swcl_status swcl_swarm_force_set_model(swcl_swarm swarm, const swcl_force_model_desc* desc);
 /* Replace the keyframes or the path of the swarm's force model (the rest of
  * its parameters stay); SWCL_ERROR_INVALID_ARGUMENT if the swarm has none. */
-SWCL_API swcl_status swcl_swarm_set_force_keyframes(swcl_swarm swarm, const swcl_keyframe* keyframes,
+SWCL_API swcl_status swcl_swarm_force_set_keyframes(swcl_swarm swarm, const swcl_keyframe* keyframes,
                                                     uint32_t count, uint32_t period);
-SWCL_API swcl_status swcl_swarm_set_force_path(swcl_swarm swarm, const float* points, uint32_t count,
+SWCL_API swcl_status swcl_swarm_force_set_path(swcl_swarm swarm, const float* points, uint32_t count,
                                                float speed);
 /* The target points of the current keyframe (packed xyz, the shape frame
  * placed on the path at the swarm's current step: moved, and turned with it
  * unless path_orient is 0) for agent ids 0..count-1: where each agent is
  * heading. */
-SWCL_API swcl_status swcl_swarm_get_force_targets(swcl_swarm swarm, float* out_xyz, size_t count);
+SWCL_API swcl_status swcl_swarm_force_get_targets(swcl_swarm swarm, float* out_xyz, size_t count);
 
 
-/* ---- scenario files --------------------------------------------------------
- * A JSON description of a run (docs/scenarios.md): model and parameters, agents
- * and their initial distribution, domain, obstacles, goal, steps, dt, seed and
- * outputs.  Loading validates everything; an error names the line and column
- * of malformed JSON, or the key path of a bad value
- * ("model.noise.scale: expected a number > 0"), with SWCL_ERROR_PARSE
- * (SWCL_ERROR_IO when the file cannot be read). */
+/* ---- deprecated names (removed at 1.0) --------------------------------------
+ * Version 0.2 named every model function swcl_swarm_<model>_<verb>.  The old
+ * names still work and call the new ones; compilers warn where they are used. */
 
-typedef struct swcl_scenario { uint64_t id; } swcl_scenario;
+#if defined(__GNUC__) || defined(__clang__)
+#  define SWCL_DEPRECATED __attribute__((deprecated))
+#elif defined(_MSC_VER)
+#  define SWCL_DEPRECATED __declspec(deprecated)
+#else
+#  define SWCL_DEPRECATED
+#endif
 
-SWCL_API swcl_status swcl_scenario_load(const char* path, swcl_scenario* out);
-/* The same from JSON text of `length` bytes. */
-SWCL_API swcl_status swcl_scenario_parse(const char* text, size_t length, swcl_scenario* out);
-SWCL_API swcl_status swcl_scenario_destroy(swcl_scenario scenario);
-
-typedef enum swcl_export_format {
-    SWCL_EXPORT_CSV = 1,   /* <base>.csv: id,frame,P.x,P.y,P.z,v.x,v.y,v.z */
-    SWCL_EXPORT_NPY = 2,   /* <base>_positions.npy, <base>_velocities.npy: float32 (frames, N, 3) */
-    SWCL_EXPORT_VTP = 4    /* <base>_<frame>.vtp per frame and <base>.pvd for ParaView */
-} swcl_export_format;
-
-typedef struct swcl_scenario_info {
-    uint32_t struct_size;
-    uint32_t agents;
-    uint32_t steps;
-    uint32_t output_every;     /* record every k-th step */
-    uint32_t output_formats;   /* swcl_export_format bits */
-    float dt;
-    uint64_t seed;
-    char name[128];
-    char output_dir[1024];
-    char model[32];            /* "field", "path", "force", "energy" or "ballistic" */
-    float min_distance;        /* the field model's MDE distance (0: none) */
-} swcl_scenario_info;
-
-/* out->struct_size must be set by the caller. */
-SWCL_API swcl_status swcl_scenario_get_info(swcl_scenario scenario, swcl_scenario_info* out);
-/* A swarm as the scenario describes it: agents placed, velocities set, model
- * attached. */
-SWCL_API swcl_status swcl_scenario_create_swarm(swcl_scenario scenario, swcl_context context,
-                                                swcl_swarm* out);
-
-/* ---- recording trajectories -------------------------------------------------
- * Writes frames of a swarm to `dir` (created if missing) in the chosen formats.
- * Every file is written to a temporary name and renamed when complete, so an
- * interrupted run never leaves a truncated file behind; without
- * swcl_recorder_finish the CSV, .npy and .pvd files are discarded. */
-
-typedef struct swcl_recorder { uint64_t id; } swcl_recorder;
-
-SWCL_API swcl_status swcl_recorder_create(const char* dir, const char* basename, uint32_t formats,
-                                          swcl_recorder* out);
-/* Reads the swarm's positions and velocities and appends them as `frame` at
- * simulation time `time` (s). */
-SWCL_API swcl_status swcl_recorder_add_frame(swcl_recorder recorder, swcl_swarm swarm, uint32_t frame,
-                                             double time);
-SWCL_API swcl_status swcl_recorder_finish(swcl_recorder recorder);
-SWCL_API swcl_status swcl_recorder_destroy(swcl_recorder recorder);
+/* Use swcl_swarm_field_set_model. */
+SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_set_field_model(swcl_swarm swarm, const swcl_field_model_desc* desc);
+/* Use swcl_swarm_path_set_model. */
+SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_set_path_model(swcl_swarm swarm, const swcl_path_model_desc* desc);
+/* Use swcl_swarm_path_set_goals. */
+SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_set_path_goals(swcl_swarm swarm, uint32_t group, const swcl_goal* goals, uint32_t goal_count, double* out_seconds);
+/* Use swcl_swarm_path_get_info. */
+SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_get_path_info(swcl_swarm swarm, swcl_path_info* out);
+/* Use swcl_swarm_energy_set_model. */
+SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_set_energy_model(swcl_swarm swarm, swcl_dataset dataset, const swcl_energy_model_desc* desc);
+/* Use swcl_swarm_energy_get_goals. */
+SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_energy_goals(swcl_swarm swarm, int32_t* out_goals, size_t count);
+/* Use swcl_swarm_force_set_model. */
+SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_set_force_model(swcl_swarm swarm, const swcl_force_model_desc* desc);
+/* Use swcl_swarm_force_set_keyframes. */
+SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_set_force_keyframes(swcl_swarm swarm, const swcl_keyframe* keyframes, uint32_t count, uint32_t period);
+/* Use swcl_swarm_force_set_path. */
+SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_set_force_path(swcl_swarm swarm, const float* points, uint32_t count, float speed);
+/* Use swcl_swarm_force_get_targets. */
+SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_get_force_targets(swcl_swarm swarm, float* out_xyz, size_t count);
 
 #ifdef __cplusplus
 } /* extern "C" */
