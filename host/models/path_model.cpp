@@ -17,7 +17,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 PathModel::PathModel(Swarm& swarm, PathModelConfig config)
-    : config_(std::move(config)), ctx_(swarm.context()), counters_(swarm.context()) {
+    : config_(std::move(config)), ctx_(swarm.context()) {
     const auto t0 = std::chrono::steady_clock::now();
     auto& c = config_;
     require(std::isfinite(c.speed) && c.speed >= 0.0f, "path model speed (s0) must be a finite number >= 0");
@@ -89,7 +89,6 @@ PathModel::PathModel(Swarm& swarm, PathModelConfig config)
         if (width_ > 1) defines += " -DNOISE_WIDTH=" + std::to_string(width_);
     }
     advance_ = ctx_.kernel("path_model.cl", width_ > 1 ? "path_model_advance_w" : "path_model_advance", defines);
-    if (c.min_distance > 0.0f) mde_.emplace(ctx_, c.min_distance, nc.seed);
     ctx_.queue().finish();
     preprocess_seconds_ = seconds_since(t0);
 }
@@ -165,8 +164,14 @@ void PathModel::advance(Swarm& swarm, uint64_t step) {
     advance_.setArg(i++, vl_dims_);
     launch(ctx_, advance_, (size_t(n) + width_ - 1) / width_);
     swarm.positions_changed();
-    if (mde_) mde_->apply(swarm, counters_.device());
-    counters_.count_step();
+}
+
+StepStages PathModel::stages() const {
+    StepStages s;
+    s.min_distance = config_.min_distance;
+    s.seed = config_.noise.seed;
+    s.stats = true;
+    return s;
 }
 
 }  // namespace swarmcl
