@@ -94,16 +94,11 @@ PathModel::PathModel(Swarm& swarm, PathModelConfig config)
 }
 
 void PathModel::bake_local_field(const std::string& defines) {
-    // The nodes of the noise's bake grid over its region (NoiseField::bake).
-    const NoiseConfig& nc = noise_->config();
-    for (int a = 0; a < 3; ++a) {
-        vl_min_.s[a] = nc.region_min[a];
-        vl_cell_.s[a] = (nc.region_max[a] - nc.region_min[a]) / float(nc.bake_resolution[a] - 1);
-        vl_dims_.s[a] = cl_int(nc.bake_resolution[a]);
-    }
-    vl_cell_.s[3] = 1.0f;
-    const size_t nodes = size_t(nc.bake_resolution[0]) * nc.bake_resolution[1] * nc.bake_resolution[2];
-    vl_.allocate(ctx_, nodes, "baked local field");
+    // The noise's bake grid over its region (NoiseField's bake), with the mesh.
+    const BakeGrid g = bake_grid(noise_->config());
+    vl_min_ = g.min;
+    vl_cell_ = g.cell;
+    vl_dims_ = g.dims;
     cl::Kernel k = ctx_.kernel("path_model.cl", "path_noise_bake", defines);
     cl_uint i = noise_->set_args(k, 0);
     k.setArg(i++, phi_dev_.get());
@@ -112,8 +107,7 @@ void PathModel::bake_local_field(const std::string& defines) {
     k.setArg(i++, vl_min_);
     k.setArg(i++, vl_cell_);
     k.setArg(i++, vl_dims_);
-    k.setArg(i++, vl_.get());
-    launch(ctx_, k, nodes);
+    vl_ = bake_nodes(ctx_, k, i, g, "baked local field");
 }
 
 void PathModel::upload_directions(uint32_t group) {
