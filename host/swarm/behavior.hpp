@@ -6,7 +6,6 @@
 // after_constraints()), then counts the step statistics.
 #pragma once
 #include <cstdint>
-#include <optional>
 
 #include "device/buffer.hpp"
 
