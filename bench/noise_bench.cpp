@@ -43,7 +43,7 @@
 #include "device/context.hpp"
 #include "fields/noise_field.hpp"
 #include "models/field_model.hpp"
-#include "models/min_distance.hpp"
+#include "swarm/min_distance.hpp"
 #include "swarm/swarm.hpp"
 
 #ifndef SWARMCL_BENCH_RESULTS_DIR
@@ -393,11 +393,12 @@ void run_field_model(const Options& o, const std::shared_ptr<swarmcl::Context>& 
             }
             q.finish();
             if (k >= 3) t[size_t(stage)].push_back(seconds_since(t0));
+            // The swarm's statistics are the model's since set_behavior.
+            if (stage == 2 && k == 2 + o.steps) res.mde_moved_last = swarm.take_step_stats()->mde_moved_last;
         }
     }
     for (int stage = 0; stage < 6; ++stage) add(names[stage], t[size_t(stage)]);
     std::printf("   (swarm has %u agents after %llu steps)\n", swarm.agent_count(), (unsigned long long)swarm.step_count());
-    res.mde_moved_last = full[1]->take_stats(swarm)->mde_moved_last;
 }
 
 // ---- JSON ---------------------------------------------------------------------------

@@ -94,12 +94,12 @@ Run run(std::shared_ptr<Context> ctx, const Scenario& s, uint32_t steps, uint32_
     r.preprocess = model->preprocess_seconds();
     swarm.step(3);  // warm-up: kernels compiled, grid built
     swarm.context().queue().finish();
-    model->take_stats(swarm);
+    swarm.take_step_stats();
     const auto t0 = Clock::now();
     swarm.step(steps);
     swarm.context().queue().finish();
     const double t = since(t0);
-    const StepStats st = *model->take_stats(swarm);
+    const StepStats st = *swarm.take_step_stats();
     r.steps_per_s = steps / t;
     r.ms_per_step = 1000.0 * t / steps;
     r.mde_share = st.steps ? double(st.mde_moved_total) / (double(st.steps) * n) : 0.0;

@@ -125,3 +125,11 @@ inline float8 grid_slab_distance8(float x, float origin, float cell, int8 k, int
     const float tol = 2e-6f * (fabs(x) + fabs(origin) + cell * (float)n);
     return fmax((float8)(0.0f), fmax(lo - x, x - hi) - tol);
 }
+
+// The grid of a geometry buffer (point_grid.cl, spatial/point_grid.hpp):
+// geo[0] = origin xyz and 1 / cell edge in w; geo[1] = cells per axis and
+// their product, as int bits.
+inline Grid grid_from_geometry(__global const float4* geo, __global const uint* cell_start) {
+    const float4 a = geo[0], b = geo[1];
+    return grid_make((float4)(a.xyz, 0.0f), a.w, (int4)(as_int(b.x), as_int(b.y), as_int(b.z), 0), cell_start);
+}

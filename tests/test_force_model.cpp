@@ -735,7 +735,7 @@ TEST(ForceModel, MinDistanceMatchesItsReference) {
             swarm->step(1);
             std::vector<float> got(3 * size_t(n));
             swarm->read(Attribute::Position, got.data(), n);
-            const auto stats = model->take_stats(*swarm);
+            const auto stats = swarm->take_step_stats();
             unsetenv("SWARMCL_NOISE_WIDTH");
             // The reference: r += u dt in float (as the kernel), then MDE.
             const float dt = swarm->config().dt;

@@ -11,7 +11,7 @@
 #include <cstring>
 #include <string>
 
-#include "models/min_distance.hpp"
+#include "swarm/min_distance.hpp"
 #include "test_support.hpp"
 
 using namespace swarmcl;

@@ -235,7 +235,7 @@ TEST(PathModel, TwoSwarmsCrossInOppositeDirections) {
     swarm.step(200);
     swarm.read(Attribute::Position, p.data(), 100);
     for (int a = 0; a < 100; ++a) EXPECT_NEAR(p[3 * a], a < 50 ? 3.7f : 0.3f, 0.35f) << "agent " << a;
-    const StepStats st = *model->take_stats(swarm);
+    const StepStats st = *swarm.take_step_stats();
     EXPECT_EQ(st.steps, 300u);
     EXPECT_GT(st.mde_moved_total, 0u);  // the crowd at each goal sphere is kept apart
 }

@@ -111,7 +111,7 @@ swcl_status swcl_swarm_take_step_stats(swcl_swarm swarm, swcl_step_stats* out) {
         r.struct_size = sizeof(r);
         r.agents = s.agent_count();
         std::optional<StepStats> st;
-        if (s.behavior()) st = s.behavior()->take_stats(s);
+        st = s.take_step_stats();
         if (st) {
             r.mde_moved_last = st->mde_moved_last;
             r.mde_moved_total = st->mde_moved_total;

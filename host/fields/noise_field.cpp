@@ -210,20 +210,34 @@ cl::Kernel NoiseField::kernel(const std::string& file, const char* name) const {
     return ctx_.kernel(file, name, defines());
 }
 
-void NoiseField::bake() {
-    const auto& c = config_;
+BakeGrid bake_grid(const NoiseConfig& c) {
+    BakeGrid g;
     for (int a = 0; a < 3; ++a) {
-        bake_min_.s[a] = c.region_min[a];
-        bake_cell_.s[a] = (c.region_max[a] - c.region_min[a]) / float(c.bake_resolution[a] - 1);
-        bake_dims_.s[a] = cl_int(c.bake_resolution[a]);
+        g.min.s[a] = c.region_min[a];
+        g.cell.s[a] = (c.region_max[a] - c.region_min[a]) / float(c.bake_resolution[a] - 1);
+        g.dims.s[a] = cl_int(c.bake_resolution[a]);
     }
-    bake_cell_.s[3] = 1.0f;
-    const size_t nodes = size_t(c.bake_resolution[0]) * c.bake_resolution[1] * c.bake_resolution[2];
-    DeviceBuffer<cl_float4> grid(ctx_, nodes, "baked noise");
+    g.cell.s[3] = 1.0f;
+    return g;
+}
+
+DeviceBuffer<cl_float4> bake_nodes(Context& ctx, cl::Kernel& kernel, cl_uint out_index, const BakeGrid& grid,
+                                   const char* what) {
+    const size_t nodes = grid.nodes();
+    DeviceBuffer<cl_float4> values(ctx, nodes, what);
+    kernel.setArg(out_index, values.get());
+    launch(ctx, kernel, nodes);
+    return values;
+}
+
+void NoiseField::bake() {
+    const BakeGrid g = bake_grid(config_);
+    bake_min_ = g.min;
+    bake_cell_ = g.cell;
+    bake_dims_ = g.dims;
     cl::Kernel kernel = this->kernel("noise_field.cl", "noise_bake");
     const cl_uint i = set_args(kernel, 0);  // procedural: baked_ready_ is false
-    kernel.setArg(i, grid.get());
-    launch(ctx_, kernel, nodes);
+    DeviceBuffer<cl_float4> grid = bake_nodes(ctx_, kernel, i, g, "baked noise");
     ctx_.queue().finish();
     baked_ = std::move(grid);
     baked_ready_ = true;

@@ -49,6 +49,22 @@ struct NoiseConfig {
     bool has_region() const;
 };
 
+// The nodes a field is baked on: NoiseConfig::bake_resolution per axis over
+// its region, as the kernels take them (min corner; node spacing, w = 1;
+// nodes per axis).
+struct BakeGrid {
+    cl_float4 min{}, cell{};
+    cl_int4 dims{};
+    size_t nodes() const { return size_t(dims.s[0]) * size_t(dims.s[1]) * size_t(dims.s[2]); }
+};
+BakeGrid bake_grid(const NoiseConfig& config);
+
+// Runs `kernel` once per node of `grid` into a new buffer of the nodes'
+// values: its arguments are set up to the output, argument `out_index`.
+// Enqueued only.  NoiseField's bake and the path model's mesh-aware bake.
+DeviceBuffer<cl_float4> bake_nodes(Context& ctx, cl::Kernel& kernel, cl_uint out_index, const BakeGrid& grid,
+                                   const char* what);
+
 class NoiseField {
 public:
     // Validates (Error(InvalidArgument) naming the field) and, if baked,

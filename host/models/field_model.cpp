@@ -9,7 +9,7 @@
 namespace swarmcl {
 
 FieldModel::FieldModel(Swarm& swarm, FieldModelConfig config)
-    : config_(std::move(config)), counters_(swarm.context()) {
+    : config_(std::move(config)) {
     const auto& c = config_;
     if (c.has_goal) {
         for (int a = 0; a < 3; ++a) require(std::isfinite(c.goal[a]), "field model goal must be finite");
@@ -21,7 +21,6 @@ FieldModel::FieldModel(Swarm& swarm, FieldModelConfig config)
             "field model min_distance must be a finite number >= 0 (0: off)");
     Context& ctx = swarm.context();
     noise_ = std::make_unique<NoiseField>(ctx, c.noise, &swarm.config().domain_min, &swarm.config().domain_max);
-    if (c.min_distance > 0.0f) mde_.emplace(ctx, c.min_distance, c.noise.seed);
     // Built for this noise configuration (NoiseField::defines).
     // On CPU devices the explicit-width variant (NoiseField::width() agents per
     // work-item).
@@ -39,8 +38,14 @@ void FieldModel::advance(Swarm& swarm, uint64_t step) {
     advance_.setArg(i++, c.goal_falloff);
     launch(swarm.context(), advance_, (size_t(n) + width_ - 1) / width_);
     swarm.positions_changed();
-    if (mde_) mde_->apply(swarm, counters_.device());
-    counters_.count_step();
+}
+
+StepStages FieldModel::stages() const {
+    StepStages s;
+    s.min_distance = config_.min_distance;
+    s.seed = config_.noise.seed;
+    s.stats = true;
+    return s;
 }
 
 }  // namespace swarmcl

@@ -1,13 +1,12 @@
 // The local behaviour of the curl-noise paper (§4, §6): velocity from the
 // (boundary-aware) noise field plus an optional pull to a goal at speed s0,
-// the position update, then minimum distance enforcement.
+// the position update; minimum distance enforcement is the swarm's stage
+// after it (stages()).
 #pragma once
 #include <array>
 #include <memory>
-#include <optional>
 
 #include "fields/noise_field.hpp"
-#include "models/min_distance.hpp"
 #include "swarm/behavior.hpp"
 
 namespace swarmcl {
@@ -30,16 +29,14 @@ public:
     void advance(Swarm& swarm, uint64_t step) override;
     const FieldModelConfig& config() const { return config_; }
 
-    // Reads and resets the counters (waits for the device).
-    std::optional<StepStats> take_stats(Swarm& swarm) override { return counters_.take(swarm); }
+    // MDE at min_distance (keyed by the noise seed), and step statistics.
+    StepStages stages() const override;
 
 private:
     FieldModelConfig config_;
     std::unique_ptr<NoiseField> noise_;
-    std::optional<MinDistance> mde_;
     cl::Kernel advance_;
     uint32_t width_ = 1;  // agents per work-item of advance_ (NoiseField::width)
-    MdeCounters counters_;
 };
 
 }  // namespace swarmcl

@@ -13,11 +13,9 @@ namespace {
 // curl_noise.cl SWCL_PRIM_* (the noise module packs its boundaries alike).
 constexpr float kPrimSphere = 2.0f, kPrimBox = 3.0f;
 
-// The fine grid (kernels/force_model.cl): work-items of its bounding box
-// pass, radix blocks and digit width (as spatial/neighbor_grid.cpp), padding
-// of the sorted copy's blocks (FM_SOA_PAD), and cells per agent at most.
-constexpr uint32_t kFineChunks = 16, kFineRadixBlocks = 16, kFineMaxRadixBits = 9, kFineSoaPad = 16;
-constexpr uint32_t kFineCellsPerAgent = 8, kFineMinCells = 1024;
+// Padding of the fine grid's sorted copy's blocks (kernels/force_model.cl
+// FM_SOA_PAD).
+constexpr uint32_t kFineSoaPad = 16;
 
 void require_finite_positive(float v, const char* name, bool allow_zero = false) {
     require(std::isfinite(v) && (allow_zero ? v >= 0.0f : v > 0.0f),
@@ -129,7 +127,7 @@ SdfGrid force_mesh_sdf(Context& ctx, const ForceModelConfig& c) {
 }
 
 ForceModel::ForceModel(Swarm& swarm, ForceModelConfig config)
-    : config_(std::move(config)), counters_(swarm.context()) {
+    : config_(std::move(config)), fine_(swarm.context()) {
     validate(config_);
     Context& ctx = swarm.context();
     noise_ = std::make_unique<NoiseField>(ctx, config_.noise, &swarm.config().domain_min, &swarm.config().domain_max);
@@ -137,21 +135,11 @@ ForceModel::ForceModel(Swarm& swarm, ForceModelConfig config)
     // agents per work-item; kernels/force_model.cl).
     width_ = noise_->width();
     force_k_ = noise_->kernel("force_model.cl", width_ > 1 ? "force_model_force_w" : "force_model_force");
-    fine_bounds_k_ = noise_->kernel("force_model.cl", "force_model_fine_bounds");
-    fine_geometry_k_ = noise_->kernel("force_model.cl", "force_model_fine_geometry");
-    fine_keys_k_ = noise_->kernel("force_model.cl", "force_model_fine_keys");
-    fine_starts_k_ = noise_->kernel("force_model.cl", "force_model_fine_starts");
     fine_gather_k_ = noise_->kernel("force_model.cl", "force_model_fine_gather");
     // One agent per work-item on every device: with a few candidates per
     // agent, 16 lanes walking the union of their boxes measured slower.
     mde_k_ = noise_->kernel("force_model.cl", "force_model_mde");
     repulsion_k_ = noise_->kernel("force_model.cl", width_ > 1 ? "force_model_repulsion_w" : "force_model_repulsion");
-    radix_hist_k_ = ctx.kernel("grid.cl", "radix_hist");
-    radix_rows_k_ = ctx.kernel("grid.cl", "radix_rows");
-    radix_scatter_k_ = ctx.kernel("grid.cl", "radix_scatter");
-    fine_part_.allocate(ctx, 2 * kFineChunks, "force model fine grid bounds");
-    fine_geo_.allocate(ctx, 2, "force model fine grid geometry");
-    fine_count_.allocate(ctx, 1, "force model fine grid count");
     integrate_k_ = noise_->kernel("force_model.cl", "force_model_integrate");
     project_k_ = noise_->kernel("force_model.cl", "force_model_project");
     scatter_k_ = noise_->kernel("force_model.cl", "force_model_scatter");
@@ -348,8 +336,8 @@ void ForceModel::enqueue_force(Swarm& swarm, uint64_t step) {
     if (c.terms & kForceRepulsion) {  // exact, through the fine grid
         build_fine_grid(swarm);
         fine_current_ = true;
-        set_args(repulsion_k_, fine_soa_.get(), fine_sorted_slot_->get(), cl_uint(n), fine_geo_.get(),
-                 fine_start_.get(), c.r_rep, rep_.get());
+        set_args(repulsion_k_, fine_soa_.get(), fine_.sorted_slots().get(), cl_uint(n), fine_.geometry().get(),
+                 fine_.cell_start().get(), c.r_rep, rep_.get());
         launch(swarm.context(), repulsion_k_, (n + width_ - 1) / width_);
     }
     kf.setArg(i++, rep_.get());
@@ -380,61 +368,30 @@ std::vector<cl_float4> ForceModel::sample_mesh_obstacles(Swarm& swarm, const std
 void ForceModel::build_fine_grid(Swarm& swarm) {
     Context& ctx = swarm.context();
     const uint32_t n = swarm.agent_count();
-    if (n != fine_n_ || !fine_start_.get()()) {
+    if (n != fine_n_ || !fine_soa_.get()()) {
         fine_n_ = n;
-        fine_max_cells_ = std::max(kFineMinCells, kFineCellsPerAgent * n);
-        uint32_t key_bits = 1;
-        while (key_bits < 32 && (uint64_t(fine_max_cells_) - 1) >> key_bits) ++key_bits;
-        fine_radix_passes_ = (key_bits + kFineMaxRadixBits - 1) / kFineMaxRadixBits;
-        fine_radix_bits_ = (key_bits + fine_radix_passes_ - 1) / fine_radix_passes_;
-        const size_t slots = std::max<uint32_t>(n, 1);
-        for (int k = 0; k < 2; ++k) {
-            fine_key_[k].allocate(ctx, slots, "force model fine grid keys");
-            fine_slot_[k].allocate(ctx, slots, "force model fine grid slots");
-            fine_spare_[k].allocate(ctx, slots, "force model fine grid slots");
-        }
-        fine_start_.allocate(ctx, size_t(fine_max_cells_) + 1, "force model fine grid cell starts");
-        fine_hist_.allocate(ctx, size_t(kFineRadixBlocks) << fine_radix_bits_, "force model fine grid histogram");
-        fine_totals_.allocate(ctx, size_t(1) << fine_radix_bits_, "force model fine grid totals");
         fine_soa_.allocate(ctx, 3 * (size_t(n) + kFineSoaPad), "force model fine grid positions");
     }
     if (n == 0) return;
     const auto& pos = swarm.positions();
-    // The swarm's bounding box and the cells over it.
-    set_args(fine_bounds_k_, pos.get(), cl_uint(n), kFineChunks, fine_part_.get());
-    launch(ctx, fine_bounds_k_, kFineChunks);
-    set_args(fine_geometry_k_, fine_part_.get(), kFineChunks, config_.r_rep, cl_uint(fine_max_cells_),
-             fine_geo_.get());
-    launch(ctx, fine_geometry_k_, 1);
-    set_args(fine_keys_k_, pos.get(), cl_uint(n), fine_geo_.get(), fine_key_[0].get(), fine_slot_[0].get(),
-             fine_count_.get());
-    launch(ctx, fine_keys_k_, n);
-    // Stable LSD radix sort of the slots by cell (grid.cl).
-    int in = 0;
-    const uint32_t mask = (1u << fine_radix_bits_) - 1u;
-    for (uint32_t p = 0; p < fine_radix_passes_; ++p, in ^= 1) {
-        const uint32_t shift = p * fine_radix_bits_;
-        set_args(radix_hist_k_, fine_key_[in].get(), fine_count_.get(), shift, mask, kFineRadixBlocks,
-                 fine_hist_.get());
-        launch(ctx, radix_hist_k_, kFineRadixBlocks);
-        set_args(radix_rows_k_, fine_hist_.get(), kFineRadixBlocks, mask + 1u, fine_totals_.get());
-        launch(ctx, radix_rows_k_, mask + 1u);
-        set_args(radix_scatter_k_, fine_key_[in].get(), fine_slot_[in].get(), fine_slot_[in].get(),
-                 fine_count_.get(), shift, mask, kFineRadixBlocks, fine_hist_.get(), fine_totals_.get(),
-                 fine_key_[in ^ 1].get(), fine_slot_[in ^ 1].get(), fine_spare_[in ^ 1].get());
-        launch(ctx, radix_scatter_k_, kFineRadixBlocks);
-    }
-    fine_sorted_slot_ = &fine_slot_[in];
-    set_args(fine_starts_k_, fine_key_[in].get(), cl_uint(n), fine_geo_.get(), fine_start_.get());
-    launch(ctx, fine_starts_k_, n + 1);
-    set_args(fine_gather_k_, pos.get(), fine_sorted_slot_->get(), cl_uint(n), fine_soa_.get());
+    fine_.build(pos, n, config_.r_rep);
+    set_args(fine_gather_k_, pos.get(), fine_.sorted_slots().get(), cl_uint(n), fine_soa_.get());
     launch(ctx, fine_gather_k_, n);
 }
 
-void ForceModel::enforce_min_distance(Swarm& swarm) {
+StepStages ForceModel::stages() const {
+    StepStages s;
+    s.min_distance = config_.min_distance;
+    s.seed = config_.noise.seed;
+    s.own_min_distance = true;
+    s.stats = true;
+    s.count_empty_steps = false;
+    return s;
+}
+
+void ForceModel::enforce_min_distance(Swarm& swarm, DeviceBuffer<cl_uint>& moved) {
     const uint32_t n = swarm.agent_count();
     Context& ctx = swarm.context();
-    DeviceBuffer<cl_uint>& moved = counters_.device();
     ctx.queue().enqueueFillBuffer(moved.get(), cl_uint(0), 0, sizeof(cl_uint));
     if (n == 0) return;
     // The fine grid of this step's forces, built before the Newton step
@@ -447,42 +404,51 @@ void ForceModel::enforce_min_distance(Swarm& swarm) {
         build_fine_grid(swarm);
     }
     fine_current_ = false;
-    set_args(mde_k_, swarm.positions().get(), swarm.ids().get(), cl_uint(n), fine_geo_.get(), fine_start_.get(),
-             fine_sorted_slot_->get(), config_.min_distance, slack, cl_ulong(config_.noise.seed),
-             swarm.scratch().get(), moved.get());
+    set_args(mde_k_, swarm.positions().get(), swarm.ids().get(), cl_uint(n), fine_.geometry().get(),
+             fine_.cell_start().get(), fine_.sorted_slots().get(), config_.min_distance, slack,
+             cl_ulong(config_.noise.seed), swarm.scratch().get(), moved.get());
     launch(ctx, mde_k_, n);
     swarm.swap_positions_with_scratch();
 }
 
 void ForceModel::compute_forces(Swarm& swarm, uint64_t step) { enqueue_force(swarm, step); }
 
+namespace {
+cl_int4 mesh_dims_arg(const Grid3& g) { return cl_int4{{cl_int(g.dims[0]), cl_int(g.dims[1]), cl_int(g.dims[2]), 0}}; }
+cl_float4 mesh_origin_arg(const Grid3& g) {
+    return cl_float4{{float(g.origin[0]), float(g.origin[1]), float(g.origin[2]), float(g.h)}};
+}
+}  // namespace
+
 void ForceModel::advance(Swarm& swarm, uint64_t step) {
     enqueue_force(swarm, step);
     const uint32_t n = swarm.agent_count();
     if (n == 0) return;
     Context& ctx = swarm.context();
-    const cl_int4 mdims{{cl_int(mesh_grid_.dims[0]), cl_int(mesh_grid_.dims[1]), cl_int(mesh_grid_.dims[2]), 0}};
-    const cl_float4 morigin{{float(mesh_grid_.origin[0]), float(mesh_grid_.origin[1]), float(mesh_grid_.origin[2]),
-                             float(mesh_grid_.h)}};
     const cl_uint has_mesh = config_.mesh_obstacles.empty() ? 0u : 1u;
     set_args(integrate_k_, swarm.positions().get(), swarm.velocities().get(), force_.get(), cl_uint(n),
              swarm.config().dt, config_.max_speed, config_.cruise_speed, prims_.get(), cl_uint(nprims_),
-             config_.obstacle_range, has_mesh, mesh_phi_.get(), mdims, morigin);
+             config_.obstacle_range, has_mesh, mesh_phi_.get(), mesh_dims_arg(mesh_grid_),
+             mesh_origin_arg(mesh_grid_));
     launch(ctx, integrate_k_, n);
     swarm.positions_changed();
+}
+
+void ForceModel::after_constraints(Swarm& swarm, uint64_t) {
+    const uint32_t n = swarm.agent_count();
+    if (n == 0) return;
     // The push-out: after MDE for every obstacle; after each step for mesh
     // obstacles too, whose sampled surface is only accurate to about a cell
     // (docs/force-model.md).
+    const cl_uint has_mesh = config_.mesh_obstacles.empty() ? 0u : 1u;
     const bool project_mesh = has_mesh != 0u;
     const bool mde = config_.min_distance > 0.0f;
-    if (mde) enforce_min_distance(swarm);
     if ((mde && nprims_) || project_mesh) {
         set_args(project_k_, swarm.positions().get(), cl_uint(n), prims_.get(), cl_uint(mde ? nprims_ : 0u),
-                 has_mesh, mesh_phi_.get(), mdims, morigin);
-        launch(ctx, project_k_, n);
+                 has_mesh, mesh_phi_.get(), mesh_dims_arg(mesh_grid_), mesh_origin_arg(mesh_grid_));
+        launch(swarm.context(), project_k_, n);
         swarm.positions_changed();
     }
-    counters_.count_step();
 }
 
 }  // namespace swarmcl

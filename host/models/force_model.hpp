@@ -2,7 +2,8 @@
 // 2019): internal forces (§4: three-zone interaction, curl noise), external
 // forces towards sampled target meshes (§5: shape-constrained and distance
 // forces), their union (§3, Eq. 1), a Newton step with a speed limit, the
-// obstacle ramp (§6, Eq. 8-9), minimum distance enforcement, keyframed
+// obstacle ramp (§6, Eq. 8-9), minimum distance enforcement (the swarm's
+// constraint stage, run here on the fine grid), keyframed
 // target meshes (morphing) and a global B-spline path.  Kernels:
 // kernels/force_model.cl; choices: docs/force-model.md.
 #pragma once
@@ -14,9 +15,9 @@
 
 #include "fields/noise_field.hpp"
 #include "fields/sdf.hpp"
-#include "models/min_distance.hpp"
 #include "shapes/bspline_path.hpp"
 #include "shapes/shape_sampling.hpp"
+#include "spatial/point_grid.hpp"
 #include "swarm/behavior.hpp"
 
 namespace swarmcl {
@@ -106,8 +107,12 @@ public:
     void advance(Swarm& swarm, uint64_t step) override;
     const ForceModelConfig& config() const { return config_; }
 
-    // MDE counters since the last call (waits for the device).
-    std::optional<StepStats> take_stats(Swarm& swarm) override { return counters_.take(swarm); }
+    // MDE at min_distance (keyed by the noise seed) on the fine grid, step
+    // statistics; a step without agents is not counted.
+    StepStages stages() const override;
+    void enforce_min_distance(Swarm& swarm, DeviceBuffer<cl_uint>& moved) override;
+    // The obstacle push-out after MDE (docs/force-model.md).
+    void after_constraints(Swarm& swarm, uint64_t step) override;
 
     // The mesh obstacles' grid (dims 0 without mesh obstacles).
     const Grid3& mesh_grid() const { return mesh_grid_; }
@@ -142,10 +147,9 @@ private:
     void prepare(Swarm& swarm);                 // targets for the agent count
     void activate(Swarm& swarm, int keyframe);  // upload targets, assign
     void enqueue_force(Swarm& swarm, uint64_t step);
-    // The fine grid of repulsion and MDE over the current positions
-    // (kernels/force_model.cl, "the fine grid").
+    // The fine grid of repulsion and MDE over the current positions, and
+    // its sorted copy of them (docs/force-model.md, "the fine grid").
     void build_fine_grid(Swarm& swarm);
-    void enforce_min_distance(Swarm& swarm);
 
     ForceModelConfig config_;
     std::unique_ptr<NoiseField> noise_;
@@ -170,18 +174,14 @@ private:
     uint32_t nprims_ = 0;
     Grid3 mesh_grid_{{0, 0, 0}, 1.0, {0, 0, 0}};  // no mesh obstacles: dims 0
     DeviceBuffer<cl_float> mesh_phi_;
-    // The fine grid: bounding box parts, geometry, keys and slots (sorted
-    // into the other of each pair), cell starts, the sorted positions.
-    cl::Kernel fine_bounds_k_, fine_geometry_k_, fine_keys_k_, fine_starts_k_, fine_gather_k_, mde_k_, repulsion_k_;
-    cl::Kernel radix_hist_k_, radix_rows_k_, radix_scatter_k_;
+    // The fine grid: a PointGrid at cells of at least R_rep, and the
+    // positions in its order (x, y, z blocks) for the repulsion kernels.
+    PointGrid fine_;
+    cl::Kernel fine_gather_k_, mde_k_, repulsion_k_;
     bool fine_current_ = false;  // built by this step's enqueue_force, slots unchanged since
-    uint32_t fine_n_ = 0, fine_max_cells_ = 0, fine_radix_bits_ = 0, fine_radix_passes_ = 0;
-    DeviceBuffer<cl_float4> fine_part_, fine_geo_, rep_;  // rep_: repulsion sums by slot
-    DeviceBuffer<cl_uint> fine_key_[2], fine_slot_[2], fine_spare_[2], fine_count_, fine_start_, fine_hist_,
-        fine_totals_;
-    DeviceBuffer<cl_uint>* fine_sorted_slot_ = nullptr;
+    uint32_t fine_n_ = 0;        // agents fine_soa_ is laid out for
+    DeviceBuffer<cl_float4> rep_;  // repulsion sums by slot
     DeviceBuffer<cl_float> fine_soa_;
-    MdeCounters counters_;
 };
 
 }  // namespace swarmcl

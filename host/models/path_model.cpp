@@ -17,7 +17,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 PathModel::PathModel(Swarm& swarm, PathModelConfig config)
-    : config_(std::move(config)), ctx_(swarm.context()), counters_(swarm.context()) {
+    : config_(std::move(config)), ctx_(swarm.context()) {
     const auto t0 = std::chrono::steady_clock::now();
     auto& c = config_;
     require(std::isfinite(c.speed) && c.speed >= 0.0f, "path model speed (s0) must be a finite number >= 0");
@@ -89,22 +89,16 @@ PathModel::PathModel(Swarm& swarm, PathModelConfig config)
         if (width_ > 1) defines += " -DNOISE_WIDTH=" + std::to_string(width_);
     }
     advance_ = ctx_.kernel("path_model.cl", width_ > 1 ? "path_model_advance_w" : "path_model_advance", defines);
-    if (c.min_distance > 0.0f) mde_.emplace(ctx_, c.min_distance, nc.seed);
     ctx_.queue().finish();
     preprocess_seconds_ = seconds_since(t0);
 }
 
 void PathModel::bake_local_field(const std::string& defines) {
-    // The nodes of the noise's bake grid over its region (NoiseField::bake).
-    const NoiseConfig& nc = noise_->config();
-    for (int a = 0; a < 3; ++a) {
-        vl_min_.s[a] = nc.region_min[a];
-        vl_cell_.s[a] = (nc.region_max[a] - nc.region_min[a]) / float(nc.bake_resolution[a] - 1);
-        vl_dims_.s[a] = cl_int(nc.bake_resolution[a]);
-    }
-    vl_cell_.s[3] = 1.0f;
-    const size_t nodes = size_t(nc.bake_resolution[0]) * nc.bake_resolution[1] * nc.bake_resolution[2];
-    vl_.allocate(ctx_, nodes, "baked local field");
+    // The noise's bake grid over its region (NoiseField's bake), with the mesh.
+    const BakeGrid g = bake_grid(noise_->config());
+    vl_min_ = g.min;
+    vl_cell_ = g.cell;
+    vl_dims_ = g.dims;
     cl::Kernel k = ctx_.kernel("path_model.cl", "path_noise_bake", defines);
     cl_uint i = noise_->set_args(k, 0);
     k.setArg(i++, phi_dev_.get());
@@ -113,8 +107,7 @@ void PathModel::bake_local_field(const std::string& defines) {
     k.setArg(i++, vl_min_);
     k.setArg(i++, vl_cell_);
     k.setArg(i++, vl_dims_);
-    k.setArg(i++, vl_.get());
-    launch(ctx_, k, nodes);
+    vl_ = bake_nodes(ctx_, k, i, g, "baked local field");
 }
 
 void PathModel::upload_directions(uint32_t group) {
@@ -165,8 +158,14 @@ void PathModel::advance(Swarm& swarm, uint64_t step) {
     advance_.setArg(i++, vl_dims_);
     launch(ctx_, advance_, (size_t(n) + width_ - 1) / width_);
     swarm.positions_changed();
-    if (mde_) mde_->apply(swarm, counters_.device());
-    counters_.count_step();
+}
+
+StepStages PathModel::stages() const {
+    StepStages s;
+    s.min_distance = config_.min_distance;
+    s.seed = config_.noise.seed;
+    s.stats = true;
+    return s;
 }
 
 }  // namespace swarmcl

@@ -1,19 +1,17 @@
 // The curl-noise paper's full model (§5-6, Eq. 9): boundary-aware curl noise
 // (obstacle meshes included) plus the global velocity field of a minimum
-// cost field solved by fast marching, the position update, then minimum
-// distance enforcement.  Beyond the paper: agents form groups ("swarms"),
+// cost field solved by fast marching, the position update; minimum distance
+// enforcement is the swarm's stage after it (stages()).  Beyond the paper: agents form groups ("swarms"),
 // each with its own goals and cost field, so swarms can cross (the paper's
 // third limitation); a goal can move, which recomputes its group's field.
 #pragma once
 #include <array>
 #include <memory>
-#include <optional>
 #include <vector>
 
 #include "fields/cost_field.hpp"
 #include "fields/noise_field.hpp"
 #include "fields/sdf.hpp"
-#include "models/min_distance.hpp"
 #include "shapes/triangle_mesh.hpp"
 #include "swarm/behavior.hpp"
 
@@ -52,7 +50,8 @@ public:
     PathModel(Swarm& swarm, PathModelConfig config);
 
     void advance(Swarm& swarm, uint64_t step) override;
-    std::optional<StepStats> take_stats(Swarm& swarm) override { return counters_.take(swarm); }
+    // MDE at min_distance (keyed by the noise seed), and step statistics.
+    StepStages stages() const override;
 
     // Replaces group `group`'s goals and recomputes its cost field (chasing,
     // §7); returns the seconds it took.  Validated first: an error changes nothing.
@@ -85,7 +84,6 @@ private:
     std::vector<double> slowness_;
     std::vector<std::vector<double>> costs_;
     std::unique_ptr<NoiseField> noise_;
-    std::optional<MinDistance> mde_;
     cl::Kernel advance_;
     uint32_t width_ = 1;  // agents per work-item of advance_
     DeviceBuffer<cl_float4> dirs_;
@@ -95,7 +93,6 @@ private:
     cl_float4 vl_min_{}, vl_cell_{{1, 1, 1, 1}};
     cl_int4 vl_dims_{{2, 2, 2, 0}};
     DeviceBuffer<cl_uint> group_end_;
-    MdeCounters counters_;
     double preprocess_seconds_ = 0.0;
     uint32_t recomputes_ = 0;
     double recompute_seconds_ = 0.0;

@@ -24,15 +24,8 @@ uint32_t div_up(uint32_t a, uint32_t b) { return (a + b - 1) / b; }
 
 NeighborGrid::NeighborGrid(Context& ctx, const GridGeometry& geometry, uint32_t capacity)
     : ctx_(ctx), geometry_(geometry), ncells_(geometry.cell_count()),
-      outputs_per_item_((ctx.device().type & CL_DEVICE_TYPE_CPU) ? kOutputsPerItemCpu : kOutputsPerItemGpu) {
-    // Digits of the cell keys (0 .. ncells-1): as few passes as the width
-    // needs at <= kMaxRadixBits bits each, the bits spread evenly.
-    uint32_t key_bits = 1;
-    while (key_bits < 32 && (uint64_t(ncells_) - 1) >> key_bits) ++key_bits;
-    radix_passes_ = div_up(key_bits, kMaxRadixBits);
-    radix_bits_ = div_up(key_bits, radix_passes_);
-    const uint32_t hist_len = (1u << radix_bits_) * kRadixBlocks;
-
+      outputs_per_item_((ctx.device().type & CL_DEVICE_TYPE_CPU) ? kOutputsPerItemCpu : kOutputsPerItemGpu),
+      radix_(ctx, geometry.cell_count() - 1u, kRadixBlocks, kMaxRadixBits) {
     capacity_ = capacity;
     keys_.allocate(ctx, capacity, "grid keys");
     perm_.allocate(ctx, capacity, "grid permutation");
@@ -43,8 +36,6 @@ NeighborGrid::NeighborGrid(Context& ctx, const GridGeometry& geometry, uint32_t 
     start_.allocate(ctx, size_t(ncells_) + 1, "grid cell starts");
     layout_start_.allocate(ctx, size_t(ncells_) + 1, "grid layout cell starts");
     chunk_counts_.allocate(ctx, kMoverChunks, "grid chunk counts");
-    hist_.allocate(ctx, hist_len, "grid radix histogram");
-    totals_.allocate(ctx, size_t(1) << radix_bits_, "grid radix totals");
     // An empty grid is valid too: every cell range empty.
     start_.fill(ctx, 0u, size_t(ncells_) + 1);
     // An invalid layout (see invalidate_layout).
@@ -52,9 +43,6 @@ NeighborGrid::NeighborGrid(Context& ctx, const GridGeometry& geometry, uint32_t 
 
     keys_k_ = ctx.kernel("grid.cl", "grid_keys_count");
     movers_write_ = ctx.kernel("grid.cl", "grid_movers_write");
-    radix_hist_ = ctx.kernel("grid.cl", "radix_hist");
-    radix_scatter_ = ctx.kernel("grid.cl", "radix_scatter");
-    radix_rows_ = ctx.kernel("grid.cl", "radix_rows");
     sort_runs_ = ctx.kernel("grid.cl", "grid_sort_runs");
     merge_ = ctx.kernel("grid.cl", "grid_merge");
     starts_ = ctx.kernel("grid.cl", "grid_starts");
@@ -115,22 +103,9 @@ void NeighborGrid::build(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<
     launch_chunks(ctx_, movers_write_, chunks);
     stage("movers_write");
     // Stable radix sort of the movers by new cell.
-    DeviceBuffer<cl_uint>*kin = &r_key_, *sin = &r_slot_, *iin = &r_id_;
-    DeviceBuffer<cl_uint>*kout = &t_key_, *sout = &t_slot_, *iout = &t_id_;
-    const uint32_t mask = (1u << radix_bits_) - 1u;
-    for (uint32_t p = 0; p < radix_passes_; ++p) {
-        const uint32_t shift = p * radix_bits_;
-        set_args(radix_hist_, kin->get(), movers_.get(), shift, mask, kRadixBlocks, hist_.get());
-        launch(ctx_, radix_hist_, kRadixBlocks);
-        set_args(radix_rows_, hist_.get(), kRadixBlocks, mask + 1u, totals_.get());
-        launch(ctx_, radix_rows_, mask + 1u);
-        set_args(radix_scatter_, kin->get(), sin->get(), iin->get(), movers_.get(), shift, mask, kRadixBlocks,
-                 hist_.get(), totals_.get(), kout->get(), sout->get(), iout->get());
-        launch(ctx_, radix_scatter_, kRadixBlocks);
-        std::swap(kin, kout);
-        std::swap(sin, sout);
-        std::swap(iin, iout);
-    }
+    RadixSort::Columns in{&r_key_, &r_slot_, &r_id_}, out{&t_key_, &t_slot_, &t_id_};
+    radix_.sort(movers_, in, out);
+    DeviceBuffer<cl_uint>*kin = in.key, *sin = in.slot, *iin = in.id, *kout = out.key;
     set_args(sort_runs_, movers_.get(), kin->get(), sin->get(), iin->get(), kRadixBlocks);
     launch(ctx_, sort_runs_, kRadixBlocks);
     stage("radix sort of movers");

@@ -5,7 +5,7 @@
 // The grid remembers the cell ranges of the order the state is in (the
 // "layout": the last build whose permutation was applied with
 // reorder_state()).  A build only sorts the agents that left their layout
-// cell, so rebuilding a nearly sorted swarm (a simulation step) costs a few
+// cell (with the one RadixSort, spatial/radix_sort.hpp), so rebuilding a nearly sorted swarm (a simulation step) costs a few
 // streaming passes; anything else (a fresh write, a new agent count) is
 // correct too, just a full sort.
 #pragma once
@@ -15,6 +15,7 @@
 #include "device/buffer.hpp"
 #include "device/context.hpp"
 #include "spatial/grid_geometry.hpp"
+#include "spatial/radix_sort.hpp"
 
 namespace swarmcl {
 
@@ -63,21 +64,19 @@ private:
     uint32_t ncells_;
     uint32_t outputs_per_item_;  // grid_merge, grid_starts
     uint32_t capacity_ = 0;
-    uint32_t radix_bits_, radix_passes_;
     bool layout_valid_ = false;
     bool start_in_layout_ = false;  // the current ranges are layout_start_'s (after reorder_state)
     uint32_t layout_n_ = 0;
     uint32_t built_n_ = 0;
     // Per slot: keys (cell), perm, layout_key (the layout's cell); the
     // movers (r_*), the radix sort's other half (t_*), the stayers' slots.
-    // Per cell (+1): start, layout_start.  hist/totals: radix.
+    // Per cell (+1): start, layout_start.
     DeviceBuffer<cl_uint> keys_, perm_, layout_key_, r_key_, r_slot_, r_id_, st_slot_, t_key_, t_slot_, t_id_,
         movers_;
     DeviceBuffer<cl_uint>* pending_key_ = nullptr;  // the last build's keys in its order (r_key_ or t_key_)
     DeviceBuffer<cl_uint> start_, layout_start_, chunk_counts_;
-    DeviceBuffer<cl_uint> hist_, totals_;
-    cl::Kernel keys_k_, movers_write_, radix_hist_, radix_scatter_;
-    cl::Kernel radix_rows_, sort_runs_, merge_, starts_, permute_state_;
+    RadixSort radix_;  // of the movers, by cell
+    cl::Kernel keys_k_, movers_write_, sort_runs_, merge_, starts_, permute_state_;
 };
 
 }  // namespace swarmcl

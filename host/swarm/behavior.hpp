@@ -1,20 +1,45 @@
-// What a swarm model plugs into the step pipeline (DESIGN.md, "The step"):
-// given the swarm, advance its agents by one time step on the device.
+// What a swarm model plugs into the step pipeline (docs/architecture.md,
+// "The step"): given the swarm, advance its agents by one time step on the
+// device; and which of the swarm's stages run after that, configured per
+// model (as FLAME GPU 2 orders its layers): Swarm::step runs advance(), the
+// constraint stage (minimum distance enforcement, then the model's own
+// after_constraints()), then counts the step statistics.
 #pragma once
 #include <cstdint>
-#include <optional>
+
+#include "device/buffer.hpp"
 
 namespace swarmcl {
 
 class Swarm;
 
 // Statistics of a model's minimum distance enforcement, read back from the
-// device only when asked for (swcl_swarm_take_step_stats).
+// device only when asked for (Swarm::take_step_stats,
+// swcl_swarm_take_step_stats).
 struct StepStats {
     uint32_t agents = 0;
     uint32_t mde_moved_last = 0;   // agents moved by MDE in the last step
     uint64_t mde_moved_total = 0;  // summed over steps since the last read
     uint64_t steps = 0;            // steps since the last read
+};
+
+// The swarm's stages after a model's advance().
+struct StepStages {
+    // Minimum distance enforcement (kernels/min_distance.cl): pairs closer
+    // than `distance` are pushed apart, the pushes' random tie-breaks keyed
+    // by `seed`.  0: off.
+    float min_distance = 0.0f;
+    uint64_t seed = 0;
+    // true: the model runs the pass on a spatial index of its own
+    // (Behavior::enforce_min_distance); false: the swarm's MinDistance over
+    // its neighbour grid.
+    bool own_min_distance = false;
+    // Whether the swarm counts step statistics for this model (otherwise
+    // Swarm::take_step_stats has none to give).
+    bool stats = false;
+    // false: a step of a swarm without agents runs no constraint stage and
+    // is not counted (the force model's rule).
+    bool count_empty_steps = true;
 };
 
 class Behavior {
@@ -23,9 +48,13 @@ public:
     // Step number `step` (0-based, counted over the swarm's life).  Enqueues
     // work only; nothing waits.
     virtual void advance(Swarm& swarm, uint64_t step) = 0;
-    // Reads and resets the model's statistics (waits for the device); none
-    // for a model without them.
-    virtual std::optional<StepStats> take_stats(Swarm&) { return std::nullopt; }
+    // The stages this model asks for (asked at every step).
+    virtual StepStages stages() const { return {}; }
+    // The MDE pass where stages().own_min_distance: enqueues it, sets
+    // moved[0] to the agents it moved and adds them to moved[1].
+    virtual void enforce_min_distance(Swarm&, DeviceBuffer<cl_uint>& /*moved*/) {}
+    // After the constraint stage (e.g. the force model's obstacle push-out).
+    virtual void after_constraints(Swarm&, uint64_t /*step*/) {}
 };
 
 }  // namespace swarmcl

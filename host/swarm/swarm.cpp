@@ -60,7 +60,8 @@ Swarm::Swarm(std::shared_ptr<Context> ctx, const SwarmConfig& config)
       config_(checked(config, *ctx_)),
       grid_(*ctx_, GridGeometry::cover(config.domain_min.data(), config.domain_max.data(),
                                        config.interaction_radius, max_cells_for(config.capacity)),
-            config.capacity) {
+            config.capacity),
+      stats_(*ctx_) {
     Context& c = *ctx_;
     const uint32_t cap = config_.capacity;
     pos_.allocate(c, cap, "positions");
@@ -153,10 +154,47 @@ void Swarm::read(Attribute attribute, float* dst, size_t count) {
     packed_.download(*ctx_, dst, size_t(n_) * 3);
 }
 
+void Swarm::set_behavior(std::shared_ptr<Behavior> behavior) {
+    behavior_ = std::move(behavior);
+    stats_.reset(*ctx_);
+    if (behavior_) {
+        // The MDE kernels are built with the model, as each model built them
+        // when it ran the pass itself.
+        const StepStages st = behavior_->stages();
+        if (st.min_distance > 0.0f && !st.own_min_distance) min_distance_pass(st);
+    }
+}
+
+MinDistance& Swarm::min_distance_pass(const StepStages& st) {
+    if (!mde_ || mde_->distance() != st.min_distance || mde_->seed() != st.seed)
+        mde_.emplace(*ctx_, st.min_distance, st.seed);
+    return *mde_;
+}
+
+std::optional<StepStats> Swarm::take_step_stats() {
+    if (!behavior_ || !behavior_->stages().stats) return std::nullopt;
+    return stats_.take(*this);
+}
+
+void Swarm::run_stages(uint64_t step) {
+    behavior_->advance(*this, step);
+    const StepStages st = behavior_->stages();
+    if (n_ == 0 && !st.count_empty_steps) return;
+    if (st.min_distance > 0.0f) {
+        if (st.own_min_distance) {
+            behavior_->enforce_min_distance(*this, stats_.device());
+        } else {
+            min_distance_pass(st).apply(*this, stats_.device());
+        }
+    }
+    behavior_->after_constraints(*this, step);
+    if (st.stats) stats_.count_step();
+}
+
 void Swarm::step(uint32_t steps) {
     for (uint32_t s = 0; s < steps; ++s) {
         if (behavior_) {
-            behavior_->advance(*this, steps_);
+            run_stages(steps_);
         } else {
             set_args(integrate_, pos_.get(), vel_.get(), n_, config_.dt);
             launch(*ctx_, integrate_, n_);

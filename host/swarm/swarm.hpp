@@ -1,16 +1,19 @@
 // A swarm: agent state on the device (structure of arrays, float4, kept in
 // grid-cell order with an id array mapping back), its neighbour grid, and the
-// step pipeline (DESIGN.md, "The step").
+// step pipeline (docs/architecture.md, "The step"): the model's advance, the
+// constraint stage (minimum distance enforcement) and the step statistics.
 #pragma once
 #include <array>
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <optional>
 
 #include "device/buffer.hpp"
 #include "device/context.hpp"
 #include "spatial/neighbor_grid.hpp"
 #include "swarm/behavior.hpp"
+#include "swarm/min_distance.hpp"
 
 namespace swarmcl {
 
@@ -70,9 +73,13 @@ public:
     // next index.
     cl_uint set_step_args(cl::Kernel& kernel, uint64_t step, cl_uint index = 0);
 
-    // The model that moves the agents (nullptr: ballistic motion).
-    void set_behavior(std::shared_ptr<Behavior> behavior) { behavior_ = std::move(behavior); }
+    // The model that moves the agents (nullptr: ballistic motion); its step
+    // statistics start from zero.
+    void set_behavior(std::shared_ptr<Behavior> behavior);
     Behavior* behavior() const { return behavior_.get(); }
+    // Reads and resets the step statistics (waits for the device); none
+    // without a model or for a model whose StepStages count none.
+    std::optional<StepStats> take_step_stats();
 
     // Held by the C API around every call on this swarm.
     std::mutex& mutex() { return mutex_; }
@@ -82,6 +89,9 @@ private:
     void place_uniformly(uint32_t count);
     void set_count(uint32_t n);
     void ensure_slot_of();
+    // The stages after the model's advance (Behavior::stages).
+    void run_stages(uint64_t step);
+    MinDistance& min_distance_pass(const StepStages& stages);
 
     std::shared_ptr<Context> ctx_;
     SwarmConfig config_;
@@ -98,6 +108,8 @@ private:
     cl::Kernel gather_, scatter_, identity_, integrate_, slot_of_k_;
     cl::Kernel count_, nearest_, lists_;
     std::shared_ptr<Behavior> behavior_;
+    StepCounters stats_;
+    std::optional<MinDistance> mde_;  // the swarm's MDE pass, for the model's distance and seed
     std::mutex mutex_;
 };
 

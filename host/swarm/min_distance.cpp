@@ -1,4 +1,4 @@
-#include "models/min_distance.hpp"
+#include "swarm/min_distance.hpp"
 
 #include <string>
 
@@ -7,9 +7,14 @@
 
 namespace swarmcl {
 
-MdeCounters::MdeCounters(Context& ctx) : moved_(ctx, 2, "MDE counters") { moved_.fill(ctx, 0u, 2); }
+StepCounters::StepCounters(Context& ctx) : moved_(ctx, 2, "MDE counters") { moved_.fill(ctx, 0u, 2); }
 
-StepStats MdeCounters::take(Swarm& swarm) {
+void StepCounters::reset(Context& ctx) {
+    moved_.fill(ctx, 0u, 2);
+    steps_ = 0;
+}
+
+StepStats StepCounters::take(Swarm& swarm) {
     cl_uint counts[2] = {0, 0};
     moved_.download(swarm.context(), counts, 2);
     moved_.fill(swarm.context(), 0u, 2);

@@ -1,5 +1,6 @@
 // Minimum distance enforcement over the swarm's grid (kernels/min_distance.cl):
-// a stage any model can run after its position update.
+// the constraint stage Swarm::step runs after a model's advance where the
+// model's StepStages ask for it; and the step statistics' counters.
 #pragma once
 #include <cstdint>
 
@@ -11,14 +12,16 @@ namespace swarmcl {
 
 class Swarm;
 
-// The MDE counters a model keeps between reads: agents moved in the last pass
-// and summed over passes (on the device, written by MinDistance::apply), and
-// the steps since the last read (host).
-class MdeCounters {
+// The step statistics' counters the swarm keeps between reads: agents moved
+// by MDE in the last pass and summed over passes (on the device, written by
+// the MDE pass), and the steps since the last read (host).
+class StepCounters {
 public:
-    explicit MdeCounters(Context& ctx);
+    explicit StepCounters(Context& ctx);
     DeviceBuffer<cl_uint>& device() { return moved_; }
     void count_step() { ++steps_; }
+    // Zeroes them (enqueued).
+    void reset(Context& ctx);
     // Reads and resets them (waits for the device).
     StepStats take(Swarm& swarm);
 
@@ -36,6 +39,7 @@ public:
     void apply(Swarm& swarm, DeviceBuffer<cl_uint>& moved);
 
     float distance() const { return d_min_; }
+    uint64_t seed() const { return seed_; }
     // Agents per work-item of the explicit-width kernel
     // (min_distance_enforce_w, 8 or 16 lanes) on CPU devices, used where the
     // grid's cells are at most 5 d_min; 1 (the scalar kernel everywhere) on

@@ -1,0 +1,88 @@
+#include "spatial/point_grid.hpp"
+
+#include <algorithm>
+#include <cstring>
+
+namespace swarmcl {
+namespace {
+// Work-items of the bounding box pass; radix blocks and digit width (a few
+// thousand cells per agent count: 9 bits, as the force model's fine grid
+// was tuned); cells per point at most, and at least this many cells.
+constexpr uint32_t kBoundsChunks = 16, kRadixBlocks = 16, kMaxRadixBits = 9;
+constexpr uint32_t kCellsPerPoint = 8, kMinCells = 1024;
+}  // namespace
+
+PointGrid::PointGrid(Context& ctx) : ctx_(ctx) {
+    bounds_k_ = ctx.kernel("point_grid.cl", "point_grid_bounds");
+    geometry_k_ = ctx.kernel("point_grid.cl", "point_grid_geometry");
+    keys_k_ = ctx.kernel("point_grid.cl", "point_grid_keys");
+    starts_k_ = ctx.kernel("point_grid.cl", "point_grid_starts");
+    part_.allocate(ctx, 2 * kBoundsChunks, "point grid bounds");
+    geo_.allocate(ctx, 2, "point grid geometry");
+    count_.allocate(ctx, 1, "point grid count");
+}
+
+uint32_t PointGrid::max_cells(uint32_t n) { return std::max(kMinCells, kCellsPerPoint * n); }
+
+void PointGrid::reserve(uint32_t n, uint32_t cells) {
+    if (allocated_ && n == n_ && cells == cells_) return;
+    n_ = n;
+    cells_ = cells;
+    allocated_ = true;
+    radix_.emplace(ctx_, cells - 1u, kRadixBlocks, kMaxRadixBits);
+    const size_t slots = std::max<uint32_t>(n, 1);
+    for (int k = 0; k < 2; ++k) {
+        key_[k].allocate(ctx_, slots, "point grid keys");
+        slot_[k].allocate(ctx_, slots, "point grid slots");
+    }
+    start_.allocate(ctx_, size_t(cells) + 1, "point grid cell starts");
+}
+
+void PointGrid::build(const DeviceBuffer<cl_float4>& points, uint32_t n, float min_cell) {
+    reserve(n, max_cells(n));
+    set_args(bounds_k_, points.get(), n, kBoundsChunks, part_.get());
+    launch(ctx_, bounds_k_, kBoundsChunks);
+    set_args(geometry_k_, part_.get(), kBoundsChunks, min_cell, cells_, geo_.get());
+    launch(ctx_, geometry_k_, 1);
+    sort_and_count(points);
+}
+
+void PointGrid::build(const DeviceBuffer<cl_float4>& points, uint32_t n, const GridGeometry& g) {
+    reserve(n, g.cell_count());
+    const cl_int cells = cl_int(g.cell_count());
+    cl_float4 geo[2] = {{{g.origin[0], g.origin[1], g.origin[2], 1.0f / g.cell}}, {}};
+    for (int a = 0; a < 3; ++a) std::memcpy(&geo[1].s[a], &g.dims[size_t(a)], sizeof(float));
+    std::memcpy(&geo[1].s[3], &cells, sizeof(float));
+    geo_.upload(ctx_, geo, 2);
+    sort_and_count(points);
+}
+
+void PointGrid::sort_and_count(const DeviceBuffer<cl_float4>& points) {
+    const uint32_t n = n_;
+    sorted_key_ = &key_[0];
+    sorted_slot_ = &slot_[0];
+    if (n > 0) {
+        set_args(keys_k_, points.get(), n, geo_.get(), key_[0].get(), slot_[0].get(), count_.get());
+        launch(ctx_, keys_k_, n);
+        RadixSort::Columns a{&key_[0], &slot_[0], nullptr}, b{&key_[1], &slot_[1], nullptr};
+        radix_->sort(count_, a, b);
+        sorted_key_ = a.key;
+        sorted_slot_ = a.slot;
+    }
+    set_args(starts_k_, sorted_key_->get(), n, geo_.get(), start_.get());
+    launch(ctx_, starts_k_, size_t(n) + 1);
+}
+
+GridGeometry PointGrid::read_geometry() {
+    cl_float4 geo[2];
+    geo_.download(ctx_, geo, 2);
+    GridGeometry g;
+    for (int a = 0; a < 3; ++a) {
+        g.origin[size_t(a)] = geo[0].s[a];
+        std::memcpy(&g.dims[size_t(a)], &geo[1].s[a], sizeof(float));
+    }
+    g.cell = 1.0f / geo[0].s[3];
+    return g;
+}
+
+}  // namespace swarmcl

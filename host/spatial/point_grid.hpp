@@ -1,0 +1,65 @@
+// A uniform grid over any points (a float4 device buffer and a count) at any
+// cell size (kernels/point_grid.cl): the slots sorted by cell with the
+// stable RadixSort (so by slot within a cell), each cell's range of sorted
+// slots, and the geometry, computed on the device from the points' bounding
+// box or given.  The points themselves are not moved; queries walk a cell
+// range and read the points through sorted_slots().
+//
+// The swarm's NeighborGrid is the other index: at the swarm's interaction
+// radius, it reorders the agent state and sorts only the agents that left
+// their cell.  This one serves radii far from that (the force model's
+// repulsion and MDE, docs/force-model.md "the fine grid").
+#pragma once
+#include <cstdint>
+#include <optional>
+
+#include "device/buffer.hpp"
+#include "device/context.hpp"
+#include "spatial/grid_geometry.hpp"
+#include "spatial/radix_sort.hpp"
+
+namespace swarmcl {
+
+class PointGrid {
+public:
+    explicit PointGrid(Context& ctx);
+
+    // Cells of edge >= min_cell over the bounding box of the n points,
+    // computed on the device (so the grid follows the points without a
+    // read-back); the edge grows until there are at most max_cells(n).
+    // Enqueued only.
+    void build(const DeviceBuffer<cl_float4>& points, uint32_t n, float min_cell);
+    // The given cells (points outside are clamped into the border cells).
+    void build(const DeviceBuffer<cl_float4>& points, uint32_t n, const GridGeometry& geometry);
+
+    // Cells at most of a grid built over n points from their bounding box.
+    static uint32_t max_cells(uint32_t n);
+
+    uint32_t count() const { return n_; }
+    // geometry()[0] = origin xyz, 1 / cell edge in w; [1] = cells per axis
+    // and their product as int bits (grid_common.cl grid_from_geometry).
+    DeviceBuffer<cl_float4>& geometry() { return geo_; }
+    // sorted_slots()[k] = the slot at sorted position k; sorted_keys()[k]
+    // its cell.  Valid after a build with n > 0.
+    DeviceBuffer<cl_uint>& sorted_slots() { return *sorted_slot_; }
+    DeviceBuffer<cl_uint>& sorted_keys() { return *sorted_key_; }
+    // Cell c holds the sorted positions [start[c], start[c + 1]).
+    DeviceBuffer<cl_uint>& cell_start() { return start_; }
+    // The last build's geometry, read back (waits for the device).
+    GridGeometry read_geometry();
+
+private:
+    void reserve(uint32_t n, uint32_t cells);
+    void sort_and_count(const DeviceBuffer<cl_float4>& points);
+
+    Context& ctx_;
+    uint32_t n_ = 0, cells_ = 0;
+    bool allocated_ = false;
+    std::optional<RadixSort> radix_;  // its digits follow the cell count
+    DeviceBuffer<cl_float4> part_, geo_;  // part_: per-chunk bounding boxes
+    DeviceBuffer<cl_uint> key_[2], slot_[2], count_, start_;
+    DeviceBuffer<cl_uint>*sorted_key_ = &key_[0], *sorted_slot_ = &slot_[0];
+    cl::Kernel bounds_k_, geometry_k_, keys_k_, starts_k_;
+};
+
+}  // namespace swarmcl

@@ -1,0 +1,79 @@
+// A uniform grid over any points at any cell size (spatial/point_grid.hpp):
+// the geometry from the points' bounding box (or given by the host), a cell
+// key per slot, the slots sorted by cell with grid.cl's stable radix sort
+// (so by slot within a cell), and each cell's range of sorted slots.  The
+// points are not moved.  Everything is deterministic: min/max are exact, the
+// sort is stable and each cell's range is written by exactly one work-item.
+//
+// Geometry (geo[0], geo[1]): grid_common.cl grid_from_geometry.
+#include "grid_common.cl"
+
+// Chunk b's bounding box: part[2 b], part[2 b + 1] (empty: +inf, -inf).
+__kernel void point_grid_bounds(__global const float4* pos, uint n, uint nchunks, __global float4* part) {
+    const uint b = get_global_id(0);
+    if (b >= nchunks) return;
+    const uint size = (n + nchunks - 1u) / nchunks;
+    const uint begin = min(b * size, n), end = min(begin + size, n);
+    float4 lo = (float4)(INFINITY), hi = (float4)(-INFINITY);
+    for (uint s = begin; s < end; ++s) {
+        const float4 p = (float4)(pos[s].xyz, 0.0f);
+        lo = fmin(lo, p);
+        hi = fmax(hi, p);
+    }
+    part[2 * b] = lo;
+    part[2 * b + 1] = hi;
+}
+
+// One work-item: the box of all chunks, then the cell edge h >= h_min with at
+// most max_cells cells over it.
+__kernel void point_grid_geometry(__global const float4* part, uint nchunks, float h_min, uint max_cells,
+                                  __global float4* geo) {
+    if (get_global_id(0) != 0) return;
+    float4 lo = (float4)(INFINITY), hi = (float4)(-INFINITY);
+    for (uint b = 0; b < nchunks; ++b) {
+        lo = fmin(lo, part[2 * b]);
+        hi = fmax(hi, part[2 * b + 1]);
+    }
+    float4 ext = hi - lo;
+    // No points, or a box too large for a float volume: one cell (points are
+    // clamped into it; queries stay exact, only slow).
+    if (!(lo.x <= hi.x) || !(ext.x * ext.y * ext.z < INFINITY)) ext = (float4)(0.0f);
+    if (!(lo.x <= hi.x)) lo = (float4)(0.0f);
+    float h = fmax(h_min, cbrt(ext.x * ext.y * ext.z / (float)max_cells));
+    float4 fd;
+    for (;;) {  // cells per axis counted in float, so a huge extent cannot overflow
+        fd = floor(ext / h) + 1.0f;
+        const float m = (float)max_cells;
+        if (fd.x <= m && fd.y <= m && fd.z <= m &&
+            (ulong)fd.x * (ulong)fd.y * (ulong)fd.z <= (ulong)max_cells)
+            break;
+        h *= 1.25f;
+    }
+    const int4 dims = (int4)((int)fd.x, (int)fd.y, (int)fd.z, 0);
+    geo[0] = (float4)(lo.xyz, 1.0f / h);
+    geo[1] = (float4)(as_float(dims.x), as_float(dims.y), as_float(dims.z), as_float(dims.x * dims.y * dims.z));
+}
+
+// keys[s] = cell of slot s, slots[s] = s; *count = n (the radix sort's
+// length).
+__kernel void point_grid_keys(__global const float4* pos, uint n, __global const float4* geo,
+                              __global uint* keys, __global uint* slots, __global uint* count) {
+    const uint s = get_global_id(0);
+    if (s >= n) return;
+    if (s == 0) *count = n;
+    const Grid g = grid_from_geometry(geo, 0);
+    keys[s] = grid_cell_index(&g, grid_cell_of(&g, (float4)(pos[s].xyz, 0.0f)));
+    slots[s] = s;
+}
+
+// start[c] = first sorted slot of cell c, for c in [0, ncells] (ncells: the
+// geometry's): item k writes the cells in (key[k - 1], key[k]], item n the
+// rest.
+__kernel void point_grid_starts(__global const uint* skeys, uint n, __global const float4* geo,
+                                __global uint* start) {
+    const uint k = get_global_id(0);
+    if (k > n) return;
+    const uint from = k == 0u ? 0u : skeys[k - 1u] + 1u;
+    const uint to = k == n ? as_uint(geo[1].w) : skeys[k];
+    for (uint c = from; c <= to; ++c) start[c] = k;
+}
