@@ -223,6 +223,7 @@ void NoiseField::bake() {
     cl::Kernel kernel = this->kernel("noise_field.cl", "noise_bake");
     const cl_uint i = set_args(kernel, 0);  // procedural: baked_ready_ is false
     kernel.setArg(i, grid.get());
+    check_arg_count(kernel, i + 1);
     launch(ctx_, kernel, nodes);
     ctx_.queue().finish();
     baked_ = std::move(grid);
@@ -242,6 +243,7 @@ void NoiseField::enqueue_sample(cl::Kernel& kernel, const DeviceBuffer<cl_float4
     kernel.setArg(i++, step);
     i = set_args(kernel, i);
     kernel.setArg(i, out.get());
+    check_arg_count(kernel, i + 1);
     const uint32_t w = width();
     launch(ctx_, kernel, (size_t(n) + w - 1) / w);
 }

@@ -114,6 +114,7 @@ void PathModel::bake_local_field(const std::string& defines) {
     k.setArg(i++, vl_cell_);
     k.setArg(i++, vl_dims_);
     k.setArg(i++, vl_.get());
+    check_arg_count(k, i);
     launch(ctx_, k, nodes);
 }
 
@@ -163,6 +164,7 @@ void PathModel::advance(Swarm& swarm, uint64_t step) {
     advance_.setArg(i++, vl_min_);
     advance_.setArg(i++, vl_cell_);
     advance_.setArg(i++, vl_dims_);
+    check_arg_count(advance_, i);
     launch(ctx_, advance_, (size_t(n) + width_ - 1) / width_);
     swarm.positions_changed();
     if (mde_) mde_->apply(swarm, counters_.device());
