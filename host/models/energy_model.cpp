@@ -232,6 +232,9 @@ void EnergyModel::sample_noise(Swarm& swarm, uint64_t step) {
 }
 
 cl_uint EnergyModel::set_common_args(cl::Kernel& k, Swarm& swarm, uint64_t step) {
+    // energy_select's argument groups in order (kernels/energy_model.cl,
+    // EM_SELECT_PARAMS): state and time, dataset, weights, scene, prepared
+    // planes, grid, noise; the caller adds the outputs and checks the count.
     const auto& c = config_;
     cl_uint i = swarm.set_step_args(k, step);
     k.setArg(i++, dv_.get());
