@@ -11,7 +11,7 @@
 // EM_MAX_CAND (the most candidates of any agent), EM_TERMS (the checking
 // variant that writes every term of every candidate and moves nothing) and
 // EM_TAYLOR_OA (Eq. 6 by a second-order expansion, see below) and
-// EM_KEEP_OUT (1: startling stimuli are kept out of, see the candidate loop).
+// EM_KEEP_OUT (1: startling stimuli are kept out of, see em_environment_term).
 #include "noise_field.cl"
 #include "grid_common.cl"
 
@@ -124,110 +124,155 @@ inline emv em_closestv(float3 r0, float3 vs, emv vx, emv vy, emv vz, float h) {
     return em_lenv(r0.x + ux * tau, r0.y + uy * tau, r0.z + uz * tau);
 }
 
-// Kernel arguments (EnergyModel::set_step_args):
-//   state: pos, vel (float4, slot order), ids, n;
-//   time: dt, t, step;
-//   dataset (sorted by speed): dv = (v, 0); ds = the EM_P_* planes of
-//            v, v^, a^ and |a| (unit vectors and lengths precomputed on the
-//            host), ds_stride floats apart; group_start (groups + 1),
+// energy_select's arguments in groups, in the order EnergyModel::set_common_args
+// sets them (host/device/kernel_args.hpp checks the count):
+//   EM_STATE_PARAMS (Swarm::set_step_args): pos, vel (float4, slot order), ids, n;
+//            dt, t, step;
+//   EM_DATASET_PARAMS (sorted by speed): dv = (v, 0); ds = the EM_P_* planes
+//            of v, v^, a^ and |a| (unit vectors and lengths precomputed on
+//            the host), ds_stride floats apart; group_start (groups + 1),
 //            group_min_speed, groups, span (neighbouring groups searched);
-//   centre: float4 (xyz: swarm centre, from energy_centre_*);
-//   w, wd: weights normally and in danger (float8, order W_*);
-//   radii: (d_rep, d_att1, d_att2, rho); extra: (accel_time, danger_horizon, keypoint_reach, keypoints_closed);
-//   stim: 2 float4 per stimulus ((x, y, z, kind), (d_danger, vx, vy, vz)) at t = 0, nstim;
-//   kp: keypoints (float4), nkp, goal (per agent id);
-//   pxyz: the positions as x, y, z planes (slot order after EM_W slots of
-//         padding, pstride floats apart; energy_prepare), so a 16-slot
-//         window is a few vector loads;
-//   noise_pre: f_N at each slot (EM_NOISE_PRE: noise_sample_w);
-//   grid, noise.
-__kernel void energy_select(__global const float4* pos, __global const float4* vel, __global const uint* ids,
-                            uint n, float dt, float t, uint step,
-                            __global const float4* dv, __global const float* ds, uint ds_stride,
-                            __global const uint* group_start, __global const float* group_min_speed,
-                            uint groups, uint span,
-                            __global const float4* centre, float8 w, float8 wd, float4 radii, float4 extra,
-                            __global const float4* stim, uint nstim,
-                            __global const float4* kp, uint nkp, __global uint* goal,
-                            __global const float* pxyz, uint pstride, __global const float4* noise_pre,
-                            GRID_PARAMS, NOISE_PARAMS,
+//   EM_WEIGHT_PARAMS: centre (xyz: swarm centre, from energy_centre_*);
+//            w, wd: weights normally and in danger (float8, order W_*);
+//            radii: (d_rep, d_att1, d_att2, rho);
+//            extra: (accel_time, danger_horizon, keypoint_reach, keypoints_closed);
+//   EM_SCENE_PARAMS: stim: 2 float4 per stimulus ((x, y, z, kind),
+//            (d_danger, vx, vy, vz)) at t = 0, nstim; kp: keypoints (float4),
+//            nkp, goal (per agent id);
+//   EM_PREPARED_PARAMS (energy_prepare, noise_sample_w): pxyz, the positions
+//            as x, y, z planes (slot order after EM_W slots of padding,
+//            pstride floats apart), so a 16-slot window is a few vector
+//            loads; noise_pre: f_N at each slot (EM_NOISE_PRE);
+//   then GRID_PARAMS, NOISE_PARAMS and EM_OUTPUT_PARAMS (EM_TERMS: every
+//   term of every candidate, the choice and the candidate range; otherwise
+//   the new positions and velocities).
+#define EM_STATE_PARAMS                                                                              \
+    __global const float4 *pos, __global const float4 *vel, __global const uint *ids, uint n, float dt, \
+        float t, uint step
+#define EM_DATASET_PARAMS                                                                            \
+    __global const float4 *dv, __global const float *ds, uint ds_stride, __global const uint *group_start, \
+        __global const float *group_min_speed, uint groups, uint span
+#define EM_WEIGHT_PARAMS __global const float4 *centre, float8 w, float8 wd, float4 radii, float4 extra
+#define EM_SCENE_PARAMS                                                                              \
+    __global const float4 *stim, uint nstim, __global const float4 *kp, uint nkp, __global uint *goal
+#define EM_PREPARED_PARAMS __global const float *pxyz, uint pstride, __global const float4 *noise_pre
 #ifdef EM_TERMS
-                            __global float* terms, __global uint* chosen, __global uint* cand_range
+#define EM_OUTPUT_PARAMS __global float *terms, __global uint *chosen, __global uint *cand_range
 #else
-                            __global float4* pos_out, __global float4* vel_out
+#define EM_OUTPUT_PARAMS __global float4 *pos_out, __global float4 *vel_out
 #endif
-) {
-    const uint i = get_global_id(0);
-    if (i >= n) return;
-    const float d_rep = radii.x, d_att1 = radii.y, d_att2 = radii.z, rho = radii.w;
+#define EM_SELECT_PARAMS                                                                             \
+    EM_STATE_PARAMS, EM_DATASET_PARAMS, EM_WEIGHT_PARAMS, EM_SCENE_PARAMS, EM_PREPARED_PARAMS, GRID_PARAMS, \
+        NOISE_PARAMS, EM_OUTPUT_PARAMS
+
+// energy_select's parts below are always inlined (one work-item's private
+// state stays in registers and on its stack as in one function; the split
+// is for reading, measured no slower in bench/energy_bench.cpp).  Each keeps
+// its statements as they were, so the arithmetic, and the results, are the
+// same bit for bit.
+#define EM_INLINE __attribute__((always_inline)) inline
+
+#define EM_LANES ((int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15))
+
+// Agent i as the terms see it.
+typedef struct {
+    float3 p, vt;  // position, velocity v_t
+    float dt, t;   // time step, time
+    float h;       // danger horizon: max(dt, danger_horizon)
     // Every exp(rho x) as exp2(rho2 x), rho2 = rho log2(e) (one rounding
     // more: relative error 1e-6 at most here): PoCL's exp2 on float16 is
     // cheaper than its exp (6-7% of the step on the 2-core AVX2 PoCL CPU,
     // bench/energy_bench.cpp, docs/energy-model.md section 6).
-    const float rho2 = rho * 1.44269504088896341f;
-    const float accel_time = extra.x, horizon = extra.y, reach = extra.z;
-    const int closed = extra.w != 0.0f;
-    const float4 p4 = pos[i];
-    const float3 p = p4.xyz;
-    const float3 vt = vel[i].xyz;
-    const uint id = ids[i];
+    float rho2;
+} EmAgent;
 
-    // Candidates: the agent's speed group and `span` groups on each side.
+// Agent i's candidates (§5.2.1, reduced search): samples [c0, c0 + nc) of
+// the dataset planes, in nchunks chunks of EM_W lanes.
+typedef struct {
+    __global const float* ds;
+    uint ds_stride;
+    uint c0, nc, nchunks;
+} EmCandidates;
+
+// The candidates: the speed group of |v_t| and `span` groups on each side.
+EM_INLINE EmCandidates em_candidates(float3 vt, __global const float* ds, uint ds_stride,
+                                     __global const uint* group_start, __global const float* group_min_speed,
+                                     uint groups, uint span) {
     const uint g = em_group(em_len(vt), group_min_speed, groups);
     const uint c0 = group_start[g > span ? g - span : 0u];
     const uint c1 = group_start[min(groups, g + span + 1u)];
-    const uint nc = c1 - c0;  // <= EM_MAX_CAND (host sizes it)
-    const uint nchunks = (nc + EM_W - 1u) / EM_W;
+    EmCandidates cs;
+    cs.ds = ds;
+    cs.ds_stride = ds_stride;
+    cs.c0 = c0;
+    cs.nc = c1 - c0;  // <= EM_MAX_CAND (host sizes it)
+    cs.nchunks = (cs.nc + EM_W - 1u) / EM_W;
+    return cs;
+}
 
-    // Directions the terms compare v^ with.
-    const float3 vt_hat = em_unit(vt);
-    const float3 centre_hat = em_unit(centre[0].xyz - p);  // Eq. 7
-    float nx, ny, nz;
-#ifdef EM_NOISE_PRE
-    // Sampled for all agents beforehand by the noise module's explicit-width
-    // kernel (noise_sample_w, the same field, the same values as the host
-    // reference's NoiseField::sample).
-    {
-        const float4 nv = noise_pre[i];
-        nx = nv.x; ny = nv.y; nz = nv.z;
-    }
-#else
-    NOISE_VELOCITY_S(p.x, p.y, p.z, t, id, step, &nx, &ny, &nz);
-#endif
-    const float3 noise_hat = em_unit((float3)(nx, ny, nz));  // f_N, Eq. 13
-    // f_CD (Eq. 15): towards the agent's goal keypoint.
+// f_CD (Eq. 15): the unit vector towards the agent's goal keypoint, 0
+// without keypoints; *my_goal: the goal (nearest keypoint on the first step,
+// ties: lowest index), GOAL_BACKWARD kept.
+EM_INLINE float3 em_goal_direction(__global const float4* kp, uint nkp, __global const uint* goal, uint id,
+                                   float4 p4, uint* my_goal) {
     float3 cd_hat = (float3)(0.0f);
-    uint my_goal = 0u;
+    *my_goal = 0u;
     if (nkp > 0u) {
-        my_goal = goal[id];
-        if ((my_goal & ~GOAL_BACKWARD) == GOAL_UNSET) {
-            // First step: the nearest keypoint is the first goal (ties: lowest index).
+        uint g = goal[id];
+        if ((g & ~GOAL_BACKWARD) == GOAL_UNSET) {
             uint best = 0u;
             float bd = INFINITY;
             for (uint k = 0; k < nkp; ++k) {
                 const float d = dist2(kp[k], p4);
                 if (d < bd) { bd = d; best = k; }
             }
-            my_goal = best | (my_goal & GOAL_BACKWARD);
+            g = best | (g & GOAL_BACKWARD);
         }
-        cd_hat = em_unit(kp[my_goal & ~GOAL_BACKWARD].xyz - p);
+        *my_goal = g;
+        cd_hat = em_unit(kp[g & ~GOAL_BACKWARD].xyz - p4.xyz);
     }
-    // In danger (Table 1, escaping): a startling stimulus comes within
-    // d_danger within the horizon at the agent's current velocity.
-    const float h = fmax(dt, horizon);
+    return cd_hat;
+}
+
+// In danger (Table 1, escaping): a startling stimulus comes within d_danger
+// within the horizon at the agent's current velocity.
+EM_INLINE bool em_in_danger(const EmAgent* a, __global const float4* stim, uint nstim) {
     bool danger = false;
     for (uint s = 0; s < nstim; ++s) {
-        const float4 sp = em_stimulus(stim, s, t);
-        if (sp.w != STIM_ATTRACT && em_closest(p - sp.xyz, vt - stim[2 * s + 1].yzw, h) < stim[2 * s + 1].x)
+        const float4 sp = em_stimulus(stim, s, a->t);
+        if (sp.w != STIM_ATTRACT && em_closest(a->p - sp.xyz, a->vt - stim[2 * s + 1].yzw, a->h) < stim[2 * s + 1].x)
             danger = true;
     }
-    const float8 wt = danger ? wd : w;
+    return danger;
+}
 
-    // Interaction sums per candidate (Eq. 4, 6), neighbours outer so the grid
-    // is walked once: RN = others within d_rep, AN = others with
-    // d_att1 <= d <= d_att2 (current positions; the sets do not depend on the
-    // candidate).
-    emv rep[EM_CHUNKS];
+// What the neighbours contribute to each candidate (Eq. 4, 6): RN = others
+// within d_rep, AN = others with d_att1 <= d <= d_att2 (current positions;
+// the sets do not depend on the candidate).
+typedef struct {
+    emv rep[EM_CHUNKS];  // Eq. 4's sum per candidate
+#ifdef EM_TAYLOR_OA
+    // Eq. 6's sum as the expansion's coefficients (em_gather_neighbors).
+    float s0, s3;
+    float3 s1;
+    float sxx, syy, szz, sxy, sxz, syz;
+#else
+    emv oa[EM_CHUNKS];  // Eq. 6's sum per candidate
+#endif
+    uint nrep, natt;  // |RN|, |AN|
+} EmNeighborSums;
+
+// The interaction sums, neighbours outer so the grid is walked once: the
+// rows of the search box of radius max(d_rep, d_att2), 16 slots at a time.
+EM_INLINE void em_gather_neighbors(const EmAgent* a, uint i, float4 p4, float4 radii, const EmCandidates* cs,
+                                   __global const float4* pos, __global const float4* vel, Grid grid,
+                                   __global const float* pxyz, uint pstride, EmNeighborSums* sums) {
+    const float3 p = a->p;
+    const float dt = a->dt, rho2 = a->rho2;
+    const float d_rep = radii.x, d_att1 = radii.y, d_att2 = radii.z, rho = radii.w;
+    __global const float* const ds = cs->ds;  // for EM_LOAD
+    const uint ds_stride = cs->ds_stride, c0 = cs->c0, nchunks = cs->nchunks;
+    emv* const rep = sums->rep;
     for (uint k = 0; k < nchunks; ++k) rep[k] = (emv)(0.0f);
 #ifdef EM_TAYLOR_OA
     // Eq. 6 summed over AN as a quadratic in the displacement d = v dt:
@@ -241,7 +286,7 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
     float sxx = 0.0f, syy = 0.0f, szz = 0.0f, sxy = 0.0f, sxz = 0.0f, syz = 0.0f;
     const float a_oa = rho / d_att1, a2_oa = rho2 / d_att1;  // a, and a log2(e)
 #else
-    emv oa[EM_CHUNKS];
+    emv* const oa = sums->oa;
     for (uint k = 0; k < nchunks; ++k) oa[k] = (emv)(0.0f);
 #endif
     uint nrep = 0u, natt = 0u;
@@ -281,8 +326,7 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
         vyz = (emv)(0.0f);
     int16 vatt = (int16)(0);
 #endif
-    const int16 lane = (int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-    const Grid grid = GRID_MAKE();
+    const int16 lane = EM_LANES;
     const float r_search = fmax(d_rep, d_att2);
     int4 blo, bhi;
     grid_search_box(&grid, p4, r_search, &blo, &bhi);
@@ -398,135 +442,275 @@ __kernel void energy_select(__global const float4* pos, __global const float4* v
         vstore16(vatt, 0, cnt);
         for (uint l = 0; l < (uint)EM_W; ++l) natt += (uint)cnt[l];
     }
+    sums->s0 = s0; sums->s1 = s1; sums->s3 = s3;
+    sums->sxx = sxx; sums->syy = syy; sums->szz = szz;
+    sums->sxy = sxy; sums->sxz = sxz; sums->syz = syz;
+#endif
+    sums->nrep = nrep;
+    sums->natt = natt;
+#undef EM_WINDOW
+#undef EM_WINDOW_ATTRACT
+#undef EM_NEIGHBOR
+#undef EM_ATTRACT_SCALAR
+}
+
+// Eq. 6's sum over AN for the candidates of chunk k (velocities vx, vy, vz):
+// the exact sums, or the expansion at their displacements m = v dt.
+EM_INLINE emv em_attraction_sum(const EmNeighborSums* sums, uint k, emv vx, emv vy, emv vz, float dt) {
+#ifdef EM_TAYLOR_OA
+    const float s0 = sums->s0, s3 = sums->s3, sxx = sums->sxx, syy = sums->syy, szz = sums->szz,
+                sxy = sums->sxy, sxz = sums->sxz, syz = sums->syz;
+    const float3 s1 = sums->s1;
+    const emv mx = vx * dt, my = vy * dt, mz = vz * dt;  // the candidates' displacements
+    const emv oa_c = s0 + (s1.x * mx + s1.y * my + s1.z * mz) + s3 * (mx * mx + my * my + mz * mz) +
+                     (sxx * mx * mx + syy * my * my + szz * mz * mz) +
+                     2.0f * (sxy * mx * my + sxz * mx * mz + syz * my * mz);
+    return oa_c;
+#else
+    return sums->oa[k];
+#endif
+}
+
+// E_rep (Eq. 4) and E_oa (Eq. 6): weight times the mean over RN / AN (0
+// for an empty set).
+EM_INLINE emv em_mean_term(float w, emv sum, uint count, float inv_count) {
+    return count ? w * (sum * inv_count) : (emv)(0.0f);
+}
+
+// A direction term, w exp(rho |v^ - u^|) over the lanes' unit velocities
+// (hx, hy, hz): E_cos (Eq. 7, u^ towards the centre), E_dir (Eq. 9, v^_t),
+// E_n (Eq. 13, f_N), E_user (Eq. 14, f_CD).  Terms whose weight is 0 are 0
+// (w * a finite exp): not evaluated.
+EM_INLINE emv em_direction_term(float w, float rho2, emv hx, emv hy, emv hz, float3 u) {
+    return w != 0.0f ? w * exp2(rho2 * em_dirv(hx, hy, hz, u)) : (emv)(0.0f);
+}
+
+// E_acc (Eq. 10) with a' = (v - v_t) / dt in m/s^2 like the dataset's a; the
+// magnitude difference is taken per data frame (times accel_time = the
+// data's frame time), the scale of the paper's a' = v - v_t.
+EM_INLINE emv em_acceleration_term(float w, const EmAgent* a, float inv_dt, float accel_time, const EmCandidates* cs,
+                                   uint c, emv vx, emv vy, emv vz) {
+    if (w == 0.0f) return (emv)(0.0f);
+    __global const float* const ds = cs->ds;  // for EM_LOAD
+    const uint ds_stride = cs->ds_stride;
+    const float3 vt = a->vt;
+    const float rho2 = a->rho2;
+    const emv ax = (vx - vt.x) * inv_dt, ay = (vy - vt.y) * inv_dt, az = (vz - vt.z) * inv_dt;
+    const emv alen = em_lenv(ax, ay, az);
+    const emv ainv = select((emv)(0.0f), 1.0f / alen, alen > 0.0f);  // em_unit: 0 for a zero vector
+    const emv da = em_lenv(ax * ainv - EM_LOAD(EM_P_AHX, c), ay * ainv - EM_LOAD(EM_P_AHY, c),
+                           az * ainv - EM_LOAD(EM_P_AHZ, c));
+    return w * (exp2(rho2 * da) + accel_time * fabs(alen - EM_LOAD(EM_P_AL, c)));
+}
+
+// E_env (Eq. 11-12), summed over the stimuli.  A startling stimulus: Psi
+// from the closest approach within the horizon, for an agent it startles
+// (in reach within the horizon at its current velocity).  Keep-out
+// (EM_KEEP_OUT, ours): *viol_out, how far the candidate would enter
+// d_danger (0: not at all), is compared before the energy, whatever w_env.
+EM_INLINE emv em_environment_term(float w, const EmAgent* a, __global const float4* stim, uint nstim, emv hx, emv hy,
+                                  emv hz, emv vx, emv vy, emv vz, emv* viol_out) {
+    const float3 p = a->p, vt = a->vt;
+    const float rho2 = a->rho2, h = a->h;
+    const bool env_on = w != 0.0f;
+    emv env = (emv)(0.0f), viol = (emv)(0.0f);
+    for (uint s = 0; s < (env_on || EM_KEEP_OUT ? nstim : 0u); ++s) {
+        const float4 sp = em_stimulus(stim, s, a->t);
+        if (sp.w == STIM_ATTRACT) {
+            if (env_on) env += exp2(rho2 * em_dirv(hx, hy, hz, em_unit(sp.xyz - p)));
+        } else {
+            const float dd = stim[2 * s + 1].x;
+            const float3 r0 = p - sp.xyz, vs = stim[2 * s + 1].yzw;
+            const bool startled = env_on && em_closest(r0, vt - vs, h) < dd;
+            if (startled || EM_KEEP_OUT) {
+                const emv dmin = em_closestv(r0, vs, vx, vy, vz, h);
+                if (startled) env += exp2(rho2 * (1.0f - dmin / dd));
+                if (EM_KEEP_OUT) viol = fmax(viol, 1.0f - dmin / dd);
+            }
+        }
+    }
+    *viol_out = viol;
+    return w * env;
+}
+
+// The directions the direction terms compare v^ with.
+typedef struct {
+    float3 centre;  // towards the swarm centre (Eq. 7)
+    float3 vt;      // the current velocity (Eq. 9)
+    float3 noise;   // f_N (Eq. 13)
+    float3 goal;    // f_CD, towards the goal keypoint (Eq. 15)
+} EmDirections;
+
+// The eight terms of E (order W_*) for the candidates of chunk k, and their
+// keep-out violation.
+EM_INLINE void em_chunk_energies(uint k, const EmAgent* a, const EmCandidates* cs, const EmNeighborSums* sums,
+                                 const EmDirections* dirs, float8 wt, float inv_dt, float inv_nrep, float inv_natt,
+                                 float accel_time, __global const float4* stim, uint nstim, emv* e, emv* viol) {
+    __global const float* const ds = cs->ds;  // for EM_LOAD
+    const uint ds_stride = cs->ds_stride;
+    const float rho2 = a->rho2;
+    const uint c = cs->c0 + k * EM_W;
+    const emv vx = EM_LOAD(EM_P_VX, c), vy = EM_LOAD(EM_P_VY, c), vz = EM_LOAD(EM_P_VZ, c);
+    const emv hx = EM_LOAD(EM_P_VHX, c), hy = EM_LOAD(EM_P_VHY, c), hz = EM_LOAD(EM_P_VHZ, c);
+    e[W_REP] = em_mean_term(wt.s0, sums->rep[k], sums->nrep, inv_nrep);                                // Eq. 4
+    e[W_OA] = em_mean_term(wt.s1, em_attraction_sum(sums, k, vx, vy, vz, a->dt), sums->natt, inv_natt);  // Eq. 6
+    e[W_COS] = em_direction_term(wt.s2, rho2, hx, hy, hz, dirs->centre);  // Eq. 7
+    e[W_DIR] = em_direction_term(wt.s3, rho2, hx, hy, hz, dirs->vt);      // Eq. 9
+    e[W_ACC] = em_acceleration_term(wt.s4, a, inv_dt, accel_time, cs, c, vx, vy, vz);  // Eq. 10
+    e[W_ENV] = em_environment_term(wt.s5, a, stim, nstim, hx, hy, hz, vx, vy, vz, viol);  // Eq. 11-12
+    e[W_N] = em_direction_term(wt.s6, rho2, hx, hy, hz, dirs->noise);     // Eq. 13
+    e[W_USER] = em_direction_term(wt.s7, rho2, hx, hy, hz, dirs->goal);   // Eq. 14
+}
+
+// The argmin so far, per lane over the chunks (strict <: a lane keeps its
+// first minimum).  The key is (keep-out violation, energy): least
+// violation first.
+typedef struct {
+    emv v, viol;
+    int16 k;  // the chunk
+} EmArgmin;
+
+EM_INLINE void em_argmin_init(EmArgmin* b) {
+    b->v = (emv)(INFINITY);
+    b->viol = (emv)(INFINITY);
+    b->k = (int16)(0);
+}
+
+// Chunk k's candidates (terms e, violation viol; lanes past nc masked) into the argmin.
+EM_INLINE void em_argmin_chunk(EmArgmin* b, uint k, uint nc, const emv* e, emv viol) {
+    emv total = (emv)(0.0f);
+    for (int q = 0; q < EM_TERM_COUNT; ++q) total += e[q];
+    viol = fmax(viol, 0.0f);
+    const int16 in_range = (int16)((int)(k * EM_W)) + EM_LANES < (int16)((int)nc);
+    const int16 lower = in_range && (viol < b->viol || (viol == b->viol && total < b->v));
+    b->viol = select(b->viol, viol, lower);
+    b->v = select(b->v, total, lower);
+    b->k = select(b->k, (int16)((int)k), lower);
+}
+
+// The argmin over the lanes with ties to the lower index: the first
+// candidate (offset from c0) holding the minimum, as a scan in index order
+// would pick.
+EM_INLINE uint em_argmin_resolve(const EmArgmin* b) {
+    uint best_c = 0u;
+    float bv[EM_W], bviol[EM_W];
+    int bk[EM_W];
+    vstore16(b->v, 0, bv);
+    vstore16(b->viol, 0, bviol);
+    vstore16(b->k, 0, bk);
+    float best = INFINITY, least_viol = INFINITY;
+    for (uint l = 0; l < (uint)EM_W; ++l) {
+        const uint cl = (uint)bk[l] * EM_W + l;
+        if (bviol[l] < least_viol ||
+            (bviol[l] == least_viol && (bv[l] < best || (bv[l] == best && best < INFINITY && cl < best_c)))) {
+            least_viol = bviol[l];
+            best = bv[l];
+            best_c = cl;
+        }
+    }
+    return best_c;
+}
+
+#ifdef EM_TERMS
+// The checking variant's output: every term of chunk k's candidates.
+EM_INLINE void em_write_terms(__global float* terms, uint id, uint k, uint nc, const emv* e) {
+    const uint nl = min((uint)EM_W, nc - k * EM_W);
+    for (int q = 0; q < EM_TERM_COUNT; ++q) {
+        float tl[EM_W];
+        vstore16(e[q], 0, tl);
+        for (uint l = 0; l < nl; ++l)
+            terms[((size_t)id * EM_MAX_CAND + k * EM_W + l) * EM_TERM_COUNT + q] = tl[l];
+    }
+}
+#else
+// Next keypoint once the goal is reached (§5.1.2), in the agent's direction;
+// open curves turn back at their ends.  Returns the goal to keep.
+EM_INLINE uint em_next_goal(__global const float4* kp, uint nkp, uint my_goal, float3 p_new, float reach,
+                            int closed) {
+    uint k = my_goal & ~GOAL_BACKWARD;
+    uint back = my_goal & GOAL_BACKWARD;
+    const float4 gk = kp[k];
+    if (dist2(gk, (float4)(p_new, 0.0f)) < reach * reach && nkp > 1u) {
+        if (closed) {
+            k = back ? (k + nkp - 1u) % nkp : (k + 1u) % nkp;
+        } else {
+            if (back && k == 0u) back = 0u;
+            else if (!back && k == nkp - 1u) back = GOAL_BACKWARD;
+            k = back ? k - 1u : k + 1u;
+        }
+    }
+    return k | back;
+}
 #endif
 
-    // Argmin per lane over the chunks (strict <: a lane keeps its first
-    // minimum), then over the lanes with ties to the lower index: the first
-    // candidate holding the minimum, as a scan in index order would pick.
-    // The key is (keep-out violation, energy): least violation first.
-    emv best_v = (emv)(INFINITY), best_viol = (emv)(INFINITY);
-    int16 best_k = (int16)(0);
-    // Terms whose weight is 0 are 0 (w * a finite exp): not evaluated.
-    const float inv_dt = 1.0f / dt;
-    const float inv_nrep = nrep ? 1.0f / (float)nrep : 0.0f, inv_natt = natt ? 1.0f / (float)natt : 0.0f;
-    for (uint k = 0; k < nchunks; ++k) {
-        const uint c = c0 + k * EM_W;
-        const emv vx = EM_LOAD(EM_P_VX, c), vy = EM_LOAD(EM_P_VY, c), vz = EM_LOAD(EM_P_VZ, c);
-        const emv hx = EM_LOAD(EM_P_VHX, c), hy = EM_LOAD(EM_P_VHY, c), hz = EM_LOAD(EM_P_VHZ, c);
-        emv e[EM_TERM_COUNT];
-        e[W_REP] = nrep ? wt.s0 * (rep[k] * inv_nrep) : (emv)(0.0f);                // Eq. 4
-#ifdef EM_TAYLOR_OA
-        const emv mx = vx * dt, my = vy * dt, mz = vz * dt;  // the candidates' displacements
-        const emv oa_c = s0 + (s1.x * mx + s1.y * my + s1.z * mz) + s3 * (mx * mx + my * my + mz * mz) +
-                         (sxx * mx * mx + syy * my * my + szz * mz * mz) +
-                         2.0f * (sxy * mx * my + sxz * mx * mz + syz * my * mz);
-#else
-        const emv oa_c = oa[k];
-#endif
-        e[W_OA] = natt ? wt.s1 * (oa_c * inv_natt) : (emv)(0.0f);                   // Eq. 6
-        e[W_COS] = wt.s2 != 0.0f ? wt.s2 * exp2(rho2 * em_dirv(hx, hy, hz, centre_hat)) : (emv)(0.0f);  // Eq. 7
-        e[W_DIR] = wt.s3 != 0.0f ? wt.s3 * exp2(rho2 * em_dirv(hx, hy, hz, vt_hat)) : (emv)(0.0f);      // Eq. 9
-        // Eq. 10 with a' = (v - v_t) / dt in m/s^2 like the dataset's a; the
-        // magnitude difference is taken per data frame (times accel_time =
-        // the data's frame time), the scale of the paper's a' = v - v_t.
-        if (wt.s4 != 0.0f) {
-            const emv ax = (vx - vt.x) * inv_dt, ay = (vy - vt.y) * inv_dt, az = (vz - vt.z) * inv_dt;
-            const emv alen = em_lenv(ax, ay, az);
-            const emv ainv = select((emv)(0.0f), 1.0f / alen, alen > 0.0f);  // em_unit: 0 for a zero vector
-            const emv da = em_lenv(ax * ainv - EM_LOAD(EM_P_AHX, c), ay * ainv - EM_LOAD(EM_P_AHY, c),
-                                   az * ainv - EM_LOAD(EM_P_AHZ, c));
-            e[W_ACC] = wt.s4 * (exp2(rho2 * da) + accel_time * fabs(alen - EM_LOAD(EM_P_AL, c)));
-        } else {
-            e[W_ACC] = (emv)(0.0f);
-        }
-        // Eq. 11-12, summed over the stimuli.  A startling stimulus: Psi
-        // from the closest approach within the horizon, for an agent it
-        // startles (in reach within the horizon at its current velocity).
-        // Keep-out (EM_KEEP_OUT, ours): `viol`, how far the candidate would
-        // enter d_danger (0: not at all), is compared before the energy,
-        // whatever w_env.
-        const bool env_on = wt.s5 != 0.0f;
-        emv env = (emv)(0.0f), viol = (emv)(0.0f);
-        for (uint s = 0; s < (env_on || EM_KEEP_OUT ? nstim : 0u); ++s) {
-            const float4 sp = em_stimulus(stim, s, t);
-            if (sp.w == STIM_ATTRACT) {
-                if (env_on) env += exp2(rho2 * em_dirv(hx, hy, hz, em_unit(sp.xyz - p)));
-            } else {
-                const float dd = stim[2 * s + 1].x;
-                const float3 r0 = p - sp.xyz, vs = stim[2 * s + 1].yzw;
-                const bool startled = env_on && em_closest(r0, vt - vs, h) < dd;
-                if (startled || EM_KEEP_OUT) {
-                    const emv dmin = em_closestv(r0, vs, vx, vy, vz, h);
-                    if (startled) env += exp2(rho2 * (1.0f - dmin / dd));
-                    if (EM_KEEP_OUT) viol = fmax(viol, 1.0f - dmin / dd);
-                }
-            }
-        }
-        e[W_ENV] = wt.s5 * env;
-        e[W_N] = wt.s6 != 0.0f ? wt.s6 * exp2(rho2 * em_dirv(hx, hy, hz, noise_hat)) : (emv)(0.0f);     // Eq. 13
-        e[W_USER] = wt.s7 != 0.0f ? wt.s7 * exp2(rho2 * em_dirv(hx, hy, hz, cd_hat)) : (emv)(0.0f);    // Eq. 14
-        emv total = (emv)(0.0f);
-        for (int q = 0; q < EM_TERM_COUNT; ++q) total += e[q];
-        viol = fmax(viol, 0.0f);
-        const int16 in_range = (int16)((int)(k * EM_W)) + lane < (int16)((int)nc);
-        const int16 lower = in_range && (viol < best_viol || (viol == best_viol && total < best_v));
-        best_viol = select(best_viol, viol, lower);
-        best_v = select(best_v, total, lower);
-        best_k = select(best_k, (int16)((int)k), lower);
-#ifdef EM_TERMS
-        const uint nl = min((uint)EM_W, nc - k * EM_W);
-        for (int q = 0; q < EM_TERM_COUNT; ++q) {
-            float tl[EM_W];
-            vstore16(e[q], 0, tl);
-            for (uint l = 0; l < nl; ++l)
-                terms[((size_t)id * EM_MAX_CAND + k * EM_W + l) * EM_TERM_COUNT + q] = tl[l];
-        }
-#endif
-    }
-    uint best_c = 0u;
+// One agent per work-item: the candidates, the directions and weights, the
+// neighbour sums, then every candidate's energy and the argmin (Eq. 1-15).
+__kernel void energy_select(EM_SELECT_PARAMS) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    const float rho = radii.w;
+    const float accel_time = extra.x, horizon = extra.y, reach = extra.z;
+    const int closed = extra.w != 0.0f;
+    const float4 p4 = pos[i];
+    const uint id = ids[i];
+    EmAgent a;
+    a.p = p4.xyz;
+    a.vt = vel[i].xyz;
+    a.dt = dt;
+    a.t = t;
+    a.h = fmax(dt, horizon);
+    a.rho2 = rho * 1.44269504088896341f;
+    const float3 p = a.p;
+
+    const EmCandidates cs = em_candidates(a.vt, ds, ds_stride, group_start, group_min_speed, groups, span);
+
+    EmDirections dirs;
+    dirs.vt = em_unit(a.vt);
+    dirs.centre = em_unit(centre[0].xyz - p);  // Eq. 7
+    float nx, ny, nz;
+#ifdef EM_NOISE_PRE
+    // Sampled for all agents beforehand by the noise module's explicit-width
+    // kernel (noise_sample_w, the same field, the same values as the host
+    // reference's NoiseField::sample).
     {
-        float bv[EM_W], bviol[EM_W];
-        int bk[EM_W];
-        vstore16(best_v, 0, bv);
-        vstore16(best_viol, 0, bviol);
-        vstore16(best_k, 0, bk);
-        float best = INFINITY, least_viol = INFINITY;
-        for (uint l = 0; l < (uint)EM_W; ++l) {
-            const uint cl = (uint)bk[l] * EM_W + l;
-            if (bviol[l] < least_viol ||
-                (bviol[l] == least_viol && (bv[l] < best || (bv[l] == best && best < INFINITY && cl < best_c)))) {
-                least_viol = bviol[l];
-                best = bv[l];
-                best_c = cl;
-            }
-        }
+        const float4 nv = noise_pre[i];
+        nx = nv.x; ny = nv.y; nz = nv.z;
     }
-#ifdef EM_TERMS
-    chosen[id] = c0 + best_c;
-    cand_range[2 * id] = c0;
-    cand_range[2 * id + 1] = c1;
 #else
-    const float3 v_new = dv[c0 + best_c].xyz;
+    NOISE_VELOCITY_S(p.x, p.y, p.z, t, id, step, &nx, &ny, &nz);
+#endif
+    dirs.noise = em_unit((float3)(nx, ny, nz));  // f_N, Eq. 13
+    uint my_goal;
+    dirs.goal = em_goal_direction(kp, nkp, goal, id, p4, &my_goal);  // f_CD, Eq. 15
+    const float8 wt = em_in_danger(&a, stim, nstim) ? wd : w;
+
+    EmNeighborSums sums;
+    em_gather_neighbors(&a, i, p4, radii, &cs, pos, vel, GRID_MAKE(), pxyz, pstride, &sums);
+
+    EmArgmin best;
+    em_argmin_init(&best);
+    const float inv_dt = 1.0f / dt;
+    const float inv_nrep = sums.nrep ? 1.0f / (float)sums.nrep : 0.0f;
+    const float inv_natt = sums.natt ? 1.0f / (float)sums.natt : 0.0f;
+    for (uint k = 0; k < cs.nchunks; ++k) {
+        emv e[EM_TERM_COUNT], viol;
+        em_chunk_energies(k, &a, &cs, &sums, &dirs, wt, inv_dt, inv_nrep, inv_natt, accel_time, stim, nstim, e, &viol);
+        em_argmin_chunk(&best, k, cs.nc, e, viol);
+#ifdef EM_TERMS
+        em_write_terms(terms, id, k, cs.nc, e);
+#endif
+    }
+    const uint best_c = em_argmin_resolve(&best);
+#ifdef EM_TERMS
+    chosen[id] = cs.c0 + best_c;
+    cand_range[2 * id] = cs.c0;
+    cand_range[2 * id + 1] = cs.c0 + cs.nc;
+#else
+    const float3 v_new = dv[cs.c0 + best_c].xyz;
     const float3 p_new = p + v_new * dt;  // Eq. 1
     pos_out[i] = (float4)(p_new, 0.0f);
     vel_out[i] = (float4)(v_new, 0.0f);
-    // Next keypoint once the goal is reached (§5.1.2), in the agent's direction;
-    // open curves turn back at their ends.
-    if (nkp > 0u) {
-        uint k = my_goal & ~GOAL_BACKWARD;
-        uint back = my_goal & GOAL_BACKWARD;
-        const float4 gk = kp[k];
-        if (dist2(gk, (float4)(p_new, 0.0f)) < reach * reach && nkp > 1u) {
-            if (closed) {
-                k = back ? (k + nkp - 1u) % nkp : (k + 1u) % nkp;
-            } else {
-                if (back && k == 0u) back = 0u;
-                else if (!back && k == nkp - 1u) back = GOAL_BACKWARD;
-                k = back ? k - 1u : k + 1u;
-            }
-        }
-        goal[id] = k | back;
-    }
+    if (nkp > 0u) goal[id] = em_next_goal(kp, nkp, my_goal, p_new, reach, closed);
 #endif
 }
 

@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "device/context.hpp"
+#include "device/kernel_args.hpp"
 
 namespace swarmcl {
 
@@ -52,9 +53,12 @@ private:
     size_t count_ = 0;
 };
 
-// Sets kernel arguments in order: set_args(k, a, b, c).
+// Sets kernel arguments in order: set_args(k, a, b, c).  They must be all
+// of the kernel's arguments (check_arg_count: Status::Internal otherwise,
+// before any is set).
 template <typename... Args>
 void set_args(cl::Kernel& kernel, const Args&... args) {
+    check_arg_count(kernel, cl_uint(sizeof...(Args)));
     cl_uint index = 0;
     (kernel.setArg(index++, args), ...);
 }

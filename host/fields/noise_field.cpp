@@ -226,6 +226,7 @@ DeviceBuffer<cl_float4> bake_nodes(Context& ctx, cl::Kernel& kernel, cl_uint out
     const size_t nodes = grid.nodes();
     DeviceBuffer<cl_float4> values(ctx, nodes, what);
     kernel.setArg(out_index, values.get());
+    check_arg_count(kernel, out_index + 1);
     launch(ctx, kernel, nodes);
     return values;
 }
@@ -256,6 +257,7 @@ void NoiseField::enqueue_sample(cl::Kernel& kernel, const DeviceBuffer<cl_float4
     kernel.setArg(i++, step);
     i = set_args(kernel, i);
     kernel.setArg(i, out.get());
+    check_arg_count(kernel, i + 1);
     const uint32_t w = width();
     launch(ctx_, kernel, (size_t(n) + w - 1) / w);
 }

@@ -232,6 +232,9 @@ void EnergyModel::sample_noise(Swarm& swarm, uint64_t step) {
 }
 
 cl_uint EnergyModel::set_common_args(cl::Kernel& k, Swarm& swarm, uint64_t step) {
+    // energy_select's argument groups in order (kernels/energy_model.cl,
+    // EM_SELECT_PARAMS): state and time, dataset, weights, scene, prepared
+    // planes, grid, noise; the caller adds the outputs and checks the count.
     const auto& c = config_;
     cl_uint i = swarm.set_step_args(k, step);
     k.setArg(i++, dv_.get());
@@ -274,6 +277,7 @@ void EnergyModel::advance(Swarm& swarm, uint64_t step) {
     cl_uint i = set_common_args(select_, swarm, step);
     select_.setArg(i++, swarm.scratch().get());
     select_.setArg(i++, vel_out_.get());
+    check_arg_count(select_, i);
     launch_per_agent(select_, n);
     if (n) ctx_.queue().enqueueCopyBuffer(vel_out_.get(), swarm.velocities().get(), 0, 0, size_t(n) * sizeof(cl_float4));
     swarm.swap_positions_with_scratch();
@@ -292,6 +296,7 @@ EnergyTerms EnergyModel::evaluate(Swarm& swarm, uint64_t step) {
     terms_.setArg(i++, terms.get());
     terms_.setArg(i++, chosen.get());
     terms_.setArg(i++, range.get());
+    check_arg_count(terms_, i);
     launch_per_agent(terms_, n);
     EnergyTerms out;
     out.terms.resize(size_t(n) * max_cand_ * 8);

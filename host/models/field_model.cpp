@@ -36,6 +36,7 @@ void FieldModel::advance(Swarm& swarm, uint64_t step) {
     advance_.setArg(i++, cl_float4{{c.goal[0], c.goal[1], c.goal[2], c.has_goal ? c.goal_radius : -1.0f}});
     advance_.setArg(i++, c.goal_speed);
     advance_.setArg(i++, c.goal_falloff);
+    check_arg_count(advance_, i);
     launch(swarm.context(), advance_, (size_t(n) + width_ - 1) / width_);
     swarm.positions_changed();
 }

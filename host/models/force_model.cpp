@@ -342,6 +342,7 @@ void ForceModel::enqueue_force(Swarm& swarm, uint64_t step) {
     }
     kf.setArg(i++, rep_.get());
     i = noise_->set_args(kf, i);
+    check_arg_count(kf, i);
     launch(swarm.context(), kf, (n + width_ - 1) / width_);
 }
 

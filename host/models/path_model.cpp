@@ -156,6 +156,7 @@ void PathModel::advance(Swarm& swarm, uint64_t step) {
     advance_.setArg(i++, vl_min_);
     advance_.setArg(i++, vl_cell_);
     advance_.setArg(i++, vl_dims_);
+    check_arg_count(advance_, i);
     launch(ctx_, advance_, (size_t(n) + width_ - 1) / width_);
     swarm.positions_changed();
 }

@@ -93,6 +93,7 @@ void NeighborGrid::build(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<
     keys_k_.setArg(7, chunks);
     keys_k_.setArg(8, keys_.get());
     keys_k_.setArg(9, chunk_counts_.get());
+    check_arg_count(keys_k_, 10);
     launch_chunks(ctx_, keys_k_, chunks);
     stage("grid_keys_count");
 

@@ -256,6 +256,7 @@ void Swarm::neighbor_count(float radius, uint32_t* out_counts, size_t count) {
     i = grid_.set_grid_args(count_, i);
     count_.setArg(i++, radius);
     count_.setArg(i++, query_u32_.get());
+    check_arg_count(count_, i);
     launch(*ctx_, count_, n_);
     query_u32_.download(*ctx_, out_counts, n_);
 }
@@ -274,6 +275,7 @@ void Swarm::nearest_neighbor(float* out_distances, uint32_t* out_ids, size_t cou
     i = grid_.set_grid_args(nearest_, i);
     nearest_.setArg(i++, query_f32_.get());
     nearest_.setArg(i++, query_u32_.get());
+    check_arg_count(nearest_, i);
     launch(*ctx_, nearest_, n_);
     query_f32_.download(*ctx_, out_distances, n_);
     if (out_ids) query_u32_.download(*ctx_, out_ids, n_);
@@ -303,6 +305,7 @@ uint32_t Swarm::neighbor_lists(float radius, uint32_t cap, uint32_t* out_ids, ui
     lists_.setArg(i++, cap);
     lists_.setArg(i++, lists.get());
     lists_.setArg(i++, query_u32_.get());
+    check_arg_count(lists_, i);
     launch(*ctx_, lists_, n_);
     lists.download(*ctx_, out_ids, size_t(entries));
     query_u32_.download(*ctx_, out_counts, n_);
