@@ -5,7 +5,7 @@
 // then p += v dt (explicit Euler, the paper's position update).
 // Built per noise configuration like noise_field.cl (NOISE_* defines); plain
 // scalar code so that PoCL vectorises it across agents.
-#include "noise_field.cl"
+#include "lib/noise_field.cl"
 
 __kernel void field_model_advance(__global float4* pos, __global float4* vel, __global const uint* ids,
                                   uint n, float dt, float t, uint step, NOISE_PARAMS, float4 goal,

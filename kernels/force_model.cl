@@ -7,10 +7,10 @@
 // (Eq. 8-9).  Built per noise configuration (NOISE_* defines, like
 // field_model.cl).  Choices where the paper is vague: docs/force-model.md
 // and the comments below.  Plain C++ reference: tests/test_force_model.cpp.
-#include "noise_field.cl"
-#include "grid_common.cl"
-#include "philox.cl"
-#include "min_distance_common.cl"
+#include "lib/noise_field.cl"
+#include "lib/grid_common.cl"
+#include "lib/philox.cl"
+#include "lib/min_distance_common.cl"
 
 // Philox stream of the neighbour sample (keyed by seed, sample group, step).
 #define FM_STREAM_SAMPLE 16u

@@ -6,7 +6,7 @@
 // Built per noise configuration like noise_field.cl, plus -DPATH_MESH=1 when
 // obstacle meshes shape the curl noise (the curl noise is then assembled
 // here from curl_noise.cl's pieces, the mesh last).
-#include "noise_field.cl"
+#include "lib/noise_field.cl"
 
 #ifndef PATH_MESH
 #define PATH_MESH 0

@@ -36,7 +36,7 @@
 #ifndef SWCL_PERLIN_CL
 #define SWCL_PERLIN_CL
 
-#include "philox.cl"
+#include "lib/philox.cl"
 
 /* Everything on the hot path is always inlined and written in plain scalar
  * floats and ints (no float3, no struct returns, no switch, no private
