@@ -226,6 +226,27 @@ SWCL_INLINE void noise_velocity_s(NOISE_PARAMS, float x, float y, float z, float
 // Component c of float4 element i of a buffer seen as floats.
 #define NOISE_AT(p, i, c) (p)[4 * (size_t)(i) + (c)]
 
+// ---- width-typed helpers for the per-width bodies (kernels/wide/) ----------
+//
+// A body written once for any width (docs/architecture.md, "Kernel layout")
+// calls SWCL_BFN(noise_load_xyz), SWCL_BFN(noise_store) and NOISE_VELOCITY_B:
+// at width 1 the scalar helpers here, at SWCL_W the _w ones below.
+
+// The xyz of float4 element i of p (seen as floats).
+SWCL_INLINE void noise_load_xyz_s(__global const float* p, uint i, uint n, float* x, float* y, float* z) {
+    *x = NOISE_AT(p, i, 0); *y = NOISE_AT(p, i, 1); *z = NOISE_AT(p, i, 2);
+}
+// Stores (a, b, c, 0) to float4 element i of o.
+SWCL_INLINE void noise_store_s(__global float* o, uint i, uint n, float a, float b, float c) {
+    NOISE_AT(o, i, 0) = a; NOISE_AT(o, i, 1) = b; NOISE_AT(o, i, 2) = c; NOISE_AT(o, i, 3) = 0.0f;
+}
+// The noise velocity at the body's width: noise_velocity_s or _w (which
+// ignores agent and step: the random noises have no wide path).
+#define NOISE_VELOCITY_B(x, y, z, t, agent, step, vx, vy, vz)                                                    \
+    SWCL_BFN(noise_velocity)(noise_type, noise_flags, noise_shape, noise_fd_step, noise_seed, noise_off0,      \
+                             noise_off1, noise_off2, noise_prims, noise_nprims, noise_baked, noise_bake_min,   \
+                             noise_bake_cell, noise_bake_dims, x, y, z, t, agent, step, vx, vy, vz)
+
 // ---- explicit-width path (CPU devices) --------------------------------------
 //
 // With -DNOISE_WIDTH=8|16 (NoiseField::width(): CPU devices, or
@@ -282,7 +303,7 @@ SWCL_INLINE void noise_baked_sample_w(__global const float4* baked, float4 bmin,
 }
 
 // noise_velocity_s on SWCL_W points (curl, Perlin vector or baked).
-SWCL_INLINE void noise_velocity_w(NOISE_PARAMS, swcl_fw x, swcl_fw y, swcl_fw z, float t,
+SWCL_INLINE void noise_velocity_w(NOISE_PARAMS, swcl_fw x, swcl_fw y, swcl_fw z, float t, uint agent, uint step,
                                   swcl_fw* vx, swcl_fw* vy, swcl_fw* vz) {
 #if NOISE_KIND == NOISE_KIND_BAKED
     noise_baked_sample_w(noise_baked, noise_bake_min, noise_bake_cell, noise_bake_dims, x, y, z, vx, vy, vz);
@@ -308,7 +329,7 @@ SWCL_INLINE void noise_velocity_w(NOISE_PARAMS, swcl_fw x, swcl_fw y, swcl_fw z,
 #define NOISE_VELOCITY_W(x, y, z, t, vx, vy, vz) \
     noise_velocity_w(noise_type, noise_flags, noise_shape, noise_fd_step, noise_seed, noise_off0, noise_off1, \
                      noise_off2, noise_prims, noise_nprims, noise_baked, noise_bake_min, noise_bake_cell,     \
-                     noise_bake_dims, x, y, z, t, vx, vy, vz)
+                     noise_bake_dims, x, y, z, t, 0u, 0u, vx, vy, vz)
 
 // The xyz of the SWCL_W points (float4 elements of p, seen as floats) from
 // `base` on: whole float16 loads and shuffles, or, in the last work-item,

@@ -1,0 +1,33 @@
+// Width-typed names for a per-width kernel body (docs/architecture.md,
+// "Kernel layout"; the model is Box2D v3's contact_solver_wide.inl).  The
+// including program defines SWCL_BW — 1, or SWCL_W (8 or 16, from
+// -DNOISE_WIDTH; lib/perlin.cl) — and includes the body once per width; the
+// body includes this file first.  Expanded at every include (*.inc.cl).
+#undef swcl_bf
+#undef swcl_bi
+#undef SWCL_KERNEL
+#undef SWCL_BFN
+#undef SWCL_BLANE
+#undef SWCL_BLANE_I
+#undef SWCL_BEACH_LANE
+#if SWCL_BW == 1
+// One agent per work-item (GPUs; PoCL vectorises it across work-items).
+#define swcl_bf float
+#define swcl_bi int
+#define SWCL_KERNEL(name) name
+#define SWCL_BFN(name) name##_s
+#define SWCL_BLANE(v, k) (v)
+#define SWCL_BLANE_I(k) 0
+#define SWCL_BEACH_LANE(E) E(0)
+#elif defined(SWCL_W) && SWCL_BW == SWCL_W
+// SWCL_W consecutive agents per work-item in floatW lanes (CPU devices).
+#define swcl_bf swcl_fw
+#define swcl_bi swcl_iw
+#define SWCL_KERNEL(name) name##_w
+#define SWCL_BFN(name) name##_w
+#define SWCL_BLANE(v, k) SWCL_LANE(v, k)
+#define SWCL_BLANE_I(k) SWCL_LANE_I(k)
+#define SWCL_BEACH_LANE(E) SWCL_EACH_LANE(E)
+#else
+#error "SWCL_BW must be 1 or SWCL_W"
+#endif
