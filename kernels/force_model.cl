@@ -160,36 +160,35 @@ __kernel void force_model_fine_gather(__global const float4* pos, __global const
 #define FM_SOA_AT(soa, n, k) \
     ((float4)((soa)[k], (soa)[((n) + FM_SOA_PAD) + (k)], (soa)[2 * ((n) + FM_SOA_PAD) + (k)], 0.0f))
 
-// §4.1, Eq. 2-3, repulsion zone of the agent at p: every agent within R_rep
-// through the fine grid (exact), in the fine grid's order; the agent itself
-// (r_ij = 0) is skipped with any coincident one.
-SWCL_INLINE void fm_repulsion(__global const float* soa, uint n, const Grid* g, float4 p, float r_rep,
-                              float4* rep, uint* n_rep) {
-    const float r_rep2 = r_rep * r_rep;
-    GRID_FOR_EACH_CANDIDATE(g, p, r_rep, j) {
-        const float4 q = FM_SOA_AT(soa, n, j);
-        const float d2 = dist2(q, p);
-        if (d2 >= r_rep2 || d2 == 0.0f) continue;
-        *rep -= (q - p) * rsqrt(d2);
-        ++*n_rep;
-    }
-    GRID_END_FOR
-}
+// Smallest and largest lane of v among the lanes `on`, at the bodies'
+// widths (the _w ones below): at width 1 the agent's own coordinate.
+SWCL_INLINE float fm_lane_min_s(float v, int on) { return select(INFINITY, v, on); }
+SWCL_INLINE float fm_lane_max_s(float v, int on) { return select(-INFINITY, v, on); }
 
-// Repulsion of every agent, one per work-item in the fine grid's order:
-// rep[slot] = (the sum of Eq. 2's repulsion zone, its count as uint bits).
-// The force kernels read it by slot.
-__kernel void force_model_repulsion(__global const float* fine_soa, __global const uint* fine_slot, uint n,
-                                    __global const float4* fine_geo, __global const uint* fine_start, float r_rep,
-                                    __global float4* rep_out) {
-    const uint k = get_global_id(0);
-    if (k >= n) return;
-    const Grid fg = fm_fine_grid(fine_geo, fine_start);
-    float4 rep = (float4)(0.0f);
-    uint nr = 0;
-    fm_repulsion(fine_soa, n, &fg, FM_SOA_AT(fine_soa, n, k), r_rep, &rep, &nr);
-    rep_out[fine_slot[k]] = (float4)(rep.xyz, as_float(nr));
-}
+// Slots j of the union of the search boxes of radius r of the lanes `on`
+// (cell of the smallest p - r to cell of the largest p + r: grid_cell_of is
+// monotone), at the width of the body that uses it (at width 1 the agent's
+// own box, as GRID_FOR_EACH_CANDIDATE):
+//   FM_LANES_WALK(&g, px, py, pz, on, r, j) { ... } FM_LANES_WALK_END
+#define FM_LANES_WALK(gp, px, py, pz, on, r, j)                                                          \
+    {                                                                                                   \
+        const int4 fw_lo_ = grid_cell_of((gp), (float4)(SWCL_BFN(fm_lane_min)(px, on) - (r),             \
+                                                         SWCL_BFN(fm_lane_min)(py, on) - (r),             \
+                                                         SWCL_BFN(fm_lane_min)(pz, on) - (r), 0.0f));     \
+        const int4 fw_hi_ = grid_cell_of((gp), (float4)(SWCL_BFN(fm_lane_max)(px, on) + (r),             \
+                                                         SWCL_BFN(fm_lane_max)(py, on) + (r),             \
+                                                         SWCL_BFN(fm_lane_max)(pz, on) + (r), 0.0f));     \
+        for (int fw_z_ = fw_lo_.z; fw_z_ <= fw_hi_.z; ++fw_z_)                                          \
+            for (int fw_y_ = fw_lo_.y; fw_y_ <= fw_hi_.y; ++fw_y_) {                                    \
+                const uint2 fw_rng_ = grid_row_range((gp), fw_lo_.x, fw_hi_.x, fw_y_, fw_z_);           \
+                for (uint j = fw_rng_.x; j < fw_rng_.y; ++j)
+#define FM_LANES_WALK_END }}
+
+// Repulsion of every agent in the fine grid's order: one body for
+// force_model_repulsion and force_model_repulsion_w (below).
+#define SWCL_BW 1
+#include "wide/force_model_repulsion.inc.cl"
+#undef SWCL_BW
 
 // Minimum distance enforcement (the pair rule MDE_CANDIDATE of
 // min_distance_common.cl, as the swarm's MDE pass) through the fine grid
@@ -445,7 +444,7 @@ SWCL_INLINE fm_uw fm_gather_u_w(__global const uint* a, fm_uw j) { return (fm_uw
 
 
 // Smallest and largest lane of v among the lanes `on`.
-SWCL_INLINE float fm_lane_min(swcl_fw v, swcl_iw on) {
+SWCL_INLINE float fm_lane_min_w(swcl_fw v, swcl_iw on) {
     v = select((swcl_fw)(INFINITY), v, on);
     float m = v.s0;
 #define FM_MIN_(k) m = fmin(m, SWCL_LANE(v, k));
@@ -453,7 +452,7 @@ SWCL_INLINE float fm_lane_min(swcl_fw v, swcl_iw on) {
 #undef FM_MIN_
     return m;
 }
-SWCL_INLINE float fm_lane_max(swcl_fw v, swcl_iw on) {
+SWCL_INLINE float fm_lane_max_w(swcl_fw v, swcl_iw on) {
     v = select((swcl_fw)(-INFINITY), v, on);
     float m = v.s0;
 #define FM_MAX_(k) m = fmax(m, SWCL_LANE(v, k));
@@ -462,81 +461,9 @@ SWCL_INLINE float fm_lane_max(swcl_fw v, swcl_iw on) {
     return m;
 }
 
-// Slots j of the union of the search boxes of radius r of the lanes `on`
-// (cell of the smallest p - r to cell of the largest p + r: grid_cell_of is
-// monotone):  FM_LANES_WALK(&g, px, py, pz, on, r, j) { ... } FM_LANES_WALK_END
-#define FM_LANES_WALK(gp, px, py, pz, on, r, j)                                                          \
-    {                                                                                                   \
-        const int4 fw_lo_ = grid_cell_of((gp), (float4)(fm_lane_min(px, on) - (r),                       \
-                                                         fm_lane_min(py, on) - (r),                       \
-                                                         fm_lane_min(pz, on) - (r), 0.0f));               \
-        const int4 fw_hi_ = grid_cell_of((gp), (float4)(fm_lane_max(px, on) + (r),                       \
-                                                         fm_lane_max(py, on) + (r),                       \
-                                                         fm_lane_max(pz, on) + (r), 0.0f));               \
-        for (int fw_z_ = fw_lo_.z; fw_z_ <= fw_hi_.z; ++fw_z_)                                          \
-            for (int fw_y_ = fw_lo_.y; fw_y_ <= fw_hi_.y; ++fw_y_) {                                    \
-                const uint2 fw_rng_ = grid_row_range((gp), fw_lo_.x, fw_hi_.x, fw_y_, fw_z_);           \
-                for (uint j = fw_rng_.x; j < fw_rng_.y; ++j)
-#define FM_LANES_WALK_END }}
-
-// force_model_repulsion on SWCL_W consecutive agents of the fine grid's
-// order (neighbours in a row of fine cells).  The lanes are taken a row
-// (y, z) of their cells at a time, and the union of those lanes' R_rep boxes
-// is walked once, each candidate tested against all of them.  A lane's own
-// box lies inside the union and both walks go row by row in slot order, so
-// each lane meets its neighbours in fm_repulsion's order with the same
-// arithmetic: bitwise force_model_repulsion's sums (the extra candidates are
-// farther than R_rep and fail the test).
-__kernel void force_model_repulsion_w(__global const float* fine_soa, __global const uint* fine_slot, uint n,
-                                      __global const float4* fine_geo, __global const uint* fine_start,
-                                      float r_rep, __global float4* rep_out) {
-    const uint base = get_global_id(0) * SWCL_W;
-    if (base >= n) return;
-    const Grid fg = fm_fine_grid(fine_geo, fine_start);
-    const uint stride = n + FM_SOA_PAD;
-    // FM_SOA_PAD >= SWCL_W - 1 readable floats after each block.
-    const swcl_fw px = FM_VLOAD_W(0, fine_soa + base), py = FM_VLOAD_W(0, fine_soa + stride + base),
-                  pz = FM_VLOAD_W(0, fine_soa + 2 * stride + base);
-    const fm_uw k = (fm_uw)(base) + (fm_uw)(SWCL_LANES(FM_LANE_INDEX_));
-    const swcl_iw live = k < n;
-    const float r_rep2 = r_rep * r_rep;
-    // Each lane's row of fine cells (only groups the lanes).
-    const swcl_iw row = swcl_cvt_iw(clamp((py - fg.origin.y) * fg.inv_cell, 0.0f, (float)(fg.dims.y - 1))) +
-                        fg.dims.y * swcl_cvt_iw(clamp((pz - fg.origin.z) * fg.inv_cell, 0.0f, (float)(fg.dims.z - 1)));
-    const swcl_fw zero = (swcl_fw)(0.0f);
-    swcl_fw rep_x = zero, rep_y = zero, rep_z = zero;
-    fm_uw n_rep = (fm_uw)(0u);
-    swcl_iw todo = live;
-    while (any(todo)) {
-        int r0 = 0;
-        bool found = false;
-#define FM_FIRST_ROW_(l) if (!found && SWCL_LANE(todo, l)) { r0 = SWCL_LANE(row, l); found = true; }
-        SWCL_EACH_LANE(FM_FIRST_ROW_)
-#undef FM_FIRST_ROW_
-        const swcl_iw on = todo & (row == r0);
-        todo &= ~on;
-        FM_LANES_WALK(&fg, px, py, pz, on, r_rep, j) {
-            const float qx = fine_soa[j], qy = fine_soa[stride + j], qz = fine_soa[2 * stride + j];
-            const swcl_fw dx = qx - px, dy = qy - py, dz = qz - pz;
-            const swcl_fw d2 = dx * dx + dy * dy + dz * dz;
-            const swcl_iw hit = on & (d2 < r_rep2) & (d2 != 0.0f);
-            if (any(hit)) {
-                const swcl_fw rs = rsqrt(d2);
-                rep_x = select(rep_x, rep_x - dx * rs, hit);
-                rep_y = select(rep_y, rep_y - dy * rs, hit);
-                rep_z = select(rep_z, rep_z - dz * rs, hit);
-                n_rep -= FM_AS_UW(hit);  // true is -1
-            }
-        }
-        FM_LANES_WALK_END
-    }
-#define FM_STORE_REP_(l) \
-    if (base + SWCL_LANE_I(l) < n) \
-        rep_out[fine_slot[base + SWCL_LANE_I(l)]] = \
-            (float4)(SWCL_LANE(rep_x, l), SWCL_LANE(rep_y, l), SWCL_LANE(rep_z, l), as_float(SWCL_LANE(n_rep, l)));
-    SWCL_EACH_LANE(FM_STORE_REP_)
-#undef FM_STORE_REP_
-}
+#define SWCL_BW SWCL_W
+#include "wide/force_model_repulsion.inc.cl"
+#undef SWCL_BW
 
 // (w / count) * sum added to acc in the lanes whose count is not 0.
 #define FM_ADD_MEAN_W(acc, w, cnt, sum) acc = select(acc, acc + ((w) / swcl_cvt_fw(cnt)) * (sum), (cnt) != 0u)

@@ -358,15 +358,21 @@ SWCL_INLINE swcl_vg4 swcl_perlin4_seeded(float4 p, uint4 o)
 #if SWCL_W == 8
 typedef float8 swcl_fw;
 typedef int8 swcl_iw;
+typedef uint8 swcl_uw;
 #define swcl_cvt_fw convert_float8
 #define swcl_cvt_iw convert_int8
+#define swcl_as_uw as_uint8
+#define swcl_vload_fw vload8
 #define SWCL_LANES(E) E(0), E(1), E(2), E(3), E(4), E(5), E(6), E(7)
 #define SWCL_EACH_LANE(E) E(0) E(1) E(2) E(3) E(4) E(5) E(6) E(7)
 #elif SWCL_W == 16
 typedef float16 swcl_fw;
 typedef int16 swcl_iw;
+typedef uint16 swcl_uw;
 #define swcl_cvt_fw convert_float16
 #define swcl_cvt_iw convert_int16
+#define swcl_as_uw as_uint16
+#define swcl_vload_fw vload16
 #define SWCL_LANES(E) E(0), E(1), E(2), E(3), E(4), E(5), E(6), E(7), \
                       E(8), E(9), E(a), E(b), E(c), E(d), E(e), E(f)
 #define SWCL_EACH_LANE(E) E(0) E(1) E(2) E(3) E(4) E(5) E(6) E(7) \
