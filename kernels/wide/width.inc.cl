@@ -18,6 +18,7 @@
 #undef SWCL_BLANE_I
 #undef SWCL_BEACH_LANE
 #undef SWCL_BLANE_ID
+#undef SWCL_BLAST
 #if SWCL_BW == 1
 // One agent per work-item (GPUs; PoCL vectorises it across work-items).
 #define swcl_bf float
@@ -36,6 +37,7 @@
 #define SWCL_BLANE_I(k) 0
 #define SWCL_BEACH_LANE(E) E(0)
 #define SWCL_BLANE_ID(base, k, n) (base)
+#define SWCL_BLAST(i, n) (i)
 #elif defined(SWCL_W) && SWCL_BW == SWCL_W
 // SWCL_W consecutive agents per work-item in floatW lanes (CPU devices).
 #define swcl_bf swcl_fw
@@ -54,6 +56,8 @@
 #define SWCL_BEACH_LANE(E) SWCL_EACH_LANE(E)
 // The element of lane k from base on, clamped to n - 1 (the last work-item).
 #define SWCL_BLANE_ID(base, k, n) min((base) + (uint)SWCL_LANE_I(k), (n) - 1)
+// The lanes' elements i (a vector), clamped to n - 1.
+#define SWCL_BLAST(i, n) min((i), (n) - 1u)
 #else
 #error "SWCL_BW must be 1 or SWCL_W"
 #endif
