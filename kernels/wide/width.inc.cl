@@ -1,7 +1,7 @@
 // Width-typed names for a per-width kernel body (docs/architecture.md,
 // "Kernel layout"; the model is Box2D v3's contact_solver_wide.inl).  The
 // including program defines SWCL_BW — 1, or SWCL_W (8 or 16, from
-// -DNOISE_WIDTH; lib/perlin.cl) — and includes the body once per width; the
+// -DNOISE_WIDTH; lib/lanes.cl) — and includes the body once per width; the
 // body includes this file first.  Expanded at every include (*.inc.cl).
 #undef swcl_bf
 #undef swcl_bi
