@@ -44,32 +44,37 @@ __kernel void SWCL_KERNEL(force_model_force)(FM_FORCE_PARAMS) {
     // A lane's own box lies inside the union and both walks go row by row
     // (z, y) in slot order, so each lane meets its neighbours in the order of
     // its own box; the extra candidates are farther than R_att from it and
-    // fail its distance test.
-    if ((terms & (FM_ALI | FM_ATT)) && sample_cap == 0u) {
-        FM_LANES_WALK(&g, px, py, pz, live, zones.z, j) {
-            SWCL_BFN(fm_ali_att)(j);
+    // fail its distance test.  (Width 1: float4 sums around the pass,
+    // fm_zones_begin_s.)
+    if (terms & (FM_ALI | FM_ATT)) {
+        SWCL_BFN(fm_zones_begin)
+        if (sample_cap == 0u) {
+            FM_LANES_WALK(&g, px, py, pz, live, zones.z, j) {
+                SWCL_BFN(fm_ali_att)(j);
+            }
+            FM_LANES_WALK_END
+        } else {
+            // Sampled (not in the paper; docs/force-model.md): sample_cap
+            // agents of the whole swarm, j = start + k * stride (mod n) with
+            // start and stride drawn per sample group and step by Philox
+            // (fm_sample_start): for each agent every other agent is equally
+            // likely to be sampled, and slots being in cell order, a large
+            // stride spreads the sample over the swarm.  The 16 agents of a
+            // group (neighbours in cell order) share the sample, so the lanes
+            // (SWCL_W divides FM_SAMPLE_GROUP) load each sampled agent once.
+            // Those within R_att count in their zone, so each zone's mean in
+            // Eq. 2 is estimated from its sampled neighbours, at O(cap) per
+            // agent instead of the O(N) that R_att = 30 m costs when the swarm
+            // is smaller than that.
+            uint stride;
+            uint j = fm_sample_start(seed, base / FM_SAMPLE_GROUP, step, n, &stride);
+            for (uint k = 0; k < sample_cap; ++k) {
+                SWCL_BFN(fm_ali_att)(j);
+                j += stride;
+                if (j >= n) j -= n;
+            }
         }
-        FM_LANES_WALK_END
-    } else if (terms & (FM_ALI | FM_ATT)) {
-        // Sampled (not in the paper; docs/force-model.md): sample_cap
-        // agents of the whole swarm, j = start + k * stride (mod n) with
-        // start and stride drawn per sample group and step by Philox
-        // (fm_sample_start): for each agent every other agent is equally
-        // likely to be sampled, and slots being in cell order, a large
-        // stride spreads the sample over the swarm.  The 16 agents of a
-        // group (neighbours in cell order) share the sample, so the lanes
-        // (SWCL_W divides FM_SAMPLE_GROUP) load each sampled agent once.
-        // Those within R_att count in their zone, so each zone's mean in
-        // Eq. 2 is estimated from its sampled neighbours, at O(cap) per agent
-        // instead of the O(N) that R_att = 30 m costs when the swarm is
-        // smaller than that.
-        uint stride;
-        uint j = fm_sample_start(seed, base / FM_SAMPLE_GROUP, step, n, &stride);
-        for (uint k = 0; k < sample_cap; ++k) {
-            SWCL_BFN(fm_ali_att)(j);
-            j += stride;
-            if (j >= n) j -= n;
-        }
+        SWCL_BFN(fm_zones_end)
     }
 
     swcl_bf fx = zero, fy = zero, fz = zero;
