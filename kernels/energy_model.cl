@@ -12,8 +12,8 @@
 // variant that writes every term of every candidate and moves nothing) and
 // EM_TAYLOR_OA (Eq. 6 by a second-order expansion, see below) and
 // EM_KEEP_OUT (1: startling stimuli are kept out of, see em_environment_term).
-#include "noise_field.cl"
-#include "grid_common.cl"
+#include "lib/noise_field.cl"
+#include "lib/grid_common.cl"
 
 #ifndef EM_MAX_CAND
 #define EM_MAX_CAND 64

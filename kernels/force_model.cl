@@ -7,10 +7,10 @@
 // (Eq. 8-9).  Built per noise configuration (NOISE_* defines, like
 // field_model.cl).  Choices where the paper is vague: docs/force-model.md
 // and the comments below.  Plain C++ reference: tests/test_force_model.cpp.
-#include "noise_field.cl"
-#include "grid_common.cl"
-#include "philox.cl"
-#include "min_distance_common.cl"
+#include "lib/noise_field.cl"
+#include "lib/grid_common.cl"
+#include "lib/philox.cl"
+#include "lib/min_distance_common.cl"
 
 // Philox stream of the neighbour sample (keyed by seed, sample group, step).
 #define FM_STREAM_SAMPLE 16u
@@ -32,13 +32,18 @@
 // component, the same arithmetic in the scalar and the wide kernel.
 #define FM_ROW(r, a, b, c) ((r).x * (a) + (r).y * (b) + (r).z * (c) + (r).w)
 
-// One candidate j of the alignment and attraction zones (Eq. 2-3): skipped
-// outside R_att and inside R_rep (the repulsion loop has those).
-#define FM_ALI_ATT(j)                                                         \
+// One candidate j of the alignment and attraction zones (Eq. 2-3) for the
+// agent in slot `self` (the zone radii and sums of force_model_force in
+// scope): skipped when it is the agent itself, outside R_att or inside R_rep
+// (the repulsion kernel has those).  Width 1: branches, and float4
+// arithmetic on p, u and the sums ali, att (fm_zones_begin_s), component by
+// component the lanes' (fm_ali_att_w, below); as float4 the scalar kernel
+// is ~5 % faster than with three scalar components (PoCL, exact zones).
+#define fm_ali_att_s(j)                                                       \
     {                                                                         \
         const float4 q = (float4)(pos[j].xyz, 0.0f);                          \
         const float d2 = dist2(q, p);                                         \
-        if (d2 <= r_att2 && d2 >= r_rep2) {                                   \
+        if (self != (j) && d2 <= r_att2 && d2 >= r_rep2) {                    \
             if (d2 < r_ali2) {                                                \
                 const float4 du = (float4)(vel[j].xyz, 0.0f) - u;             \
                 const float m2 = du.x * du.x + du.y * du.y + du.z * du.z;     \
@@ -50,6 +55,14 @@
             }                                                                 \
         }                                                                     \
     }
+// Around the zone pass at width 1: the float4 position, velocity and sums
+// fm_ali_att_s works on, and the sums back into the body's components.
+#define fm_zones_begin_s                                                          \
+    const float4 p = (float4)(px, py, pz, 0.0f), u = (float4)(ux, uy, uz, 0.0f);  \
+    float4 ali = (float4)(ali_x, ali_y, ali_z, 0.0f), att = (float4)(att_x, att_y, att_z, 0.0f);
+#define fm_zones_end_s                    \
+    ali_x = ali.x; ali_y = ali.y; ali_z = ali.z; \
+    att_x = att.x; att_y = att.y; att_z = att.z;
 
 // ---- the fine grid of repulsion and MDE -----------------------------------
 //
@@ -87,36 +100,35 @@ __kernel void force_model_fine_gather(__global const float4* pos, __global const
 #define FM_SOA_AT(soa, n, k) \
     ((float4)((soa)[k], (soa)[((n) + FM_SOA_PAD) + (k)], (soa)[2 * ((n) + FM_SOA_PAD) + (k)], 0.0f))
 
-// §4.1, Eq. 2-3, repulsion zone of the agent at p: every agent within R_rep
-// through the fine grid (exact), in the fine grid's order; the agent itself
-// (r_ij = 0) is skipped with any coincident one.
-SWCL_INLINE void fm_repulsion(__global const float* soa, uint n, const Grid* g, float4 p, float r_rep,
-                              float4* rep, uint* n_rep) {
-    const float r_rep2 = r_rep * r_rep;
-    GRID_FOR_EACH_CANDIDATE(g, p, r_rep, j) {
-        const float4 q = FM_SOA_AT(soa, n, j);
-        const float d2 = dist2(q, p);
-        if (d2 >= r_rep2 || d2 == 0.0f) continue;
-        *rep -= (q - p) * rsqrt(d2);
-        ++*n_rep;
-    }
-    GRID_END_FOR
-}
+// Smallest and largest lane of v among the lanes `on`, at the bodies'
+// widths (the _w ones below): at width 1 the agent's own coordinate.
+SWCL_INLINE float fm_lane_min_s(float v, int on) { return select(INFINITY, v, on); }
+SWCL_INLINE float fm_lane_max_s(float v, int on) { return select(-INFINITY, v, on); }
 
-// Repulsion of every agent, one per work-item in the fine grid's order:
-// rep[slot] = (the sum of Eq. 2's repulsion zone, its count as uint bits).
-// The force kernels read it by slot.
-__kernel void force_model_repulsion(__global const float* fine_soa, __global const uint* fine_slot, uint n,
-                                    __global const float4* fine_geo, __global const uint* fine_start, float r_rep,
-                                    __global float4* rep_out) {
-    const uint k = get_global_id(0);
-    if (k >= n) return;
-    const Grid fg = fm_fine_grid(fine_geo, fine_start);
-    float4 rep = (float4)(0.0f);
-    uint nr = 0;
-    fm_repulsion(fine_soa, n, &fg, FM_SOA_AT(fine_soa, n, k), r_rep, &rep, &nr);
-    rep_out[fine_slot[k]] = (float4)(rep.xyz, as_float(nr));
-}
+// Slots j of the union of the search boxes of radius r of the lanes `on`
+// (cell of the smallest p - r to cell of the largest p + r: grid_cell_of is
+// monotone), at the width of the body that uses it (at width 1 the agent's
+// own box, as GRID_FOR_EACH_CANDIDATE):
+//   FM_LANES_WALK(&g, px, py, pz, on, r, j) { ... } FM_LANES_WALK_END
+#define FM_LANES_WALK(gp, px, py, pz, on, r, j)                                                          \
+    {                                                                                                   \
+        const int4 fw_lo_ = grid_cell_of((gp), (float4)(SWCL_BFN(fm_lane_min)(px, on) - (r),             \
+                                                         SWCL_BFN(fm_lane_min)(py, on) - (r),             \
+                                                         SWCL_BFN(fm_lane_min)(pz, on) - (r), 0.0f));     \
+        const int4 fw_hi_ = grid_cell_of((gp), (float4)(SWCL_BFN(fm_lane_max)(px, on) + (r),             \
+                                                         SWCL_BFN(fm_lane_max)(py, on) + (r),             \
+                                                         SWCL_BFN(fm_lane_max)(pz, on) + (r), 0.0f));     \
+        for (int fw_z_ = fw_lo_.z; fw_z_ <= fw_hi_.z; ++fw_z_)                                          \
+            for (int fw_y_ = fw_lo_.y; fw_y_ <= fw_hi_.y; ++fw_y_) {                                    \
+                const uint2 fw_rng_ = grid_row_range((gp), fw_lo_.x, fw_hi_.x, fw_y_, fw_z_);           \
+                for (uint j = fw_rng_.x; j < fw_rng_.y; ++j)
+#define FM_LANES_WALK_END }}
+
+// Repulsion of every agent in the fine grid's order: one body for
+// force_model_repulsion and force_model_repulsion_w (below).
+#define SWCL_BW 1
+#include "wide/force_model_repulsion.inc.cl"
+#undef SWCL_BW
 
 // Minimum distance enforcement (the pair rule MDE_CANDIDATE of
 // min_distance_common.cl, as the swarm's MDE pass) through the fine grid
@@ -161,41 +173,6 @@ SWCL_INLINE uint fm_sample_start(ulong seed, uint grp, uint step, uint n, uint* 
     return (uint)(((ulong)r.x * (ulong)n) >> 32);
 }
 
-// Alignment and attraction zones, exact: every agent of the R_att box.
-SWCL_INLINE void fm_ali_att_exact(__global const float4* pos, __global const float4* vel, const Grid* g, uint i,
-                                  float4 p, float4 u, float4 zones, float4* ali_, uint* n_ali_, float4* att_,
-                                  uint* n_att_) {
-    const float r_rep2 = zones.x * zones.x, r_ali2 = zones.y * zones.y, r_att2 = zones.z * zones.z;
-    float4 ali = *ali_, att = *att_;
-    uint n_ali = *n_ali_, n_att = *n_att_;
-    GRID_FOR_EACH_CANDIDATE(g, p, zones.z, j) {
-        if (j == i) continue;
-        FM_ALI_ATT(j);
-    }
-    GRID_END_FOR
-    *ali_ = ali; *att_ = att; *n_ali_ = n_ali; *n_att_ = n_att;
-}
-
-// §5.2, Eq. 5 on the insects: the sample neighbours of this insect's target
-// are the targets of other insects; their current positions push this
-// insect away with a Gaussian of the Manhattan distance, spreading the swarm
-// over the surface ("we use F_con to scatter the insects along the mesh").
-// sigma is a length (docs/force-model.md).  Returns w_con times the mean.
-SWCL_INLINE float4 fm_shape_force(__global const uint* nbr_start, __global const uint* nbr_index,
-                                  __global const float4* by_target, uint tgt, float4 p, float sigma, float w_con) {
-    const uint k0 = nbr_start[tgt], k1 = nbr_start[tgt + 1];
-    float4 con = (float4)(0.0f);
-    const float inv2s2 = 1.0f / (2.0f * sigma * sigma);
-    for (uint k = k0; k < k1; ++k) {
-        const float4 q = (float4)(by_target[nbr_index[k]].xyz, 0.0f);
-        const float4 dq = p - q;
-        const float m = fabs(dq.x) + fabs(dq.y) + fabs(dq.z);
-        const float l = sqrt(dq.x * dq.x + dq.y * dq.y + dq.z * dq.z);
-        if (l > 0.0f) con += (exp(-m * m * inv2s2) / l) * dq;  // one division, not three
-    }
-    return k1 > k0 ? (w_con / (float)(k1 - k0)) * con : (float4)(0.0f);
-}
-
 // zones = (R_rep, R_ali, R_att, sigma of Eq. 5), weights = (w_rep, w_ali,
 // w_att, w_dis), blend = (alpha, w_con, distance scale of Eq. 6, unused),
 // frame_x/y/z = the rows of [R | offset], the shape frame's placement on the
@@ -211,144 +188,68 @@ SWCL_INLINE float4 fm_shape_force(__global const uint* nbr_start, __global const
         __global const uint *nbr_index, __global const float4 *by_target, float4 frame_x, float4 frame_y,  \
         float4 frame_z, float t, uint step, __global float4 *force, __global const float4 *rep_in, NOISE_PARAMS
 
-__kernel void force_model_force(FM_FORCE_PARAMS) {
-    const uint i = get_global_id(0);
-    if (i >= n) return;
-    const float4 p = (float4)(pos[i].xyz, 0.0f);
-    const float4 u = (float4)(vel[i].xyz, 0.0f);
-    const uint id = ids[i];
+// (w / count) * sum added to acc where the count is not 0 (lane by lane).
+#define FM_ADD_MEAN(acc, w, cnt, sum) acc = select(acc, acc + ((w) / swcl_bcvt_f(cnt)) * (sum), (cnt) != 0u)
 
-    // §4.1, Eq. 2-3: each neighbour counts in exactly one zone (S = -1, 0, 1
-    // below R_rep, below R_ali, up to R_att); each zone's sum is averaged over
-    // its own neighbours.  S = +-1 leaves the unit direction r_ij/|r_ij|
-    // (towards the neighbour for attraction, away for repulsion); S = 0
-    // leaves the unit velocity difference.  The paper's u_ij = u_i - u_j
-    // would steer an insect away from its neighbours' velocity
-    // (anti-alignment, against the zone's name and the paper's ref. 5), so
-    // alignment uses u_j - u_i.  Coincident agents (r_ij = 0) have no
-    // direction and are skipped; equal velocities add 0 but count.
-    float4 rep = (float4)(0.0f), ali = (float4)(0.0f), att = (float4)(0.0f);
-    uint n_rep = 0, n_ali = 0, n_att = 0;
-    const Grid g = GRID_MAKE();
-    if (terms & FM_REP) {  // force_model_repulsion's
-        const float4 r = rep_in[i];
-        rep = (float4)(r.xyz, 0.0f);
-        n_rep = as_uint(r.w);
-    }
-    if (terms & (FM_ALI | FM_ATT)) {
-        if (sample_cap == 0u) {
-            fm_ali_att_exact(pos, vel, &g, i, p, u, zones, &ali, &n_ali, &att, &n_att);
-        } else {
-            // Sampled (not in the paper; docs/force-model.md): sample_cap
-            // agents of the whole swarm, j = start + k * stride (mod n) with
-            // start and stride drawn per sample group and step by Philox
-            // (fm_sample_start): for each agent every other agent is equally
-            // likely to be sampled, and slots being in cell order, a large
-            // stride spreads the sample over the swarm.  The 16 agents of a
-            // group (neighbours in cell order) share the sample, so the wide
-            // kernel loads each sampled agent once for all its lanes.  Those
-            // within R_att count in their zone, so each zone's mean in Eq. 2
-            // is estimated from its sampled neighbours, at O(cap) per agent
-            // instead of the O(N) that R_att = 30 m costs when the swarm is
-            // smaller than that.
-            const float r_rep2 = zones.x * zones.x, r_ali2 = zones.y * zones.y, r_att2 = zones.z * zones.z;
-            uint stride;
-            uint j = fm_sample_start(seed, i / FM_SAMPLE_GROUP, step, n, &stride);
-            for (uint k = 0; k < sample_cap; ++k) {
-                if (j != i) FM_ALI_ATT(j);
-                j += stride;
-                if (j >= n) j -= n;
-            }
-        }
-    }
-
-    float4 f_int = (float4)(0.0f);
-    if ((terms & FM_REP) && n_rep) f_int += (weights.x / (float)n_rep) * rep;
-    if ((terms & FM_ALI) && n_ali) f_int += (weights.y / (float)n_ali) * ali;
-    if ((terms & FM_ATT) && n_att) f_int += (weights.z / (float)n_att) * att;
-    // §4.2, Eq. 4: curl of the Perlin potential (p(s1), p(s2), p(s3))(r / rho)
-    // * eta, from the noise module with scale = rho and gain = eta / rho (the
-    // module takes the curl in noise coordinates, Eq. 4 in metres).
-    if (terms & FM_CUR) {
-        float cx, cy, cz;
-        NOISE_VELOCITY_S(p.x, p.y, p.z, t, id, step, &cx, &cy, &cz);
-        f_int += (float4)(cx, cy, cz, 0.0f);
-    }
-
-    float4 f_ext = (float4)(0.0f);
-    if (has_targets) {
-        const uint tgt = target_of[id];
-        if (terms & FM_CON) f_ext += fm_shape_force(nbr_start, nbr_index, by_target, tgt, p, zones.w, blend.y);
-        // §5.3, Eq. 6-7: the harmonic distance force along the unit vector to
-        // the target, with d normalised by the distance scale and clamped to
-        // 1 (the paper's H(d) = 0 beyond 1 would leave far insects with no
-        // pull at all).  4 (d - 0.5)^(1/3) + 0.5 is positive (towards the
-        // target) above d = 0.498 and negative below: insects hover about
-        // their target instead of sitting on it.
-        if (terms & FM_DIS) {
-            const float3 tp = targets[tgt].xyz;
-            const float4 s = (float4)(FM_ROW(frame_x, tp.x, tp.y, tp.z), FM_ROW(frame_y, tp.x, tp.y, tp.z),
-                                      FM_ROW(frame_z, tp.x, tp.y, tp.z), 0.0f);
-            const float4 rs = s - p;
-            const float dd = sqrt(rs.x * rs.x + rs.y * rs.y + rs.z * rs.z);
-            if (dd > 0.0f) {
-                const float dn = fmin(dd / blend.z, 1.0f);
-                f_ext += (weights.w * (4.0f * cbrt(dn - 0.5f) + 0.5f) / dd) * rs;
-            }
-        }
-    }
-    // §3, Eq. 1.
-    force[i] = blend.x * f_int + (1.0f - blend.x) * f_ext;
+// Width 1 loads, gathers and stores of the force body (the _w ones below).
+SWCL_INLINE void fm_load_xyz_s(__global const float4* p, uint i, uint n, float* x, float* y, float* z) {
+    const float4 v = p[i];
+    *x = v.x; *y = v.y; *z = v.z;
+}
+SWCL_INLINE void fm_load_rep_s(__global const float4* rep_in, uint i, uint n, float* x, float* y, float* z,
+                               uint* cnt) {
+    const float4 r = rep_in[i];
+    *x = r.x; *y = r.y; *z = r.z;
+    *cnt = as_uint(r.w);
+}
+SWCL_INLINE float fm_gather_s(__global const float* a, uint j, int c) { return a[4 * (size_t)j + c]; }
+SWCL_INLINE uint fm_gather_u_s(__global const uint* a, uint j) { return a[j]; }
+SWCL_INLINE void fm_store_s(__global float4* o, uint i, uint n, float a, float b, float c) {
+    o[i] = (float4)(a, b, c, 0.0f);
 }
 
+// The union force of every agent: one body for force_model_force and
+// force_model_force_w (below).
+#define SWCL_BW 1
+#include "wide/force_model_force.inc.cl"
+#undef SWCL_BW
+
 #ifdef NOISE_WIDE
-// ---- explicit-width force (CPU devices) ------------------------------------
+// ---- explicit width (CPU devices) ------------------------------------------
 //
-// force_model_force on SWCL_W consecutive slots per work-item (launch
-// ceil(n / SWCL_W) work-items), as the noise module's wide kernels: PoCL
-// does not vectorise force_model_force across work-items, so it ran one
-// scalar pair at a time.  Here every term runs in floatW lanes with the
-// scalar kernel's tests and arithmetic in the same order (bitwise the same
-// forces: tests/test_force_model.cpp): each candidate of the shared sample
-// and of the union of the lanes' R_att boxes (exact zones) is loaded once
-// and tested against all lanes; Eq. 5's target neighbours are gathered per
-// lane.  Repulsion comes from force_model_repulsion_w (below, in the fine
-// grid's order), read by slot.
-#if SWCL_W == 16
-typedef uint16 fm_uw;
-#define FM_VLOAD_W vload16
-#define FM_AS_UW as_uint16
-#else
-typedef uint8 fm_uw;
-#define FM_VLOAD_W vload8
-#define FM_AS_UW as_uint8
-#endif
-#define FM_LANE_INDEX_(k) SWCL_LANE_I(k)
+// The _w twins of the width 1 helpers above, for force_model_repulsion_w and
+// force_model_force_w: SWCL_W consecutive slots per work-item in floatW
+// lanes, as the noise module's wide kernels (PoCL does not vectorise the
+// scalar force kernels across work-items, so they ran one scalar pair at a
+// time).
 
 // Component c of the float4 elements j of a (seen as floats), and elements j
 // of a uint array, W lanes: one AVX-512 gather where there is one (as
 // swcl_perm_w), else W loads.
 #if SWCL_W == 16 && defined(__AVX512F__) && defined(__x86_64__) && SWCL_HAS_BUILTIN(__builtin_ia32_gathersiv16sf)
-SWCL_INLINE swcl_fw fm_gather_w(__global const float* a, fm_uw j, int c) {
+SWCL_INLINE swcl_fw fm_gather_w(__global const float* a, swcl_uw j, int c) {
     return __builtin_ia32_gathersiv16sf((float16)(0.0f), (const void*)(size_t)a, as_int16(j * 4u) + c,
                                         (ushort)0xffff, 4);
 }
-SWCL_INLINE fm_uw fm_gather_u_w(__global const uint* a, fm_uw j) {
+SWCL_INLINE swcl_uw fm_gather_u_w(__global const uint* a, swcl_uw j) {
     return as_uint16(__builtin_ia32_gathersiv16si((int16)(0), (const void*)(size_t)a, as_int16(j), (ushort)0xffff, 4));
 }
 #else
 #define FM_GATHER_LANE_(k) a[4 * (size_t)SWCL_LANE(j, k) + c]
-SWCL_INLINE swcl_fw fm_gather_w(__global const float* a, fm_uw j, int c) { return (swcl_fw)(SWCL_LANES(FM_GATHER_LANE_)); }
+SWCL_INLINE swcl_fw fm_gather_w(__global const float* a, swcl_uw j, int c) { return (swcl_fw)(SWCL_LANES(FM_GATHER_LANE_)); }
 #undef FM_GATHER_LANE_
 #define FM_GATHER_LANE_(k) a[SWCL_LANE(j, k)]
-SWCL_INLINE fm_uw fm_gather_u_w(__global const uint* a, fm_uw j) { return (fm_uw)(SWCL_LANES(FM_GATHER_LANE_)); }
+SWCL_INLINE swcl_uw fm_gather_u_w(__global const uint* a, swcl_uw j) { return (swcl_uw)(SWCL_LANES(FM_GATHER_LANE_)); }
 #undef FM_GATHER_LANE_
 #endif
 
-// FM_ALI_ATT for candidate j in all lanes (px.., ux.., self, the zone radii
-// and sums of force_model_force_w in scope): the same tests and arithmetic,
-// each lane's sums changed only where j counts for it.
-#define FM_ALI_ATT_W(j)                                                           \
+// fm_ali_att_s for candidate j in all lanes (px.., ux.., self, the zone
+// radii and sums of force_model_force_w in scope): the same tests and
+// arithmetic, each lane's sums changed only where j counts for it.  The
+// lanes work on the body's components: nothing around the zone pass.
+#define fm_zones_begin_w
+#define fm_zones_end_w
+#define fm_ali_att_w(j)                                                           \
     {                                                                             \
         const float4 q = pos[j], v = vel[j];                                      \
         const swcl_fw dx = q.x - px, dy = q.y - py, dz = q.z - pz;                \
@@ -366,13 +267,13 @@ SWCL_INLINE fm_uw fm_gather_u_w(__global const uint* a, fm_uw j) { return (fm_uw
         att_x = select(att_x, att_x + dx * rs, is_att);                           \
         att_y = select(att_y, att_y + dy * rs, is_att);                           \
         att_z = select(att_z, att_z + dz * rs, is_att);                           \
-        n_ali -= FM_AS_UW(is_ali); /* true is -1 */                               \
-        n_att -= FM_AS_UW(is_att);                                                \
+        n_ali -= swcl_as_uw(is_ali); /* true is -1 */                             \
+        n_att -= swcl_as_uw(is_att);                                              \
     }
 
 
 // Smallest and largest lane of v among the lanes `on`.
-SWCL_INLINE float fm_lane_min(swcl_fw v, swcl_iw on) {
+SWCL_INLINE float fm_lane_min_w(swcl_fw v, swcl_iw on) {
     v = select((swcl_fw)(INFINITY), v, on);
     float m = v.s0;
 #define FM_MIN_(k) m = fmin(m, SWCL_LANE(v, k));
@@ -380,7 +281,7 @@ SWCL_INLINE float fm_lane_min(swcl_fw v, swcl_iw on) {
 #undef FM_MIN_
     return m;
 }
-SWCL_INLINE float fm_lane_max(swcl_fw v, swcl_iw on) {
+SWCL_INLINE float fm_lane_max_w(swcl_fw v, swcl_iw on) {
     v = select((swcl_fw)(-INFINITY), v, on);
     float m = v.s0;
 #define FM_MAX_(k) m = fmax(m, SWCL_LANE(v, k));
@@ -389,210 +290,27 @@ SWCL_INLINE float fm_lane_max(swcl_fw v, swcl_iw on) {
     return m;
 }
 
-// Slots j of the union of the search boxes of radius r of the lanes `on`
-// (cell of the smallest p - r to cell of the largest p + r: grid_cell_of is
-// monotone):  FM_LANES_WALK(&g, px, py, pz, on, r, j) { ... } FM_LANES_WALK_END
-#define FM_LANES_WALK(gp, px, py, pz, on, r, j)                                                          \
-    {                                                                                                   \
-        const int4 fw_lo_ = grid_cell_of((gp), (float4)(fm_lane_min(px, on) - (r),                       \
-                                                         fm_lane_min(py, on) - (r),                       \
-                                                         fm_lane_min(pz, on) - (r), 0.0f));               \
-        const int4 fw_hi_ = grid_cell_of((gp), (float4)(fm_lane_max(px, on) + (r),                       \
-                                                         fm_lane_max(py, on) + (r),                       \
-                                                         fm_lane_max(pz, on) + (r), 0.0f));               \
-        for (int fw_z_ = fw_lo_.z; fw_z_ <= fw_hi_.z; ++fw_z_)                                          \
-            for (int fw_y_ = fw_lo_.y; fw_y_ <= fw_hi_.y; ++fw_y_) {                                    \
-                const uint2 fw_rng_ = grid_row_range((gp), fw_lo_.x, fw_hi_.x, fw_y_, fw_z_);           \
-                for (uint j = fw_rng_.x; j < fw_rng_.y; ++j)
-#define FM_LANES_WALK_END }}
+#define SWCL_BW SWCL_W
+#include "wide/force_model_repulsion.inc.cl"
+#undef SWCL_BW
 
-// force_model_repulsion on SWCL_W consecutive agents of the fine grid's
-// order (neighbours in a row of fine cells).  The lanes are taken a row
-// (y, z) of their cells at a time, and the union of those lanes' R_rep boxes
-// is walked once, each candidate tested against all of them.  A lane's own
-// box lies inside the union and both walks go row by row in slot order, so
-// each lane meets its neighbours in fm_repulsion's order with the same
-// arithmetic: bitwise force_model_repulsion's sums (the extra candidates are
-// farther than R_rep and fail the test).
-__kernel void force_model_repulsion_w(__global const float* fine_soa, __global const uint* fine_slot, uint n,
-                                      __global const float4* fine_geo, __global const uint* fine_start,
-                                      float r_rep, __global float4* rep_out) {
-    const uint base = get_global_id(0) * SWCL_W;
-    if (base >= n) return;
-    const Grid fg = fm_fine_grid(fine_geo, fine_start);
-    const uint stride = n + FM_SOA_PAD;
-    // FM_SOA_PAD >= SWCL_W - 1 readable floats after each block.
-    const swcl_fw px = FM_VLOAD_W(0, fine_soa + base), py = FM_VLOAD_W(0, fine_soa + stride + base),
-                  pz = FM_VLOAD_W(0, fine_soa + 2 * stride + base);
-    const fm_uw k = (fm_uw)(base) + (fm_uw)(SWCL_LANES(FM_LANE_INDEX_));
-    const swcl_iw live = k < n;
-    const float r_rep2 = r_rep * r_rep;
-    // Each lane's row of fine cells (only groups the lanes).
-    const swcl_iw row = swcl_cvt_iw(clamp((py - fg.origin.y) * fg.inv_cell, 0.0f, (float)(fg.dims.y - 1))) +
-                        fg.dims.y * swcl_cvt_iw(clamp((pz - fg.origin.z) * fg.inv_cell, 0.0f, (float)(fg.dims.z - 1)));
-    const swcl_fw zero = (swcl_fw)(0.0f);
-    swcl_fw rep_x = zero, rep_y = zero, rep_z = zero;
-    fm_uw n_rep = (fm_uw)(0u);
-    swcl_iw todo = live;
-    while (any(todo)) {
-        int r0 = 0;
-        bool found = false;
-#define FM_FIRST_ROW_(l) if (!found && SWCL_LANE(todo, l)) { r0 = SWCL_LANE(row, l); found = true; }
-        SWCL_EACH_LANE(FM_FIRST_ROW_)
-#undef FM_FIRST_ROW_
-        const swcl_iw on = todo & (row == r0);
-        todo &= ~on;
-        FM_LANES_WALK(&fg, px, py, pz, on, r_rep, j) {
-            const float qx = fine_soa[j], qy = fine_soa[stride + j], qz = fine_soa[2 * stride + j];
-            const swcl_fw dx = qx - px, dy = qy - py, dz = qz - pz;
-            const swcl_fw d2 = dx * dx + dy * dy + dz * dz;
-            const swcl_iw hit = on & (d2 < r_rep2) & (d2 != 0.0f);
-            if (any(hit)) {
-                const swcl_fw rs = rsqrt(d2);
-                rep_x = select(rep_x, rep_x - dx * rs, hit);
-                rep_y = select(rep_y, rep_y - dy * rs, hit);
-                rep_z = select(rep_z, rep_z - dz * rs, hit);
-                n_rep -= FM_AS_UW(hit);  // true is -1
-            }
-        }
-        FM_LANES_WALK_END
-    }
-#define FM_STORE_REP_(l) \
-    if (base + SWCL_LANE_I(l) < n) \
-        rep_out[fine_slot[base + SWCL_LANE_I(l)]] = \
-            (float4)(SWCL_LANE(rep_x, l), SWCL_LANE(rep_y, l), SWCL_LANE(rep_z, l), as_float(SWCL_LANE(n_rep, l)));
-    SWCL_EACH_LANE(FM_STORE_REP_)
-#undef FM_STORE_REP_
+SWCL_INLINE void fm_load_xyz_w(__global const float4* p, uint base, uint n, swcl_fw* x, swcl_fw* y, swcl_fw* z) {
+    noise_load_xyz_w((__global const float*)p, base, n, x, y, z);
+}
+SWCL_INLINE void fm_load_rep_w(__global const float4* rep_in, uint base, uint n, swcl_fw* x, swcl_fw* y,
+                               swcl_fw* z, swcl_uw* cnt) {
+    noise_load_xyz_w((__global const float*)rep_in, base, n, x, y, z);
+    uint c_rep[SWCL_W];
+    for (uint l = 0; l < SWCL_W; ++l) c_rep[l] = base + l < n ? as_uint(rep_in[base + l].w) : 0u;
+    *cnt = swcl_vload_uw(0, c_rep);
+}
+SWCL_INLINE void fm_store_w(__global float4* o, uint base, uint n, swcl_fw a, swcl_fw b, swcl_fw c) {
+    noise_store_w((__global float*)o, base, n, a, b, c);
 }
 
-// (w / count) * sum added to acc in the lanes whose count is not 0.
-#define FM_ADD_MEAN_W(acc, w, cnt, sum) acc = select(acc, acc + ((w) / swcl_cvt_fw(cnt)) * (sum), (cnt) != 0u)
-
-__kernel void force_model_force_w(FM_FORCE_PARAMS) {
-    const uint base = get_global_id(0) * SWCL_W;
-    if (base >= n) return;
-    __global const float* pf = (__global const float*)pos;
-    __global const float* vf = (__global const float*)vel;
-    swcl_fw px, py, pz, ux, uy, uz;
-    noise_load_xyz_w(pf, base, n, &px, &py, &pz);
-    noise_load_xyz_w(vf, base, n, &ux, &uy, &uz);
-    const Grid g = GRID_MAKE();
-
-    const fm_uw self = (fm_uw)(base) + (fm_uw)(SWCL_LANES(FM_LANE_INDEX_));
-    const float r_rep2 = zones.x * zones.x, r_ali2 = zones.y * zones.y, r_att2 = zones.z * zones.z;
-    const swcl_fw zero = (swcl_fw)(0.0f);
-    swcl_fw rep_x = zero, rep_y = zero, rep_z = zero, ali_x = zero, ali_y = zero, ali_z = zero;
-    swcl_fw att_x = zero, att_y = zero, att_z = zero;
-    fm_uw n_rep = (fm_uw)(0u), n_ali = (fm_uw)(0u), n_att = (fm_uw)(0u);
-
-    const swcl_iw live = self < n;
-    if (terms & FM_REP) {
-        // force_model_repulsion(_w)'s sums and counts, by slot.
-        noise_load_xyz_w((__global const float*)rep_in, base, n, &rep_x, &rep_y, &rep_z);
-        uint c_rep[SWCL_W];
-        for (uint l = 0; l < SWCL_W; ++l) c_rep[l] = base + l < n ? as_uint(rep_in[base + l].w) : 0u;
-        n_rep = FM_VLOAD_W(0, c_rep);
-    }
-    // The exact zones walk the union of the lanes' R_att boxes (many cells
-    // each, so the union adds few), each candidate tested against all lanes.
-    // A lane's own box lies inside the union and both walks go row by row
-    // (z, y) in slot order, so each lane meets its neighbours in the scalar
-    // kernel's order; the extra candidates are farther than R_att from it
-    // and fail its distance test.
-    if ((terms & (FM_ALI | FM_ATT)) && sample_cap == 0u) {
-        FM_LANES_WALK(&g, px, py, pz, live, zones.z, j) {
-            FM_ALI_ATT_W(j);
-        }
-        FM_LANES_WALK_END
-    } else if (terms & (FM_ALI | FM_ATT)) {
-        // The lanes' shared sample (SWCL_W divides FM_SAMPLE_GROUP), one
-        // load per sampled agent.
-        uint stride;
-        uint j = fm_sample_start(seed, base / FM_SAMPLE_GROUP, step, n, &stride);
-        for (uint k = 0; k < sample_cap; ++k) {
-            FM_ALI_ATT_W(j);
-            j += stride;
-            if (j >= n) j -= n;
-        }
-    }
-
-    swcl_fw fx = zero, fy = zero, fz = zero;
-    if (terms & FM_REP) {
-        FM_ADD_MEAN_W(fx, weights.x, n_rep, rep_x);
-        FM_ADD_MEAN_W(fy, weights.x, n_rep, rep_y);
-        FM_ADD_MEAN_W(fz, weights.x, n_rep, rep_z);
-    }
-    if (terms & FM_ALI) {
-        FM_ADD_MEAN_W(fx, weights.y, n_ali, ali_x);
-        FM_ADD_MEAN_W(fy, weights.y, n_ali, ali_y);
-        FM_ADD_MEAN_W(fz, weights.y, n_ali, ali_z);
-    }
-    if (terms & FM_ATT) {
-        FM_ADD_MEAN_W(fx, weights.z, n_att, att_x);
-        FM_ADD_MEAN_W(fy, weights.z, n_att, att_y);
-        FM_ADD_MEAN_W(fz, weights.z, n_att, att_z);
-    }
-    if (terms & FM_CUR) {  // Eq. 4
-        swcl_fw cx, cy, cz;
-        NOISE_VELOCITY_W(px, py, pz, t, &cx, &cy, &cz);
-        fx += cx; fy += cy; fz += cz;
-    }
-
-    swcl_fw ex = zero, ey = zero, ez = zero;
-    if (has_targets) {
-        // Each lane's target (lanes at or above n: agent n - 1's).
-        const fm_uw tgt = fm_gather_u_w(target_of, fm_gather_u_w(ids, min(self, n - 1u)));
-        if (terms & FM_CON) {
-            // fm_shape_force in lanes: each lane's target neighbours, up to
-            // the longest list; finished lanes read slot 0 (always there) and
-            // add nothing.
-            const fm_uw k0 = fm_gather_u_w(nbr_start, tgt);
-            const fm_uw cnt = select((fm_uw)(0u), fm_gather_u_w(nbr_start, tgt + 1u) - k0, live);
-            uint longest = 0;
-#define FM_LONGEST_(k) longest = max(longest, SWCL_LANE(cnt, k));
-            SWCL_EACH_LANE(FM_LONGEST_)
-#undef FM_LONGEST_
-            const float inv2s2 = 1.0f / (2.0f * zones.w * zones.w);
-            __global const float* bf = (__global const float*)by_target;
-            swcl_fw cx = zero, cy = zero, cz = zero;
-            for (uint k = 0; k < longest; ++k) {
-                const swcl_iw act = (fm_uw)(k) < cnt;
-                const fm_uw at = select((fm_uw)(0u), k0 + k, act);
-                const fm_uw o = select((fm_uw)(0u), fm_gather_u_w(nbr_index, at), act);
-                const swcl_fw qx = px - fm_gather_w(bf, o, 0), qy = py - fm_gather_w(bf, o, 1),
-                              qz = pz - fm_gather_w(bf, o, 2);
-                const swcl_fw m = fabs(qx) + fabs(qy) + fabs(qz);
-                const swcl_fw l = sqrt(qx * qx + qy * qy + qz * qz);
-                const swcl_fw el = exp(-m * m * inv2s2) / l;
-                const swcl_iw on = act & (l > 0.0f);
-                cx = select(cx, cx + el * qx, on);
-                cy = select(cy, cy + el * qy, on);
-                cz = select(cz, cz + el * qz, on);
-            }
-            const swcl_fw wc = blend.y / swcl_cvt_fw(cnt);
-            const swcl_iw some = cnt != 0u;
-            ex += select(zero, wc * cx, some);
-            ey += select(zero, wc * cy, some);
-            ez += select(zero, wc * cz, some);
-        }
-        if (terms & FM_DIS) {  // Eq. 6-7 as in force_model_force
-            __global const float* tf = (__global const float*)targets;
-            const swcl_fw tx = fm_gather_w(tf, tgt, 0), ty = fm_gather_w(tf, tgt, 1), tz = fm_gather_w(tf, tgt, 2);
-            const swcl_fw rx = FM_ROW(frame_x, tx, ty, tz) - px, ry = FM_ROW(frame_y, tx, ty, tz) - py,
-                          rz = FM_ROW(frame_z, tx, ty, tz) - pz;
-            const swcl_fw dd = sqrt(rx * rx + ry * ry + rz * rz);
-            const swcl_fw dn = fmin(dd / blend.z, 1.0f);
-            const swcl_fw h = weights.w * (4.0f * cbrt(dn - 0.5f) + 0.5f) / dd;
-            const swcl_iw on = dd > 0.0f;
-            ex = select(ex, ex + h * rx, on);
-            ey = select(ey, ey + h * ry, on);
-            ez = select(ez, ez + h * rz, on);
-        }
-    }
-    // §3, Eq. 1.
-    noise_store_w((__global float*)force, base, n, blend.x * fx + (1.0f - blend.x) * ex,
-                  blend.x * fy + (1.0f - blend.x) * ey, blend.x * fz + (1.0f - blend.x) * ez);
-}
+#define SWCL_BW SWCL_W
+#include "wide/force_model_force.inc.cl"
+#undef SWCL_BW
 #endif
 
 // The insects' positions by target index (the target of agent ids[i]), so

@@ -23,7 +23,7 @@
 //
 // Chunked kernels: work-item b of `nchunks` loops serially over a contiguous
 // chunk (no barriers or local memory; PoCL runs such loops well on a CPU).
-#include "grid_common.cl"
+#include "lib/grid_common.cl"
 
 inline uint chunk_size(uint n, uint nchunks) { return (n + nchunks - 1u) / nchunks; }
 

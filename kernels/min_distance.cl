@@ -3,8 +3,8 @@
 // overlap along the pair's direction.  Jacobi style — every agent reads the
 // positions before the pass and writes a new array — so the result does not
 // depend on the order agents are processed in.
-#include "min_distance_common.cl"
-#include "prefetch.cl"
+#include "lib/min_distance_common.cl"
+#include "lib/prefetch.cl"
 
 __kernel void min_distance_enforce(__global const float4* pos, __global const uint* ids, uint n,
                                    GRID_PARAMS, float d_min, ulong seed, __global float4* out,

@@ -1,7 +1,7 @@
 // Neighbour queries over the grid, one work-item per agent slot (cell order,
 // so neighbouring work-items read the same cells).  Results are written in
 // agent-id order through ids[].
-#include "grid_common.cl"
+#include "lib/grid_common.cl"
 
 #define NO_AGENT 0xFFFFFFFFu
 

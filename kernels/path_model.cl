@@ -6,7 +6,7 @@
 // Built per noise configuration like noise_field.cl, plus -DPATH_MESH=1 when
 // obstacle meshes shape the curl noise (the curl noise is then assembled
 // here from curl_noise.cl's pieces, the mesh last).
-#include "noise_field.cl"
+#include "lib/noise_field.cl"
 
 #ifndef PATH_MESH
 #define PATH_MESH 0
@@ -130,68 +130,32 @@ __kernel void path_noise_bake(NOISE_PARAMS, __global const float* phi, int4 dims
 }
 #endif
 
-__kernel void path_model_advance(__global float4* pos, __global float4* vel, __global const uint* ids, uint n,
-                                 float dt, float t, uint step, NOISE_PARAMS, __global const float4* dirs,
-                                 int4 dims, float4 origin_h, __global const uint* group_end, uint ngroups,
-                                 float s0, __global const float* phi, float inv_falloff_cost,
-                                 __global const float4* vl, float4 vl_min, float4 vl_cell, int4 vl_dims) {
-    const uint i = get_global_id(0);
-    if (i >= n) return;
-    const float4 p4 = pos[i];
-    const uint agent = ids[i];
-    float vx, vy, vz;
-#if PATH_BAKED
-    noise_baked_sample_s(vl, vl_min, vl_cell, vl_dims, p4.x, p4.y, p4.z, &vx, &vy, &vz);
-#elif PATH_MESH
-    path_noise_mesh(noise_type, noise_flags, noise_shape, noise_fd_step, noise_seed, noise_off0, noise_off1,
-                    noise_off2, noise_prims, noise_nprims, noise_baked, noise_bake_min, noise_bake_cell,
-                    noise_bake_dims, phi, dims, origin_h, p4.x, p4.y, p4.z, t, &vx, &vy, &vz);
-#else
-    NOISE_VELOCITY_S(p4.x, p4.y, p4.z, t, agent, step, &vx, &vy, &vz);
-#endif
-    // The agent's group: groups own consecutive id ranges (group_end).
-    uint g = 0;
-    while (g + 1 < ngroups && agent >= group_end[g]) ++g;
-    const float4 d = path_trilinear(dirs + (size_t)g * dims.x * dims.y * dims.z, dims, origin_h, p4.xyz);
-    // Optional goal ramp (host: goal_falloff): d.w is the cost C, 0 in the goal.
-    const float k = inv_falloff_cost > 0.0f ? s0 * fmin(1.0f, d.w * inv_falloff_cost) : s0;
-    vx += k * d.x; vy += k * d.y; vz += k * d.z;
-    vel[i] = (float4)(vx, vy, vz, 0.0f);
-    pos[i] = (float4)(p4.x + vx * dt, p4.y + vy * dt, p4.z + vz * dt, 0.0f);
+// Agent i's xyz and its velocity and position stores, at the bodies' widths:
+// float4 loads and stores at width 1, lib/noise_field.cl's lane loads and
+// stores at SWCL_W.
+inline void path_load_xyz_s(__global const float4* p, uint i, uint n, float* x, float* y, float* z) {
+    const float4 v = p[i];
+    *x = v.x; *y = v.y; *z = v.z;
+}
+inline void path_store_s(__global float4* o, uint i, uint n, float a, float b, float c) {
+    o[i] = (float4)(a, b, c, 0.0f);
 }
 
+// path_model_advance: every configuration; path_model_advance_w: SWCL_W
+// agents per work-item, CPU devices with a baked local field.  One body,
+// wide/path_model_advance.inc.cl.
+#define SWCL_BW 1
+#include "wide/path_model_advance.inc.cl"
+#undef SWCL_BW
+
 #if PATH_BAKED && defined(NOISE_WIDE)
-// path_model_advance on SWCL_W consecutive agents per work-item (CPU
-// devices, baked local field; noise_field.cl's explicit-width helpers): the
-// scalar kernel's arithmetic in the same order, so the same results.
-__kernel void path_model_advance_w(__global float4* pos, __global float4* vel, __global const uint* ids, uint n,
-                                   float dt, float t, uint step, NOISE_PARAMS, __global const float4* dirs,
-                                   int4 dims, float4 origin_h, __global const uint* group_end, uint ngroups,
-                                   float s0, __global const float* phi, float inv_falloff_cost,
-                                   __global const float4* vl, float4 vl_min, float4 vl_cell, int4 vl_dims) {
-    const uint base = get_global_id(0) * SWCL_W;
-    if (base >= n) return;
-    __global float* pp = (__global float*)pos;
-    swcl_fw px, py, pz;
-    noise_load_xyz_w(pp, base, n, &px, &py, &pz);
-    swcl_fw vx, vy, vz;
-    noise_baked_sample_w(vl, vl_min, vl_cell, vl_dims, px, py, pz, &vx, &vy, &vz);
-    const size_t cells = (size_t)dims.x * dims.y * dims.z;
-#define PATH_VG_LANE_(k)                                                                                     \
-    {                                                                                                        \
-        const uint agent = ids[min(base + (uint)SWCL_LANE_I(k), n - 1)];                                     \
-        uint g = 0;                                                                                          \
-        while (g + 1 < ngroups && agent >= group_end[g]) ++g;                                                \
-        const float4 d = path_trilinear(dirs + g * cells, dims, origin_h,                                    \
-                                        (float3)(SWCL_LANE(px, k), SWCL_LANE(py, k), SWCL_LANE(pz, k)));     \
-        const float kk = inv_falloff_cost > 0.0f ? s0 * fmin(1.0f, d.w * inv_falloff_cost) : s0;            \
-        SWCL_LANE(vx, k) += kk * d.x;                                                                        \
-        SWCL_LANE(vy, k) += kk * d.y;                                                                        \
-        SWCL_LANE(vz, k) += kk * d.z;                                                                        \
-    }
-    SWCL_EACH_LANE(PATH_VG_LANE_)
-#undef PATH_VG_LANE_
-    noise_store_w((__global float*)vel, base, n, vx, vy, vz);
-    noise_store_w(pp, base, n, px + vx * dt, py + vy * dt, pz + vz * dt);
+inline void path_load_xyz_w(__global const float4* p, uint base, uint n, swcl_fw* x, swcl_fw* y, swcl_fw* z) {
+    noise_load_xyz_w((__global const float*)p, base, n, x, y, z);
 }
+inline void path_store_w(__global float4* o, uint base, uint n, swcl_fw a, swcl_fw b, swcl_fw c) {
+    noise_store_w((__global float*)o, base, n, a, b, c);
+}
+#define SWCL_BW SWCL_W
+#include "wide/path_model_advance.inc.cl"
+#undef SWCL_BW
 #endif

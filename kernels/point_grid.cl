@@ -6,7 +6,7 @@
 // sort is stable and each cell's range is written by exactly one work-item.
 //
 // Geometry (geo[0], geo[1]): grid_common.cl grid_from_geometry.
-#include "grid_common.cl"
+#include "lib/grid_common.cl"
 
 // Chunk b's bounding box: part[2 b], part[2 b + 1] (empty: +inf, -inf).
 __kernel void point_grid_bounds(__global const float4* pos, uint n, uint nchunks, __global float4* part) {

@@ -1,7 +1,7 @@
 // swarmcl — tests/noise_test_kernels.cl
-// Thin test kernels over kernels/{philox,perlin,curl_noise}.cl: each writes
+// Thin test kernels over kernels/lib/{philox,perlin,curl_noise}.cl: each writes
 // what a check on the host compares with tests/reference/noise_reference.hpp.
-#include "curl_noise.cl"
+#include "lib/curl_noise.cl"
 
 __kernel void t_philox(__global const uint4* ctr, __global const uint2* key, __global uint4* out)
 {

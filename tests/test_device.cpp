@@ -88,6 +88,34 @@ TEST(Kernels, EmbeddedSourcesExpandIncludesOnce) {
     EXPECT_EQ(src.find("typedef struct"), src.rfind("typedef struct"));  // Grid defined once
 }
 
+// Files in kernels/ subfolders are named by their path; a per-width body
+// (*.inc.cl) is expanded at every #include, any other file once.
+TEST(Kernels, IncludesResolveSubfoldersAndRepeatPerWidthBodies) {
+    const fs::path dir = fs::temp_directory_path() / "swarmcl_kernel_dir_inc_test";
+    fs::create_directories(dir / "lib");
+    fs::create_directories(dir / "wide");
+    std::ofstream(dir / "top.cl") << "#include \"lib/helper.cl\"\n#define W 1\n#include \"wide/body.inc.cl\"\n"
+                                     "#include \"lib/helper.cl\"\n#define W 8\n#include \"wide/body.inc.cl\"\n";
+    std::ofstream(dir / "lib" / "helper.cl") << "int helper_marker;\n";
+    std::ofstream(dir / "wide" / "body.inc.cl") << "#include \"lib/helper.cl\"\nint body_marker;\n";
+    ScopedEnv env("SWARMCL_KERNEL_DIR", dir.string());
+    const std::string src = load_kernel_source("top.cl");
+    fs::remove_all(dir);
+    auto count = [&](const std::string& what) {
+        size_t k = 0;
+        for (size_t at = src.find(what); at != std::string::npos; at = src.find(what, at + 1)) ++k;
+        return k;
+    };
+    EXPECT_EQ(count("helper_marker"), 1u) << src;
+    EXPECT_EQ(count("body_marker"), 2u) << src;
+    EXPECT_EQ(src.find("#include"), std::string::npos) << src;
+}
+
+TEST(Kernels, EmbeddedLibraryFilesAreNamedByTheirPath) {
+    EXPECT_NE(load_kernel_source("lib/philox.cl").find("swcl_rand_uniform4"), std::string::npos);
+    EXPECT_THROW(load_kernel_source("philox.cl"), Error);
+}
+
 TEST(Kernels, MissingEmbeddedFileIsAnError) {
     EXPECT_THROW(load_kernel_source("no_such_kernel.cl"), Error);
 }
@@ -177,7 +205,7 @@ TEST(Launch, CpuLocalSizeComesFromAFixedSetWithEnoughGroups) {
 // early return.
 TEST(Kernels, EveryKernelReturnsForWorkItemsPastItsCount) {
     size_t kernels = 0;
-    for (const auto& entry : fs::directory_iterator(fs::path(SWARMCL_SOURCE_DIR) / "kernels")) {
+    for (const auto& entry : fs::recursive_directory_iterator(fs::path(SWARMCL_SOURCE_DIR) / "kernels")) {
         if (entry.path().extension() != ".cl") continue;
         std::ifstream in(entry.path());
         std::stringstream ss;
@@ -186,7 +214,9 @@ TEST(Kernels, EveryKernelReturnsForWorkItemsPastItsCount) {
         const std::string src = std::regex_replace(ss.str(), std::regex("//[^\n]*"), "");
         const std::regex kernel(R"(__kernel\s+void\s+(\w+)\s*\()");
         for (auto it = std::sregex_iterator(src.begin(), src.end(), kernel); it != std::sregex_iterator(); ++it) {
-            ++kernels;
+            // A per-width body (kernels/wide/*.inc.cl) names its kernel
+            // SWCL_KERNEL(name): name and name_w, one body.
+            kernels += (*it)[1] == "SWCL_KERNEL" ? 2 : 1;
             const size_t body = src.find('{', size_t(it->position()));
             ASSERT_NE(body, std::string::npos);
             // The first four statements of the body.

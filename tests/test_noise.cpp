@@ -32,7 +32,7 @@ using swarmcl::test::shared_context;
 
 swarmcl::Context& ctx() { return *shared_context(); }
 
-// tests/noise_test_kernels.cl with its #include "curl_noise.cl" expanded from
+// tests/noise_test_kernels.cl with its #include "lib/curl_noise.cl" expanded from
 // the library's kernel sources, built once per test process.
 cl::Program& test_program() {
     static cl::Program prog = [] {
@@ -41,10 +41,10 @@ cl::Program& test_program() {
         std::stringstream ss;
         ss << in.rdbuf();
         std::string src = ss.str();
-        const std::string inc = "#include \"curl_noise.cl\"";
+        const std::string inc = "#include \"lib/curl_noise.cl\"";
         const size_t at = src.find(inc);
         if (at == std::string::npos) throw std::runtime_error("noise_test_kernels.cl: include line not found");
-        src.replace(at, inc.size(), swarmcl::load_kernel_source("curl_noise.cl"));
+        src.replace(at, inc.size(), swarmcl::load_kernel_source("lib/curl_noise.cl"));
         cl::Program p(ctx().cl_context(), src);
         try {
             p.build({ctx().device().device}, "-cl-std=CL1.2");

@@ -29,8 +29,16 @@ std::string raw_source(const std::string& name) {
     fail(Status::Internal, "kernel file '" + name + "' is not embedded in this build");
 }
 
+// A per-width body ("wide/x.inc.cl") is expanded at every #include: the
+// including file sets the width macro before each one (docs/architecture.md).
+// Every other file is expanded once, like #pragma once.
+bool included_every_time(const std::string& name) {
+    const std::string suffix = ".inc.cl";
+    return name.size() >= suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
 void expand(const std::string& name, std::set<std::string>& seen, std::string& out) {
-    if (!seen.insert(name).second) return;  // each file once, like #pragma once
+    if (!seen.insert(name).second && !included_every_time(name)) return;
     std::istringstream lines(raw_source(name));
     std::string line;
     int number = 0;

@@ -1,7 +1,9 @@
-// Kernel sources by file name: the copies embedded at build time, or the files
-// of $SWARMCL_KERNEL_DIR when it is set (for kernel development without a
-// rebuild).  `#include "name.cl"` lines are expanded here, once per file, so
-// kernels share helpers (grid_common.cl) without a device-side include path.
+// Kernel sources by their path under kernels/ ("grid.cl", "lib/philox.cl"):
+// the copies embedded at build time, or the files of $SWARMCL_KERNEL_DIR when
+// it is set (for kernel development without a rebuild).  `#include "path.cl"`
+// lines are expanded here, once per file (a per-width body, "*.inc.cl", at
+// every include), so kernels share helpers (lib/grid_common.cl) without a
+// device-side include path.
 #pragma once
 #include <string>
 

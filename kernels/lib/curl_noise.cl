@@ -59,7 +59,7 @@
 #ifndef SWCL_CURL_NOISE_CL
 #define SWCL_CURL_NOISE_CL
 
-#include "perlin.cl"
+#include "lib/perlin.cl"
 
 /* ---------------------------------------------------------------- 3x3 */
 

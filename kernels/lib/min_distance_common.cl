@@ -1,8 +1,8 @@
 // The pair rule of minimum distance enforcement (curl-noise paper §6), shared
 // by the MDE pass (min_distance.cl) and the force model's own pass over its
 // fine grid (force_model.cl), so both push alike.
-#include "grid_common.cl"
-#include "philox.cl"
+#include "lib/grid_common.cl"
+#include "lib/philox.cl"
 
 #define SWCL_STREAM_MDE 3u
 

@@ -36,7 +36,8 @@
 #ifndef SWCL_PERLIN_CL
 #define SWCL_PERLIN_CL
 
-#include "philox.cl"
+#include "lib/philox.cl"
+#include "lib/lanes.cl"
 
 /* Everything on the hot path is always inlined and written in plain scalar
  * floats and ints (no float3, no struct returns, no switch, no private
@@ -352,33 +353,9 @@ SWCL_INLINE swcl_vg4 swcl_perlin4_seeded(float4 p, uint4 o)
  * (floatW lanes), so every lane gives the scalar result up to the compiler's
  * own contraction choices. PoCL does not vectorise the scalar cores across
  * work-items (docs/noise.md), so on CPUs one work-item runs SWCL_W points.
- * Permutation lookups are gathers (swcl_perm_w). */
-#if defined(NOISE_WIDTH) && NOISE_WIDTH > 1
-#define SWCL_W NOISE_WIDTH
-#if SWCL_W == 8
-typedef float8 swcl_fw;
-typedef int8 swcl_iw;
-#define swcl_cvt_fw convert_float8
-#define swcl_cvt_iw convert_int8
-#define SWCL_LANES(E) E(0), E(1), E(2), E(3), E(4), E(5), E(6), E(7)
-#define SWCL_EACH_LANE(E) E(0) E(1) E(2) E(3) E(4) E(5) E(6) E(7)
-#elif SWCL_W == 16
-typedef float16 swcl_fw;
-typedef int16 swcl_iw;
-#define swcl_cvt_fw convert_float16
-#define swcl_cvt_iw convert_int16
-#define SWCL_LANES(E) E(0), E(1), E(2), E(3), E(4), E(5), E(6), E(7), \
-                      E(8), E(9), E(a), E(b), E(c), E(d), E(e), E(f)
-#define SWCL_EACH_LANE(E) E(0) E(1) E(2) E(3) E(4) E(5) E(6) E(7) \
-                          E(8) E(9) E(a) E(b) E(c) E(d) E(e) E(f)
-#else
-#error "NOISE_WIDTH must be 1, 8 or 16"
-#endif
-/* SWCL_LANES(E): E(k) for every lane, comma separated (a vector literal);
- * SWCL_EACH_LANE(E): the same, juxtaposed (statements). k is a hex digit
- * token; lane k of a vector and its index as an int: */
-#define SWCL_LANE(v, k) ((v).s##k)
-#define SWCL_LANE_I(k) (0x##k)
+ * Permutation lookups are gathers (swcl_perm_w). Lane types and macros:
+ * lib/lanes.cl. */
+#if defined(SWCL_W)
 
 /* The permutation lookup of W lanes. On x86 CPUs with AVX-512 and W = 16 one
  * hardware gather (vpgatherdd); LLVM does not form it from W scalar loads,
@@ -526,6 +503,6 @@ SWCL_INLINE void swcl_perlin4_seeded_w(swcl_fw px, swcl_fw py, swcl_fw pz, swcl_
                    pw + swcl_off_frac(o.w), swcl_off_cells(o.x), swcl_off_cells(o.y),
                    swcl_off_cells(o.z), swcl_off_cells(o.w), val, gx, gy, gz, gw);
 }
-#endif /* NOISE_WIDTH > 1 */
+#endif /* SWCL_W */
 
 #endif /* SWCL_PERLIN_CL */

@@ -1,0 +1,43 @@
+// The explicit width of the CPU kernels (docs/noise.md): with -DNOISE_WIDTH=8
+// or 16 (NoiseField::width()), SWCL_W and its lane types (swcl_fw, swcl_iw,
+// swcl_uw: floatW, intW, uintW) and lane macros, for the _w helpers of
+// lib/perlin.cl, lib/curl_noise.cl, lib/noise_field.cl and the per-width
+// bodies (kernels/wide/).  Without it (or with 1) nothing is defined.
+#ifndef SWCL_LANES_CL
+#define SWCL_LANES_CL
+#if defined(NOISE_WIDTH) && NOISE_WIDTH > 1
+#define SWCL_W NOISE_WIDTH
+#if SWCL_W == 8
+typedef float8 swcl_fw;
+typedef int8 swcl_iw;
+typedef uint8 swcl_uw;
+#define swcl_cvt_fw convert_float8
+#define swcl_cvt_iw convert_int8
+#define swcl_as_uw as_uint8
+#define swcl_vload_fw vload8
+#define swcl_vload_uw vload8
+#define SWCL_LANES(E) E(0), E(1), E(2), E(3), E(4), E(5), E(6), E(7)
+#define SWCL_EACH_LANE(E) E(0) E(1) E(2) E(3) E(4) E(5) E(6) E(7)
+#elif SWCL_W == 16
+typedef float16 swcl_fw;
+typedef int16 swcl_iw;
+typedef uint16 swcl_uw;
+#define swcl_cvt_fw convert_float16
+#define swcl_cvt_iw convert_int16
+#define swcl_as_uw as_uint16
+#define swcl_vload_fw vload16
+#define swcl_vload_uw vload16
+#define SWCL_LANES(E) E(0), E(1), E(2), E(3), E(4), E(5), E(6), E(7), \
+                      E(8), E(9), E(a), E(b), E(c), E(d), E(e), E(f)
+#define SWCL_EACH_LANE(E) E(0) E(1) E(2) E(3) E(4) E(5) E(6) E(7) \
+                          E(8) E(9) E(a) E(b) E(c) E(d) E(e) E(f)
+#else
+#error "NOISE_WIDTH must be 1, 8 or 16"
+#endif
+/* SWCL_LANES(E): E(k) for every lane, comma separated (a vector literal);
+ * SWCL_EACH_LANE(E): the same, juxtaposed (statements). k is a hex digit
+ * token; lane k of a vector and its index as an int: */
+#define SWCL_LANE(v, k) ((v).s##k)
+#define SWCL_LANE_I(k) (0x##k)
+#endif
+#endif

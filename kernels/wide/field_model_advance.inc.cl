@@ -1,0 +1,36 @@
+// field_model_advance (SWCL_BW = 1: one agent per work-item) and
+// field_model_advance_w (SWCL_BW = SWCL_W consecutive agents per work-item,
+// CPU devices; launch ceil(n / SWCL_W)): one body, so the same arithmetic in
+// the same order at every width.  Included by field_model.cl once per width.
+#include "wide/width.inc.cl"
+
+__kernel void SWCL_KERNEL(field_model_advance)(__global float4* pos, __global float4* vel, __global const uint* ids,
+                                               uint n, float dt, float t, uint step, NOISE_PARAMS, float4 goal,
+                                               float goal_speed, float goal_falloff) {
+    const uint base = get_global_id(0) * SWCL_BW;
+    if (base >= n) return;
+    __global float* pp = (__global float*)pos;  // NOISE_AT: see lib/noise_field.cl
+    swcl_bf px, py, pz;
+    SWCL_BFN(noise_load_xyz)(pp, base, n, &px, &py, &pz);
+#if defined(NOISE_KIND) && NOISE_KIND != NOISE_WHITE && NOISE_KIND != NOISE_GAUSSIAN
+    const uint agent = 0u;  // only the random noises depend on the agent id
+#else
+    const uint agent = ids[base];  // width 1 only: the random noises have no wide path
+#endif
+    swcl_bf vx, vy, vz;
+    NOISE_VELOCITY_B(px, py, pz, t, agent, step, &vx, &vy, &vz);
+    // goal.w: goal radius, negative when there is no goal.
+    if (goal.w >= 0.0f) {
+        const swcl_bf gx = goal.x - px, gy = goal.y - py, gz = goal.z - pz;
+        const swcl_bf dist = sqrt(gx * gx + gy * gy + gz * gz);
+        // The pull grows from 0 on the goal sphere to s0 over goal_falloff
+        // metres (0: at once, the paper's V_g); a gradual pull does not
+        // pile insects up on the sphere.
+        const swcl_bf ramp = goal_falloff > 0.0f ? fmin((swcl_bf)(1.0f), (dist - goal.w) / goal_falloff)
+                                                 : (swcl_bf)(1.0f);
+        const swcl_bf k = select((swcl_bf)(0.0f), goal_speed * ramp / dist, (dist > goal.w) & (dist > 0.0f));
+        vx += k * gx; vy += k * gy; vz += k * gz;
+    }
+    SWCL_BFN(noise_store)((__global float*)vel, base, n, vx, vy, vz);
+    SWCL_BFN(noise_store)(pp, base, n, px + vx * dt, py + vy * dt, pz + vz * dt);
+}

@@ -1,0 +1,49 @@
+// path_model_advance (SWCL_BW = 1: one agent per work-item, any local field)
+// and path_model_advance_w (SWCL_BW = SWCL_W consecutive agents per
+// work-item, CPU devices, baked local field; launch ceil(n / SWCL_W)): one
+// body, so the same arithmetic in the same order at every width.  Included
+// by path_model.cl once per width.
+#include "wide/width.inc.cl"
+
+__kernel void SWCL_KERNEL(path_model_advance)(__global float4* pos, __global float4* vel, __global const uint* ids,
+                                              uint n, float dt, float t, uint step, NOISE_PARAMS,
+                                              __global const float4* dirs, int4 dims, float4 origin_h,
+                                              __global const uint* group_end, uint ngroups, float s0,
+                                              __global const float* phi, float inv_falloff_cost,
+                                              __global const float4* vl, float4 vl_min, float4 vl_cell,
+                                              int4 vl_dims) {
+    const uint base = get_global_id(0) * SWCL_BW;
+    if (base >= n) return;
+    swcl_bf px, py, pz;
+    SWCL_BFN(path_load_xyz)(pos, base, n, &px, &py, &pz);
+    swcl_bf vx, vy, vz;
+#if PATH_BAKED
+    SWCL_BFN(noise_baked_sample)(vl, vl_min, vl_cell, vl_dims, px, py, pz, &vx, &vy, &vz);
+#elif PATH_MESH  // width 1 only
+    path_noise_mesh(noise_type, noise_flags, noise_shape, noise_fd_step, noise_seed, noise_off0, noise_off1,
+                    noise_off2, noise_prims, noise_nprims, noise_baked, noise_bake_min, noise_bake_cell,
+                    noise_bake_dims, phi, dims, origin_h, px, py, pz, t, &vx, &vy, &vz);
+#else  // width 1 only
+    NOISE_VELOCITY_B(px, py, pz, t, ids[base], step, &vx, &vy, &vz);
+#endif
+    const size_t cells = (size_t)dims.x * dims.y * dims.z;
+    // Per lane: the agent's group (groups own consecutive id ranges,
+    // group_end), the global field there, and the optional goal ramp (host:
+    // goal_falloff; d.w is the cost C, 0 in the goal).
+#define PATH_VG_LANE_(k)                                                                                     \
+    {                                                                                                        \
+        const uint agent = ids[SWCL_BLANE_ID(base, k, n)];                                                   \
+        uint g = 0;                                                                                          \
+        while (g + 1 < ngroups && agent >= group_end[g]) ++g;                                                \
+        const float4 d = path_trilinear(dirs + g * cells, dims, origin_h,                                    \
+                                        (float3)(SWCL_BLANE(px, k), SWCL_BLANE(py, k), SWCL_BLANE(pz, k)));  \
+        const float kk = inv_falloff_cost > 0.0f ? s0 * fmin(1.0f, d.w * inv_falloff_cost) : s0;            \
+        SWCL_BLANE(vx, k) += kk * d.x;                                                                       \
+        SWCL_BLANE(vy, k) += kk * d.y;                                                                       \
+        SWCL_BLANE(vz, k) += kk * d.z;                                                                       \
+    }
+    SWCL_BEACH_LANE(PATH_VG_LANE_)
+#undef PATH_VG_LANE_
+    SWCL_BFN(path_store)(vel, base, n, vx, vy, vz);
+    SWCL_BFN(path_store)(pos, base, n, px + vx * dt, py + vy * dt, pz + vz * dt);
+}
