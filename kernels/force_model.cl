@@ -96,10 +96,6 @@ __kernel void force_model_fine_gather(__global const float4* pos, __global const
     soa[2 * (n + FM_SOA_PAD) + k] = p.z;
 }
 
-// A position of the sorted copy.
-#define FM_SOA_AT(soa, n, k) \
-    ((float4)((soa)[k], (soa)[((n) + FM_SOA_PAD) + (k)], (soa)[2 * ((n) + FM_SOA_PAD) + (k)], 0.0f))
-
 // Smallest and largest lane of v among the lanes `on`, at the bodies'
 // widths (the _w ones below): at width 1 the agent's own coordinate.
 SWCL_INLINE float fm_lane_min_s(float v, int on) { return select(INFINITY, v, on); }
