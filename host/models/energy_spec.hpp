@@ -1,11 +1,10 @@
-// The "energy" model of scenario files (FASTSWARM, docs/scenarios.md): its
-// parameters, where its reference dataset comes from, and building it for a
-// swarm.
+// The energy model (FASTSWARM) as a scenario describes it: its parameters and
+// where its reference dataset comes from (docs/scenarios.md, docs/energy-model.md).
+// The other models' configs are complete in themselves; this one names a
+// dataset that is loaded or built when the behavior is (make_behavior).
 #pragma once
 #include <memory>
 #include <string>
-
-#include <nlohmann/json_fwd.hpp>
 
 #include "data/dataset.hpp"
 #include "data/tracks.hpp"
@@ -13,7 +12,7 @@
 
 namespace swarmcl {
 
-struct EnergyScenario {
+struct EnergySpec {
     EnergyModelConfig config;
     enum class Source { Synthetic, File, Tracks } source = Source::Synthetic;
     std::string path;              // File: a dataset file; Tracks: a track CSV
@@ -23,12 +22,7 @@ struct EnergyScenario {
     float synthetic_mean_speed = 0.5f;
 };
 
-// Parses the model object (all keys but "type" and "noise", which the caller
-// reads); Error(Parse) naming the key path under `path`.
-EnergyScenario read_energy_scenario(const nlohmann::json& model, const std::string& path);
-
-// Loads or builds the dataset (Error(Io/Parse) for a file) and the model.
-std::shared_ptr<EnergyModel> make_energy_model(Swarm& swarm, const EnergyScenario& scenario);
-std::shared_ptr<const Dataset> energy_scenario_dataset(const EnergyScenario& scenario);
+// Loads or builds the dataset (Error(Io/Parse) for a file).
+std::shared_ptr<const Dataset> energy_spec_dataset(const EnergySpec& spec);
 
 }  // namespace swarmcl
