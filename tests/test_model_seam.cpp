@@ -288,7 +288,8 @@ TEST(KeyframeSpec, CApiAndScenarioKeyframesAreTheSameMeshes) {
     kf[1].scale = 0.5f;
     kf[1].offset[2] = 2;
     swcl_context ctx{};
-    ASSERT_EQ(swcl_context_create(nullptr, &ctx), SWCL_OK) << swcl_last_error();
+    const swcl_context_desc cd = swcl_context_desc_default();
+    ASSERT_EQ(swcl_context_create(&cd, &ctx), SWCL_OK) << swcl_last_error();
     swcl_swarm_desc sd = swcl_swarm_desc_default();
     sd.capacity = 30;
     sd.agent_count = 30;
