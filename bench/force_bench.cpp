@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "bench_util.hpp"
-#include "io/scenario.hpp"
+#include "scenario/make_swarm.hpp"
 #include "models/force_model.hpp"
 #include "swarm/swarm.hpp"
 
@@ -90,14 +90,8 @@ int main(int argc, char** argv) {
                 Scenario s = base;
                 s.swarm.agent_count = n;
                 s.swarm.capacity = n;
-                SwarmConfig config = s.swarm;
-                config.agent_count = 0;
-                auto swarm = std::make_shared<Swarm>(ctx, config);
-                const auto pos = s.initial_positions();
-                swarm->write(Attribute::Position, pos.data(), n);
-                ForceModelConfig fc = *s.force_model;
-                fc.neighbor_sample = cap;
-                swarm->set_behavior(std::make_shared<ForceModel>(*swarm, fc));
+                std::get<ForceModelConfig>(s.model).neighbor_sample = cap;
+                auto swarm = make_swarm(ctx, s);
                 swarm->step(warmup);
                 ctx->queue().finish();
                 Row r;

@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "bench_util.hpp"
-#include "io/scenario.hpp"
+#include "scenario/make_swarm.hpp"
 #include "models/path_model.hpp"
 #include "swarm/swarm.hpp"
 
@@ -62,33 +62,36 @@ struct Run {
 
 Run run(std::shared_ptr<Context> ctx, const Scenario& s, uint32_t steps, uint32_t agents_override = 0,
         float radius_override = 0) {
-    SwarmConfig c = s.swarm;
-    if (radius_override > 0) c.interaction_radius = radius_override;
+    // The scenario's swarm without its model: the model is built below, timed.
+    Scenario placed = s;
+    placed.model = Ballistic{};
+    if (radius_override > 0) placed.swarm.interaction_radius = radius_override;
     const uint32_t n = agents_override ? agents_override : s.swarm.agent_count;
-    c.capacity = n;
-    c.agent_count = 0;
-    Swarm swarm(ctx, c);
-    std::vector<float> pos;
+    placed.swarm.capacity = n;
     if (agents_override) {
         // Uniform in the air above the ground (2 m margins; the houses' cells
         // are pushed out by V_g within a few steps).
+        const SwarmConfig& c = placed.swarm;
         std::mt19937 rng(1);
-        pos.resize(3 * size_t(n));
+        std::vector<float> pos(3 * size_t(n));
         const float lo[3] = {c.domain_min[0] + 2, c.domain_min[1] + 2, c.domain_min[2] + 3};
         const float hi[3] = {c.domain_max[0] - 2, c.domain_max[1] - 2, c.domain_max[2] - 2};
         for (size_t i = 0; i < pos.size(); ++i) {
             std::uniform_real_distribution<float> u(lo[i % 3], hi[i % 3]);
             pos[i] = u(rng);
         }
-    } else {
-        pos = s.initial_positions();
+        placed.swarm.agent_count = n;
+        placed.initial.kind = InitialDistribution::Kind::Points;
+        placed.initial.points = std::move(pos);
     }
-    swarm.write(Attribute::Position, pos.data(), n);
+    const auto owned = make_swarm(ctx, placed);
+    Swarm& swarm = *owned;
     swarm.ensure_grid();  // agents in grid-cell order, as a run with MDE keeps them
     // Preprocessing as the paper times it: the fields, not the kernel builds
     // (a first model builds the programs, kept by the context).
-    PathModel(swarm, *s.path_model);
-    auto model = std::make_shared<PathModel>(swarm, *s.path_model);
+    const PathModelConfig& config = std::get<PathModelConfig>(s.model);
+    PathModel(swarm, config);
+    auto model = std::make_shared<PathModel>(swarm, config);
     swarm.set_behavior(model);
     Run r;
     r.preprocess = model->preprocess_seconds();
@@ -134,8 +137,9 @@ int main(int argc, char** argv) {
         std::printf("  %-20s %12.3f %12.1f %9.2f%% | paper: %9.3f %9.1f %9.1f %6.2f%%\n", p.label, r.preprocess,
                     r.steps_per_s, 100 * r.mde_share, p.preprocess, p.cpu_fps, p.gpu_fps, p.mde_percent);
         js << (first ? "" : ",") << "\n    {\"scenario\": \"" << p.file << "\", \"agents\": " << s.swarm.agent_count
-           << ", \"grid\": [" << s.path_model->resolution[0] << ", " << s.path_model->resolution[1] << ", "
-           << s.path_model->resolution[2] << "], \"preprocess_seconds\": " << r.preprocess
+           << ", \"grid\": [" << std::get<PathModelConfig>(s.model).resolution[0] << ", "
+           << std::get<PathModelConfig>(s.model).resolution[1] << ", "
+           << std::get<PathModelConfig>(s.model).resolution[2] << "], \"preprocess_seconds\": " << r.preprocess
            << ", \"steps_per_second\": " << r.steps_per_s << ", \"mde_share\": " << r.mde_share
            << ", \"paper_preprocess_seconds\": " << p.preprocess << ", \"paper_cpu_fps\": " << p.cpu_fps
            << ", \"paper_gpu_fps\": " << p.gpu_fps << ", \"paper_mde_percent\": " << p.mde_percent << "}";
@@ -185,7 +189,7 @@ int main(int argc, char** argv) {
         const Scenario s = load_scenario(std::string(SWARMCL_SCENARIO_DIR) + "/path_locusts.json");
         const Run r = run(ctx, s, 10, million, 0.25f);
         Scenario no_mde = s;
-        no_mde.path_model->min_distance = 0.0f;
+        std::get<PathModelConfig>(no_mde.model).min_distance = 0.0f;
         const Run a = run(ctx, no_mde, 10, million, 0.25f);
         std::printf("  locusts with %u insects: %.1f ms per step (target 50 ms), MDE moved %.2f%% per step;\n"
                     "    without MDE (the path advance kernel alone, agents in grid order): %.1f ms per step\n",

@@ -22,6 +22,11 @@
 #include <nlohmann/json.hpp>
 #include <swarmcl/swarmcl.h>
 
+// The library's atomic file writer, compiled into this program (CMakeLists.txt):
+// the C API has no call for writing a text file.
+#include "core/error.hpp"
+#include "io/atomic_file.hpp"
+
 namespace {
 
 const char* kUsage =
@@ -117,20 +122,13 @@ uint32_t parse_count(const char* flag, const char* text, uint32_t min) {
     return uint32_t(v);
 }
 
-// Writes text to path through a temporary file and a rename.
+// Writes text to path through a temporary file and a rename (host/io/atomic_file).
 void write_atomically(const std::string& path, const std::string& text) {
-    const std::string tmp = path + ".partial";
-    {
-        std::ofstream out(tmp, std::ios::binary);
-        out << text;
-        out.flush();
-        if (!out) {
-            std::remove(tmp.c_str());
-            throw Failure{"cannot write '" + path + "'"};
-        }
-    }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-        std::remove(tmp.c_str());
+    try {
+        swarmcl::AtomicFile file(path);
+        file.write(text);
+        file.commit();
+    } catch (const swarmcl::Error&) {
         throw Failure{"cannot write '" + path + "'"};
     }
 }

@@ -21,7 +21,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/scenario.hpp"
+#include "scenario/scenario.hpp"
 #include "io_test_support.hpp"
 
 #ifndef SWARMCL_CLI

@@ -13,7 +13,7 @@
 
 #include "core/error.hpp"
 #include "core/philox.hpp"
-#include "io/scenario.hpp"
+#include "scenario/scenario.hpp"
 #include "capi_fixture.hpp"
 #include "swarmcl/swarmcl.h"
 #include "models/force_model.hpp"
@@ -1007,8 +1007,8 @@ TEST(ForceScenario, ParsesTheForceModel) {
                                 {"frame": 10, "mesh": {"vertices": [[0,0,0],[1,0,0],[0,1,0],[0,0,1]],
                                                        "triangles": [[0,2,1],[0,1,3],[0,3,2],[1,2,3]]}}],
                   "path": {"points": [[0,0,0],[1,0,0],[2,0,0],[3,0,0]], "speed": 0.5}}})");
-    ASSERT_TRUE(s.force_model.has_value());
-    const ForceModelConfig& c = *s.force_model;
+    ASSERT_TRUE(std::holds_alternative<ForceModelConfig>(s.model));
+    const ForceModelConfig& c = std::get<ForceModelConfig>(s.model);
     EXPECT_FLOAT_EQ(c.alpha, 0.6f);
     EXPECT_FLOAT_EQ(c.noise.scale, 0.4f);
     EXPECT_FLOAT_EQ(c.noise.gain, 0.5f);  // eta / rho
@@ -1022,7 +1022,7 @@ TEST(ForceScenario, ParsesTheForceModel) {
     EXPECT_EQ(c.obstacles.size(), 1u);
     const Scenario off = parse_scenario(R"({"agents": {"count": 5}, "model": {"type": "force",
         "path": {"points": [[0,0,0],[1,0,0],[2,0,0],[3,0,0]], "orient": false}}})");
-    EXPECT_FALSE(off.force_model->path_orient);
+    EXPECT_FALSE(std::get<ForceModelConfig>(off.model).path_orient);
 }
 
 TEST(ForceScenario, BadForceModelsNameTheKey) {

@@ -14,7 +14,7 @@
 #include <string>
 
 #include "core/error.hpp"
-#include "io/scenario.hpp"
+#include "scenario/scenario.hpp"
 #include "models/force_model.hpp"
 #include "swarm/swarm.hpp"
 #include "capi_fixture.hpp"
@@ -408,8 +408,8 @@ TEST(ForceMeshScenario, MeshAndCylinderObstaclesAndRelativeObjPaths) {
     std::string dir = ::testing::TempDir();
     if (!dir.empty() && dir.back() == '/') dir.pop_back();
     const Scenario s = parse_scenario(text, dir);
-    ASSERT_TRUE(s.force_model.has_value());
-    const ForceModelConfig& c = *s.force_model;
+    ASSERT_TRUE(std::holds_alternative<ForceModelConfig>(s.model));
+    const ForceModelConfig& c = std::get<ForceModelConfig>(s.model);
     EXPECT_EQ(c.obstacles.size(), 1u);  // the sphere stays analytic
     ASSERT_EQ(c.mesh_obstacles.size(), 2u);
     EXPECT_NEAR(bounds(c.mesh_obstacles[0]).min[0], 0.7f, 1e-6f);  // offset applied
@@ -456,8 +456,8 @@ TEST(ForceMeshScenario, ObjKeyframesAreReadRelativeToTheScenario) {
         "keyframes": [{"frame": 0, "shape": "sphere"},
                       {"frame": 20, "obj": "swarmcl_force_kf_box.obj", "scale": 2, "offset": [1, 0, 0]}]}})",
                                       dir);
-    ASSERT_TRUE(s.force_model.has_value());
-    const TriangleMesh& m = s.force_model->keyframes.at(1).mesh;
+    ASSERT_TRUE(std::holds_alternative<ForceModelConfig>(s.model));
+    const TriangleMesh& m = std::get<ForceModelConfig>(s.model).keyframes.at(1).mesh;
     EXPECT_EQ(m.triangle_count(), 12u);  // 6 quads, triangulated
     EXPECT_NEAR(bounds(m).min[0], 0.4f, 1e-6f);  // -0.3 * 2 + 1
     EXPECT_NEAR(bounds(m).max[2], 1.2f, 1e-6f);

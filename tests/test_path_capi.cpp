@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "io/scenario.hpp"
+#include "scenario/scenario.hpp"
 #include "capi_fixture.hpp"
 #include "swarmcl/swarmcl.h"
 
@@ -185,10 +185,10 @@ TEST(PathScenario, ExamplesBuildAndKeysAreChecked) {
     for (const char* name : {"path_two_blocks", "path_chasing", "path_aggregation", "path_phototaxis", "path_locusts"}) {
         SCOPED_TRACE(name);
         const Scenario s = load_scenario(dir + name + ".json");
-        ASSERT_TRUE(s.path_model.has_value());
-        EXPECT_FALSE(s.path_model->groups.empty());
+        ASSERT_TRUE(std::holds_alternative<PathModelConfig>(s.model));
+        EXPECT_FALSE(std::get<PathModelConfig>(s.model).groups.empty());
     }
-    EXPECT_EQ(load_scenario(dir + "path_locusts.json").path_model->obstacles.size(), 2u);  // the OBJ hamlet and the ground
+    EXPECT_EQ(std::get<PathModelConfig>(load_scenario(dir + "path_locusts.json").model).obstacles.size(), 2u);  // the OBJ hamlet and the ground
     const std::string head = R"({"name": "t", "domain": {"min": [0,0,0], "max": [4,2,1]}, "agents": {"count": 4},)";
     auto error = [&](const std::string& tail) -> std::string {
         try {

@@ -14,7 +14,7 @@
 
 #include "core/error.hpp"
 #include "io/recorder.hpp"
-#include "io/scenario.hpp"
+#include "scenario/scenario.hpp"
 #include "io_test_support.hpp"
 #include "swarmcl/swarmcl.h"
 
@@ -98,8 +98,8 @@ TEST(Scenario, AggregationFieldsLandWhereExpected) {
     EXPECT_EQ(s.initial.min, s.swarm.domain_min);  // uniform defaults to the domain
     EXPECT_EQ(s.initial.max, s.swarm.domain_max);
     EXPECT_EQ(s.initial.velocity, (std::array<float, 3>{0, 0, 0}));
-    ASSERT_TRUE(s.field_model.has_value());
-    const FieldModelConfig& m = *s.field_model;
+    ASSERT_TRUE(std::holds_alternative<FieldModelConfig>(s.model));
+    const FieldModelConfig& m = std::get<FieldModelConfig>(s.model);
     EXPECT_EQ(m.noise.type, NoiseType::Curl);
     EXPECT_EQ(m.noise.scale, 0.4f);
     EXPECT_EQ(m.noise.gain, 0.25f);
@@ -124,9 +124,9 @@ TEST(Scenario, ChasingHasItsObstacleAndSphere) {
     EXPECT_EQ(s.initial.kind, InitialDistribution::Kind::Sphere);
     EXPECT_EQ(s.initial.center, (std::array<float, 3>{2, 2, 2}));
     EXPECT_EQ(s.initial.radius, 0.8f);
-    ASSERT_TRUE(s.field_model.has_value());
-    ASSERT_EQ(s.field_model->noise.boundaries.size(), 1u);
-    const Boundary& b = s.field_model->noise.boundaries[0];
+    ASSERT_TRUE(std::holds_alternative<FieldModelConfig>(s.model));
+    ASSERT_EQ(std::get<FieldModelConfig>(s.model).noise.boundaries.size(), 1u);
+    const Boundary& b = std::get<FieldModelConfig>(s.model).noise.boundaries[0];
     EXPECT_EQ(b.kind, Boundary::Kind::Sphere);
     EXPECT_EQ(b.center, (std::array<float, 3>{4, 2, 6}));
     EXPECT_EQ(b.radius, 0.7f);
@@ -141,14 +141,14 @@ TEST(Scenario, Defaults) {
     EXPECT_EQ(s.swarm.domain_min, (std::array<float, 3>{-1, -1, -1}));
     EXPECT_EQ(s.swarm.domain_max, (std::array<float, 3>{1, 1, 1}));
     EXPECT_EQ(s.swarm.agent_count, 3u);
-    EXPECT_FALSE(s.field_model.has_value()) << "no model key: ballistic";
+    EXPECT_FALSE(std::holds_alternative<FieldModelConfig>(s.model)) << "no model key: ballistic";
     EXPECT_EQ(s.output_dir, "out");
     EXPECT_EQ(s.output_formats, uint32_t(kExportCsv));
     EXPECT_EQ(s.output_every, 1u);
     // "model": {} is the field model with its defaults.
     const Scenario f = parse_scenario(R"({"agents": {"count": 3}, "model": {}})");
-    ASSERT_TRUE(f.field_model.has_value());
-    EXPECT_EQ(f.field_model->noise.scale, NoiseConfig{}.scale);
+    ASSERT_TRUE(std::holds_alternative<FieldModelConfig>(f.model));
+    EXPECT_EQ(std::get<FieldModelConfig>(f.model).noise.scale, NoiseConfig{}.scale);
 }
 
 TEST(Scenario, ObstaclesOfEveryKind) {
@@ -156,8 +156,8 @@ TEST(Scenario, ObstaclesOfEveryKind) {
       {"type": "sphere", "center": [1, 1, 0.5], "radius": 0.2},
       {"type": "box", "center": [2, 1, 0.5], "half_extents": [0.1, 0.2, 0.3], "edge_radius": 0.05},
       {"type": "plane", "normal": [0, 0, 1], "offset": 0.1}])"));
-    ASSERT_TRUE(s.field_model.has_value());
-    const auto& b = s.field_model->noise.boundaries;
+    ASSERT_TRUE(std::holds_alternative<FieldModelConfig>(s.model));
+    const auto& b = std::get<FieldModelConfig>(s.model).noise.boundaries;
     ASSERT_EQ(b.size(), 3u);
     EXPECT_EQ(b[0].kind, Boundary::Kind::Sphere);
     EXPECT_EQ(b[0].radius, 0.2f);

@@ -6,7 +6,7 @@
 #include "capi_common.hpp"
 #include "capi_noise.hpp"
 #include "data/dataset.hpp"
-#include "data/synthesis.hpp"
+#include "scenario/synthesis.hpp"
 #include "data/tracks.hpp"
 #include "models/energy_model.hpp"
 

@@ -8,7 +8,7 @@
 #include "capi_common.hpp"
 #include "capi_obstacle.hpp"
 #include "models/force_model.hpp"
-#include "shapes/shape_library.hpp"
+#include "shapes/keyframe_spec.hpp"
 
 using namespace swarmcl;
 using namespace swarmcl::capi;
@@ -23,17 +23,27 @@ std::vector<Keyframe> keyframes_from(const swcl_keyframe* kf, uint32_t count) {
         const std::string name = "keyframes[" + std::to_string(k) + "]";
         TriangleMesh mesh;
         try {
+            // Built by shapes/keyframe_spec as the scenario files' keyframes are.
+            KeyframeSpec spec;
             if (f.shape) {
-                mesh = generated_shape(f.shape);
+                spec.source = KeyframeSpec::Source::Shape;
+                spec.name = f.shape;
             } else {
                 require(f.vertices && f.triangles,
                         "needs a shape name or vertices and triangles (NULL given)");
-                mesh = make_mesh(f.vertices, f.vertex_count, f.triangles, f.triangle_count);
+                spec.source = KeyframeSpec::Source::Mesh;
+                spec.vertices = f.vertices;
+                spec.vertex_count = f.vertex_count;
+                spec.triangles = f.triangles;
+                spec.triangle_count = f.triangle_count;
             }
+            const TriangleMesh source = keyframe_source_mesh(spec);
             const float s = f.scale == 0.0f ? 1.0f : f.scale;
             require(std::isfinite(s) && s > 0.0f, "scale must be > 0 (0: 1)");
             for (float o : f.offset) require(std::isfinite(o), "offset must be finite");
-            mesh = transformed(mesh, {s, s, s}, {f.offset[0], f.offset[1], f.offset[2]});
+            spec.scale = s;
+            spec.offset = {f.offset[0], f.offset[1], f.offset[2]};
+            mesh = placed_keyframe_mesh(spec, source);
         } catch (const Error& e) {
             fail(e.status(), name + ": " + e.what());
         }

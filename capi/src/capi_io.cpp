@@ -5,9 +5,9 @@
 
 #include "capi_common.hpp"
 #include "io/recorder.hpp"
-#include "io/scenario.hpp"
-#include "models/field_model.hpp"
-#include "models/force_model.hpp"
+#include "models/model_spec.hpp"
+#include "scenario/make_swarm.hpp"
+#include "scenario/scenario.hpp"
 
 using namespace swarmcl;
 using namespace swarmcl::capi;
@@ -79,15 +79,8 @@ swcl_status swcl_scenario_get_info(swcl_scenario scenario, swcl_scenario_info* o
         info.seed = s->swarm.seed;
         copy_text(info.name, s->name);
         copy_text(info.output_dir, s->output_dir);
-        copy_text(info.model, s->field_model    ? "field"
-                              : s->path_model   ? "path"
-                              : s->force_model  ? "force"
-                              : s->energy_model ? "energy"
-                                                : "ballistic");
-        info.min_distance = s->field_model ? s->field_model->min_distance
-                            : s->path_model ? s->path_model->min_distance
-                            : s->force_model ? s->force_model->min_distance
-                                             : 0.0f;
+        copy_text(info.model, model_name(s->model));
+        info.min_distance = model_min_distance(s->model);
         *out = info;
     });
 }
@@ -97,19 +90,7 @@ swcl_status swcl_scenario_create_swarm(swcl_scenario scenario, swcl_context cont
         check_out(out, "out");
         auto s = scenarios().get(scenario.id);
         auto ctx = contexts().get(context.id);
-        SwarmConfig config = s->swarm;
-        config.agent_count = 0;  // placed from the scenario's distribution below
-        auto swarm = std::make_shared<Swarm>(ctx, config);
-        const auto pos = s->initial_positions();
-        const uint32_t n = s->swarm.agent_count;
-        swarm->write(Attribute::Position, pos.data(), n);
-        std::vector<float> vel(size_t(n) * 3);
-        for (size_t i = 0; i < vel.size(); ++i) vel[i] = s->initial.velocity[i % 3];
-        swarm->write(Attribute::Velocity, vel.data(), n);
-        if (s->field_model) swarm->set_behavior(std::make_shared<FieldModel>(*swarm, *s->field_model));
-        if (s->path_model) swarm->set_behavior(std::make_shared<PathModel>(*swarm, *s->path_model));
-        if (s->energy_model) swarm->set_behavior(make_energy_model(*swarm, *s->energy_model));
-        if (s->force_model) swarm->set_behavior(std::make_shared<ForceModel>(*swarm, *s->force_model));
+        auto swarm = make_swarm(ctx, *s);
         out->id = swarms().add(std::move(swarm));
     });
 }

@@ -1,10 +1,11 @@
-// swcl_obstacle -> TriangleMesh (capi_obstacle.hpp).
+// swcl_obstacle -> TriangleMesh (capi_obstacle.hpp): checked here, built by
+// shapes/obstacle_spec as the scenario files' obstacles are.
 #include "capi_obstacle.hpp"
 
 #include <cmath>
 
 #include "core/error.hpp"
-#include "io/obj_loader.hpp"
+#include "shapes/obstacle_spec.hpp"
 
 namespace swarmcl::capi {
 
@@ -12,25 +13,39 @@ TriangleMesh obstacle_mesh(const swcl_obstacle& o, const std::string& what) {
     try {
         if (o.type != SWCL_OBSTACLE_MESH && o.type != SWCL_OBSTACLE_OBJ)
             for (int a = 0; a < 3; ++a) require(std::isfinite(o.center[a]), "center must be finite");
+        ObstacleSpec spec;
+        spec.center = {o.center[0], o.center[1], o.center[2]};
         switch (o.type) {
             case SWCL_OBSTACLE_MESH:
-                return make_mesh(o.vertices, o.vertex_count, o.indices, o.triangle_count);
+                spec.kind = ObstacleSpec::Kind::Mesh;
+                spec.vertices = o.vertices;
+                spec.vertex_count = o.vertex_count;
+                spec.indices = o.indices;
+                spec.triangle_count = o.triangle_count;
+                return swarmcl::obstacle_mesh(spec);
             case SWCL_OBSTACLE_OBJ:
                 require(o.path != nullptr && *o.path, "path is NULL or empty");
-                return load_obj(o.path);
+                spec.kind = ObstacleSpec::Kind::Obj;
+                spec.path = o.path;
+                return swarmcl::obstacle_mesh(spec);
             case SWCL_OBSTACLE_BOX:
-                return box_mesh({o.center[0], o.center[1], o.center[2]},
-                                {o.half_extents[0], o.half_extents[1], o.half_extents[2]});
+                spec.kind = ObstacleSpec::Kind::Box;
+                spec.half_extents = {o.half_extents[0], o.half_extents[1], o.half_extents[2]};
+                return swarmcl::obstacle_mesh(spec);
             case SWCL_OBSTACLE_SPHERE:
                 require(std::isfinite(o.radius) && o.radius > 0, "sphere radius must be > 0");
-                return sphere_mesh({o.center[0], o.center[1], o.center[2]}, o.radius, 24, 48);
+                spec.kind = ObstacleSpec::Kind::Sphere;
+                spec.radius = o.radius;
+                return swarmcl::obstacle_mesh(spec);
             case SWCL_OBSTACLE_CYLINDER:
                 require(std::isfinite(o.radius) && o.radius > 0 && std::isfinite(o.height) && o.height > 0,
                         "cylinder radius and height must be > 0");
-                return cylinder_mesh({o.center[0], o.center[1], o.center[2]}, o.radius, o.height, 48);
+                spec.kind = ObstacleSpec::Kind::Cylinder;
+                spec.radius = o.radius;
+                spec.height = o.height;
+                return swarmcl::obstacle_mesh(spec);
             case SWCL_OBSTACLE_PLANE:
-                fail(Status::InvalidArgument, what + ": a PLANE is not a mesh (only the noise field's "
-                                                     "boundaries take planes)");
+                fail(Status::InvalidArgument, "a PLANE is not a mesh (only the noise field's boundaries take planes)");
         }
     } catch (const Error& e) {
         throw Error(e.status(), what + ": " + e.what());

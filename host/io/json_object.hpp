@@ -1,7 +1,7 @@
 // Reading one JSON object of a scenario file (nlohmann-json): typed getters
 // that name the key path in their errors (Error(Parse), "model.noise.scale:
 // expected a number > 0"), and a check that no unknown key is left over.
-// Shared by the scenario parsers of every model (host/io/scenario*.cpp).
+// Shared by the scenario section readers of every model (host/scenario/).
 #pragma once
 #include <array>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "data/synthesis.hpp"
+#include "scenario/synthesis.hpp"
 
 #include <string>
 #include <vector>

@@ -1,5 +1,6 @@
-#include "io/scenario_energy.hpp"
-
+// "model": {"type": "energy"}: FASTSWARM (docs/energy-model.md): the energy
+// weights and radii, stimuli, keypoints and where the reference dataset comes
+// from; the noise and the analytic obstacles as the field model reads them.
 #include <cmath>
 #include <limits>
 #include <set>
@@ -8,7 +9,8 @@
 
 #include "core/error.hpp"
 #include "io/json_object.hpp"
-#include "swarm/swarm.hpp"
+#include "scenario/model_section.hpp"
+#include "scenario/section_parts.hpp"
 
 namespace swarmcl {
 namespace {
@@ -29,15 +31,15 @@ EnergyWeights read_weights(const json& j, const std::string& path, EnergyWeights
     return w;
 }
 
-void read_dataset(const json& j, const std::string& path, EnergyScenario& e) {
+void read_dataset(const json& j, const std::string& path, EnergySpec& e) {
     JsonObject r(j, path);
     const std::string type = r.string("type", "synthetic");
     if (type == "synthetic") {
-        e.source = EnergyScenario::Source::Synthetic;
+        e.source = EnergySpec::Source::Synthetic;
         e.synthetic_frame_time = r.number("frame_time", e.synthetic_frame_time, 1e-6, 10.0, "in [1e-6, 10] s");
         e.synthetic_mean_speed = r.positive("mean_speed", e.synthetic_mean_speed);
     } else if (type == "file" || type == "tracks") {
-        e.source = type == "file" ? EnergyScenario::Source::File : EnergyScenario::Source::Tracks;
+        e.source = type == "file" ? EnergySpec::Source::File : EnergySpec::Source::Tracks;
         if (!r.has("path")) bad_json(r.at("path"), "missing");
         e.path = r.string("path", "");
         if (e.path.empty()) bad_json(r.at("path"), "expected a file name");
@@ -77,10 +79,10 @@ void read_dataset(const json& j, const std::string& path, EnergyScenario& e) {
     r.finish();
 }
 
-}  // namespace
-
-EnergyScenario read_energy_scenario(const json& j, const std::string& path) {
-    EnergyScenario e;
+// Every key of the model object but "type" and "noise" (read_energy_section
+// reads those).
+EnergySpec read_energy_scenario(const json& j, const std::string& path) {
+    EnergySpec e;
     JsonObject r(j, path, {"type", "noise"});
     EnergyModelConfig& c = e.config;
     if (r.has("dataset")) read_dataset(r.child("dataset"), r.at("dataset"), e);
@@ -141,21 +143,20 @@ EnergyScenario read_energy_scenario(const json& j, const std::string& path) {
     return e;
 }
 
-std::shared_ptr<const Dataset> energy_scenario_dataset(const EnergyScenario& e) {
-    switch (e.source) {
-        case EnergyScenario::Source::File: return std::make_shared<const Dataset>(load_dataset(e.path));
-        case EnergyScenario::Source::Tracks: {
-            const TrackSet set = load_tracks_csv(e.path, e.tracks);
-            return std::make_shared<const Dataset>(build_dataset(track_kinematics(set), e.dataset, set.frame_time));
-        }
-        case EnergyScenario::Source::Synthetic: break;
-    }
-    return std::make_shared<const Dataset>(
-        synthetic_dataset(e.dataset, e.synthetic_frame_time, e.synthetic_mean_speed));
+}  // namespace
+
+ModelSpec read_energy_section(const SectionInput& in) {
+    std::vector<Boundary> obstacles = read_obstacles(in.obstacles);
+    JsonObject o(in.model, "model");
+    o.string("type", "field");
+    EnergySpec e = read_energy_scenario(in.model, "model");
+    if (o.has("noise")) e.config.noise = read_noise(o.child("noise"), "model.noise");
+    e.config.noise.boundaries = std::move(obstacles);
+    return e;
 }
 
-std::shared_ptr<EnergyModel> make_energy_model(Swarm& swarm, const EnergyScenario& e) {
-    return std::make_shared<EnergyModel>(swarm, e.config, energy_scenario_dataset(e));
+void check_energy_section(const ModelSpec& spec, const SwarmConfig& swarm) {
+    check_noise_in_domain(std::get<EnergySpec>(spec).config.noise, swarm);
 }
 
 }  // namespace swarmcl

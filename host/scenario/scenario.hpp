@@ -1,18 +1,15 @@
 // Scenario files: one JSON description of a run (model and parameters, agents
 // and their initial distribution, domain, obstacles, goal, steps, dt, seed,
 // outputs), parsed and validated here so C, the CLI and Python share one
-// parser.  The format is documented in docs/scenarios.md.
+// parser.  The format is documented in docs/scenarios.md; each model's
+// section is read by its own reader (scenario/model_section.hpp).
 #pragma once
 #include <array>
 #include <cstdint>
-#include <optional>
 #include <string>
 #include <vector>
 
-#include "models/field_model.hpp"
-#include "io/scenario_energy.hpp"
-#include "models/force_model.hpp"
-#include "models/path_model.hpp"
+#include "models/model_spec.hpp"
 #include "swarm/swarm.hpp"
 
 namespace swarmcl {
@@ -30,10 +27,7 @@ struct Scenario {
     std::string name = "scenario";
     SwarmConfig swarm;                    // capacity, agent count, seed, domain, radius, dt
     InitialDistribution initial;
-    std::optional<FieldModelConfig> field_model;  // empty: ballistic
-    std::optional<EnergyScenario> energy_model;   // model.type "energy" (FASTSWARM)
-    std::optional<ForceModelConfig> force_model;  // "type": "force" (docs/force-model.md)
-    std::optional<PathModelConfig> path_model;    // "model": {"type": "path"} (docs/path-field.md)
+    ModelSpec model;                      // "model" ("type" picks the alternative); none: Ballistic
     uint32_t steps = 100;
     std::string output_dir = "out";
     uint32_t output_formats = 1;          // ExportFormat mask

@@ -1,0 +1,19 @@
+// A scenario's swarm: the one place a Scenario becomes a running Swarm, for
+// the C API (swcl_scenario_create_swarm, and through it the CLI and Python)
+// and the benchmarks.
+#pragma once
+#include <memory>
+
+#include "scenario/scenario.hpp"
+
+namespace swarmcl {
+
+class Context;
+
+// A swarm with the scenario's config, its agent_count agents placed from its
+// initial distribution (Scenario::initial_positions) moving at its initial
+// velocity, and the behavior of its model (make_behavior; none for
+// Ballistic).  Error as Swarm and the model's constructor.
+std::shared_ptr<Swarm> make_swarm(std::shared_ptr<Context> ctx, const Scenario& scenario);
+
+}  // namespace swarmcl
