@@ -298,7 +298,7 @@ TEST(KeyframeSpec, CApiAndScenarioKeyframesAreTheSameMeshes) {
     swcl_force_model_desc d = swcl_force_model_desc_default();
     d.keyframes = kf;
     d.keyframe_count = 2;
-    ASSERT_EQ(swcl_swarm_set_force_model(swarm, &d), SWCL_OK) << swcl_last_error();
+    ASSERT_EQ(swcl_swarm_force_set_model(swarm, &d), SWCL_OK) << swcl_last_error();
     auto* model = dynamic_cast<ForceModel*>(capi::swarms().get(swarm.id)->behavior());
     ASSERT_NE(model, nullptr);
     const auto& from_capi = model->config().keyframes;
