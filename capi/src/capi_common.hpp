@@ -36,10 +36,6 @@ const std::string& last_error();
 swcl_status status_from_opencl(int err);
 const char* opencl_error_name(int err);
 
-// A noise descriptor as the host's configuration (capi_noise.cpp; also used
-// by the path model, capi_path.cpp).
-NoiseConfig noise_config_from(const swcl_noise_desc& d);
-
 HandleRegistry<Context>& contexts();
 HandleRegistry<Swarm>& swarms();
 

@@ -1,13 +1,10 @@
-// Noise fields and the field model.
+// Noise fields: descriptors and sampling (docs/noise.md).
 #include <cstring>
-#include <mutex>
-#include <optional>
 
 #include "capi_common.hpp"
 #include "capi_noise.hpp"
 #include "capi_obstacle.hpp"
 #include "fields/noise_field.hpp"
-#include "models/field_model.hpp"
 
 using namespace swarmcl;
 using namespace swarmcl::capi;
@@ -66,58 +63,6 @@ swcl_status swcl_noise_sample(swcl_context context, const swcl_noise_desc* desc,
         auto ctx = contexts().get(context.id);
         NoiseField field(*ctx, noise_config_from(*desc));
         field.sample(points, count, time, step, out_xyz);
-    });
-}
-
-swcl_field_model_desc swcl_field_model_desc_default(void) {
-    swcl_field_model_desc d;
-    std::memset(&d, 0, sizeof(d));
-    const FieldModelConfig c;
-    d.struct_size = sizeof(d);
-    d.noise = swcl_noise_desc_default();
-    d.has_goal = 0;
-    d.goal_radius = c.goal_radius;
-    d.goal_speed = c.goal_speed;
-    d.goal_falloff = c.goal_falloff;
-    d.min_distance = c.min_distance;
-    return d;
-}
-
-swcl_status swcl_swarm_field_set_model(swcl_swarm swarm, const swcl_field_model_desc* desc) {
-    return with_swarm(__func__, swarm, [&](Swarm& s) {
-        check_struct_size(desc, sizeof(swcl_field_model_desc), "desc");
-        check_struct_size(&desc->noise, sizeof(swcl_noise_desc), "desc->noise");
-        FieldModelConfig c;
-        c.noise = noise_config_from(desc->noise);
-        c.has_goal = desc->has_goal != 0;
-        for (int a = 0; a < 3; ++a) c.goal[a] = desc->goal[a];
-        c.goal_radius = desc->goal_radius;
-        c.goal_speed = desc->goal_speed;
-        c.goal_falloff = desc->goal_falloff;
-        c.min_distance = desc->min_distance;
-        s.set_behavior(std::make_shared<FieldModel>(s, std::move(c)));
-    });
-}
-
-swcl_status swcl_swarm_clear_model(swcl_swarm swarm) {
-    return with_swarm(__func__, swarm, [&](Swarm& s) { s.set_behavior(nullptr); });
-}
-
-swcl_status swcl_swarm_take_step_stats(swcl_swarm swarm, swcl_step_stats* out) {
-    return with_swarm(__func__, swarm, [&](Swarm& s) {
-        check_struct_size(out, sizeof(swcl_step_stats), "out");
-        swcl_step_stats r;
-        std::memset(&r, 0, sizeof(r));
-        r.struct_size = sizeof(r);
-        r.agents = s.agent_count();
-        std::optional<StepStats> st;
-        st = s.take_step_stats();
-        if (st) {
-            r.mde_moved_last = st->mde_moved_last;
-            r.mde_moved_total = st->mde_moved_total;
-            r.steps = st->steps;
-        }
-        *out = r;
     });
 }
 

@@ -1,5 +1,5 @@
 // The noise descriptor's conversion, shared by the models that take a noise
-// field (capi_noise.cpp defines it).
+// field (field, path, energy; capi_noise.cpp defines it).
 #pragma once
 #include "fields/noise_field.hpp"
 #include "swarmcl/swarmcl.h"

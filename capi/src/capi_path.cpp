@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "capi_common.hpp"
+#include "capi_noise.hpp"
 #include "capi_obstacle.hpp"
 #include "models/path_model.hpp"
 

@@ -1,6 +1,8 @@
-// Swarms: creation, state transfer, stepping and neighbour queries.
+// Swarms: creation, state transfer, stepping, the model slot, step
+// statistics and neighbour queries.
 #include <cstring>
 #include <mutex>
+#include <optional>
 
 #include "capi_common.hpp"
 
@@ -100,6 +102,27 @@ swcl_status swcl_swarm_neighbor_lists(swcl_swarm swarm, float radius, uint32_t m
     return with_swarm(__func__, swarm, [&](Swarm& s) {
         const uint32_t truncated = s.neighbor_lists(radius, max_neighbors, out_ids, out_counts, count);
         if (out_truncated) *out_truncated = truncated;
+    });
+}
+
+swcl_status swcl_swarm_clear_model(swcl_swarm swarm) {
+    return with_swarm(__func__, swarm, [&](Swarm& s) { s.set_behavior(nullptr); });
+}
+
+swcl_status swcl_swarm_take_step_stats(swcl_swarm swarm, swcl_step_stats* out) {
+    return with_swarm(__func__, swarm, [&](Swarm& s) {
+        check_struct_size(out, sizeof(swcl_step_stats), "out");
+        swcl_step_stats r;
+        std::memset(&r, 0, sizeof(r));
+        r.struct_size = sizeof(r);
+        r.agents = s.agent_count();
+        const std::optional<StepStats> st = s.take_step_stats();
+        if (st) {
+            r.mde_moved_last = st->mde_moved_last;
+            r.mde_moved_total = st->mde_moved_total;
+            r.steps = st->steps;
+        }
+        *out = r;
     });
 }
 

@@ -69,8 +69,8 @@ void set_args(cl::Kernel& kernel, const Args&... args) {
 // together.  Left to itself, PoCL 3.1 makes one work-group of any global size
 // up to ~1000 (one thread runs it all: the force model's 625 work-items of
 // 16 agents at 10k) and 5 groups of 2000 for 10000 (one of 2 cores runs 3);
-// measured with a kernel that reports get_local_size.  DESIGN.md's "let
-// PoCL choose" is kept for GPUs.  max_local caps it for kernels with much
+// measured with a kernel that reports get_local_size.  GPUs keep the
+// driver's choice (docs/design.md, "Devices").  max_local caps it for kernels with much
 // private memory per work-item (PoCL keeps a work-group's private data
 // together).
 inline size_t cpu_local_size(size_t n, const DeviceEntry& device, size_t max_local = 4096) {

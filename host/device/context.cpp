@@ -10,7 +10,7 @@ Context::Context(const std::string& selector, const std::string& build_options)
     context_ = cl::Context(device_.device);
     queue_ = cl::CommandQueue(context_, device_.device);
     // No -cl-fast-relaxed-math: results must match the C++ references and be
-    // the same on every run (DESIGN.md, Kernels).
+    // the same on every run (docs/design.md, "Kernels").
     options_ = "-cl-std=CL1.2";
     if (!build_options.empty()) options_ += " " + build_options;
 }

@@ -1,6 +1,6 @@
 // Fast marching (Sethian 1996) for the eikonal equation |grad u| = f on a
-// Grid3, in double on the host (DESIGN.md: doubles where accuracy needs
-// them).  Used for the minimum cost field of the curl-noise paper (§5.2,
+// Grid3, in double on the host (docs/design.md: doubles where accuracy
+// needs them).  Used for the minimum cost field of the curl-noise paper (§5.2,
 // Eq. 7).
 #pragma once
 #include <cstdint>

@@ -4,7 +4,7 @@
 // "Parallel random numbers: as easy as 1, 2, 3", SC 2011), OpenCL C 1.2.
 //
 // Randomness in swarmcl is a pure function of (seed, agent id, step, stream)
-// (DESIGN.md "Kernels"), so results do not depend on agent order or device.
+// (docs/design.md, "Kernels"), so results do not depend on agent order or device.
 // Counter layout used by swcl_rand_u4():
 //     ctr = (agent_id, step, stream, sub)      key = (seed & 0xffffffff, seed >> 32)
 // `stream` separates independent uses (noise kinds, model terms, ...); `sub`
