@@ -258,6 +258,7 @@ cl::Kernel sample_kernel(swarmcl::Context& ctx, swarmcl::NoiseField& field, cons
     k.setArg(i++, cl_uint(0));
     i = field.set_args(k, i);
     k.setArg(i, out);
+    swarmcl::check_arg_count(k, i + 1);
     return k;
 }
 

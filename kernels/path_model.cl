@@ -133,11 +133,11 @@ __kernel void path_noise_bake(NOISE_PARAMS, __global const float* phi, int4 dims
 // Agent i's xyz and its velocity and position stores, at the bodies' widths:
 // float4 loads and stores at width 1, lib/noise_field.cl's lane loads and
 // stores at SWCL_W.
-inline void path_load_xyz_s(__global const float4* p, uint i, uint n, float* x, float* y, float* z) {
+SWCL_INLINE void path_load_xyz_s(__global const float4* p, uint i, uint n, float* x, float* y, float* z) {
     const float4 v = p[i];
     *x = v.x; *y = v.y; *z = v.z;
 }
-inline void path_store_s(__global float4* o, uint i, uint n, float a, float b, float c) {
+SWCL_INLINE void path_store_s(__global float4* o, uint i, uint n, float a, float b, float c) {
     o[i] = (float4)(a, b, c, 0.0f);
 }
 
@@ -149,10 +149,10 @@ inline void path_store_s(__global float4* o, uint i, uint n, float a, float b, f
 #undef SWCL_BW
 
 #if PATH_BAKED && defined(NOISE_WIDE)
-inline void path_load_xyz_w(__global const float4* p, uint base, uint n, swcl_fw* x, swcl_fw* y, swcl_fw* z) {
+SWCL_INLINE void path_load_xyz_w(__global const float4* p, uint base, uint n, swcl_fw* x, swcl_fw* y, swcl_fw* z) {
     noise_load_xyz_w((__global const float*)p, base, n, x, y, z);
 }
-inline void path_store_w(__global float4* o, uint base, uint n, swcl_fw a, swcl_fw b, swcl_fw c) {
+SWCL_INLINE void path_store_w(__global float4* o, uint base, uint n, swcl_fw a, swcl_fw b, swcl_fw c) {
     noise_store_w((__global float*)o, base, n, a, b, c);
 }
 #define SWCL_BW SWCL_W
