@@ -231,3 +231,68 @@ TEST(Kernels, EveryKernelReturnsForWorkItemsPastItsCount) {
 }
 
 }  // namespace
+
+namespace {
+
+// The capabilities a context checks and the kernels rely on, as queried.
+TEST(DeviceProfiles, CapabilitiesAreQueried) {
+    const Context ctx("", "");
+    const DeviceEntry& d = ctx.device();
+    EXPECT_GE(opencl_c_version_number(d.opencl_c_version), 120) << d.opencl_c_version;
+    EXPECT_GT(d.max_work_group_size, 0u);
+    EXPECT_FALSE(d.extensions.empty());
+    EXPECT_EQ(opencl_c_version_number("OpenCL C 1.2 pocl"), 120);
+    EXPECT_EQ(opencl_c_version_number("OpenCL C 3.0 "), 300);
+    EXPECT_EQ(opencl_c_version_number("OpenCL C 1.1"), 110);
+    EXPECT_EQ(opencl_c_version_number("no version"), 0);
+    DeviceEntry e;
+    e.extensions = "cl_khr_fp64 cl_khr_int64_base_atomics";
+    EXPECT_TRUE(e.has_extension("cl_khr_fp64"));
+    EXPECT_TRUE(e.has_extension("cl_khr_int64_base_atomics"));
+    EXPECT_FALSE(e.has_extension("cl_khr_fp6"));
+    EXPECT_FALSE(e.has_extension("cl_khr_int64"));
+}
+
+// $SWARMCL_DEVICE_PROFILE forces the GPU paths on any device (the gpu_profile.
+// ctest suites run every device test so); a bad value is refused.
+TEST(DeviceProfiles, EnvironmentForcesTheProfile) {
+    {
+        ScopedEnv env("SWARMCL_DEVICE_PROFILE", "gpu");
+        const Context ctx("", "");
+        EXPECT_FALSE(ctx.device().cpu_profile);
+    }
+    {
+        ScopedEnv env("SWARMCL_DEVICE_PROFILE", "cpu");
+        const Context ctx("", "");
+        EXPECT_TRUE(ctx.device().cpu_profile);
+    }
+    {
+        ScopedEnv env("SWARMCL_DEVICE_PROFILE", "tpu");
+        try {
+            Context ctx("", "");
+            FAIL() << "a bad profile was accepted";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.status(), Status::InvalidArgument);
+            EXPECT_NE(std::string(e.what()).find("SWARMCL_DEVICE_PROFILE"), std::string::npos) << e.what();
+        }
+    }
+}
+
+// In the GPU profile no x86 builtin reaches the compiler: the prefetch macro
+// is empty (a strict OpenCL C 1.2 compiler has no __builtin_prefetch).
+TEST(DeviceProfiles, PrefetchIsCpuProfileOnly) {
+    const std::string src = load_kernel_source("lib/prefetch.cl");
+    const auto guard = src.find("SWCL_CPU_PROFILE");
+    const auto builtin = src.find("__builtin_prefetch");
+    ASSERT_NE(guard, std::string::npos);
+    ASSERT_NE(builtin, std::string::npos);
+    EXPECT_LT(guard, builtin);
+    ScopedEnv env("SWARMCL_DEVICE_PROFILE", "gpu");
+    Context ctx("", "");
+    // The MDE program (the prefetch's one user) builds with the define off.
+    const cl::Program p = ctx.program("min_distance.cl", "-DMDE_WIDTH=16");
+    const std::string options = p.getBuildInfo<CL_PROGRAM_BUILD_OPTIONS>(ctx.device().device);
+    EXPECT_NE(options.find("-DSWCL_CPU_PROFILE=0"), std::string::npos) << options;
+}
+
+}  // namespace

@@ -87,7 +87,7 @@ inline size_t cpu_local_size(size_t n, const DeviceEntry& device, size_t max_loc
 // (each checks its own count).
 inline void launch(Context& ctx, cl::Kernel& kernel, size_t n, size_t max_local = 4096) {
     if (!n) return;
-    if (!(ctx.device().type & CL_DEVICE_TYPE_CPU)) {
+    if (!ctx.device().cpu_profile) {
         ctx.queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(n), cl::NullRange);
         return;
     }
@@ -103,7 +103,7 @@ inline void launch(Context& ctx, cl::Kernel& kernel, size_t n, size_t max_local 
 // devices: the driver's choice.
 inline void launch_chunks(Context& ctx, cl::Kernel& kernel, size_t n) {
     if (!n) return;
-    const bool cpu = (ctx.device().type & CL_DEVICE_TYPE_CPU) != 0;
+    const bool cpu = ctx.device().cpu_profile;
     ctx.queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(n), cpu ? cl::NDRange(1) : cl::NullRange);
 }
 

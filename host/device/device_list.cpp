@@ -1,5 +1,7 @@
 #include "device/device_list.hpp"
 
+#include <cstdio>
+
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
@@ -61,11 +63,31 @@ std::vector<DeviceEntry> list_devices() {
             e.max_work_group_size = device.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
             e.global_memory = device.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
             e.max_allocation = device.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+            e.local_memory = device.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>();
+            e.opencl_c_version = trim(device.getInfo<CL_DEVICE_OPENCL_C_VERSION>());
+            e.extensions = device.getInfo<CL_DEVICE_EXTENSIONS>();
+            e.cpu_profile = (e.type & CL_DEVICE_TYPE_CPU) != 0;
             out.push_back(std::move(e));
         }
     }
     if (out.empty()) fail(Status::NoDevice, std::string("OpenCL platforms found but no device: ") + kInstallHint);
     return out;
+}
+
+bool DeviceEntry::has_extension(const std::string& name) const {
+    size_t at = 0;
+    while ((at = extensions.find(name, at)) != std::string::npos) {
+        const size_t end = at + name.size();
+        if ((at == 0 || extensions[at - 1] == ' ') && (end == extensions.size() || extensions[end] == ' ')) return true;
+        at = end;
+    }
+    return false;
+}
+
+int opencl_c_version_number(const std::string& version) {
+    int major = 0, minor = 0;
+    if (std::sscanf(version.c_str(), "OpenCL C %d.%d", &major, &minor) != 2) return 0;
+    return major * 100 + minor * 10;
 }
 
 DeviceEntry select_device(const std::string& selector_in) {

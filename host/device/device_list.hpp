@@ -21,7 +21,21 @@ struct DeviceEntry {
     size_t max_work_group_size = 1;
     uint64_t global_memory = 0;
     uint64_t max_allocation = 0;
+    uint64_t local_memory = 0;
+    std::string opencl_c_version;  // CL_DEVICE_OPENCL_C_VERSION, e.g. "OpenCL C 1.2 pocl"
+    std::string extensions;        // CL_DEVICE_EXTENSIONS
+    // The code paths the library takes on the device (docs/architecture.md,
+    // "Device profiles"): true on CPU devices: explicit-width kernels, the
+    // CPU launch policy, x86 prefetch; false elsewhere: one agent per
+    // work-item, the driver's local size.  $SWARMCL_DEVICE_PROFILE ("cpu" or
+    // "gpu") overrides it per context, so the GPU path is tested on PoCL.
+    bool cpu_profile = false;
+
+    bool has_extension(const std::string& name) const;
 };
+
+// "OpenCL C 1.2 ..." -> 120; 0 when the string does not parse.
+int opencl_c_version_number(const std::string& version);
 
 // Every device of every platform.  Throws Error(NoDevice) naming the fix when
 // there is no OpenCL platform at all.

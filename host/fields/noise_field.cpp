@@ -34,7 +34,7 @@ uint32_t preferred_noise_width(const DeviceEntry& device) {
         if (v == "16") return 16;
         fail(Status::InvalidArgument, "SWARMCL_NOISE_WIDTH must be 1, 8 or 16 (got '" + v + "')");
     }
-    return (device.type & CL_DEVICE_TYPE_CPU) ? kCpuNoiseWidth : 1;
+    return device.cpu_profile ? kCpuNoiseWidth : 1;
 }
 
 namespace {

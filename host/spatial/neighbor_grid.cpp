@@ -24,7 +24,7 @@ uint32_t div_up(uint32_t a, uint32_t b) { return (a + b - 1) / b; }
 
 NeighborGrid::NeighborGrid(Context& ctx, const GridGeometry& geometry, uint32_t capacity)
     : ctx_(ctx), geometry_(geometry), ncells_(geometry.cell_count()),
-      outputs_per_item_((ctx.device().type & CL_DEVICE_TYPE_CPU) ? kOutputsPerItemCpu : kOutputsPerItemGpu),
+      outputs_per_item_(ctx.device().cpu_profile ? kOutputsPerItemCpu : kOutputsPerItemGpu),
       radix_(ctx, geometry.cell_count() - 1u, kRadixBlocks, kMaxRadixBits) {
     capacity_ = capacity;
     keys_.allocate(ctx, capacity, "grid keys");

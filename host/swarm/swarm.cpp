@@ -83,6 +83,14 @@ Swarm::Swarm(std::shared_ptr<Context> ctx, const SwarmConfig& config)
     place_uniformly(config_.agent_count);
 }
 
+Swarm::~Swarm() {
+    try {
+        ctx_->queue().finish();
+    } catch (...) {
+        // Nothing to report to: the buffers are released all the same.
+    }
+}
+
 void Swarm::place_uniformly(uint32_t count) {
     // Philox keyed by (seed, agent id, step 0, stream 0): the same seed gives
     // the same swarm on every device.

@@ -33,6 +33,11 @@ class Swarm {
 public:
     // Validates the configuration (Error(InvalidArgument) naming the field).
     Swarm(std::shared_ptr<Context> ctx, const SwarmConfig& config);
+    // Waits for the swarm's queued work: PoCL compiles a kernel for its launch
+    // size when the command runs, and a command still compiling while the
+    // process exits crashes inside LLVM (seen with the driver's local sizes,
+    // the GPU profile on PoCL, after a last step nobody read).
+    ~Swarm();
 
     uint32_t agent_count() const { return n_; }
     uint64_t step_count() const { return steps_; }

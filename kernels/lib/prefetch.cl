@@ -6,11 +6,13 @@
 // devices it is the compiler's prefetch builtin, through an integer cast (CPU
 // devices have one flat address space).  PoCL's OpenCL prefetch() built-in
 // emits no instruction (perf annotate of the kernel shows none), so it is not
-// used.  Other devices: nothing.
+// used.  Other devices, and CPU devices in the GPU profile
+// (SWCL_CPU_PROFILE=0, set by the host): nothing, so no x86 builtin reaches a
+// GPU compiler.
 #ifndef SWCL_PREFETCH_CL
 #define SWCL_PREFETCH_CL
 
-#if defined(__x86_64__) && defined(__has_builtin)
+#if defined(SWCL_CPU_PROFILE) && SWCL_CPU_PROFILE && defined(__x86_64__) && defined(__has_builtin)
 #if __has_builtin(__builtin_prefetch)
 #define SWCL_PREFETCH(p) __builtin_prefetch((const void*)(size_t)(p))
 #endif
