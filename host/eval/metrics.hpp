@@ -1,0 +1,55 @@
+// The seven time-varying metrics of the data-driven evaluation (noise paper
+// §3.2): speed v, acceleration a, angular velocity ω, angular acceleration α,
+// Cartesian jerk μ, nearest-neighbour ("shortest") distance d and velocity
+// difference η, sampled from trajectories on the host.  This is the
+// reference for the device path and the path for real tracks.
+#pragma once
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "data/tracks.hpp"
+
+namespace swarmcl {
+
+enum class Metric : uint32_t {
+    Speed = 0,                // v = |v_k|
+    Acceleration = 1,         // a = |v_{k+1} - v_k| / Δt
+    AngularVelocity = 2,      // ω = arccos(v̂_k · v̂_{k+1}) / Δt
+    AngularAcceleration = 3,  // α = (ω_{k+1} - ω_k) / Δt  (signed)
+    Jerk = 4,                 // μ = |Δv_{k+1} - Δv_k| / Δt²
+    NearestDistance = 5,      // d = min_k |p_k - p_m| over insects in the same frame
+    VelocityDifference = 6,   // η = | |v_nei| - |v| | / d
+};
+constexpr size_t kMetricCount = 7;
+
+// A short lower-case name of each metric ("speed", ..., "velocity_difference").
+const char* metric_name(Metric m);
+
+// Samples of every metric, in a fixed order (segment by segment, sample by
+// sample; d and η frame by frame), so every reduction over them is
+// deterministic.
+struct MetricSamples {
+    std::array<std::vector<double>, kMetricCount> values;
+    std::vector<double>& operator[](Metric m) { return values[size_t(m)]; }
+    const std::vector<double>& operator[](Metric m) const { return values[size_t(m)]; }
+};
+
+// Metrics of loaded tracks.  Each segment of the set is gap free (the loader
+// splits at gaps), so differences never cross a gap: a segment of n samples
+// gives n-1 speeds, n-2 accelerations and angular velocities, n-3 angular
+// accelerations and jerks (ω, and what is built on it, is skipped where the
+// speed is zero: no direction).  Samples are put on frames of
+// tracks.frame_time counted from the earliest sample; d is taken among the
+// segments with a sample on the same frame (a frame with one insect in view
+// gives no d), and η where the insect and its nearest neighbour both have a
+// velocity on that frame and d > 0.
+MetricSamples track_metrics(const TrackSet& tracks);
+
+// Metrics of a simulation recording: `frames` frames of `agents` agents,
+// positions packed xyz (frame-major) every dt seconds.  Each agent is one
+// gap-free track; every agent is in view on every frame.
+MetricSamples frame_metrics(const float* xyz, size_t frames, size_t agents, double dt);
+
+}  // namespace swarmcl

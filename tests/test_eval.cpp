@@ -1,0 +1,263 @@
+// The evaluation against real insects (issue 14): the seven metrics on the
+// host against closed forms and a plain per-frame reference, the discrete
+// PDFs and their distances (Eq. 1-3), and the entropy weights (Eq. 4).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <random>
+
+#include "core/error.hpp"
+#include "data/tracks.hpp"
+#include "eval/entropy_weights.hpp"
+#include "eval/metrics.hpp"
+#include "eval/pdf_distance.hpp"
+
+using namespace swarmcl;
+
+namespace {
+
+Track line_track(const std::string& id, double t0, size_t n, double dt, std::array<double, 3> p0,
+                 std::array<double, 3> v) {
+    Track s;
+    s.id = id;
+    for (size_t k = 0; k < n; ++k) {
+        const double t = t0 + double(k) * dt;
+        s.t.push_back(t);
+        s.p.push_back({p0[0] + v[0] * (t - t0), p0[1] + v[1] * (t - t0), p0[2] + v[2] * (t - t0)});
+    }
+    return s;
+}
+
+}  // namespace
+
+TEST(EvalMetrics, StraightLineHasConstantSpeedAndNoTurning) {
+    TrackSet set;
+    set.frame_time = 0.01;
+    set.tracks.push_back(line_track("a", 0.0, 10, 0.01, {0, 0, 0}, {0.3, 0.4, 0.0}));
+    const auto m = track_metrics(set);
+    ASSERT_EQ(m[Metric::Speed].size(), 9u);
+    ASSERT_EQ(m[Metric::Acceleration].size(), 8u);
+    ASSERT_EQ(m[Metric::AngularVelocity].size(), 8u);
+    ASSERT_EQ(m[Metric::AngularAcceleration].size(), 7u);
+    ASSERT_EQ(m[Metric::Jerk].size(), 7u);
+    for (double v : m[Metric::Speed]) EXPECT_NEAR(v, 0.5, 1e-9);
+    for (double a : m[Metric::Acceleration]) EXPECT_NEAR(a, 0.0, 1e-9);
+    for (double w : m[Metric::AngularVelocity]) EXPECT_NEAR(w, 0.0, 1e-5);
+    EXPECT_TRUE(m[Metric::NearestDistance].empty());  // one insect in view: no d
+    EXPECT_TRUE(m[Metric::VelocityDifference].empty());
+}
+
+TEST(EvalMetrics, CircleHasTheClosedFormTurnRateAndAcceleration) {
+    // Uniform circular motion sampled every dt: consecutive chords turn by
+    // Ω dt, so ω = Ω exactly; |Δv| / dt = 2 |v| sin(Ω dt / 2) / dt; α = 0, and
+    // the chord accelerations rotate by Ω dt, so μ = 2 |a| sin(Ω dt / 2) / dt.
+    const double R = 0.2, Omega = 3.0, dt = 0.01;
+    TrackSet set;
+    set.frame_time = dt;
+    Track s;
+    s.id = "c";
+    for (int k = 0; k < 50; ++k) {
+        const double t = k * dt;
+        s.t.push_back(t);
+        s.p.push_back({R * std::cos(Omega * t), R * std::sin(Omega * t), 1.0});
+    }
+    set.tracks.push_back(s);
+    const auto m = track_metrics(set);
+    const double chord_speed = 2 * R * std::sin(Omega * dt / 2) / dt;
+    const double acc = 2 * chord_speed * std::sin(Omega * dt / 2) / dt;
+    const double jerk = 2 * acc * std::sin(Omega * dt / 2) / dt;
+    for (double v : m[Metric::Speed]) EXPECT_NEAR(v, chord_speed, 1e-9);
+    for (double a : m[Metric::Acceleration]) EXPECT_NEAR(a, acc, 1e-6);
+    for (double w : m[Metric::AngularVelocity]) EXPECT_NEAR(w, Omega, 1e-5);
+    for (double al : m[Metric::AngularAcceleration]) EXPECT_NEAR(al, 0.0, 1e-2);
+    for (double j : m[Metric::Jerk]) EXPECT_NEAR(j, jerk, 1e-3 * jerk);
+}
+
+TEST(EvalMetrics, NoDifferenceCrossesAGapBetweenSegments) {
+    // One insect seen twice with a gap: two segments.  A jump across the gap
+    // would show as a huge speed if differenced; it must not appear.
+    TrackSet set;
+    set.frame_time = 0.01;
+    set.tracks.push_back(line_track("a", 0.0, 5, 0.01, {0, 0, 0}, {1, 0, 0}));
+    set.tracks.push_back(line_track("a", 0.2, 5, 0.01, {50, 0, 0}, {1, 0, 0}));
+    const auto m = track_metrics(set);
+    ASSERT_EQ(m[Metric::Speed].size(), 8u);
+    for (double v : m[Metric::Speed]) EXPECT_NEAR(v, 1.0, 1e-9);
+    EXPECT_TRUE(m[Metric::NearestDistance].empty());  // the segments never share a frame
+}
+
+TEST(EvalMetrics, NearestDistanceOnlyAmongInsectsInViewOnTheSameFrame) {
+    // a: frames 0..9; b: frames 5..14, 0.3 m away; c: frames 12..19, far.
+    TrackSet set;
+    set.frame_time = 0.01;
+    set.tracks.push_back(line_track("a", 0.00, 10, 0.01, {0, 0, 0}, {1, 0, 0}));
+    set.tracks.push_back(line_track("b", 0.05, 10, 0.01, {0.05, 0.3, 0}, {2, 0, 0}));
+    set.tracks.push_back(line_track("c", 0.12, 8, 0.01, {5, 5, 5}, {0, 0, 1}));
+    const auto m = track_metrics(set);
+    // Frames 5..9 have a and b (2 d each); frames 12..14 have b and c.
+    ASSERT_EQ(m[Metric::NearestDistance].size(), 2u * 5 + 2u * 3);
+    // Frame 5: a at x=0.05, b at x=0.05 + 0 -> 0.3 apart; a's speed 1, b's 2.
+    EXPECT_NEAR(m[Metric::NearestDistance][0], 0.3, 1e-9);
+    EXPECT_NEAR(m[Metric::VelocityDifference][0], 1.0 / 0.3, 1e-6);
+    // η needs both velocities: a's last sample (frame 9) has none, so frame 9
+    // gives d twice but no η; b's last sample is frame 14: no η there either.
+    EXPECT_EQ(m[Metric::VelocityDifference].size(), 2u * 4 + 2u * 2);
+}
+
+TEST(EvalMetrics, FrameMetricsEqualTheTrackPathAndABruteForceReference) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(-1.f, 1.f);
+    const size_t frames = 12, agents = 60;  // > 32 agents: the kd-tree path
+    std::vector<float> xyz(frames * agents * 3);
+    for (size_t i = 0; i < agents; ++i) {
+        float p[3] = {u(rng), u(rng), u(rng)};
+        for (size_t f = 0; f < frames; ++f)
+            for (int c = 0; c < 3; ++c) xyz[3 * (f * agents + i) + c] = p[c] += 0.02f * u(rng);
+    }
+    const double dt = 0.02;
+    const auto m = frame_metrics(xyz.data(), frames, agents, dt);
+    ASSERT_EQ(m[Metric::Speed].size(), agents * (frames - 1));
+    ASSERT_EQ(m[Metric::NearestDistance].size(), agents * frames);
+    // Brute-force d and η, frame by frame, agent by agent (the samples' order).
+    auto at = [&](size_t f, size_t i) { return &xyz[3 * (f * agents + i)]; };
+    auto dist = [](const float* a, const float* b) {
+        double s = 0;
+        for (int c = 0; c < 3; ++c) s += (double(a[c]) - b[c]) * (double(a[c]) - b[c]);
+        return std::sqrt(s);
+    };
+    size_t eta_k = 0;
+    for (size_t f = 0; f < frames; ++f)
+        for (size_t i = 0; i < agents; ++i) {
+            double best = 1e30;
+            size_t nn = 0;
+            for (size_t j = 0; j < agents; ++j)
+                if (j != i && dist(at(f, i), at(f, j)) < best) best = dist(at(f, i), at(f, j)), nn = j;
+            EXPECT_NEAR(m[Metric::NearestDistance][f * agents + i], best, 1e-12);
+            if (f + 1 < frames) {
+                const double v = dist(at(f + 1, i), at(f, i)) / dt, vn = dist(at(f + 1, nn), at(f, nn)) / dt;
+                ASSERT_LT(eta_k, m[Metric::VelocityDifference].size());
+                EXPECT_NEAR(m[Metric::VelocityDifference][eta_k++], std::abs(vn - v) / best, 1e-6);
+            }
+        }
+    EXPECT_EQ(eta_k, m[Metric::VelocityDifference].size());
+}
+
+TEST(EvalMetrics, BadInputIsRefused) {
+    TrackSet set;
+    set.frame_time = 0.0;
+    EXPECT_THROW(track_metrics(set), Error);
+    EXPECT_THROW(frame_metrics(nullptr, 2, 2, 0.1), Error);
+    float p[6] = {};
+    EXPECT_THROW(frame_metrics(p, 1, 2, -1.0), Error);
+}
+
+TEST(EvalPdf, DensitiesIntegrateToOneAndTailsGoToTheEndBins) {
+    std::vector<double> x;
+    for (int i = 0; i < 1000; ++i) x.push_back(i % 17 == 0 ? 1e6 : double(i % 10));
+    PdfOptions o;
+    o.bins = 20;
+    const auto q = discrete_pdf(x, moments_of(x), o);
+    double mass = 0;
+    for (double v : q) mass += v * (2 * o.half_width) / o.bins;
+    EXPECT_NEAR(mass, 1.0, 1e-12);
+    EXPECT_GT(q.back(), 0.0);  // the 1e6 outliers
+}
+
+TEST(EvalPdf, ZScoringMakesTheDistanceBlindToShiftAndScale) {
+    std::mt19937 rng(3);
+    std::gamma_distribution<double> g(2.0, 1.0);
+    MetricSamples a, b, c;
+    for (size_t k = 0; k < kMetricCount; ++k)
+        for (int i = 0; i < 5000; ++i) {
+            const double x = g(rng);
+            a.values[k].push_back(x);
+            b.values[k].push_back(3.0 * x + 7.0);             // same shape
+            c.values[k].push_back(std::normal_distribution<double>(0, 1)(rng));  // another shape
+        }
+    const auto same = metric_distances(a, b, PdfOptions{});
+    const auto other = metric_distances(a, c, PdfOptions{});
+    for (size_t k = 0; k < kMetricCount; ++k) {
+        EXPECT_LT(same[k], 1e-9);
+        EXPECT_GT(other[k], 0.1);
+    }
+    // Equal weights, p1 = 0, p2 = 1: E = 1 - mean of the distances.
+    EXPECT_DOUBLE_EQ(score(same, ScoreWeights{}), 1.0 - [&] { double s = 0; for (double e : same) s += e / 7; return s; }());
+    EXPECT_LT(score(other, ScoreWeights{}), score(same, ScoreWeights{}));
+    // Deterministic to the bit.
+    const auto again = metric_distances(a, c, PdfOptions{});
+    EXPECT_EQ(0, std::memcmp(again.data(), other.data(), sizeof(other)));
+}
+
+TEST(EvalPdf, EmptyMetricGetsTheWorstDistanceAndBadOptionsAreRefused) {
+    MetricSamples a, b;
+    a[Metric::Speed] = {1, 2, 3};
+    PdfOptions o;
+    const auto e = metric_distances(a, b, o);
+    EXPECT_DOUBLE_EQ(e[0], 2.0 * o.bins / (2 * o.half_width));
+    o.bins = 0;
+    EXPECT_THROW(metric_distances(a, a, o), Error);
+    b[Metric::Speed] = {1, NAN};
+    EXPECT_THROW(metric_distances(a, b, PdfOptions{}), Error);
+    ScoreWeights w;
+    w.p2[3] = 0;
+    EXPECT_THROW(score(e, w), Error);
+}
+
+TEST(EvalEntropyWeights, MatchTheHandComputedEquation4) {
+    // m = 3 models, n = 2 terms.  Column 0: 0, 1, 2 -> x' = 0, .5, 1 -> r = 1, .5, 0
+    // -> g = 2/3, 1/3, 0.  Column 1 equal: no information, weight 0.
+    const std::vector<double> x = {0, 5, 1, 5, 2, 5};
+    const auto w = entropy_weights(x, 3, 2);
+    const double e0 = -(2.0 / 3 * std::log(2.0 / 3) + 1.0 / 3 * std::log(1.0 / 3)) / std::log(3.0);
+    EXPECT_NEAR(w.e[0], e0, 1e-12);
+    EXPECT_DOUBLE_EQ(w.e[1], 1.0);
+    EXPECT_DOUBLE_EQ(w.w[0], 1.0);
+    EXPECT_DOUBLE_EQ(w.w[1], 0.0);
+    EXPECT_DOUBLE_EQ(w.p1[0], 0.0);
+    EXPECT_DOUBLE_EQ(w.p2[0], 2.0);
+    EXPECT_DOUBLE_EQ(w.p1[1], 5.0);
+}
+
+TEST(EvalEntropyWeights, SumToOneAndFavourTermsThatSeparateModels) {
+    // Term 0 separates the models sharply (one good, the rest bad); term 1
+    // spreads them evenly; term 2 barely.
+    const std::vector<double> x = {0.0, 0.0, 0.50,   //
+                                   1.0, 0.5, 0.51,   //
+                                   1.0, 1.0, 0.52,   //
+                                   1.0, 0.7, 0.49};
+    const auto w = entropy_weights(x, 4, 3);
+    double sum = 0;
+    for (double v : w.w) {
+        sum += v;
+        EXPECT_GE(v, 0.0);
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-12);
+    EXPECT_GT(w.w[0], w.w[1]);  // lower entropy, more weight
+    EXPECT_THROW(entropy_weights(x, 1, 12), Error);
+    EXPECT_THROW(entropy_weights(x, 4, 2), Error);
+    EXPECT_THROW(entropy_weights({0, 1, NAN, 2}, 2, 2), Error);
+    // No column informative: equal weights.
+    const auto flat = entropy_weights({1, 2, 1, 2}, 2, 2);
+    EXPECT_DOUBLE_EQ(flat.w[0], 0.5);
+}
+
+TEST(EvalMetrics, MosquitoTracksGiveThePublishedSpeedRange) {
+    const std::filesystem::path csv =
+        std::filesystem::path(SWARMCL_SOURCE_DIR) / ".." / "shared" / "data" / "anopheles-coluzzii-swarm.csv";
+    if (!std::filesystem::exists(csv)) GTEST_SKIP() << "no ../shared/data (the real tracks are not in the repository)";
+    TrackLoadOptions o;
+    o.columns = {"id", "datetime", "x_cm", "y_cm", "z_cm"};
+    o.unit_scale = 0.01;
+    const auto set = load_tracks_csv(csv.string(), o);
+    const auto m = track_metrics(set);
+    auto speeds = m[Metric::Speed];
+    ASSERT_GT(speeds.size(), 10000u);
+    std::sort(speeds.begin(), speeds.end());
+    // The data README: median speed 0.55 m/s (the recorder's own scalar).
+    EXPECT_NEAR(speeds[speeds.size() / 2], 0.55, 0.15);
+    // On average 3.3 insects in view: plenty of d samples, each positive.
+    EXPECT_GT(m[Metric::NearestDistance].size(), 5000u);
+    for (double d : m[Metric::NearestDistance]) ASSERT_GT(d, 0.0);
+}
