@@ -5,6 +5,7 @@
 
 #include "capi_common.hpp"
 #include "capi_noise.hpp"
+#include "capi_tracks.hpp"
 #include "data/dataset.hpp"
 #include "scenario/synthesis.hpp"
 #include "data/tracks.hpp"
@@ -18,23 +19,6 @@ namespace {
 HandleRegistry<const Dataset>& datasets() {
     static auto* registry = new HandleRegistry<const Dataset>(0xD5, "dataset");
     return *registry;
-}
-
-TrackLoadOptions track_options(const swcl_dataset_desc& d) {
-    TrackLoadOptions o;
-    if (d.column_id) o.columns.id = d.column_id;
-    if (d.column_time) o.columns.time = d.column_time;
-    if (d.column_x) o.columns.x = d.column_x;
-    if (d.column_y) o.columns.y = d.column_y;
-    if (d.column_z) o.columns.z = d.column_z;
-    require(d.time_format >= SWCL_TIME_AUTO && d.time_format <= SWCL_TIME_DATETIME,
-            "desc->time_format is not a swcl_time_format");
-    o.time_format = TimeFormat(int(d.time_format));
-    o.frame_time = d.frame_time;
-    o.unit_scale = d.unit_scale;
-    o.gap_factor = d.gap_factor;
-    o.smoothing = d.smoothing;
-    return o;
 }
 
 DatasetOptions dataset_options(const swcl_dataset_desc& d) {
@@ -92,6 +76,27 @@ void add_dataset(swcl_dataset* out, F&& build) {
 }
 
 }  // namespace
+
+namespace swarmcl::capi {
+
+TrackLoadOptions track_options(const swcl_dataset_desc& d) {
+    TrackLoadOptions o;
+    if (d.column_id) o.columns.id = d.column_id;
+    if (d.column_time) o.columns.time = d.column_time;
+    if (d.column_x) o.columns.x = d.column_x;
+    if (d.column_y) o.columns.y = d.column_y;
+    if (d.column_z) o.columns.z = d.column_z;
+    require(d.time_format >= SWCL_TIME_AUTO && d.time_format <= SWCL_TIME_DATETIME,
+            "desc->time_format is not a swcl_time_format");
+    o.time_format = TimeFormat(int(d.time_format));
+    o.frame_time = d.frame_time;
+    o.unit_scale = d.unit_scale;
+    o.gap_factor = d.gap_factor;
+    o.smoothing = d.smoothing;
+    return o;
+}
+
+}  // namespace swarmcl::capi
 
 extern "C" {
 

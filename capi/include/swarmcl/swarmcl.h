@@ -682,6 +682,91 @@ SWCL_API swcl_status swcl_swarm_force_set_path(swcl_swarm swarm, const float* po
 SWCL_API swcl_status swcl_swarm_force_get_targets(swcl_swarm swarm, float* out_xyz, size_t count);
 
 
+/* ---- evaluation against real insects -----------------------------------------
+ * The data-driven evaluation of the noise paper (§3, docs/evaluation.md):
+ * seven time-varying metrics (speed, acceleration, angular velocity, angular
+ * acceleration, Cartesian jerk, nearest-neighbour distance, velocity
+ * difference) sampled from real tracks or simulated frames, compared as
+ * z-scored discrete PDFs (Eq. 2-3) and scored E = 1 - sum w E_phi (Eq. 1),
+ * with entropy weights over several models (Eq. 4). */
+typedef struct swcl_metrics { uint64_t id; } swcl_metrics;
+
+typedef enum swcl_metric {
+    SWCL_METRIC_SPEED = 0,                 /* |v| */
+    SWCL_METRIC_ACCELERATION = 1,          /* |dv| / dt */
+    SWCL_METRIC_ANGULAR_VELOCITY = 2,      /* arccos(v1^ . v2^) / dt */
+    SWCL_METRIC_ANGULAR_ACCELERATION = 3,  /* d omega / dt (signed) */
+    SWCL_METRIC_JERK = 4,                  /* |dv1 - dv2| / dt^2 */
+    SWCL_METRIC_NEAREST_DISTANCE = 5,      /* to the nearest insect in view on the same frame */
+    SWCL_METRIC_VELOCITY_DIFFERENCE = 6,   /* ||v_nei| - |v|| / d */
+    SWCL_METRIC_COUNT = 7
+} swcl_metric;
+
+/* Metrics of tracks from a CSV file (columns, time format, unit and gap
+ * splitting from `tracks`, as for swcl_dataset_from_csv; NULL: defaults),
+ * keeping only the samples whose time lies in [window_from, window_to) of
+ * the recording's time span, as fractions (0 and 1: all of it; 0 and 0.5:
+ * the first half).  No difference crosses a gap; d and eta are taken among
+ * the insects in view on the same frame. */
+SWCL_API swcl_status swcl_metrics_from_csv(const char* path, const swcl_dataset_desc* tracks, double window_from,
+                                           double window_to, swcl_metrics* out);
+/* The same from tracks as arrays (laid out as for swcl_dataset_from_tracks). */
+SWCL_API swcl_status swcl_metrics_from_tracks(const uint32_t* counts, size_t track_count, const double* times,
+                                              const float* xyz, const swcl_dataset_desc* tracks, double window_from,
+                                              double window_to, swcl_metrics* out);
+/* Metrics of simulated frames: `frames` frames of `agents` agents, packed
+ * xyz frame after frame, dt seconds apart (every agent in view on every
+ * frame). */
+SWCL_API swcl_status swcl_metrics_from_frames(const float* xyz, size_t frames, size_t agents, double dt,
+                                              swcl_metrics* out);
+SWCL_API swcl_status swcl_metrics_destroy(swcl_metrics metrics);
+
+typedef struct swcl_metric_info {
+    uint32_t struct_size;
+    uint64_t count;   /* samples */
+    double mean;      /* of the samples (the z-score's shift) */
+    double sigma;     /* their standard deviation (the z-score's scale) */
+} swcl_metric_info;
+SWCL_API swcl_status swcl_metrics_get_info(swcl_metrics metrics, swcl_metric metric, swcl_metric_info* out);
+
+/* The discrete PDF of Step 3: samples z-scored with their own mean and
+ * sigma, binned into `bins` equal bins over [-half_width, half_width] sigma
+ * (samples beyond go to the end bins), Q_i = S_i M / (S (u2 - u1)). */
+typedef struct swcl_pdf_options {
+    uint32_t struct_size;
+    uint32_t bins;       /* M (default 50) */
+    double half_width;   /* u2 = -u1, in sigma (default 4) */
+} swcl_pdf_options;
+SWCL_API swcl_pdf_options swcl_pdf_options_default(void);
+/* `count` must equal options->bins (NULL options: the defaults). */
+SWCL_API swcl_status swcl_metrics_pdf(swcl_metrics metrics, swcl_metric metric, const swcl_pdf_options* options,
+                                      double* out, size_t count);
+/* E_phi = sum_i |Q_real,i - Q_sim,i| of every metric (Eq. 2), into
+ * out[SWCL_METRIC_COUNT].  A metric with no samples on either side gets the
+ * largest distance, 2 M / (u2 - u1). */
+SWCL_API swcl_status swcl_metrics_distances(swcl_metrics real, swcl_metrics sim, const swcl_pdf_options* options,
+                                            double* out, size_t count);
+
+/* Weights w and normalisation parameters p1, p2 of Eq. 1 and 3 (defaults:
+ * w = 1/7, p1 = 0, p2 = 1). */
+typedef struct swcl_score_weights {
+    uint32_t struct_size;
+    double w[SWCL_METRIC_COUNT];
+    double p1[SWCL_METRIC_COUNT];
+    double p2[SWCL_METRIC_COUNT];
+} swcl_score_weights;
+SWCL_API swcl_score_weights swcl_score_weights_default(void);
+/* E = 1 - sum_phi w_phi (E_phi - p1_phi) / p2_phi (Eq. 3, then Eq. 1). */
+SWCL_API swcl_status swcl_score(const double* distances, size_t count, const swcl_score_weights* weights,
+                                double* out_score);
+/* Entropy weights (Eq. 4) of the energy terms x (row-major: `models` rows,
+ * >= 2, by `terms` columns): out_w, out_p1, out_p2 each get `terms` values
+ * (out_p1 / out_p2 may be NULL).  A column equal for every model gets weight
+ * 0; if every column is, the weights are equal. */
+SWCL_API swcl_status swcl_entropy_weights(const double* x, size_t models, size_t terms, double* out_w,
+                                          double* out_p1, double* out_p2);
+
+
 /* ---- deprecated names (removed at 1.0) --------------------------------------
  * Version 0.2 named every model function swcl_swarm_<model>_<verb>.  The old
  * names still work and call the new ones; compilers warn where they are used. */

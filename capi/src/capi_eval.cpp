@@ -1,0 +1,180 @@
+// The evaluation against real insects through the C API (noise paper §3;
+// docs/evaluation.md): metric sets from tracks or frames, their PDFs,
+// distances and scores, and entropy weights.
+#include <cmath>
+#include <cstring>
+
+#include "capi_common.hpp"
+#include "capi_tracks.hpp"
+#include "eval/entropy_weights.hpp"
+#include "eval/metrics.hpp"
+#include "eval/pdf_distance.hpp"
+#include "eval/time_window.hpp"
+
+using namespace swarmcl;
+using namespace swarmcl::capi;
+
+namespace {
+
+HandleRegistry<const MetricSamples>& metric_sets() {
+    static auto* registry = new HandleRegistry<const MetricSamples>(0xE7, "metrics");
+    return *registry;
+}
+
+void add_metrics(swcl_metrics* out, MetricSamples&& m) {
+    out->id = metric_sets().add(std::make_shared<const MetricSamples>(std::move(m)));
+}
+
+TrackLoadOptions options_or_default(const swcl_dataset_desc* desc) {
+    if (!desc) return track_options(swcl_dataset_desc_default());
+    check_struct_size(desc, sizeof(swcl_dataset_desc), "tracks");
+    return track_options(*desc);
+}
+
+Metric metric_from(swcl_metric m) {
+    require(int(m) >= 0 && int(m) < SWCL_METRIC_COUNT, "metric is not a swcl_metric");
+    return Metric(uint32_t(m));
+}
+
+PdfOptions pdf_options_from(const swcl_pdf_options* o) {
+    PdfOptions p;
+    if (!o) return p;
+    check_struct_size(o, sizeof(swcl_pdf_options), "options");
+    p.bins = o->bins;
+    p.half_width = o->half_width;
+    return p;
+}
+
+static_assert(SWCL_METRIC_COUNT == int(kMetricCount), "swcl_metric and swarmcl::Metric disagree");
+
+}  // namespace
+
+extern "C" {
+
+swcl_status swcl_metrics_from_csv(const char* path, const swcl_dataset_desc* tracks, double window_from,
+                                  double window_to, swcl_metrics* out) {
+    return guarded(__func__, [&] {
+        check_out(out, "out");
+        require(path != nullptr && *path, "path is NULL or empty");
+        const TrackLoadOptions o = options_or_default(tracks);
+        add_metrics(out, track_metrics(time_window(load_tracks_csv(path, o), window_from, window_to)));
+    });
+}
+
+swcl_status swcl_metrics_from_tracks(const uint32_t* counts, size_t track_count, const double* times,
+                                     const float* xyz, const swcl_dataset_desc* tracks, double window_from,
+                                     double window_to, swcl_metrics* out) {
+    return guarded(__func__, [&] {
+        check_out(out, "out");
+        const TrackLoadOptions o = options_or_default(tracks);
+        add_metrics(out, track_metrics(time_window(tracks_from_arrays(counts, track_count, times, xyz, o),
+                                                   window_from, window_to)));
+    });
+}
+
+swcl_status swcl_metrics_from_frames(const float* xyz, size_t frames, size_t agents, double dt, swcl_metrics* out) {
+    return guarded(__func__, [&] {
+        check_out(out, "out");
+        require(frames == 0 || agents <= (size_t(1) << 40) / frames, "frames * agents is too large");
+        add_metrics(out, frame_metrics(xyz, frames, agents, dt));
+    });
+}
+
+swcl_status swcl_metrics_destroy(swcl_metrics metrics) {
+    return guarded(__func__, [&] { metric_sets().remove(metrics.id); });
+}
+
+swcl_status swcl_metrics_get_info(swcl_metrics metrics, swcl_metric metric, swcl_metric_info* out) {
+    return guarded(__func__, [&] {
+        check_struct_size(out, sizeof(swcl_metric_info), "out");
+        const auto set = metric_sets().get(metrics.id);
+        const Moments m = moments_of((*set)[metric_from(metric)]);
+        out->count = m.count;
+        out->mean = m.mean;
+        out->sigma = m.sigma;
+    });
+}
+
+swcl_pdf_options swcl_pdf_options_default(void) {
+    swcl_pdf_options o;
+    std::memset(&o, 0, sizeof(o));
+    const PdfOptions p;
+    o.struct_size = sizeof(o);
+    o.bins = p.bins;
+    o.half_width = p.half_width;
+    return o;
+}
+
+swcl_status swcl_metrics_pdf(swcl_metrics metrics, swcl_metric metric, const swcl_pdf_options* options, double* out,
+                             size_t count) {
+    return guarded(__func__, [&] {
+        const PdfOptions p = pdf_options_from(options);
+        require(out != nullptr, "out is NULL");
+        require(count == p.bins, "count must equal options->bins (" + std::to_string(p.bins) + ")");
+        const auto set = metric_sets().get(metrics.id);
+        const auto& samples = (*set)[metric_from(metric)];
+        const auto q = discrete_pdf(samples, moments_of(samples), p);
+        std::memcpy(out, q.data(), q.size() * sizeof(double));
+    });
+}
+
+swcl_status swcl_metrics_distances(swcl_metrics real, swcl_metrics sim, const swcl_pdf_options* options, double* out,
+                                   size_t count) {
+    return guarded(__func__, [&] {
+        const PdfOptions p = pdf_options_from(options);
+        require(out != nullptr, "out is NULL");
+        require(count == kMetricCount, "count must be SWCL_METRIC_COUNT (7)");
+        const auto r = metric_sets().get(real.id);
+        const auto s = metric_sets().get(sim.id);
+        const auto e = metric_distances(*r, *s, p);
+        std::memcpy(out, e.data(), sizeof(e));
+    });
+}
+
+swcl_score_weights swcl_score_weights_default(void) {
+    swcl_score_weights w;
+    std::memset(&w, 0, sizeof(w));
+    const ScoreWeights d;
+    w.struct_size = sizeof(w);
+    for (size_t k = 0; k < kMetricCount; ++k) w.w[k] = d.w[k], w.p1[k] = d.p1[k], w.p2[k] = d.p2[k];
+    return w;
+}
+
+swcl_status swcl_score(const double* distances, size_t count, const swcl_score_weights* weights, double* out_score) {
+    return guarded(__func__, [&] {
+        require(distances != nullptr, "distances is NULL");
+        require(count == kMetricCount, "count must be SWCL_METRIC_COUNT (7)");
+        check_out(out_score, "out_score");
+        ScoreWeights w;
+        if (weights) {
+            check_struct_size(weights, sizeof(swcl_score_weights), "weights");
+            for (size_t k = 0; k < kMetricCount; ++k) {
+                require(std::isfinite(weights->w[k]) && std::isfinite(weights->p1[k]),
+                        "weights: every w and p1 must be finite");
+                w.w[k] = weights->w[k], w.p1[k] = weights->p1[k], w.p2[k] = weights->p2[k];
+            }
+        }
+        std::array<double, kMetricCount> e;
+        for (size_t k = 0; k < kMetricCount; ++k) {
+            require(std::isfinite(distances[k]), "distances: every value must be finite");
+            e[k] = distances[k];
+        }
+        *out_score = score(e, w);
+    });
+}
+
+swcl_status swcl_entropy_weights(const double* x, size_t models, size_t terms, double* out_w, double* out_p1,
+                                 double* out_p2) {
+    return guarded(__func__, [&] {
+        require(x != nullptr, "x is NULL");
+        check_out(out_w, "out_w");
+        require(models >= 2 && terms >= 1 && terms <= (size_t(1) << 20) && models <= (size_t(1) << 20),
+                "expected 2..2^20 models and 1..2^20 terms");
+        const auto r = entropy_weights(std::vector<double>(x, x + models * terms), models, terms);
+        std::memcpy(out_w, r.w.data(), terms * sizeof(double));
+        if (out_p1) std::memcpy(out_p1, r.p1.data(), terms * sizeof(double));
+        if (out_p2) std::memcpy(out_p2, r.p2.data(), terms * sizeof(double));
+    });
+}
+
+}  // extern "C"

@@ -1,0 +1,137 @@
+// The evaluation through the C API: metric sets from tracks and frames, time
+// windows, PDFs, distances, scores, entropy weights, and their errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "data/tracks.hpp"
+#include "eval/metrics.hpp"
+#include "eval/pdf_distance.hpp"
+#include "swarmcl/swarmcl.h"
+
+namespace {
+
+// Synthetic tracks as C arrays (swcl_metrics_from_tracks's layout).
+struct TrackArrays {
+    std::vector<uint32_t> counts;
+    std::vector<double> t;
+    std::vector<float> xyz;
+};
+
+TrackArrays arrays_of(const swarmcl::TrackSet& set) {
+    TrackArrays a;
+    for (const auto& s : set.tracks) {
+        a.counts.push_back(uint32_t(s.t.size()));
+        for (size_t k = 0; k < s.t.size(); ++k) {
+            a.t.push_back(s.t[k]);
+            for (int c = 0; c < 3; ++c) a.xyz.push_back(float(s.p[k][c]));
+        }
+    }
+    return a;
+}
+
+swcl_dataset_desc desc_for(double frame_time) {
+    swcl_dataset_desc d = swcl_dataset_desc_default();
+    d.frame_time = frame_time;
+    return d;
+}
+
+}  // namespace
+
+TEST(EvalCapi, FramesGiveTheSameSamplesAsTheHostMetrics) {
+    const size_t frames = 20, agents = 10;
+    std::vector<float> xyz(frames * agents * 3);
+    for (size_t f = 0; f < frames; ++f)
+        for (size_t i = 0; i < agents; ++i) {
+            const double a = 0.3 * f + i;
+            xyz[3 * (f * agents + i) + 0] = float(std::cos(a) + 0.5 * i);
+            xyz[3 * (f * agents + i) + 1] = float(std::sin(a));
+            xyz[3 * (f * agents + i) + 2] = float(0.01 * f * i);
+        }
+    swcl_metrics m{};
+    ASSERT_EQ(swcl_metrics_from_frames(xyz.data(), frames, agents, 0.05, &m), SWCL_OK) << swcl_last_error();
+    const auto ref = swarmcl::frame_metrics(xyz.data(), frames, agents, 0.05);
+    for (int k = 0; k < SWCL_METRIC_COUNT; ++k) {
+        swcl_metric_info info;
+        info.struct_size = sizeof(info);
+        ASSERT_EQ(swcl_metrics_get_info(m, swcl_metric(k), &info), SWCL_OK);
+        const auto mo = swarmcl::moments_of(ref.values[k]);
+        EXPECT_EQ(info.count, mo.count);
+        EXPECT_EQ(info.mean, mo.mean);
+        EXPECT_EQ(info.sigma, mo.sigma);
+        swcl_pdf_options o = swcl_pdf_options_default();
+        std::vector<double> q(o.bins);
+        ASSERT_EQ(swcl_metrics_pdf(m, swcl_metric(k), &o, q.data(), q.size()), SWCL_OK);
+        EXPECT_EQ(q, swarmcl::discrete_pdf(ref.values[k], mo, swarmcl::PdfOptions{}));
+    }
+    double e[SWCL_METRIC_COUNT];
+    ASSERT_EQ(swcl_metrics_distances(m, m, nullptr, e, SWCL_METRIC_COUNT), SWCL_OK);
+    for (double v : e) EXPECT_EQ(v, 0.0);
+    double s = 0;
+    ASSERT_EQ(swcl_score(e, SWCL_METRIC_COUNT, nullptr, &s), SWCL_OK);
+    EXPECT_EQ(s, 1.0);
+    EXPECT_EQ(swcl_metrics_destroy(m), SWCL_OK);
+    EXPECT_EQ(swcl_metrics_destroy(m), SWCL_ERROR_INVALID_HANDLE);
+}
+
+TEST(EvalCapi, HalvesOfARecordingSplitTheSamplesByTime) {
+    const auto set = swarmcl::synthetic_tracks(6, 200, 0.01, 0.5f, 9);
+    const auto a = arrays_of(set);
+    const auto d = desc_for(0.01);
+    swcl_metrics all{}, first{}, second{};
+    ASSERT_EQ(swcl_metrics_from_tracks(a.counts.data(), a.counts.size(), a.t.data(), a.xyz.data(), &d, 0, 1, &all),
+              SWCL_OK) << swcl_last_error();
+    ASSERT_EQ(swcl_metrics_from_tracks(a.counts.data(), a.counts.size(), a.t.data(), a.xyz.data(), &d, 0, 0.5, &first),
+              SWCL_OK);
+    ASSERT_EQ(swcl_metrics_from_tracks(a.counts.data(), a.counts.size(), a.t.data(), a.xyz.data(), &d, 0.5, 1, &second),
+              SWCL_OK);
+    swcl_metric_info ia{sizeof(ia)}, i1{sizeof(i1)}, i2{sizeof(i2)};
+    ASSERT_EQ(swcl_metrics_get_info(all, SWCL_METRIC_SPEED, &ia), SWCL_OK);
+    ASSERT_EQ(swcl_metrics_get_info(first, SWCL_METRIC_SPEED, &i1), SWCL_OK);
+    ASSERT_EQ(swcl_metrics_get_info(second, SWCL_METRIC_SPEED, &i2), SWCL_OK);
+    // 6 tracks of 200 samples all at once: 199 speeds each; cut in two, one
+    // speed per track is lost at the cut (the difference across it).
+    EXPECT_EQ(ia.count, 6u * 199);
+    EXPECT_EQ(i1.count + i2.count, 6u * 198);
+    EXPECT_NEAR(double(i1.count), double(i2.count), 6.0);
+    for (auto h : {all, first, second}) swcl_metrics_destroy(h);
+}
+
+TEST(EvalCapi, BadInputGetsAClearErrorAndNoHandle) {
+    swcl_metrics m{};
+    EXPECT_EQ(swcl_metrics_from_csv("/no/such/file.csv", nullptr, 0, 1, &m), SWCL_ERROR_IO);
+    EXPECT_EQ(m.id, 0u);
+    const float p[6] = {0, 0, 0, 1, 1, 1};
+    EXPECT_EQ(swcl_metrics_from_frames(p, 1, 2, 0.0, &m), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("dt"), std::string::npos) << swcl_last_error();
+    EXPECT_EQ(swcl_metrics_from_frames(p, 1, 2, 0.1, nullptr), SWCL_ERROR_INVALID_ARGUMENT);
+    const auto set = swarmcl::synthetic_tracks(2, 20, 0.01, 0.5f, 1);
+    const auto a = arrays_of(set);
+    const auto d = desc_for(0.01);
+    EXPECT_EQ(swcl_metrics_from_tracks(a.counts.data(), a.counts.size(), a.t.data(), a.xyz.data(), &d, 0.6, 0.4, &m),
+              SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("from < to"), std::string::npos) << swcl_last_error();
+    ASSERT_EQ(swcl_metrics_from_frames(p, 1, 2, 0.1, &m), SWCL_OK);
+    double q[10];
+    EXPECT_EQ(swcl_metrics_pdf(m, SWCL_METRIC_SPEED, nullptr, q, 10), SWCL_ERROR_INVALID_ARGUMENT);  // 50 bins
+    EXPECT_EQ(swcl_metrics_pdf(m, swcl_metric(9), nullptr, q, 50), SWCL_ERROR_INVALID_ARGUMENT);
+    swcl_pdf_options o = swcl_pdf_options_default();
+    o.half_width = -1;
+    double e[SWCL_METRIC_COUNT];
+    EXPECT_EQ(swcl_metrics_distances(m, m, &o, e, SWCL_METRIC_COUNT), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_metrics_distances(m, swcl_metrics{12345}, nullptr, e, SWCL_METRIC_COUNT),
+              SWCL_ERROR_INVALID_HANDLE);
+    swcl_score_weights w = swcl_score_weights_default();
+    w.p2[2] = 0;
+    double s = 0;
+    const double zeros[SWCL_METRIC_COUNT] = {};
+    EXPECT_EQ(swcl_score(zeros, SWCL_METRIC_COUNT, &w, &s), SWCL_ERROR_INVALID_ARGUMENT);
+    const double x[4] = {0, 1, 1, 0};
+    double wout[2];
+    EXPECT_EQ(swcl_entropy_weights(x, 1, 4, wout, nullptr, nullptr), SWCL_ERROR_INVALID_ARGUMENT);
+    ASSERT_EQ(swcl_entropy_weights(x, 2, 2, wout, nullptr, nullptr), SWCL_OK);
+    EXPECT_NEAR(wout[0] + wout[1], 1.0, 1e-12);
+    swcl_metrics_destroy(m);
+}
