@@ -3,6 +3,7 @@
 //
 //   swarmcl run scenario.json [--steps N] [--out DIR] [--format csv,npy,vtp]
 //                             [--every K] [--device D] [--quiet]
+//   swarmcl evaluate scenario.json --tracks tracks.csv [...]   (cli/evaluate.cpp)
 //   swarmcl devices
 //   swarmcl validate scenario.json
 #include <algorithm>
@@ -22,10 +23,10 @@
 #include <nlohmann/json.hpp>
 #include <swarmcl/swarmcl.h>
 
-// The library's atomic file writer, compiled into this program (CMakeLists.txt):
-// the C API has no call for writing a text file.
-#include "core/error.hpp"
-#include "io/atomic_file.hpp"
+#include "cli_support.hpp"
+#include "evaluate.hpp"
+
+using namespace swarmcl_cli;
 
 namespace {
 
@@ -33,6 +34,9 @@ const char* kUsage =
     "usage:\n"
     "  swarmcl run SCENARIO.json [--steps N] [--out DIR] [--format csv,npy,vtp] [--every K]\n"
     "                            [--device D] [--quiet]\n"
+    "  swarmcl evaluate SCENARIO.json --tracks FILE.csv [--columns id,time,x,y,z] [--unit-scale S]\n"
+    "                            [--window FROM,TO] [--warmup N] [--steps N] [--every K] [--bins M]\n"
+    "                            [--half-width H] [--out FILE.json] [--device D] [--quiet]\n"
     "  swarmcl devices\n"
     "  swarmcl validate SCENARIO.json\n";
 
@@ -40,37 +44,6 @@ const char* kUsage =
 // unfinished outputs are removed as for any other failure.
 volatile std::sig_atomic_t g_interrupted = 0;
 extern "C" void on_signal(int) { g_interrupted = 1; }
-
-// A failed C call: message on stderr, exit status 1.
-struct Failure {
-    std::string message;
-};
-// A malformed command line: message and usage on stderr, exit status 2.
-struct Usage {
-    std::string message;
-};
-
-// Destroys a handle when the scope ends, also when a Failure unwinds it: a
-// recorder destroyed unfinished removes what it wrote.
-template <typename H, swcl_status (*Destroy)(H)>
-struct Owned {
-    H handle{};
-    ~Owned() {
-        if (handle.id) Destroy(handle);
-    }
-};
-
-void check(swcl_status status, const char* what) {
-    if (status != SWCL_OK)
-        throw Failure{std::string(what) + ": " + swcl_status_string(status) + ": " + swcl_last_error()};
-}
-
-std::string read_file(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
 
 int cmd_devices() {
     uint32_t n = 0;
@@ -113,26 +86,6 @@ uint32_t parse_formats(const std::string& list) {
     return mask;
 }
 
-uint32_t parse_count(const char* flag, const char* text, uint32_t min) {
-    char* end = nullptr;
-    errno = 0;
-    const unsigned long v = std::strtoul(text, &end, 10);
-    if (!*text || *end || errno || v < min || v > 0xFFFFFFFFul || text[0] == '-')
-        throw Usage{std::string(flag) + ": expected an integer >= " + std::to_string(min) + ", got '" + text + "'"};
-    return uint32_t(v);
-}
-
-// Writes text to path through a temporary file and a rename (host/io/atomic_file).
-void write_atomically(const std::string& path, const std::string& text) {
-    try {
-        swarmcl::AtomicFile file(path);
-        file.write(text);
-        file.commit();
-    } catch (const swarmcl::Error&) {
-        throw Failure{"cannot write '" + path + "'"};
-    }
-}
-
 // Statistics of the swarm now (main job, curl-noise paper item 8): mean
 // speed, nearest-neighbour distance percentiles, the fraction of pairs
 // closer than the MDE distance, and the share MDE moved per step since the
@@ -173,17 +126,6 @@ FrameStats frame_stats(swcl_swarm swarm, uint32_t n, float min_distance) {
 void print_stats(uint32_t step, const FrameStats& f) {
     std::printf("%8u %8.3f %9.4f %9.4f %9.4f %10.2e %8.3f%%\n", step, f.mean_speed, f.nn_p5, f.nn_p50, f.nn_p95,
                 f.close_pair_fraction, 100.0 * f.mde_moved);
-}
-
-void progress(bool show, uint32_t done, uint32_t total, double seconds) {
-    if (!show) return;
-    const int width = 30;
-    const int filled = total ? int(double(done) / total * width) : width;
-    std::fprintf(stderr, "\r[%.*s%.*s] %3d%% %u/%u steps  %.1f steps/s", filled, "##############################",
-                 width - filled, "..............................", total ? int(100.0 * done / total) : 100, done, total,
-                 seconds > 0 ? done / seconds : 0.0);
-    if (done == total) std::fputc('\n', stderr);
-    std::fflush(stderr);
 }
 
 int cmd_run(int argc, char** argv) {
@@ -312,6 +254,7 @@ int main(int argc, char** argv) {
     try {
         if (cmd == "run") return cmd_run(argc - 2, argv + 2);
         if (cmd == "devices") return cmd_devices();
+        if (cmd == "evaluate") return cmd_evaluate(argc - 2, argv + 2);
         if (cmd == "validate") {
             if (argc != 3) throw Usage{"validate: expected one scenario file"};
             return cmd_validate(argv[2]);

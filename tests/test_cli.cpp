@@ -21,6 +21,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "data/tracks.hpp"
 #include "scenario/scenario.hpp"
 #include "io_test_support.hpp"
 
@@ -387,6 +388,60 @@ TEST_F(Cli, DevicesListsAtLeastOne) {
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_EQ(r.out.rfind("0 ", 0), 0u) << r.out;
     EXPECT_TRUE(r.out.find("CPU") != std::string::npos || r.out.find("GPU") != std::string::npos) << r.out;
+}
+
+// `swarmcl evaluate`: a run scored against its own recorded trajectory (the
+// same positions on a clock 50x slower: z-scoring removes the scale, so
+// every distance is zero up to a sample rounding across a bin edge), then
+// against other tracks, deterministically; and its errors.
+TEST_F(Cli, EvaluateScoresARunAgainstItsOwnRecordingAsIdentical) {
+    const Result run = cli("run tiny.json --steps 40 --every 1 --format csv --out rec --quiet", dir.path());
+    ASSERT_EQ(run.status, 0) << run.err;
+    // The recorder's CSV: id,frame,P.x,P.y,P.z (frames count as seconds here).
+    const Result r = cli("evaluate tiny.json --tracks rec/tiny.csv --columns id,frame,P.x,P.y,P.z --steps 40 "
+                         "--every 1 --out eval.json",
+                         dir.path());
+    ASSERT_EQ(r.status, 0) << r.out << r.err;
+    EXPECT_NE(r.out.find("score E"), std::string::npos) << r.out;
+    const auto j = nlohmann::json::parse(read_bytes(dir / "eval.json"));
+    EXPECT_EQ(j["frames"], 41);
+    EXPECT_EQ(j["every"], 1);
+    ASSERT_EQ(j["metrics"].size(), 7u);
+    for (const auto& [name, m] : j["metrics"].items()) {
+        EXPECT_EQ(m["real"]["count"], m["sim"]["count"]) << name;
+        EXPECT_EQ(m["real"]["pdf"].size(), 50u) << name;
+        EXPECT_LT(m["distance"].get<double>(), 0.02) << name;
+    }
+    EXPECT_GT(j["score"].get<double>(), 0.99);
+}
+
+TEST_F(Cli, EvaluateIsDeterministicAndRefusesBadInput) {
+    const auto tracks = swarmcl::synthetic_tracks(8, 120, 0.02, 0.5f, 4);
+    write_text(dir / "tracks.csv", swarmcl::tracks_to_csv(tracks));
+    const Result a = cli("evaluate tiny.json --tracks tracks.csv --window 0.5,1 --warmup 10 --out a.json --quiet",
+                         dir.path());
+    ASSERT_EQ(a.status, 0) << a.err;
+    const Result b = cli("evaluate tiny.json --tracks tracks.csv --window 0.5,1 --warmup 10 --out b.json --quiet",
+                         dir.path());
+    ASSERT_EQ(b.status, 0) << b.err;
+    auto ja = nlohmann::json::parse(read_bytes(dir / "a.json"));
+    auto jb = nlohmann::json::parse(read_bytes(dir / "b.json"));
+    EXPECT_EQ(ja["every"], 1);  // the tracks' 0.02 s frames over dt 0.02
+    ja.erase("seconds"), jb.erase("seconds");
+    EXPECT_EQ(ja, jb);
+    const double score = ja["score"];
+    EXPECT_TRUE(std::isfinite(score) && score < 1.0) << score;
+
+    const Result no_tracks = cli("evaluate tiny.json", dir.path());
+    EXPECT_EQ(no_tracks.status, 2);
+    EXPECT_NE(no_tracks.err.find("--tracks"), std::string::npos) << no_tracks.err;
+    const Result bad_window = cli("evaluate tiny.json --tracks tracks.csv --window 0.7,0.2 --out c.json", dir.path());
+    EXPECT_EQ(bad_window.status, 1);
+    EXPECT_NE(bad_window.err.find("from < to"), std::string::npos) << bad_window.err;
+    const Result bad_column = cli("evaluate tiny.json --tracks tracks.csv --columns id,t,x,y,z --out c.json", dir.path());
+    EXPECT_EQ(bad_column.status, 1);
+    EXPECT_NE(bad_column.err.find("\"t\""), std::string::npos) << bad_column.err;
+    EXPECT_FALSE(fs::exists(dir / "c.json"));
 }
 
 }  // namespace

@@ -84,6 +84,13 @@ swcl_status swcl_metrics_destroy(swcl_metrics metrics) {
     return guarded(__func__, [&] { metric_sets().remove(metrics.id); });
 }
 
+swcl_status swcl_metrics_frame_time(swcl_metrics metrics, double* out_seconds) {
+    return guarded(__func__, [&] {
+        check_out(out_seconds, "out_seconds");
+        *out_seconds = metric_sets().get(metrics.id)->frame_time;
+    });
+}
+
 swcl_status swcl_metrics_get_info(swcl_metrics metrics, swcl_metric metric, swcl_metric_info* out) {
     return guarded(__func__, [&] {
         check_struct_size(out, sizeof(swcl_metric_info), "out");

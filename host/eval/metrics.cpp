@@ -160,6 +160,7 @@ const char* metric_name(Metric m) {
 MetricSamples track_metrics(const TrackSet& tracks) {
     require(tracks.frame_time > 0.0 && std::isfinite(tracks.frame_time), "metrics: the tracks' frame time must be > 0");
     MetricSamples out;
+    out.frame_time = tracks.frame_time;
     for (const auto& s : tracks.tracks) {
         require(s.t.size() == s.p.size(), "metrics: a track's times and positions differ in count");
         for (size_t k = 1; k < s.t.size(); ++k)

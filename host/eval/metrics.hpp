@@ -32,6 +32,7 @@ const char* metric_name(Metric m);
 // deterministic.
 struct MetricSamples {
     std::array<std::vector<double>, kMetricCount> values;
+    double frame_time = 0.0;  // s between the frames the samples came from
     std::vector<double>& operator[](Metric m) { return values[size_t(m)]; }
     const std::vector<double>& operator[](Metric m) const { return values[size_t(m)]; }
 };

@@ -720,6 +720,9 @@ SWCL_API swcl_status swcl_metrics_from_tracks(const uint32_t* counts, size_t tra
 SWCL_API swcl_status swcl_metrics_from_frames(const float* xyz, size_t frames, size_t agents, double dt,
                                               swcl_metrics* out);
 SWCL_API swcl_status swcl_metrics_destroy(swcl_metrics metrics);
+/* Seconds between the frames the samples came from: the tracks' frame time
+ * (given, or the median step of the data), or dt of simulated frames. */
+SWCL_API swcl_status swcl_metrics_frame_time(swcl_metrics metrics, double* out_seconds);
 
 typedef struct swcl_metric_info {
     uint32_t struct_size;

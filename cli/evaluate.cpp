@@ -1,0 +1,199 @@
+// `swarmcl evaluate`: runs a scenario and scores it against real tracks with
+// the seven-metric evaluation of the noise paper (§3; docs/evaluation.md).
+#include "evaluate.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <swarmcl/swarmcl.h>
+
+#include "cli_support.hpp"
+
+namespace swarmcl_cli {
+namespace {
+
+const char* const kMetricNames[SWCL_METRIC_COUNT] = {"speed", "acceleration", "angular_velocity",
+                                                     "angular_acceleration", "jerk", "nearest_distance",
+                                                     "velocity_difference"};
+
+struct EvaluateArgs {
+    std::string scenario, tracks, out, device;
+    std::vector<std::string> columns = {"id", "time", "x", "y", "z"};
+    double unit_scale = 1.0, window_from = 0.0, window_to = 1.0;
+    long every = -1, steps = -1, warmup = 0;
+    swcl_pdf_options pdf = swcl_pdf_options_default();
+    bool quiet = false;
+};
+
+double parse_number(const char* flag, const std::string& text) {
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end || !std::isfinite(v)) throw Usage{std::string(flag) + ": expected a number, got '" + text + "'"};
+    return v;
+}
+
+std::vector<std::string> split_commas(const std::string& text) {
+    std::vector<std::string> out;
+    std::stringstream in(text);
+    std::string part;
+    while (std::getline(in, part, ',')) out.push_back(part);
+    return out;
+}
+
+EvaluateArgs parse_args(int argc, char** argv) {
+    EvaluateArgs a;
+    for (int i = 0; i < argc; ++i) {
+        const std::string arg = argv[i];
+        auto value = [&](const char* flag) -> std::string {
+            if (i + 1 >= argc) throw Usage{std::string(flag) + ": missing value"};
+            return argv[++i];
+        };
+        if (arg == "--tracks") a.tracks = value("--tracks");
+        else if (arg == "--columns") {
+            a.columns = split_commas(value("--columns"));
+            if (a.columns.size() != 5) throw Usage{"--columns: expected five names: id,time,x,y,z"};
+        } else if (arg == "--unit-scale") a.unit_scale = parse_number("--unit-scale", value("--unit-scale"));
+        else if (arg == "--window") {
+            const auto w = split_commas(value("--window"));
+            if (w.size() != 2) throw Usage{"--window: expected FROM,TO (fractions of the recording, e.g. 0.5,1)"};
+            a.window_from = parse_number("--window", w[0]);
+            a.window_to = parse_number("--window", w[1]);
+        } else if (arg == "--every") a.every = parse_count("--every", value("--every").c_str(), 1);
+        else if (arg == "--steps") a.steps = parse_count("--steps", value("--steps").c_str(), 1);
+        else if (arg == "--warmup") a.warmup = parse_count("--warmup", value("--warmup").c_str(), 0);
+        else if (arg == "--bins") a.pdf.bins = parse_count("--bins", value("--bins").c_str(), 1);
+        else if (arg == "--half-width") a.pdf.half_width = parse_number("--half-width", value("--half-width"));
+        else if (arg == "--out") a.out = value("--out");
+        else if (arg == "--device") a.device = value("--device");
+        else if (arg == "--quiet") a.quiet = true;
+        else if (!arg.empty() && arg[0] == '-') throw Usage{"unknown option '" + arg + "'"};
+        else if (a.scenario.empty()) a.scenario = arg;
+        else throw Usage{"unexpected argument '" + arg + "'"};
+    }
+    if (a.scenario.empty()) throw Usage{"evaluate: no scenario file"};
+    if (a.tracks.empty()) throw Usage{"evaluate: no --tracks file"};
+    return a;
+}
+
+nlohmann::json side_json(swcl_metrics m, swcl_metric k, const swcl_pdf_options& pdf) {
+    swcl_metric_info info;
+    info.struct_size = sizeof(info);
+    check(swcl_metrics_get_info(m, k, &info), "reading a metric");
+    std::vector<double> q(pdf.bins);
+    check(swcl_metrics_pdf(m, k, &pdf, q.data(), q.size()), "computing a PDF");
+    return {{"count", info.count}, {"mean", info.mean}, {"sigma", info.sigma}, {"pdf", q}};
+}
+
+}  // namespace
+
+int cmd_evaluate(int argc, char** argv) {
+    const EvaluateArgs a = parse_args(argc, argv);
+
+    // The real side: tracks in the time window.
+    swcl_dataset_desc td = swcl_dataset_desc_default();
+    td.column_id = a.columns[0].c_str();
+    td.column_time = a.columns[1].c_str();
+    td.column_x = a.columns[2].c_str();
+    td.column_y = a.columns[3].c_str();
+    td.column_z = a.columns[4].c_str();
+    td.unit_scale = a.unit_scale;
+    Owned<swcl_metrics, swcl_metrics_destroy> real;
+    check(swcl_metrics_from_csv(a.tracks.c_str(), &td, a.window_from, a.window_to, &real.handle), "reading the tracks");
+    double frame_time = 0.0;
+    check(swcl_metrics_frame_time(real.handle, &frame_time), "reading the tracks' frame time");
+
+    // The simulated side: the scenario, sampled every K steps after the warm-up.
+    Owned<swcl_scenario, swcl_scenario_destroy> scenario;
+    check(swcl_scenario_load(a.scenario.c_str(), &scenario.handle), "invalid scenario");
+    swcl_scenario_info info;
+    info.struct_size = sizeof(info);
+    check(swcl_scenario_get_info(scenario.handle, &info), "reading the scenario");
+    const uint32_t steps = a.steps > 0 ? uint32_t(a.steps) : info.steps;
+    // By default the samples are as far apart as the real frames, so both
+    // sides' derivatives are taken over the same clock.
+    const uint32_t every =
+        a.every > 0 ? uint32_t(a.every) : uint32_t(std::max(1.0, std::round(frame_time / double(info.dt))));
+    const double sample_dt = double(every) * info.dt;
+    if (info.agents < 2) throw Failure{"evaluate: the scenario needs at least two agents (nearest distances)"};
+
+    swcl_context_desc cd = swcl_context_desc_default();
+    if (!a.device.empty()) cd.device = a.device.c_str();
+    Owned<swcl_context, swcl_context_destroy> context;
+    check(swcl_context_create(&cd, &context.handle), "opening the device");
+    Owned<swcl_swarm, swcl_swarm_destroy> swarm;
+    check(swcl_scenario_create_swarm(scenario.handle, context.handle, &swarm.handle), "creating the swarm");
+    const size_t n = info.agents;
+    std::vector<float> frames;
+    const bool show = !a.quiet && isatty(STDERR_FILENO);
+    const auto start = std::chrono::steady_clock::now();
+    auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+    const uint32_t total = uint32_t(a.warmup) + steps;
+    uint32_t done = 0;
+    auto sample = [&] {
+        frames.resize(frames.size() + 3 * n);
+        check(swcl_swarm_read(swarm.handle, SWCL_ATTRIBUTE_POSITION, frames.data() + frames.size() - 3 * n, n),
+              "reading positions");
+    };
+    for (; done < a.warmup;) {
+        const uint32_t k = std::min<uint32_t>(every, uint32_t(a.warmup) - done);
+        check(swcl_swarm_step(swarm.handle, k), "stepping");
+        done += k;
+        progress(show, done, total, seconds());
+    }
+    sample();
+    for (uint32_t s = 0; s + every <= steps; s += every) {
+        check(swcl_swarm_step(swarm.handle, every), "stepping");
+        done += every;
+        sample();
+        progress(show, done, total, seconds());
+    }
+    progress(show, total, total, seconds());
+    const size_t frame_count = frames.size() / (3 * n);
+    Owned<swcl_metrics, swcl_metrics_destroy> sim;
+    check(swcl_metrics_from_frames(frames.data(), frame_count, n, sample_dt, &sim.handle), "computing the metrics");
+
+    double e[SWCL_METRIC_COUNT];
+    check(swcl_metrics_distances(real.handle, sim.handle, &a.pdf, e, SWCL_METRIC_COUNT), "comparing the PDFs");
+    const swcl_score_weights w = swcl_score_weights_default();
+    double score = 0.0;
+    check(swcl_score(e, SWCL_METRIC_COUNT, &w, &score), "scoring");
+
+    nlohmann::json out;
+    out["scenario"] = info.name;
+    out["scenario_file"] = a.scenario;
+    out["tracks"] = a.tracks;
+    out["window"] = {a.window_from, a.window_to};
+    out["tracks_frame_time"] = frame_time;
+    out["agents"] = n;
+    out["dt"] = info.dt;
+    out["warmup_steps"] = a.warmup;
+    out["steps"] = steps;
+    out["every"] = every;
+    out["frames"] = frame_count;
+    out["pdf"] = {{"bins", a.pdf.bins}, {"half_width", a.pdf.half_width}};
+    out["weights"] = {{"w", w.w}, {"p1", w.p1}, {"p2", w.p2}};
+    for (int k = 0; k < SWCL_METRIC_COUNT; ++k)
+        out["metrics"][kMetricNames[k]] = {{"distance", e[k]},
+                                           {"real", side_json(real.handle, swcl_metric(k), a.pdf)},
+                                           {"sim", side_json(sim.handle, swcl_metric(k), a.pdf)}};
+    out["score"] = score;
+    out["seconds"] = seconds();
+    const std::string path = a.out.empty() ? std::string(info.output_dir) + "/evaluation.json" : a.out;
+    write_atomically(path, out.dump(2) + "\n");
+    if (!a.quiet) {
+        std::printf("%s against %s: %zu frames of %zu agents every %u steps (%.4g s)\n", info.name, a.tracks.c_str(),
+                    frame_count, n, every, sample_dt);
+        std::printf("%-22s %10s\n", "metric", "E_phi");
+        for (int k = 0; k < SWCL_METRIC_COUNT; ++k) std::printf("%-22s %10.4f\n", kMetricNames[k], e[k]);
+        std::printf("score E = %.4f (equal weights; Eq. 1)   written to %s\n", score, path.c_str());
+    }
+    return 0;
+}
+
+}  // namespace swarmcl_cli
