@@ -1,0 +1,284 @@
+"""The evaluation against real insects (noise paper §3; docs/evaluation.md).
+
+Seven time-varying metrics -- speed, acceleration, angular velocity, angular
+acceleration, Cartesian jerk, nearest-neighbour distance, velocity difference
+-- sampled from real tracks or simulated frames, compared as z-scored
+discrete PDFs (Eq. 2-3) and scored E = 1 - sum w E_phi (Eq. 1); entropy
+weights (Eq. 4) over several models.
+
+>>> real = swarmcl.Metrics.from_csv("tracks.csv", columns={"time": "datetime", "x": "x_cm",
+...                                  "y": "y_cm", "z": "z_cm"}, unit_scale=0.01)
+>>> result = swarmcl.evaluate("examples/scenarios/path_aggregation.json", real, out_dir="out/eval")
+>>> result["score"]
+"""
+from __future__ import annotations
+
+import json
+import os
+import time
+from typing import Optional, Sequence, Tuple
+
+import numpy as np
+
+from ._core import Context, Scenario, _Handle
+from ._native import ffi, lib
+from .energy import _dataset_desc, _track_arrays, _track_pointers
+from .errors import check
+
+__all__ = ["METRICS", "Metrics", "distances", "score", "entropy_weights", "evaluate", "plot_pdfs"]
+
+#: The metric names, in the order of the C enum swcl_metric (and of every array here).
+METRICS: Tuple[str, ...] = ("speed", "acceleration", "angular_velocity", "angular_acceleration", "jerk",
+                            "nearest_distance", "velocity_difference")
+
+
+def _metric_index(metric) -> int:
+    if isinstance(metric, str):
+        try:
+            return METRICS.index(metric)
+        except ValueError:
+            raise ValueError(f"metric: one of {', '.join(METRICS)}, got {metric!r}") from None
+    i = int(metric)
+    if not 0 <= i < len(METRICS):
+        raise ValueError(f"metric: an index 0..{len(METRICS) - 1}, got {i}")
+    return i
+
+
+def _pdf_options(bins: int, half_width: float):
+    o = ffi.new("swcl_pdf_options*", lib.swcl_pdf_options_default())
+    o.bins = int(bins)
+    o.half_width = float(half_width)
+    return o
+
+
+class Metrics(_Handle):
+    """Samples of the seven metrics from tracks or simulated frames (held by
+    the library; read them as moments and PDFs)."""
+
+    _kind = "metrics"
+
+    def __init__(self, _handle_ptr):
+        """Use Metrics.from_csv / from_tracks / from_frames."""
+        self._adopt(_handle_ptr, lib.swcl_metrics_destroy, "swcl_metrics*")
+
+    @classmethod
+    def _make(cls, fn) -> "Metrics":
+        h = ffi.new("swcl_metrics*")
+        check(fn(h))
+        return cls(h)
+
+    @classmethod
+    def from_csv(cls, path, window: Tuple[float, float] = (0.0, 1.0), **options) -> "Metrics":
+        """From a track CSV (``columns``, ``time_format``, ``frame_time``,
+        ``unit_scale``, ``gap_factor``, ``smoothing`` as for Dataset.from_csv),
+        keeping the samples in ``window``: fractions of the recording's time
+        span, e.g. ``(0, 0.5)`` for the first half."""
+        d, _keep = _dataset_desc(**options)
+        lo, hi = window
+        return cls._make(lambda h: lib.swcl_metrics_from_csv(os.fsencode(path), d, float(lo), float(hi), h))
+
+    @classmethod
+    def from_tracks(cls, tracks, window: Tuple[float, float] = (0.0, 1.0), **options) -> "Metrics":
+        """From tracks given as ``[(times, positions), ...]`` (as Dataset.from_tracks)."""
+        c, t, p = _track_arrays(tracks, "from_tracks")
+        d, _keep = _dataset_desc(**options)
+        lo, hi = window
+        return cls._make(lambda h: lib.swcl_metrics_from_tracks(*_track_pointers(c, t, p), d, float(lo), float(hi), h))
+
+    @classmethod
+    def from_frames(cls, frames, dt: float) -> "Metrics":
+        """From simulated frames, an array (frames, agents, 3), dt seconds apart."""
+        a = np.ascontiguousarray(frames, dtype=np.float32)
+        if a.ndim != 3 or a.shape[2] != 3:
+            raise ValueError(f"from_frames: expected shape (frames, agents, 3), got {a.shape}")
+        ptr = ffi.from_buffer("float[]", a) if a.size else ffi.NULL
+        return cls._make(lambda h: lib.swcl_metrics_from_frames(ptr, a.shape[0], a.shape[1], float(dt), h))
+
+    @property
+    def frame_time(self) -> float:
+        """Seconds between the frames the samples came from."""
+        out = ffi.new("double*")
+        check(lib.swcl_metrics_frame_time(self._h, out))
+        return float(out[0])
+
+    def info(self, metric) -> dict:
+        """count, mean and sigma of one metric's samples."""
+        out = ffi.new("swcl_metric_info*")
+        out.struct_size = ffi.sizeof("swcl_metric_info")
+        check(lib.swcl_metrics_get_info(self._h, _metric_index(metric), out))
+        return {"count": int(out.count), "mean": float(out.mean), "sigma": float(out.sigma)}
+
+    def pdf(self, metric, bins: int = 50, half_width: float = 4.0) -> np.ndarray:
+        """The discrete PDF Q (bins,) of the z-scored samples over
+        [-half_width, half_width] sigma (Step 3 of §3.1)."""
+        q = np.empty(int(bins), dtype=np.float64)
+        check(lib.swcl_metrics_pdf(self._h, _metric_index(metric), _pdf_options(bins, half_width),
+                                   ffi.from_buffer("double[]", q), q.size))
+        return q
+
+
+def distances(real: Metrics, sim: Metrics, bins: int = 50, half_width: float = 4.0) -> np.ndarray:
+    """E_phi = sum_i |Q_real,i - Q_sim,i| of every metric (Eq. 2), shape (7,)."""
+    e = np.empty(len(METRICS), dtype=np.float64)
+    check(lib.swcl_metrics_distances(real._h, sim._h, _pdf_options(bins, half_width),
+                                     ffi.from_buffer("double[]", e), e.size))
+    return e
+
+
+def score(distances_, weights: Optional[Sequence[float]] = None, p1: Optional[Sequence[float]] = None,
+          p2: Optional[Sequence[float]] = None) -> float:
+    """E = 1 - sum w (E_phi - p1) / p2 (Eq. 3 and 1); defaults w = 1/7, p1 = 0, p2 = 1."""
+    e = np.ascontiguousarray(distances_, dtype=np.float64)
+    if e.shape != (len(METRICS),):
+        raise ValueError(f"distances: expected shape (7,), got {e.shape}")
+    w = ffi.new("swcl_score_weights*", lib.swcl_score_weights_default())
+    for name, values in (("w", weights), ("p1", p1), ("p2", p2)):
+        if values is not None:
+            v = np.asarray(values, dtype=np.float64)
+            if v.shape != (len(METRICS),):
+                raise ValueError(f"{name}: expected 7 values, got shape {v.shape}")
+            for k in range(len(METRICS)):
+                getattr(w, name)[k] = float(v[k])
+    out = ffi.new("double*")
+    check(lib.swcl_score(ffi.from_buffer("double[]", e), e.size, w, out))
+    return float(out[0])
+
+
+def entropy_weights(x) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Entropy weights (Eq. 4) of an energy-term matrix x (models, terms):
+    (w, p1, p2), each (terms,)."""
+    a = np.ascontiguousarray(x, dtype=np.float64)
+    if a.ndim != 2:
+        raise ValueError(f"x: expected a 2-D array (models, terms), got shape {a.shape}")
+    m, n = a.shape
+    w, p1, p2 = (np.empty(n, dtype=np.float64) for _ in range(3))
+    check(lib.swcl_entropy_weights(ffi.from_buffer("double[]", a) if a.size else ffi.NULL, m, n,
+                                   ffi.from_buffer("double[]", w), ffi.from_buffer("double[]", p1),
+                                   ffi.from_buffer("double[]", p2)))
+    return w, p1, p2
+
+
+def _simulate_frames(scenario: Scenario, context: Context, steps: int, every: int, warmup: int) -> np.ndarray:
+    """Positions (frames, agents, 3) every `every` steps after `warmup` steps."""
+    with scenario.create_swarm(context) as swarm:
+        done = 0
+        while done < warmup:
+            k = min(every, warmup - done)
+            swarm.step(k)
+            done += k
+        frames = [swarm.read_positions()]
+        for _ in range(steps // every):
+            swarm.step(every)
+            frames.append(swarm.read_positions())
+    return np.stack(frames)
+
+
+def evaluate(scenario, tracks, *, steps: Optional[int] = None, every: Optional[int] = None, warmup: int = 0,
+             bins: int = 50, half_width: float = 4.0, weights: Optional[Sequence[float]] = None,
+             p1: Optional[Sequence[float]] = None, p2: Optional[Sequence[float]] = None,
+             context: Optional[Context] = None, out_dir=None, plots: bool = True) -> dict:
+    """Runs ``scenario`` (a path, or a Scenario) and scores it against
+    ``tracks`` (a Metrics, e.g. Metrics.from_csv(...)), as ``swarmcl
+    evaluate`` does: samples every ``every`` steps (default: the tracks' frame
+    time over the scenario's dt) after ``warmup`` steps.  Returns the same
+    dictionary the CLI writes; with ``out_dir`` writes ``evaluation.json``
+    there, and ``evaluation.png`` (the seven PDFs, real vs simulated) when
+    ``plots`` and matplotlib is installed."""
+    scn = scenario if isinstance(scenario, Scenario) else Scenario.load(scenario)
+    if not isinstance(tracks, Metrics):
+        raise TypeError(f"tracks must be a swarmcl.Metrics (Metrics.from_csv), got {type(tracks).__name__}")
+    info = scn.info
+    steps = info["steps"] if steps is None else int(steps)
+    every = max(1, round(tracks.frame_time / info["dt"])) if every is None else int(every)
+    if steps < 1 or every < 1 or warmup < 0:
+        raise ValueError("steps and every must be >= 1, warmup >= 0")
+    if info["agents"] < 2:
+        raise ValueError("evaluate: the scenario needs at least two agents (nearest distances)")
+    start = time.perf_counter()
+    own = context is None
+    ctx = Context() if own else context
+    try:
+        frames = _simulate_frames(scn, ctx, steps, every, int(warmup))
+    finally:
+        if own:
+            ctx.close()
+    sample_dt = every * info["dt"]
+    with Metrics.from_frames(frames, sample_dt) as sim:
+        e = distances(tracks, sim, bins, half_width)
+        w = ffi.new("swcl_score_weights*", lib.swcl_score_weights_default())
+        result = {
+            "scenario": info["name"], "agents": info["agents"], "dt": info["dt"], "warmup_steps": int(warmup),
+            "steps": steps, "every": every, "frames": int(frames.shape[0]),
+            "tracks_frame_time": tracks.frame_time, "pdf": {"bins": int(bins), "half_width": float(half_width)},
+            "weights": {"w": list(weights) if weights is not None else list(w.w),
+                        "p1": list(p1) if p1 is not None else list(w.p1),
+                        "p2": list(p2) if p2 is not None else list(w.p2)},
+            "metrics": {}, "score": score(e, weights, p1, p2),
+        }
+        for k, name in enumerate(METRICS):
+            result["metrics"][name] = {
+                "distance": float(e[k]),
+                "real": dict(tracks.info(k), pdf=tracks.pdf(k, bins, half_width).tolist()),
+                "sim": dict(sim.info(k), pdf=sim.pdf(k, bins, half_width).tolist()),
+            }
+    result["seconds"] = time.perf_counter() - start
+    if out_dir is not None:
+        os.makedirs(out_dir, exist_ok=True)
+        tmp = os.path.join(out_dir, ".evaluation.json.tmp")
+        with open(tmp, "w", encoding="utf-8") as f:
+            json.dump(result, f, indent=2)
+            f.write("\n")
+        os.replace(tmp, os.path.join(out_dir, "evaluation.json"))
+        if plots:
+            try:
+                plot_pdfs(result, os.path.join(out_dir, "evaluation.png"))
+            except ImportError:
+                pass  # matplotlib is optional (swarmcl[plot])
+    return result
+
+
+def plot_pdfs(result: dict, path) -> None:
+    """The seven PDFs, real vs simulated, of an evaluation result (the
+    dictionary evaluate() returns or the JSON ``swarmcl evaluate`` writes),
+    as one PNG.  Needs matplotlib."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    bins = result["pdf"]["bins"]
+    h = result["pdf"]["half_width"]
+    centres = -h + (np.arange(bins) + 0.5) * (2 * h / bins)
+    fig, axes = plt.subplots(2, 4, figsize=(14, 6), constrained_layout=True)
+    for ax, name in zip(axes.flat, METRICS):
+        m = result["metrics"][name]
+        ax.step(centres, m["real"]["pdf"], where="mid", label="real", color="k")
+        ax.step(centres, m["sim"]["pdf"], where="mid", label="simulated", color="tab:orange")
+        ax.set_title(f"{name}  E={m['distance']:.3f}", fontsize=9)
+        ax.set_xlabel("z-score")
+    axes.flat[0].legend(fontsize=8)
+    ax = axes.flat[-1]
+    ax.axis("off")
+    ax.text(0.0, 0.5, f"{result.get('scenario', '')}\nscore E = {result['score']:.4f}", fontsize=11)
+    tmp = str(path) + ".tmp.png"
+    fig.savefig(tmp, dpi=80)
+    plt.close(fig)
+    os.replace(tmp, path)
+
+
+def _main(argv=None) -> int:
+    """python -m swarmcl.evaluation plot EVALUATION.json [OUT.png]: draws the PDFs of a CLI result."""
+    import sys
+    args = sys.argv[1:] if argv is None else argv
+    if len(args) not in (2, 3) or args[0] != "plot":
+        print("usage: python -m swarmcl.evaluation plot EVALUATION.json [OUT.png]", file=sys.stderr)
+        return 2
+    with open(args[1], encoding="utf-8") as f:
+        result = json.load(f)
+    out = args[2] if len(args) == 3 else os.path.splitext(args[1])[0] + ".png"
+    plot_pdfs(result, out)
+    print(out)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(_main())

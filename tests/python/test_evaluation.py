@@ -1,0 +1,90 @@
+"""The evaluation against real insects from Python (issue 14): metric sets,
+PDFs, distances, scores, entropy weights, and evaluate() end to end."""
+import json
+
+import numpy as np
+import pytest
+
+import swarmcl
+
+TINY = """{
+  "name": "tiny_eval", "seed": 9, "dt": 0.02, "steps": 40,
+  "domain": {"min": [0, 0, 0], "max": [2, 2, 2]}, "interaction_radius": 0.2,
+  "agents": {"count": 20, "velocity": [0.1, 0, 0],
+             "initial": {"type": "uniform", "min": [0.5, 0.5, 0.5], "max": [1.5, 1.5, 1.5]}},
+  "model": {"type": "field", "noise": {"type": "curl", "scale": 0.5, "gain": 0.2, "seed": 1, "domain_walls": true},
+            "goal": {"center": [1, 1, 1.5], "speed": 0.5}, "min_distance": 0.02},
+  "output": {"dir": "results", "formats": ["npy"], "every": 5}
+}"""
+
+
+def random_walk(rng, frames, agents, step=0.01):
+    p = rng.uniform(-1, 1, size=(1, agents, 3)) + np.cumsum(rng.normal(0, step, size=(frames, agents, 3)), axis=0)
+    return p.astype(np.float32)
+
+
+def test_a_set_against_itself_has_zero_distance_and_score_one(rng):
+    frames = random_walk(rng, 30, 12)
+    with swarmcl.Metrics.from_frames(frames, 0.05) as a, swarmcl.Metrics.from_frames(frames, 0.05) as b:
+        e = swarmcl.distances(a, b)
+        assert e.shape == (7,) and np.all(e == 0.0)
+        assert swarmcl.score(e) == 1.0
+        assert a.frame_time == 0.05
+        info = a.info("speed")
+        assert info["count"] == 29 * 12
+        q = a.pdf("nearest_distance", bins=20, half_width=3.0)
+        assert q.shape == (20,)
+        assert abs(q.sum() * 6.0 / 20 - 1.0) < 1e-12  # a density: integrates to 1
+
+
+def test_tracks_and_windows(rng):
+    tracks = [(np.arange(100) * 0.01, random_walk(rng, 100, 1)[:, 0, :]) for _ in range(5)]
+    with swarmcl.Metrics.from_tracks(tracks, frame_time=0.01) as whole, \
+            swarmcl.Metrics.from_tracks(tracks, window=(0, 0.5), frame_time=0.01) as first:
+        assert whole.info(0)["count"] == 5 * 99
+        assert 0 < first.info(0)["count"] < whole.info(0)["count"]
+    with pytest.raises(swarmcl.InvalidArgumentError, match="from < to"):
+        swarmcl.Metrics.from_tracks(tracks, window=(0.8, 0.2), frame_time=0.01)
+
+
+def test_entropy_weights_match_equation_4():
+    x = np.array([[0.0, 5.0], [1.0, 5.0], [2.0, 5.0]])
+    w, p1, p2 = swarmcl.entropy_weights(x)
+    assert w.tolist() == [1.0, 0.0]
+    assert p1.tolist() == [0.0, 5.0] and p2[0] == 2.0
+    with pytest.raises(swarmcl.InvalidArgumentError):
+        swarmcl.entropy_weights(np.zeros((1, 3)))
+
+
+def test_bad_arguments_raise_clear_errors(rng):
+    with swarmcl.Metrics.from_frames(random_walk(rng, 5, 3), 0.1) as m:
+        with pytest.raises(ValueError, match="metric"):
+            m.info("wingbeat")
+        with pytest.raises(swarmcl.InvalidArgumentError):
+            m.pdf(0, bins=0)
+    with pytest.raises(ValueError, match="frames, agents, 3"):
+        swarmcl.Metrics.from_frames(np.zeros((4, 3)), 0.1)
+    with pytest.raises(swarmcl.InvalidArgumentError, match="dt"):
+        swarmcl.Metrics.from_frames(np.zeros((4, 2, 3)), 0.0)
+    with pytest.raises(ValueError):
+        swarmcl.score(np.zeros(6))
+
+
+def test_evaluate_writes_json_and_the_pdf_plot_and_is_deterministic(tmp_path, rng, ctx):
+    scenario = tmp_path / "tiny.json"
+    scenario.write_text(TINY)
+    tracks = [(np.arange(60) * 0.02, random_walk(rng, 60, 1, 0.02)[:, 0, :]) for _ in range(6)]
+    with swarmcl.Metrics.from_tracks(tracks, frame_time=0.02) as real:
+        a = swarmcl.evaluate(str(scenario), real, warmup=5, out_dir=tmp_path / "out", context=ctx)
+        b = swarmcl.evaluate(str(scenario), real, warmup=5, context=ctx)
+    assert a["every"] == 1 and a["frames"] == 41
+    a.pop("seconds"), b.pop("seconds")
+    assert a == b
+    assert set(a["metrics"]) == set(swarmcl.METRICS)
+    assert np.isfinite(a["score"]) and a["score"] < 1.0
+    written = json.loads((tmp_path / "out" / "evaluation.json").read_text())
+    written.pop("seconds")
+    assert written == json.loads(json.dumps(a))
+    pytest.importorskip("matplotlib")
+    png = (tmp_path / "out" / "evaluation.png").read_bytes()
+    assert png[:8] == b"\x89PNG\r\n\x1a\n"
