@@ -13,6 +13,7 @@
 #include "eval/entropy_weights.hpp"
 #include "eval/metrics.hpp"
 #include "eval/pdf_distance.hpp"
+#include "eval/time_window.hpp"
 
 using namespace swarmcl;
 
@@ -260,4 +261,30 @@ TEST(EvalMetrics, MosquitoTracksGiveThePublishedSpeedRange) {
     // On average 3.3 insects in view: plenty of d samples, each positive.
     EXPECT_GT(m[Metric::NearestDistance].size(), 5000u);
     for (double d : m[Metric::NearestDistance]) ASSERT_GT(d, 0.0);
+}
+
+TEST(EvalTimeWindow, HalvesSplitTheSamplesByTimeAtTheMedianSampleTime) {
+    // Uneven in time like the mosquito recording: one track early, three late.
+    TrackSet set;
+    set.frame_time = 0.01;
+    set.tracks.push_back(line_track("early", 0.0, 40, 0.01, {0, 0, 0}, {1, 0, 0}));
+    for (int i = 0; i < 3; ++i)
+        set.tracks.push_back(line_track("late" + std::to_string(i), 100.0, 40, 0.01, {0, 0, double(i)}, {1, 0, 0}));
+    const auto first = time_window(set, 0.0, 0.5), second = time_window(set, 0.5, 1.0);
+    auto count = [](const TrackSet& s) {
+        size_t n = 0;
+        for (const auto& t : s.tracks) n += t.t.size();
+        return n;
+    };
+    EXPECT_EQ(count(first) + count(second), 160u);
+    // The 80th of the 160 sample times is the late tracks' 14th frame (three
+    // samples share each late time): the cut is there, inside the late
+    // tracks (a cut at half the span would leave the first half 40 samples).
+    EXPECT_EQ(count(first), 40u + 3 * 13);
+    for (const auto& t : first.tracks)
+        for (double x : t.t) EXPECT_LT(x, second.tracks.front().t.front());
+    EXPECT_EQ(count(time_window(set, 0.0, 1.0)), 160u);
+    EXPECT_THROW(time_window(set, 0.5, 0.5), Error);
+    EXPECT_THROW(time_window(set, -0.1, 0.5), Error);
+    EXPECT_THROW(time_window(set, 0.0, NAN), Error);
 }

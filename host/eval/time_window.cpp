@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "core/error.hpp"
 
@@ -19,16 +20,23 @@ TrackSet time_window(const TrackSet& tracks, double from, double to) {
         out.tracks = tracks.tracks;
         return out;
     }
-    double t0 = std::numeric_limits<double>::infinity(), t1 = -t0;
-    for (const auto& s : tracks.tracks)
-        if (!s.t.empty()) t0 = std::min(t0, s.t.front()), t1 = std::max(t1, s.t.back());
-    if (!(t1 >= t0)) return out;
-    const double lo = t0 + from * (t1 - t0), hi = t0 + to * (t1 - t0);
+    // Cut at time quantiles of the samples: real recordings are uneven in
+    // time (the mosquito data has most samples in its last tenth), and a cut
+    // at the median sample time halves the data while still splitting it by
+    // time.
+    std::vector<double> times;
+    for (const auto& s : tracks.tracks) times.insert(times.end(), s.t.begin(), s.t.end());
+    if (times.empty()) return out;
+    std::sort(times.begin(), times.end());
+    const size_t n = times.size();
+    const double lo = times[std::min(n - 1, size_t(std::floor(from * double(n))))];
+    const double hi = to == 1.0 ? std::numeric_limits<double>::infinity()
+                                : times[std::min(n - 1, size_t(std::floor(to * double(n))))];
     for (const auto& s : tracks.tracks) {
         Track piece;
         piece.id = s.id;
         for (size_t k = 0; k < s.t.size(); ++k) {
-            const bool inside = s.t[k] >= lo && (s.t[k] < hi || (to == 1.0 && s.t[k] <= hi));
+            const bool inside = s.t[k] >= lo && s.t[k] < hi;
             if (!inside) continue;
             piece.t.push_back(s.t[k]);
             piece.p.push_back(s.p[k]);

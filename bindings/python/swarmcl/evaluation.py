@@ -71,8 +71,8 @@ class Metrics(_Handle):
     def from_csv(cls, path, window: Tuple[float, float] = (0.0, 1.0), **options) -> "Metrics":
         """From a track CSV (``columns``, ``time_format``, ``frame_time``,
         ``unit_scale``, ``gap_factor``, ``smoothing`` as for Dataset.from_csv),
-        keeping the samples in ``window``: fractions of the recording's time
-        span, e.g. ``(0, 0.5)`` for the first half."""
+        keeping the samples in ``window``: fractions of all samples ordered by
+        time, e.g. ``(0, 0.5)`` for the first half of the data by time."""
         d, _keep = _dataset_desc(**options)
         lo, hi = window
         return cls._make(lambda h: lib.swcl_metrics_from_csv(os.fsencode(path), d, float(lo), float(hi), h))

@@ -704,9 +704,10 @@ typedef enum swcl_metric {
 
 /* Metrics of tracks from a CSV file (columns, time format, unit and gap
  * splitting from `tracks`, as for swcl_dataset_from_csv; NULL: defaults),
- * keeping only the samples whose time lies in [window_from, window_to) of
- * the recording's time span, as fractions (0 and 1: all of it; 0 and 0.5:
- * the first half).  No difference crosses a gap; d and eta are taken among
+ * keeping only the samples in a time window [window_from, window_to) given
+ * as fractions of all samples ordered by time (0 and 1: all of it; 0 and
+ * 0.5: up to the median sample time, the first half of the data by time;
+ * a segment crossing a cut is cut there).  No difference crosses a gap; d and eta are taken among
  * the insects in view on the same frame. */
 SWCL_API swcl_status swcl_metrics_from_csv(const char* path, const swcl_dataset_desc* tracks, double window_from,
                                            double window_to, swcl_metrics* out);
