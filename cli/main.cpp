@@ -4,6 +4,7 @@
 //   swarmcl run scenario.json [--steps N] [--out DIR] [--format csv,npy,vtp]
 //                             [--every K] [--device D] [--quiet]
 //   swarmcl evaluate scenario.json --tracks tracks.csv [...]   (cli/evaluate.cpp)
+//   swarmcl fit scenario.json --tracks tracks.csv --ranges ranges.json [...]   (cli/fit.cpp)
 //   swarmcl devices
 //   swarmcl validate scenario.json
 #include <algorithm>
@@ -25,6 +26,7 @@
 
 #include "cli_support.hpp"
 #include "evaluate.hpp"
+#include "fit.hpp"
 
 using namespace swarmcl_cli;
 
@@ -37,6 +39,8 @@ const char* kUsage =
     "  swarmcl evaluate SCENARIO.json --tracks FILE.csv [--columns id,time,x,y,z] [--unit-scale S]\n"
     "                            [--window FROM,TO] [--warmup N] [--steps N] [--every K] [--bins M]\n"
     "                            [--half-width H] [--out FILE.json] [--device D] [--quiet]\n"
+    "  swarmcl fit SCENARIO.json --tracks FILE.csv --ranges RANGES.json [--method cmaes|ga]\n"
+    "                            [--generations G] [--population P] [--seed S] [...]  (in Python; --help)\n"
     "  swarmcl devices\n"
     "  swarmcl validate SCENARIO.json\n";
 
@@ -255,6 +259,7 @@ int main(int argc, char** argv) {
         if (cmd == "run") return cmd_run(argc - 2, argv + 2);
         if (cmd == "devices") return cmd_devices();
         if (cmd == "evaluate") return cmd_evaluate(argc - 2, argv + 2);
+        if (cmd == "fit") return cmd_fit(argc - 2, argv + 2);
         if (cmd == "validate") {
             if (argc != 3) throw Usage{"validate: expected one scenario file"};
             return cmd_validate(argv[2]);

@@ -9,6 +9,7 @@ packages=(
   libglm-dev libgtest-dev libnanoflann-dev libnoise-dev nlohmann-json3-dev
   libtinyobjloader-dev libopenvdb-dev libboost-dev python3-scikit-fmm
   python3 python3-pip python3-venv
+  openmpi-bin
 )
 
 missing=()

@@ -13,6 +13,9 @@ ctest --output-on-failure -j "$(nproc)"
 # rebuilds what changed) into a venv kept at build/venv, then runs pytest.
 venv="${SWARMCL_BUILD_DIR:-$root/build}/venv"
 [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
-"$venv/bin/python" -m pip install -q --disable-pip-version-check "$root[test]"
+"$venv/bin/python" -m pip install -q --disable-pip-version-check "$root[test,fit,mpi]"
 cd "$root"
-"$venv/bin/python" -m pytest -q -p no:cacheprovider tests/python
+# The fit tests run `mpirun -np 2` (Open MPI from bootstrap.sh) with python -m
+# swarmcl fit and with the swarmcl program.
+SWARMCL_REQUIRE_MPI=1 SWARMCL_CLI="${SWARMCL_BUILD_DIR:-$root/build}/swarmcl" \
+  "$venv/bin/python" -m pytest -q -p no:cacheprovider tests/python

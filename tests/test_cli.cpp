@@ -444,4 +444,13 @@ TEST_F(Cli, EvaluateIsDeterministicAndRefusesBadInput) {
     EXPECT_FALSE(fs::exists(dir / "c.json"));
 }
 
+TEST_F(Cli, FitHandsOverToPythonAndSaysSoWhenItCannot) {
+    setenv("SWARMCL_PYTHON", "/no/such/python", 1);
+    const Result missing = cli("fit tiny.json --tracks t.csv --ranges r.json", dir.path());
+    unsetenv("SWARMCL_PYTHON");
+    EXPECT_EQ(missing.status, 1);
+    EXPECT_NE(missing.err.find("/no/such/python"), std::string::npos) << missing.err;
+    EXPECT_NE(missing.err.find("swarmcl[fit]"), std::string::npos) << missing.err;
+}
+
 }  // namespace

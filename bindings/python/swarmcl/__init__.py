@@ -17,6 +17,7 @@ from .descriptors import (Box, DeviceInfo, DeviceType, FieldModel, NoiseDesc, No
 from .energy import (Dataset, EnergyModel, EnergyWeights, Stimulus, StimulusKind, TimeFormat,
                      write_mixed_csv)
 from .evaluation import METRICS, Metrics, distances, entropy_weights, evaluate, plot_pdfs, score
+from .fitting import Parameter, fit, load_ranges
 from .force import SHAPES, ForceModel, Keyframe
 from .path import (BoxObstacle, CylinderObstacle, Goal, MeshObstacle, ObjObstacle, PathGroup, PathInfo,
                    PathModel, SphereObstacle)
@@ -32,6 +33,7 @@ __all__ = [
     "Dataset", "EnergyModel", "EnergyWeights", "Stimulus", "StimulusKind", "TimeFormat", "write_mixed_csv",
     "ForceModel", "Keyframe", "SHAPES",
     "METRICS", "Metrics", "distances", "score", "entropy_weights", "evaluate", "plot_pdfs",
+    "fit", "load_ranges", "Parameter",
     "PathModel", "PathGroup", "PathInfo", "Goal", "MeshObstacle", "ObjObstacle", "BoxObstacle",
     "SphereObstacle", "CylinderObstacle",
     "SwarmclError", "InvalidArgumentError", "InvalidHandleError", "NoDeviceError", "BuildError",

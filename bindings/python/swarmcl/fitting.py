@@ -1,0 +1,420 @@
+"""Parameter estimation against real insects (the noise paper's Par-Est,
+Fig. 1; docs/evaluation.md): maximise the score E of Eq. 1 over a model's
+parameters, with CMA-ES (``cma``) or the paper's genetic algorithm (DEAP),
+each generation's individuals simulated together, optionally spread over MPI
+ranks (mpi4py).
+
+    mpirun -np 2 swarmcl fit scenario.json --tracks tracks.csv --ranges ranges.json
+    python -m swarmcl fit scenario.json --tracks tracks.csv --ranges ranges.json --method ga
+
+A ranges file maps scenario-file paths of numeric fields to [low, high]:
+
+    {"model.noise.gain": [0.05, 1.0], "model.speed": [0.5, 3.0], "model.goals.0.radius": [0.2, 1.0]}
+
+``pip install swarmcl[fit]`` brings cma and DEAP; ``swarmcl[mpi]`` mpi4py
+(with an MPI library such as Debian's openmpi-bin).
+"""
+from __future__ import annotations
+
+import argparse
+import copy
+import json
+import math
+import os
+import random
+import sys
+import time
+from dataclasses import dataclass
+from typing import Callable, Dict, List, Optional, Sequence
+
+import numpy as np
+
+from ._core import Context, Scenario, devices
+from .errors import SwarmclError
+from .evaluation import METRICS, Metrics, distances, score
+
+__all__ = ["Parameter", "load_ranges", "PopulationEvaluator", "fit", "main"]
+
+#: The score an individual gets when its scenario is refused (a value the
+#: model does not accept): below any real score, finite for the optimisers.
+REFUSED_SCORE = -1.0e6
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One fitted field: its scenario-file path, range, and whether the file
+    holds an integer there (then values are rounded)."""
+    path: str
+    low: float
+    high: float
+    integer: bool = False
+
+    def value(self, u: float):
+        """The field's value at u in [0, 1] of the range."""
+        v = self.low + float(u) * (self.high - self.low)
+        return int(round(v)) if self.integer else v
+
+
+def _walk(doc, path: str):
+    """(container, key) of a dotted path ("model.goals.0.radius")."""
+    parts = path.split(".")
+    node = doc
+    for i, part in enumerate(parts[:-1]):
+        node = _child(node, part, ".".join(parts[: i + 1]))
+    last = parts[-1]
+    if isinstance(node, list):
+        if not last.isdigit() or int(last) >= len(node):
+            raise ValueError(f"ranges: {path!r}: no element {last!r} in the list")
+        return node, int(last)
+    if not isinstance(node, dict) or last not in node:
+        raise ValueError(f"ranges: {path!r}: the scenario has no field {last!r} there")
+    return node, last
+
+
+def _child(node, part: str, where: str):
+    if isinstance(node, list):
+        if part.isdigit() and int(part) < len(node):
+            return node[int(part)]
+        raise ValueError(f"ranges: {where!r}: no element {part!r} in the list")
+    if isinstance(node, dict) and part in node:
+        return node[part]
+    raise ValueError(f"ranges: {where!r}: the scenario has no field {part!r} there")
+
+
+def load_ranges(ranges, scenario: dict) -> List[Parameter]:
+    """Parameters from a ranges file (path) or dict ``{path: [low, high]}``,
+    checked against the scenario: each path must name a number (not a
+    boolean) and each range be finite with low < high."""
+    if isinstance(ranges, (str, os.PathLike)):
+        with open(ranges, encoding="utf-8") as f:
+            try:
+                ranges = json.load(f)
+            except json.JSONDecodeError as e:
+                raise ValueError(f"ranges: not JSON: {e}") from None
+    if not isinstance(ranges, dict) or not ranges:
+        raise ValueError("ranges: expected an object {\"scenario.path\": [low, high], ...} with at least one entry")
+    params = []
+    for path, bounds in ranges.items():
+        node, key = _walk(scenario, path)
+        current = node[key]
+        if isinstance(current, bool) or not isinstance(current, (int, float)):
+            raise ValueError(f"ranges: {path!r} is {type(current).__name__}, not a number")
+        if (not isinstance(bounds, (list, tuple)) or len(bounds) != 2
+                or not all(isinstance(b, (int, float)) and not isinstance(b, bool) for b in bounds)):
+            raise ValueError(f"ranges: {path!r}: expected [low, high], got {bounds!r}")
+        low, high = float(bounds[0]), float(bounds[1])
+        if not (math.isfinite(low) and math.isfinite(high) and low < high):
+            raise ValueError(f"ranges: {path!r}: expected finite low < high, got {bounds!r}")
+        params.append(Parameter(path, low, high, isinstance(current, int)))
+    return params
+
+
+def _with_values(scenario: dict, params: Sequence[Parameter], u) -> dict:
+    doc = copy.deepcopy(scenario)
+    for p, x in zip(params, u):
+        node, key = _walk(doc, p.path)
+        node[key] = p.value(x)
+    return doc
+
+
+class PopulationEvaluator:
+    """Scores a population (a list of points in [0, 1]^d): every individual's
+    scenario is made into a swarm on one context, and all the swarms are
+    stepped together, sampled on the tracks' clock and scored against the
+    real metrics (Eq. 1).  Deterministic: an individual's score depends only
+    on its parameters."""
+
+    def __init__(self, scenario: dict, params: Sequence[Parameter], real: Metrics, context: Context, *,
+                 steps: Optional[int] = None, every: Optional[int] = None, warmup: int = 0, bins: int = 50,
+                 half_width: float = 4.0, weights=None, p1=None, p2=None):
+        self.scenario, self.params, self.real, self.context = scenario, list(params), real, context
+        info = Scenario.parse(json.dumps(scenario)).info
+        self.dt = info["dt"]
+        self.steps = info["steps"] if steps is None else int(steps)
+        self.every = max(1, round(real.frame_time / self.dt)) if every is None else int(every)
+        self.warmup = int(warmup)
+        if self.steps < self.every or self.warmup < 0:
+            raise ValueError("fit: steps must be >= every (one sampled interval at least), warmup >= 0")
+        self.bins, self.half_width = int(bins), float(half_width)
+        self.weights, self.p1, self.p2 = weights, p1, p2
+        self.evaluations = 0
+        self.refused = 0
+
+    def scenario_for(self, u) -> dict:
+        return _with_values(self.scenario, self.params, u)
+
+    def _swarm(self, u):
+        try:
+            return Scenario.parse(json.dumps(self.scenario_for(u))).create_swarm(self.context)
+        except SwarmclError:
+            self.refused += 1
+            return None
+
+    def __call__(self, population) -> List[float]:
+        swarms = [self._swarm(u) for u in population]
+        live = [s for s in swarms if s is not None]
+        try:
+            for done in range(0, self.warmup, self.every):
+                for s in live:
+                    s.step(min(self.every, self.warmup - done))
+            frames = [[s.read_positions()] for s in live]
+            for _ in range(self.steps // self.every):
+                for s in live:  # one generation's swarms advance side by side
+                    s.step(self.every)
+                for f, s in zip(frames, live):
+                    f.append(s.read_positions())
+            scores = iter([self._score(np.stack(f)) for f in frames])
+        finally:
+            for s in live:
+                s.close()
+        self.evaluations += len(population)
+        return [next(scores) if s is not None else REFUSED_SCORE for s in swarms]
+
+    def _score(self, frames: np.ndarray) -> float:
+        with Metrics.from_frames(frames, self.every * self.dt) as sim:
+            return score(distances(self.real, sim, self.bins, self.half_width), self.weights, self.p1, self.p2)
+
+
+class _Ranks:
+    """Spreads a population over MPI ranks (contiguous blocks, in order) and
+    gathers the scores on rank 0; without MPI, evaluates in place.  Ranks
+    other than 0 serve in serve() until rank 0 calls stop()."""
+
+    def __init__(self, evaluate: Callable, comm=None):
+        self.evaluate, self.comm = evaluate, comm
+        self.rank = comm.Get_rank() if comm is not None else 0
+        self.size = comm.Get_size() if comm is not None else 1
+
+    def _share(self, population, rank):
+        blocks = np.array_split(np.arange(len(population)), self.size)
+        return [population[i] for i in blocks[rank]]
+
+    def map(self, population) -> List[float]:
+        population = [np.asarray(u, dtype=np.float64) for u in population]
+        if self.size == 1:
+            return self.evaluate(population)
+        self.comm.bcast(("evaluate", population), root=0)
+        mine = self.evaluate(self._share(population, 0))
+        return [x for part in self.comm.gather(mine, root=0) for x in part]
+
+    def serve(self) -> None:
+        while True:
+            command, population = self.comm.bcast(None, root=0)
+            if command == "stop":
+                return
+            self.comm.gather(self.evaluate(self._share(population, self.rank)), root=0)
+
+    def stop(self) -> None:
+        if self.size > 1:
+            self.comm.bcast(("stop", None), root=0)
+
+
+def _cmaes(ranks: _Ranks, dim: int, generations: int, population: int, seed: int, report) -> tuple:
+    import cma
+    history = []
+    best = {"u": None, "score": -math.inf}
+
+    def objective(xs):
+        scores = ranks.map(xs)
+        for x, s in zip(xs, scores):
+            if s > best["score"]:
+                best["u"], best["score"] = np.array(x, dtype=np.float64), s
+        # cma ends by scoring its final mean alone: an entry of 1 individual.
+        history.append({"generation": len(history) + 1, "individuals": len(xs), "best": max(scores),
+                        "mean": float(np.mean(scores)), "best_so_far": best["score"]})
+        report(history[-1])
+        return [-s for s in scores]  # cma minimises
+
+    # cma takes seed 0 as "from the clock": shift so every seed is fixed.
+    options = {"bounds": [0.0, 1.0], "popsize": int(population), "maxiter": int(generations),
+               "seed": int(seed) + 1, "verbose": -9, "tolfun": 0.0, "tolx": 1e-12, "tolflatfitness": 1e9}
+    cma.fmin2(None, [0.5] * dim, 0.3, options=options, parallel_objective=objective)
+    return best["u"], best["score"], history
+
+
+def _ga(ranks: _Ranks, dim: int, generations: int, population: int, seed: int, report) -> tuple:
+    # The paper's genetic algorithm (§3.3; its operators are not given): real
+    # genes in [0, 1], tournament selection (3), simulated binary crossover
+    # (eta 20, p 0.7), polynomial mutation (eta 20, 1/d per gene, p 0.3),
+    # the best individual always kept (elitism).
+    from deap import base, tools
+
+    class Fitness(base.Fitness):
+        weights = (1.0,)
+
+    class Individual(list):
+        def __init__(self, genes):
+            super().__init__(genes)
+            self.fitness = Fitness()
+
+    saved = random.getstate()
+    random.seed(int(seed))
+    try:
+        pop = [Individual([random.random() for _ in range(dim)]) for _ in range(int(population))]
+        history = []
+
+        def evaluate(individuals):
+            scores = ranks.map([list(i) for i in individuals])
+            for ind, s in zip(individuals, scores):
+                ind.fitness.values = (s,)
+
+        evaluate(pop)
+        elite = tools.selBest(pop, 1)[0]
+        for g in range(int(generations)):
+            offspring = [Individual(list(i)) for i in tools.selTournament(pop, len(pop), tournsize=3)]
+            for a, b in zip(offspring[::2], offspring[1::2]):
+                if random.random() < 0.7:
+                    tools.cxSimulatedBinaryBounded(a, b, eta=20.0, low=0.0, up=1.0)
+            for ind in offspring:
+                if random.random() < 0.3:
+                    tools.mutPolynomialBounded(ind, eta=20.0, low=0.0, up=1.0, indpb=1.0 / dim)
+            evaluate(offspring)
+            offspring[int(np.argmin([i.fitness.values[0] for i in offspring]))] = elite
+            pop = offspring
+            elite = tools.selBest(pop, 1)[0]
+            scores = [i.fitness.values[0] for i in pop]
+            history.append({"generation": g + 1, "individuals": len(pop), "best": max(scores),
+                            "mean": float(np.mean(scores)), "best_so_far": elite.fitness.values[0]})
+            report(history[-1])
+        return np.array(elite, dtype=np.float64), elite.fitness.values[0], history
+    finally:
+        random.setstate(saved)
+
+
+def _context_for_rank(rank: int, device=None) -> Context:
+    # SWARMCL_DEVICE (or `device`) chooses one device for every rank;
+    # otherwise ranks take the devices round-robin.
+    if device is not None or os.environ.get("SWARMCL_DEVICE"):
+        return Context(device)
+    return Context(rank % max(1, len(devices())))
+
+
+def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations: int = 10, population: int = 8,
+        seed: int = 1, steps: Optional[int] = None, every: Optional[int] = None, warmup: int = 0, bins: int = 50,
+        half_width: float = 4.0, weights=None, p1=None, p2=None, comm=None, context: Optional[Context] = None,
+        progress: Optional[Callable[[dict], None]] = None) -> Optional[dict]:
+    """Fits the ranged parameters of ``scenario`` (a path or a dict) to
+    ``tracks`` (a Metrics) by maximising E.  ``method``: "cmaes" or "ga".
+    With ``comm`` (an mpi4py communicator of R ranks), every rank must call
+    fit() with the same arguments: rank 0 returns the result, the others
+    serve evaluations and return None.  The same seed gives the same result
+    for any R."""
+    if method not in ("cmaes", "ga"):
+        raise ValueError(f"method: 'cmaes' or 'ga', got {method!r}")
+    if int(generations) < 1 or int(population) < 2:
+        raise ValueError("generations must be >= 1 and population >= 2")
+    if isinstance(scenario, (str, os.PathLike)):
+        with open(scenario, encoding="utf-8") as f:
+            scenario = json.load(f)
+    params = load_ranges(ranges, scenario)
+    if method == "cmaes" and len(params) < 2:
+        raise ValueError("cmaes needs at least two parameters (cma does not run in one dimension); use method='ga'")
+    rank = comm.Get_rank() if comm is not None else 0
+    own = context is None
+    ctx = _context_for_rank(rank) if own else context
+    try:
+        evaluator = PopulationEvaluator(scenario, params, tracks, ctx, steps=steps, every=every, warmup=warmup,
+                                        bins=bins, half_width=half_width, weights=weights, p1=p1, p2=p2)
+        ranks = _Ranks(evaluator, comm)
+        if rank != 0:
+            ranks.serve()
+            return None
+        start = time.perf_counter()
+        report = progress or (lambda entry: None)
+        try:
+            run = _cmaes if method == "cmaes" else _ga
+            u, best, history = run(ranks, len(params), generations, population, seed, report)
+        finally:
+            ranks.stop()
+        return {
+            "method": method, "seed": int(seed), "generations": int(generations), "population": int(population),
+            "ranks": ranks.size, "steps": evaluator.steps, "every": evaluator.every, "warmup": evaluator.warmup,
+            "pdf": {"bins": evaluator.bins, "half_width": evaluator.half_width},
+            "parameters": {p.path: {"low": p.low, "high": p.high} for p in params},
+            "best": {p.path: p.value(x) for p, x in zip(params, u)},
+            "best_score": float(best), "history": history,
+            "evaluations": evaluator.evaluations, "refused_on_rank0": evaluator.refused,
+            "seconds": time.perf_counter() - start,
+            "scenario": _with_values(scenario, params, u),
+        }
+    finally:
+        if own:
+            ctx.close()
+
+
+def _bar(entry: dict, total: int) -> None:
+    done = min(entry["generation"], total)
+    width = 30
+    filled = int(width * done / total) if total else width
+    sys.stderr.write(f"\r[{'#' * filled}{'.' * (width - filled)}] generation {done}/{total}  "
+                     f"best E {entry['best_so_far']:.4f}  mean {entry['mean']:.4f}")
+    if done >= total:
+        sys.stderr.write("\n")
+    sys.stderr.flush()
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="swarmcl fit", description="Fit a scenario's parameters to real tracks "
+                                "(the noise paper's Par-Est); under mpirun the individuals are spread over ranks.")
+    p.add_argument("scenario")
+    p.add_argument("--tracks", required=True, help="track CSV")
+    p.add_argument("--ranges", required=True, help="JSON {\"scenario.path\": [low, high], ...}")
+    p.add_argument("--columns", default="id,time,x,y,z", help="id,time,x,y,z column names (default %(default)s)")
+    p.add_argument("--unit-scale", type=float, default=1.0, help="track position unit in metres (0.01: cm)")
+    p.add_argument("--window", default="0,1", help="FROM,TO fractions of the samples by time (default all)")
+    p.add_argument("--method", choices=("cmaes", "ga"), default="cmaes")
+    p.add_argument("--generations", type=int, default=10)
+    p.add_argument("--population", type=int, default=8)
+    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--steps", type=int)
+    p.add_argument("--every", type=int)
+    p.add_argument("--warmup", type=int, default=0)
+    p.add_argument("--bins", type=int, default=50)
+    p.add_argument("--half-width", type=float, default=4.0)
+    p.add_argument("--out", default="fit.json", help="result JSON (default %(default)s)")
+    p.add_argument("--device", help="device index or name part (default: SWARMCL_DEVICE, or round-robin by rank)")
+    p.add_argument("--quiet", action="store_true")
+    return p
+
+
+def main(argv=None) -> int:
+    args = _parser().parse_args(argv)
+    comm = None
+    if int(os.environ.get("OMPI_COMM_WORLD_SIZE", os.environ.get("PMI_SIZE", "1"))) > 1:
+        from mpi4py import MPI  # started by mpirun: spread over its ranks
+        comm = MPI.COMM_WORLD
+    rank = comm.Get_rank() if comm is not None else 0
+    try:
+        columns = args.columns.split(",")
+        if len(columns) != 5:
+            raise ValueError("--columns: expected five names: id,time,x,y,z")
+        window = tuple(float(x) for x in args.window.split(","))
+        if len(window) != 2:
+            raise ValueError("--window: expected FROM,TO")
+        device = int(args.device) if args.device and args.device.isdigit() else args.device
+        ctx = _context_for_rank(rank, device)
+        with ctx, Metrics.from_csv(args.tracks, window=window, unit_scale=args.unit_scale,
+                                   columns=dict(zip(("id", "time", "x", "y", "z"), columns))) as real:
+            total = args.generations
+            show = (not args.quiet) and rank == 0 and sys.stderr.isatty()
+            result = fit(args.scenario, real, args.ranges, method=args.method, generations=args.generations,
+                         population=args.population, seed=args.seed, steps=args.steps, every=args.every,
+                         warmup=args.warmup, bins=args.bins, half_width=args.half_width, comm=comm, context=ctx,
+                         progress=(lambda e: _bar(e, total)) if show else None)
+    except (ValueError, OSError, SwarmclError) as e:
+        print(f"swarmcl fit: {e}", file=sys.stderr)
+        if comm is not None:
+            comm.Abort(1)
+        return 1
+    if rank == 0:
+        tmp = args.out + ".tmp"
+        with open(tmp, "w", encoding="utf-8") as f:
+            json.dump(result, f, indent=2)
+            f.write("\n")
+        os.replace(tmp, args.out)
+        if not args.quiet:
+            best = ", ".join(f"{k} = {v:.6g}" for k, v in result["best"].items())
+            print(f"best E = {result['best_score']:.4f} after {result['evaluations']} evaluations on "
+                  f"{result['ranks']} rank(s) in {result['seconds']:.1f} s: {best}\nwritten to {args.out}")
+    return 0
+
