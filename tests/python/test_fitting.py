@@ -130,3 +130,25 @@ def test_the_same_answer_over_one_and_two_mpi_ranks(tmp_path, truth):
             r.pop(k)
         results.append(r)
     assert all(r == results[0] for r in results[1:])
+
+
+def test_compare_iterates_entropy_weights_over_models(ctx, real):
+    # Three "models": the field model with its noise gain fitted, with its
+    # goal pull fitted, with its noise scale fitted; Steps 1-5 of §3.3.  (With
+    # two models Eq. 4 always gives equal weights: each non-constant column
+    # normalises to {0, 1}, whose entropy is 0.)
+    models = {"gain": (SCENARIO, {"model.noise.gain": [0.05, 1.0]}),
+              "pull": (SCENARIO, {"model.goal.speed": [0.1, 1.5]}),
+              "scale": (SCENARIO, {"model.noise.scale": [0.2, 1.0]})}
+    r = swarmcl.fitting.compare(models, real, max_iterations=2, tolerance=1e-9, context=ctx, method="ga",
+                                generations=2, population=4, seed=2, steps=40)
+    assert len(r["iterations"]) == 2  # the tolerance is never met: stops at the maximum
+    w = np.array(r["weights"])
+    assert w.shape == (7,) and abs(w.sum() - 1) < 1e-12 and np.all(w >= 0)
+    assert set(r["ranking"]) == {"gain", "pull", "scale"}
+    assert np.ptp(w) > 0  # three models: the terms are weighted unequally
+    for name, m in r["models"].items():
+        terms = np.array([m["terms"][k] for k in swarmcl.METRICS])
+        assert m["score"] == pytest.approx(swarmcl.score(terms, r["weights"], r["p1"], r["p2"]))
+    with pytest.raises(ValueError, match="two models"):
+        swarmcl.fitting.compare({"one": models["gain"]}, real, context=ctx)

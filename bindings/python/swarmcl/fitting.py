@@ -31,9 +31,9 @@ import numpy as np
 
 from ._core import Context, Scenario, devices
 from .errors import SwarmclError
-from .evaluation import METRICS, Metrics, distances, score
+from .evaluation import METRICS, Metrics, distances, entropy_weights, score
 
-__all__ = ["Parameter", "load_ranges", "PopulationEvaluator", "fit", "main"]
+__all__ = ["Parameter", "load_ranges", "PopulationEvaluator", "fit", "compare", "main"]
 
 #: The score an individual gets when its scenario is refused (a value the
 #: model does not accept): below any real score, finite for the optimisers.
@@ -150,29 +150,39 @@ class PopulationEvaluator:
             self.refused += 1
             return None
 
+    def _frames(self, swarms) -> List[np.ndarray]:
+        """Positions (frames, agents, 3) of each swarm: the swarms advance side
+        by side, `every` steps at a time, sampled after each advance."""
+        for done in range(0, self.warmup, self.every):
+            for s in swarms:
+                s.step(min(self.every, self.warmup - done))
+        frames = [[s.read_positions()] for s in swarms]
+        for _ in range(self.steps // self.every):
+            for s in swarms:
+                s.step(self.every)
+            for f, s in zip(frames, swarms):
+                f.append(s.read_positions())
+        return [np.stack(f) for f in frames]
+
+    def _terms(self, frames: np.ndarray) -> np.ndarray:
+        with Metrics.from_frames(frames, self.every * self.dt) as sim:
+            return distances(self.real, sim, self.bins, self.half_width)
+
     def __call__(self, population) -> List[float]:
         swarms = [self._swarm(u) for u in population]
         live = [s for s in swarms if s is not None]
         try:
-            for done in range(0, self.warmup, self.every):
-                for s in live:
-                    s.step(min(self.every, self.warmup - done))
-            frames = [[s.read_positions()] for s in live]
-            for _ in range(self.steps // self.every):
-                for s in live:  # one generation's swarms advance side by side
-                    s.step(self.every)
-                for f, s in zip(frames, live):
-                    f.append(s.read_positions())
-            scores = iter([self._score(np.stack(f)) for f in frames])
+            scores = iter([score(self._terms(f), self.weights, self.p1, self.p2) for f in self._frames(live)])
         finally:
             for s in live:
                 s.close()
         self.evaluations += len(population)
         return [next(scores) if s is not None else REFUSED_SCORE for s in swarms]
 
-    def _score(self, frames: np.ndarray) -> float:
-        with Metrics.from_frames(frames, self.every * self.dt) as sim:
-            return score(distances(self.real, sim, self.bins, self.half_width), self.weights, self.p1, self.p2)
+    def terms(self, scenario: dict) -> np.ndarray:
+        """The seven energy terms E_phi (Eq. 2) of one scenario, run as a population member is."""
+        with Scenario.parse(json.dumps(scenario)).create_swarm(self.context) as s:
+            return self._terms(self._frames([s])[0])
 
 
 class _Ranks:
@@ -337,6 +347,55 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
             "seconds": time.perf_counter() - start,
             "scenario": _with_values(scenario, params, u),
         }
+    finally:
+        if own:
+            ctx.close()
+
+
+def compare(models: Dict[str, tuple], tracks: Metrics, *, max_iterations: int = 5, tolerance: float = 0.01,
+            context: Optional[Context] = None, progress: Optional[Callable[[str, dict], None]] = None,
+            **fit_options) -> dict:
+    """The evaluation algorithm of §3.3 (Steps 1-5) over several models:
+    ``models`` maps a name to ``(scenario, ranges)``.  Step 1: equal weights,
+    p1 = 0, p2 = 1.  Step 2: fit every model (fit() with ``fit_options``)
+    under the current weights; its seven energy terms E_phi form a row of X.
+    Step 3: entropy weights and p1, p2 from X (Eq. 4).  Step 4: stop when no
+    weight moved more than ``tolerance`` or after ``max_iterations``; else
+    back to Step 2.  Step 5: the weights, p1, p2, every model's parameters,
+    terms and final score E (Eq. 1 with Eq. 3), ranked."""
+    if len(models) < 2:
+        raise ValueError("compare: the entropy weights need at least two models")
+    if int(max_iterations) < 1 or not tolerance > 0:
+        raise ValueError("compare: max_iterations >= 1 and tolerance > 0")
+    own = context is None
+    ctx = Context() if own else context
+    try:
+        n = len(METRICS)
+        w, p1, p2 = np.full(n, 1.0 / n), np.zeros(n), np.ones(n)
+        iterations = []
+        for it in range(int(max_iterations)):
+            fitted = {}
+            for name, (scenario, ranges) in models.items():
+                r = fit(scenario, tracks, ranges, context=ctx, weights=w, p1=p1, p2=p2,
+                        progress=(lambda e, name=name: progress(name, e)) if progress else None, **fit_options)
+                ev = PopulationEvaluator(r["scenario"], [], tracks, ctx, steps=r["steps"], every=r["every"],
+                                         warmup=r["warmup"], bins=r["pdf"]["bins"], half_width=r["pdf"]["half_width"])
+                fitted[name] = (r, ev.terms(r["scenario"]))
+            x = np.array([terms for _, terms in fitted.values()])
+            w_new, p1, p2 = entropy_weights(x)
+            moved = float(np.max(np.abs(w_new - w)))
+            w = w_new
+            iterations.append({"iteration": it + 1, "weights": w.tolist(), "p1": p1.tolist(), "p2": p2.tolist(),
+                               "largest_weight_change": moved})
+            if moved <= tolerance:
+                break
+        result = {"weights": w.tolist(), "p1": p1.tolist(), "p2": p2.tolist(), "iterations": iterations,
+                  "models": {}}
+        for name, (r, terms) in fitted.items():
+            result["models"][name] = {"best": r["best"], "terms": dict(zip(METRICS, map(float, terms))),
+                                      "score": score(terms, w, p1, p2), "scenario": r["scenario"]}
+        result["ranking"] = sorted(result["models"], key=lambda k: -result["models"][k]["score"])
+        return result
     finally:
         if own:
             ctx.close()
