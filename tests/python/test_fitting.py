@@ -152,3 +152,14 @@ def test_compare_iterates_entropy_weights_over_models(ctx, real):
         assert m["score"] == pytest.approx(swarmcl.score(terms, r["weights"], r["p1"], r["p2"]))
     with pytest.raises(ValueError, match="two models"):
         swarmcl.fitting.compare({"one": models["gain"]}, real, context=ctx)
+
+
+def test_refused_and_blown_up_individuals_score_low_never_nan(ctx, real):
+    # A negative MDE distance is refused by the scenario reader; frames that
+    # blew up (NaN) make non-finite metrics: both score -1e6.
+    params = swarmcl.load_ranges({"model.noise.gain": [0.05, 1.0], "model.min_distance": [-1.0, -0.5]}, SCENARIO)
+    ev = swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, steps=40)
+    scores = ev([[0.5, 0.5], [0.2, 0.9]])
+    assert scores == [swarmcl.fitting.REFUSED_SCORE] * 2 and ev.refused == 2
+    frames = np.full((5, 3, 3), np.nan, dtype=np.float32)
+    assert ev._score(frames) == swarmcl.fitting.REFUSED_SCORE

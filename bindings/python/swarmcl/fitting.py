@@ -172,12 +172,21 @@ class PopulationEvaluator:
         swarms = [self._swarm(u) for u in population]
         live = [s for s in swarms if s is not None]
         try:
-            scores = iter([score(self._terms(f), self.weights, self.p1, self.p2) for f in self._frames(live)])
+            scores = iter([self._score(f) for f in self._frames(live)])
         finally:
             for s in live:
                 s.close()
         self.evaluations += len(population)
         return [next(scores) if s is not None else REFUSED_SCORE for s in swarms]
+
+    def _score(self, frames: np.ndarray) -> float:
+        # A run that blew up (non-finite positions, so non-finite metrics)
+        # scores as refused: never a NaN for the optimiser.
+        try:
+            return score(self._terms(frames), self.weights, self.p1, self.p2)
+        except SwarmclError:
+            self.refused += 1
+            return REFUSED_SCORE
 
     def terms(self, scenario: dict) -> np.ndarray:
         """The seven energy terms E_phi (Eq. 2) of one scenario, run as a population member is."""
