@@ -99,6 +99,9 @@ ForceModelConfig read_force_model(JsonObject& o, std::vector<Boundary> obstacles
     c.noise.scale = rho;
     c.noise.gain = eta / rho;  // Eq. 4 in metres (ForceModelConfig::noise)
     c.noise.seed = o.integer("noise_seed", c.noise.seed, std::numeric_limits<uint64_t>::max());
+    // The noise term of Eq. 4 is curl noise; the other types stand in for it
+    // in the noise paper's study of noise functions (§4.2, docs/evaluation.md).
+    c.noise.type = read_noise_type(o, "noise_type", c.noise.type);
     c.alpha = float(o.number("alpha", c.alpha, 0.0, 1.0, "in [0, 1]"));
     c.max_speed = o.positive("max_speed", c.max_speed);
     c.cruise_speed = o.non_negative("cruise_speed", c.cruise_speed);

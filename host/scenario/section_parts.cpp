@@ -18,14 +18,17 @@ const char* kNoiseTypes[] = {"curl", "perlin", "white", "gaussian"};
 
 }  // namespace
 
+NoiseType read_noise_type(JsonObject& o, const std::string& key, NoiseType def) {
+    const std::string type = o.string(key, kNoiseTypes[int(def)]);
+    for (int t = 0; t < 4; ++t)
+        if (type == kNoiseTypes[t]) return NoiseType(t);
+    bad_json(o.at(key), "expected one of \"curl\", \"perlin\", \"white\", \"gaussian\"");
+}
+
 NoiseConfig read_noise(const json& j, const std::string& path) {
     JsonObject o(j, path);
     NoiseConfig c;
-    const std::string type = o.string("type", "curl");
-    bool known = false;
-    for (int t = 0; t < 4; ++t)
-        if (type == kNoiseTypes[t]) c.type = NoiseType(t), known = true;
-    if (!known) bad_json(o.at("type"), "expected one of \"curl\", \"perlin\", \"white\", \"gaussian\"");
+    c.type = read_noise_type(o, "type", NoiseType::Curl);
     c.scale = o.positive("scale", c.scale);
     c.gain = o.non_negative("gain", c.gain);
     c.seed = o.integer("seed", c.seed, std::numeric_limits<uint64_t>::max());

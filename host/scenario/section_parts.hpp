@@ -12,7 +12,11 @@
 
 namespace swarmcl {
 
+class JsonObject;
+
 NoiseConfig read_noise(const nlohmann::json& j, const std::string& path);
+// A noise type named by o[key] ("curl", "perlin", "white", "gaussian").
+NoiseType read_noise_type(JsonObject& o, const std::string& key, NoiseType def);
 // NoiseField::validate of `noise` with the domain as its default region,
 // reported as "model.noise: ...".
 void check_noise_in_domain(NoiseConfig noise, const SwarmConfig& swarm);
