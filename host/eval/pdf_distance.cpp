@@ -60,7 +60,8 @@ std::array<double, kMetricCount> metric_distances(const MetricSamples& real, con
         const auto& s = sim.values[k];
         for (const auto* set : {&r, &s})
             for (double x : *set)
-                require(std::isfinite(x), std::string("pdf: a sample of ") + metric_name(Metric(k)) + " is not finite");
+                if (!std::isfinite(x))
+                    fail(Status::InvalidArgument, std::string("pdf: a sample of ") + metric_name(Metric(k)) + " is not finite");
         if (r.empty() || s.empty()) {
             e[k] = worst;
             continue;

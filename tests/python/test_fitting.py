@@ -163,3 +163,18 @@ def test_refused_and_blown_up_individuals_score_low_never_nan(ctx, real):
     assert scores == [swarmcl.fitting.REFUSED_SCORE] * 2 and ev.refused == 2
     frames = np.full((5, 3, 3), np.nan, dtype=np.float32)
     assert ev._score(frames) == swarmcl.fitting.REFUSED_SCORE
+
+
+def test_the_evaluation_templates_and_their_ranges_agree():
+    import pathlib
+    folder = pathlib.Path(__file__).resolve().parents[2] / "examples" / "evaluation"
+    if not folder.is_dir():
+        pytest.skip("examples/ not beside the tests")
+    names = sorted(p.name[: -len(".ranges.json")] for p in folder.glob("*.ranges.json"))
+    assert names == ["energy_mosquito", "field_mosquito", "force_mosquito", "path_mosquito"]
+    for name in names:
+        scenario = json.loads((folder / f"{name}.json").read_text())
+        params = swarmcl.load_ranges(str(folder / f"{name}.ranges.json"), scenario)
+        assert len(params) >= 2  # cma needs two
+        if scenario["model"]["type"] != "energy":  # the energy one needs its track file
+            swarmcl.Scenario.parse(json.dumps(scenario)).close()

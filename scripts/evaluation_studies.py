@@ -1,0 +1,249 @@
+#!/usr/bin/env python3
+"""The noise paper's studies on the mosquito tracks (issue 14, item 6):
+
+- noise study (§4.2, Fig. 2): the force model's three-zone dynamics with
+  white, Gaussian, Perlin and curl noise, each fitted;
+- model study (§4.3, Fig. 4): dynamics + noise, dynamics only, noise only;
+- fidelity table: every model of the library (field, path, force, energy)
+  fitted and scored with the same weights.
+
+Every fit uses the first half of the recording by time (median sample time)
+and is scored on both halves: a held-out score, not only a fit.  Weights:
+equal (1/7) for the fits; the tables also give the entropy weights (Eq. 4)
+of the fitted models' terms on the training half, and the scores under them.
+
+    python scripts/evaluation_studies.py [--population 12 --generations 8 --seed 1]
+
+Needs ../shared/data/anopheles-coluzzii-swarm.csv (skips when absent) and
+pip install 'swarmcl[fit,plot]'.  Writes bench/results/eval/studies.json,
+docs/images/eval_*.png and docs/evaluation-studies.md.
+"""
+from __future__ import annotations
+
+import argparse
+import copy
+import csv
+import json
+import os
+import platform
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+import swarmcl
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+DATA = os.path.join(ROOT, "..", "shared", "data", "anopheles-coluzzii-swarm.csv")
+TEMPLATES = os.path.join(ROOT, "examples", "evaluation")
+COLUMNS = {"id": "id", "time": "time", "x": "x", "y": "y", "z": "z"}
+NOISES = ("white", "gaussian", "perlin", "curl")
+
+
+def cpu_model() -> str:
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    return line.split(":", 1)[1].strip() + f" ({os.cpu_count()} cores)"
+    except OSError:
+        pass
+    return platform.machine()
+
+
+def load(name):
+    with open(os.path.join(TEMPLATES, name + ".json"), encoding="utf-8") as f:
+        scenario = json.load(f)
+    with open(os.path.join(TEMPLATES, name + ".ranges.json"), encoding="utf-8") as f:
+        ranges = json.load(f)
+    return scenario, ranges
+
+
+def split_tracks(path, out_dir):
+    """The recording cut at its median sample time into two CSVs (metres,
+    seconds): the training and the held-out half."""
+    rows = []
+    with open(path, newline="", encoding="utf-8") as f:
+        for r in csv.DictReader(f):
+            rows.append(r)
+    from datetime import datetime
+    t = np.array([datetime.fromisoformat(r["datetime"]).timestamp() for r in rows])
+    t0, cut = t.min(), np.sort(t)[len(t) // 2]
+    files = {}
+    for half, keep in (("train", t < cut), ("test", t >= cut)):
+        p = os.path.join(out_dir, half + ".csv")
+        with open(p, "w", encoding="utf-8") as f:
+            f.write("id,time,x,y,z\n")
+            for r, ti, k in zip(rows, t, keep):
+                if k:
+                    f.write(f"{r['id']},{ti - t0:.6f},{float(r['x_cm']) / 100:.6f},"
+                            f"{float(r['y_cm']) / 100:.6f},{float(r['z_cm']) / 100:.6f}\n")
+        files[half] = p
+    return files, float(cut - t0), float(t.max() - t0)
+
+
+def variants(train_csv):
+    """name -> (scenario, ranges) of every fitted variant."""
+    force, force_ranges = load("force_mosquito")
+    out = {}
+    for noise in NOISES:
+        s = copy.deepcopy(force)
+        s["model"]["noise_type"] = noise
+        out[f"force+{noise}"] = (s, dict(force_ranges))
+    dyn = copy.deepcopy(force)
+    dyn["model"]["eta"] = 0.0
+    out["force dynamics only"] = (dyn, {k: v for k, v in force_ranges.items() if k not in ("model.eta", "model.rho")})
+    noise_only = copy.deepcopy(force)
+    for w in ("w_rep", "w_ali", "w_att"):
+        noise_only["model"][w] = 0.0
+    out["force noise only"] = (noise_only, {k: v for k, v in force_ranges.items()
+                                            if k not in ("model.w_rep", "model.w_ali", "model.w_att")})
+    for name in ("field_mosquito", "path_mosquito", "energy_mosquito"):
+        s, r = load(name)
+        if s["model"]["type"] == "energy":
+            s["model"]["dataset"]["path"] = train_csv  # built from the training half only
+        out[s["model"]["type"]] = (s, r)
+    return out
+
+
+def bar_chart(path, title, names, train, test):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    x = np.arange(len(names))
+    fig, ax = plt.subplots(figsize=(1.6 * len(names) + 2, 3.6), constrained_layout=True)
+    ax.bar(x - 0.2, train, 0.4, label="fitted half (train)")
+    ax.bar(x + 0.2, test, 0.4, label="held-out half (test)")
+    ax.set_xticks(x, names, fontsize=8)
+    ax.set_ylabel("score E (Eq. 1, equal weights)")
+    ax.set_title(title, fontsize=10)
+    ax.axhline(0, color="k", lw=0.5)
+    ax.legend(fontsize=8)
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--population", type=int, default=12)
+    ap.add_argument("--generations", type=int, default=8)
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--seeds", type=int, default=1, help="fits per variant, seeds seed..seed+N-1 (default 1)")
+    ap.add_argument("--method", choices=("cmaes", "ga"), default="cmaes")
+    ap.add_argument("--warmup", type=int, default=200)
+    ap.add_argument("--only", help="comma-separated variant names (default all)")
+    args = ap.parse_args(argv)
+    if not os.path.exists(DATA):
+        print(f"skipped: no {DATA} (the real tracks are not in the repository)")
+        return 0
+    results = {"settings": vars(args), "cpu": cpu_model(), "variants": {}}
+    start = time.perf_counter()
+    with tempfile.TemporaryDirectory() as tmp, swarmcl.Context() as ctx:
+        files, cut, span = split_tracks(DATA, tmp)
+        results["split"] = {"cut_seconds": cut, "span_seconds": span}
+        real = {h: swarmcl.Metrics.from_csv(p, columns=COLUMNS) for h, p in files.items()}
+        chosen = variants(files["train"])
+        if args.only:
+            chosen = {k: v for k, v in chosen.items() if k in args.only.split(",")}
+        for name, (scenario, ranges) in chosen.items():
+            t = time.perf_counter()
+            runs = []
+            for seed in range(args.seed, args.seed + args.seeds):
+                r = swarmcl.fit(scenario, real["train"], ranges, method=args.method, generations=args.generations,
+                                population=args.population, seed=seed, warmup=args.warmup, context=ctx)
+                terms = {h: swarmcl.fitting.PopulationEvaluator(r["scenario"], [], m, ctx, warmup=args.warmup)
+                         .terms(r["scenario"]) for h, m in real.items()}
+                runs.append((r, terms))
+            # The variant's result: the fit that scored best on the training
+            # half; the spread over seeds says how much a difference means.
+            r, terms = max(runs, key=lambda x: swarmcl.score(x[1]["train"]))
+            spread = {h: [swarmcl.score(t[h]) for _, t in runs] for h in real}
+            results["variants"][name] = {
+                "best": r["best"], "fit_score": r["best_score"], "evaluations": sum(x[0]["evaluations"] for x in runs),
+                "terms": {h: dict(zip(swarmcl.METRICS, map(float, v))) for h, v in terms.items()},
+                "score": {h: swarmcl.score(v) for h, v in terms.items()},
+                "seed_scores": spread,
+                "seconds": time.perf_counter() - t, "scenario": r["scenario"],
+            }
+            print(f"{name:22s} train E {results['variants'][name]['score']['train']:8.4f}   "
+                  f"test E {results['variants'][name]['score']['test']:8.4f}   "
+                  f"test over seeds {np.mean(spread['test']):.3f} ± {np.std(spread['test']):.3f}   "
+                  f"({results['variants'][name]['evaluations']} runs, {time.perf_counter() - t:.0f} s)", flush=True)
+        names = list(results["variants"])
+        if len(names) >= 3:
+            x = np.array([[results["variants"][n]["terms"]["train"][m] for m in swarmcl.METRICS] for n in names])
+            w, p1, p2 = swarmcl.entropy_weights(x)
+            results["entropy_weights"] = {"w": w.tolist(), "p1": p1.tolist(), "p2": p2.tolist()}
+            for n in names:
+                v = results["variants"][n]
+                v["weighted_score"] = {h: swarmcl.score([v["terms"][h][m] for m in swarmcl.METRICS], w, p1, p2)
+                                       for h in real}
+        best = max(names, key=lambda n: results["variants"][n]["score"]["test"])
+        ev = swarmcl.evaluate(swarmcl.Scenario.parse(json.dumps(results["variants"][best]["scenario"])),
+                              real["test"], warmup=args.warmup, context=ctx, plots=False)
+        for m in real.values():
+            m.close()
+    results["seconds"] = time.perf_counter() - start
+    os.makedirs(os.path.join(ROOT, "bench", "results", "eval"), exist_ok=True)
+    with open(os.path.join(ROOT, "bench", "results", "eval", "studies.json"), "w", encoding="utf-8") as f:
+        json.dump(results, f, indent=1)
+    img = os.path.join(ROOT, "docs", "images")
+    os.makedirs(img, exist_ok=True)
+    groups = {
+        "noise": ("Noise study (§4.2): force dynamics + each noise, fitted", [f"force+{n}" for n in NOISES]),
+        "model": ("Model study (§4.3)", ["force+curl", "force dynamics only", "force noise only"]),
+        "fidelity": ("Every model of the library, fitted", ["field", "path", "force+curl", "energy"]),
+    }
+    for key, (title, members) in groups.items():
+        members = [m for m in members if m in results["variants"]]
+        if members:
+            bar_chart(os.path.join(img, f"eval_{key}.png"), title, members,
+                      [results["variants"][m]["score"]["train"] for m in members],
+                      [results["variants"][m]["score"]["test"] for m in members])
+    swarmcl.plot_pdfs(ev, os.path.join(img, "eval_best_pdfs.png"))
+    write_doc(results, groups, best)
+    print(f"done in {results['seconds']:.0f} s: bench/results/eval/studies.json, docs/evaluation-studies.md")
+    return 0
+
+
+def write_doc(results, groups, best) -> None:
+    s = results["settings"]
+    lines = ["# The noise paper's studies on the mosquito tracks", "",
+             "Generated by `python scripts/evaluation_studies.py "
+             f"--population {s['population']} --generations {s['generations']} --seed {s['seed']} "
+             f"--seeds {s['seeds']} --method {s['method']}` ({results['seconds']:.0f} s on {results['cpu']}); "
+             "raw figures in `bench/results/eval/studies.json`; method in `docs/evaluation.md`.", "",
+             f"Data: `../shared/data/anopheles-coluzzii-swarm.csv`, cut at its median sample time "
+             f"({results['split']['cut_seconds']:.1f} s of {results['split']['span_seconds']:.1f} s): every "
+             "variant is fitted on the first half (train) and scored on both; E is Eq. 1 with equal weights "
+             "(1/7), 50 bins over ±4σ.  Each variant: 30 agents, dt 0.01 s (the data's clock), "
+             f"{s['warmup']} warm-up steps then 500 sampled steps.", ""]
+    for key, (title, members) in groups.items():
+        members = [m for m in members if m in results["variants"]]
+        if not members:
+            continue
+        lines += [f"## {title}", "", f"![{key}](images/eval_{key}.png)", "",
+                  "| variant | E train | E test | E test over seeds (mean ± sd) | E test, entropy weights | fitted parameters |",
+                  "|---|---|---|---|---|---|"]
+        for m in members:
+            v = results["variants"][m]
+            ws = v.get("weighted_score", {}).get("test")
+            params = ", ".join(f"{k.split('.', 1)[1]} {val:.3g}" for k, val in v["best"].items())
+            seeds = v["seed_scores"]["test"]
+            lines.append(f"| {m} | {v['score']['train']:.3f} | {v['score']['test']:.3f} | "
+                         f"{np.mean(seeds):.3f} ± {np.std(seeds):.3f} | "
+                         f"{'' if ws is None else f'{ws:.3f}'} | {params} |")
+        lines.append("")
+    if "entropy_weights" in results:
+        w = results["entropy_weights"]["w"]
+        lines += ["Entropy weights (Eq. 4) of all fitted variants' terms on the training half: " +
+                  ", ".join(f"{m} {x:.3f}" for m, x in zip(swarmcl.METRICS, w)) + ".", ""]
+    lines += [f"The seven PDFs of the best variant on held-out data ({best}):", "",
+              "![best](images/eval_best_pdfs.png)", ""]
+    with open(os.path.join(ROOT, "docs", "evaluation-studies.md"), "w", encoding="utf-8") as f:
+        f.write("\n".join(lines))
+
+
+if __name__ == "__main__":
+    sys.exit(main())
