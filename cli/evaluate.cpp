@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <sstream>
 #include <string>
+#include <spawn.h>
+#include <sys/wait.h>
 #include <unistd.h>
 #include <vector>
 
@@ -28,7 +30,7 @@ struct EvaluateArgs {
     double unit_scale = 1.0, window_from = 0.0, window_to = 1.0;
     long every = -1, steps = -1, warmup = 0;
     swcl_pdf_options pdf = swcl_pdf_options_default();
-    bool quiet = false;
+    bool quiet = false, plot = false;
 };
 
 double parse_number(const char* flag, const std::string& text) {
@@ -72,6 +74,7 @@ EvaluateArgs parse_args(int argc, char** argv) {
         else if (arg == "--out") a.out = value("--out");
         else if (arg == "--device") a.device = value("--device");
         else if (arg == "--quiet") a.quiet = true;
+        else if (arg == "--plot") a.plot = true;
         else if (!arg.empty() && arg[0] == '-') throw Usage{"unknown option '" + arg + "'"};
         else if (a.scenario.empty()) a.scenario = arg;
         else throw Usage{"unexpected argument '" + arg + "'"};
@@ -88,6 +91,28 @@ nlohmann::json side_json(swcl_metrics m, swcl_metric k, const swcl_pdf_options& 
     std::vector<double> q(pdf.bins);
     check(swcl_metrics_pdf(m, k, &pdf, q.data(), q.size()), "computing a PDF");
     return {{"count", info.count}, {"mean", info.mean}, {"sigma", info.sigma}, {"pdf", q}};
+}
+
+// The seven PDFs as a PNG beside the JSON, drawn by the Python package
+// (matplotlib): `$SWARMCL_PYTHON -m swarmcl.evaluation plot FILE.json`.
+std::string plot_beside(const std::string& json_path) {
+    const char* env = std::getenv("SWARMCL_PYTHON");
+    std::string python = env && *env ? env : "python3";
+    std::vector<std::string> args = {python, "-m", "swarmcl.evaluation", "plot", json_path};
+    std::vector<char*> raw;
+    for (auto& x : args) raw.push_back(x.data());
+    raw.push_back(nullptr);
+    pid_t pid = 0;
+    std::fflush(stdout);
+    if (posix_spawnp(&pid, python.c_str(), nullptr, nullptr, raw.data(), environ) != 0)
+        throw Failure{"--plot: cannot start '" + python + "' (set SWARMCL_PYTHON to a Python with swarmcl[plot])"};
+    int status = 0;
+    waitpid(pid, &status, 0);
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+        throw Failure{"--plot: '" + python + " -m swarmcl.evaluation plot' failed (pip install 'swarmcl[plot]'); " +
+                      json_path + " is complete"};
+    const auto dot = json_path.rfind('.');
+    return (dot == std::string::npos ? json_path : json_path.substr(0, dot)) + ".png";
 }
 
 }  // namespace
@@ -192,6 +217,10 @@ int cmd_evaluate(int argc, char** argv) {
         std::printf("%-22s %10s\n", "metric", "E_phi");
         for (int k = 0; k < SWCL_METRIC_COUNT; ++k) std::printf("%-22s %10.4f\n", kMetricNames[k], e[k]);
         std::printf("score E = %.4f (equal weights; Eq. 1)   written to %s\n", score, path.c_str());
+    }
+    if (a.plot) {
+        const std::string png = plot_beside(path);
+        if (!a.quiet) std::printf("plot: %s\n", png.c_str());
     }
     return 0;
 }

@@ -38,7 +38,7 @@ const char* kUsage =
     "                            [--device D] [--quiet]\n"
     "  swarmcl evaluate SCENARIO.json --tracks FILE.csv [--columns id,time,x,y,z] [--unit-scale S]\n"
     "                            [--window FROM,TO] [--warmup N] [--steps N] [--every K] [--bins M]\n"
-    "                            [--half-width H] [--out FILE.json] [--device D] [--quiet]\n"
+    "                            [--half-width H] [--out FILE.json] [--plot] [--device D] [--quiet]\n"
     "  swarmcl fit SCENARIO.json --tracks FILE.csv --ranges RANGES.json [--method cmaes|ga]\n"
     "                            [--generations G] [--population P] [--seed S] [...]  (in Python; --help)\n"
     "  swarmcl devices\n"

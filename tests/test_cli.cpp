@@ -442,6 +442,15 @@ TEST_F(Cli, EvaluateIsDeterministicAndRefusesBadInput) {
     EXPECT_EQ(bad_column.status, 1);
     EXPECT_NE(bad_column.err.find("\"t\""), std::string::npos) << bad_column.err;
     EXPECT_FALSE(fs::exists(dir / "c.json"));
+
+    // --plot hands the JSON to Python; without one, a clear error and the
+    // JSON (complete) stays.
+    setenv("SWARMCL_PYTHON", "/no/such/python", 1);
+    const Result no_python = cli("evaluate tiny.json --tracks tracks.csv --out d.json --plot --quiet", dir.path());
+    unsetenv("SWARMCL_PYTHON");
+    EXPECT_EQ(no_python.status, 1);
+    EXPECT_NE(no_python.err.find("--plot"), std::string::npos) << no_python.err;
+    EXPECT_TRUE(fs::exists(dir / "d.json"));
 }
 
 TEST_F(Cli, FitHandsOverToPythonAndSaysSoWhenItCannot) {

@@ -88,3 +88,28 @@ def test_evaluate_writes_json_and_the_pdf_plot_and_is_deterministic(tmp_path, rn
     pytest.importorskip("matplotlib")
     png = (tmp_path / "out" / "evaluation.png").read_bytes()
     assert png[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_the_swarmcl_program_evaluates_and_plots_beside_its_json(tmp_path, rng):
+    import os
+    import subprocess
+    import sys
+    cli = os.environ.get("SWARMCL_CLI")
+    if not cli:
+        pytest.skip("SWARMCL_CLI not set (scripts/test.sh sets it)")
+    pytest.importorskip("matplotlib")
+    (tmp_path / "tiny.json").write_text(TINY)
+    rows = ["id,time,x,y,z"]
+    for i in range(5):
+        p = random_walk(rng, 50, 1, 0.02)[:, 0, :]
+        rows += [f"{i},{k * 0.02:.3f},{x},{y},{z}" for k, (x, y, z) in enumerate(p.tolist())]
+    (tmp_path / "tracks.csv").write_text("\n".join(rows) + "\n")
+    package_root = os.path.dirname(os.path.dirname(os.path.abspath(swarmcl.__file__)))
+    env = dict(os.environ, SWARMCL_PYTHON=sys.executable,
+               PYTHONPATH=os.pathsep.join(x for x in (package_root, os.environ.get("PYTHONPATH", "")) if x))
+    p = subprocess.run([cli, "evaluate", "tiny.json", "--tracks", "tracks.csv", "--out", "ev.json", "--plot"],
+                       cwd=tmp_path, env=env, capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stdout + p.stderr
+    assert "plot: ev.png" in p.stdout
+    assert (tmp_path / "ev.png").read_bytes()[:4] == b"\x89PNG"
+    assert json.loads((tmp_path / "ev.json").read_text())["metrics"].keys() == set(swarmcl.METRICS)

@@ -1,0 +1,139 @@
+#!/usr/bin/env python3
+"""Parameter estimation speed (issue 14): one generation of 64 individuals x
+300 agents x 500 steps of the force model, scored against tracks (the
+target: within 10 s on 2 cores), a whole fit of 64 x 30 generations (the
+target: within 5 minutes; --full runs it, otherwise it is estimated from the
+generation), and the wall time per generation over 1 and 2 MPI ranks
+(mpirun) measured in the same run, with their ratio (ideal 2x).
+
+    python bench/fit_bench.py [--population 64] [--agents 300] [--steps 500] [--full]
+
+Needs pip install 'swarmcl[fit,mpi]' and mpirun (Open MPI).  Writes
+bench/results/eval/fit_bench.json.  The tracks are synthetic (deterministic,
+30 tracks x 500 samples at 0.01 s) so the benchmark runs without data.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shutil
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+RANGES = {"model.w_att": [1.0, 20.0], "model.eta": [0.0, 1.0]}
+
+
+def scenario(agents: int, steps: int) -> dict:
+    with open(os.path.join(ROOT, "examples", "evaluation", "force_mosquito.json"), encoding="utf-8") as f:
+        s = json.load(f)
+    s["agents"]["count"] = agents
+    s["steps"] = steps
+    return s
+
+
+def synthetic_tracks(swarmcl):
+    rng = np.random.default_rng(5)
+    tracks = []
+    for _ in range(30):
+        v = np.cumsum(rng.normal(0, 0.05, size=(500, 3)), axis=0) + rng.normal(0, 0.3, size=3)
+        tracks.append((np.arange(500) * 0.01, np.cumsum(v * 0.01, axis=0)))
+    return swarmcl.Metrics.from_tracks(tracks, frame_time=0.01)
+
+
+def generation_seconds(args, comm=None) -> float:
+    """Wall time of one generation on rank 0 (the others serve)."""
+    import swarmcl
+    from swarmcl.fitting import PopulationEvaluator, _Ranks, load_ranges
+    s = scenario(args.agents, args.steps)
+    rank = comm.Get_rank() if comm is not None else 0
+    with swarmcl.Context() as ctx, synthetic_tracks(swarmcl) as real:
+        ev = PopulationEvaluator(s, load_ranges(RANGES, s), real, ctx)
+        ranks = _Ranks(ev, comm)
+        if rank != 0:
+            ranks.serve()
+            return 0.0
+        pop = [np.random.default_rng(i).uniform(size=len(RANGES)) for i in range(args.population)]
+        ranks.map(pop[:2])  # builds the kernels on every rank first
+        t = time.perf_counter()
+        scores = ranks.map(pop)
+        seconds = time.perf_counter() - t
+        ranks.stop()
+        assert len(scores) == args.population and all(np.isfinite(scores))
+        return seconds
+
+
+def worker(args) -> int:
+    from mpi4py import MPI
+    seconds = generation_seconds(args, MPI.COMM_WORLD)
+    if MPI.COMM_WORLD.Get_rank() == 0:
+        print(json.dumps({"generation_seconds": seconds}))
+    return 0
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--population", type=int, default=64)
+    ap.add_argument("--agents", type=int, default=300)
+    ap.add_argument("--steps", type=int, default=500)
+    ap.add_argument("--generations", type=int, default=30)
+    ap.add_argument("--full", action="store_true", help="run the whole fit, not only estimate it")
+    ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
+    ap.add_argument("--json", default=os.path.join(ROOT, "bench", "results", "eval", "fit_bench.json"))
+    args = ap.parse_args()
+    if args.worker:
+        return worker(args)
+    import swarmcl
+    sys.path.insert(0, os.path.join(ROOT, "scripts"))
+    from evaluation_studies import cpu_model
+    out = {"cpu": cpu_model(), "device": swarmcl.devices()[0].device_name if swarmcl.devices() else "",
+           "population": args.population, "agents": args.agents, "steps": args.steps, "model": "force"}
+    print(f"fit benchmark on {out['cpu']}: generations of {args.population} individuals x {args.agents} agents "
+          f"x {args.steps} steps of the force model, scored against 30 synthetic tracks")
+    g = generation_seconds(args)
+    out["generation_seconds_in_process"] = g
+    print(f"  one generation, in process:   {g:6.2f} s   ({args.population * args.agents * args.steps / g / 1e6:.2f} M "
+          f"agent-steps/s; target 10 s: {'met' if g <= 10 else 'NOT met'})")
+    if args.full:
+        with synthetic_tracks(swarmcl) as real:
+            t = time.perf_counter()
+            r = swarmcl.fit(scenario(args.agents, args.steps), real, RANGES, method="ga",
+                            generations=args.generations, population=args.population, seed=1)
+            out["full_fit_seconds"] = time.perf_counter() - t
+        print(f"  whole fit, {args.population} x {args.generations} generations (GA): {out['full_fit_seconds']:6.1f} s "
+              f"(target 300 s: {'met' if out['full_fit_seconds'] <= 300 else 'NOT met'})")
+    else:
+        out["full_fit_estimate_seconds"] = g * (args.generations + 1)
+        print(f"  whole fit, {args.population} x {args.generations} generations, estimated: "
+              f"{out['full_fit_estimate_seconds']:6.1f} s (target 300 s; --full runs it)")
+    mpirun = shutil.which("mpirun")
+    if mpirun:
+        env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+                   OMPI_MCA_rmaps_base_oversubscribe="1")
+        for ranks in (1, 2):
+            cmd = [mpirun, "-np", str(ranks), sys.executable, os.path.abspath(__file__), "--worker",
+                   "--population", str(args.population), "--agents", str(args.agents), "--steps", str(args.steps)]
+            p = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=1200)
+            if p.returncode != 0:
+                print(p.stdout + p.stderr, file=sys.stderr)
+                return 1
+            out[f"generation_seconds_{ranks}_ranks"] = json.loads(p.stdout.strip().splitlines()[-1])["generation_seconds"]
+        ratio = out["generation_seconds_1_ranks"] / out["generation_seconds_2_ranks"]
+        out["speedup_2_ranks"] = ratio
+        print(f"  one generation under mpirun:  1 rank {out['generation_seconds_1_ranks']:6.2f} s, "
+              f"2 ranks {out['generation_seconds_2_ranks']:6.2f} s: {ratio:.2f}x (ideal 2x on 2 cores)")
+    else:
+        print("  no mpirun: the 1 vs 2 ranks comparison is skipped")
+    os.makedirs(os.path.dirname(args.json), exist_ok=True)
+    with open(args.json, "w", encoding="utf-8") as f:
+        json.dump(out, f, indent=1)
+    print(f"written to {os.path.relpath(args.json, ROOT)}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
