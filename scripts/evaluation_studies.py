@@ -93,7 +93,7 @@ def variants(train_csv):
         out[f"force+{noise}"] = (s, dict(force_ranges))
     dyn = copy.deepcopy(force)
     dyn["model"]["eta"] = 0.0
-    out["force dynamics only"] = (dyn, {k: v for k, v in force_ranges.items() if k not in ("model.eta", "model.rho")})
+    out["force dynamics only"] = (dyn, {k: v for k, v in force_ranges.items() if k not in ("model.eta", "model.rho", "model.noise_time_scale")})
     noise_only = copy.deepcopy(force)
     for w in ("w_rep", "w_ali", "w_att"):
         noise_only["model"][w] = 0.0

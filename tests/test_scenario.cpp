@@ -862,17 +862,19 @@ TEST_F(ScenarioCApi, RecorderRejectsAChangedAgentCountForNpyAndStaysUsable) {
 // The force model's noise term may be any noise type (the noise paper's
 // study of noise functions, docs/evaluation.md): read, validated, used.
 TEST(ScenarioForceNoise, NoiseTypeIsReadAndChangesTheRunDeterministically) {
-    auto text = [](const char* type) {
+    auto text = [](const char* type, const char* extra = "") {
         return std::string(R"({"name": "fn", "seed": 3, "dt": 0.02, "steps": 10, "interaction_radius": 0.5,
             "domain": {"min": [-3, -3, -3], "max": [3, 3, 3]},
             "agents": {"count": 40, "initial": {"type": "uniform", "min": [-1, -1, -1], "max": [1, 1, 1]}},
             "model": {"type": "force", "r_rep": 0.1, "r_ali": 0.5, "r_att": 2, "eta": 0.3, "rho": 0.5,
-                      "noise_type": ")") + type + R"("}})";
+                      "noise_type": ")") + type + "\"" + extra + "}}";
     };
     const Scenario white = parse_scenario(text("white"));
     ASSERT_TRUE(std::holds_alternative<ForceModelConfig>(white.model));
     EXPECT_EQ(std::get<ForceModelConfig>(white.model).noise.type, NoiseType::White);
     EXPECT_EQ(std::get<ForceModelConfig>(parse_scenario(text("curl")).model).noise.type, NoiseType::Curl);
+    EXPECT_EQ(std::get<ForceModelConfig>(parse_scenario(text("curl", R"(, "noise_time_scale": 2)")).model)
+                  .noise.time_scale, 2.0f);
     try {
         parse_scenario(text("pink"));
         FAIL() << "pink noise accepted";

@@ -102,6 +102,8 @@ ForceModelConfig read_force_model(JsonObject& o, std::vector<Boundary> obstacles
     // The noise term of Eq. 4 is curl noise; the other types stand in for it
     // in the noise paper's study of noise functions (§4.2, docs/evaluation.md).
     c.noise.type = read_noise_type(o, "noise_type", c.noise.type);
+    // > 0: the noise field varies in time (4D noise), seconds per noise unit.
+    c.noise.time_scale = o.non_negative("noise_time_scale", c.noise.time_scale);
     c.alpha = float(o.number("alpha", c.alpha, 0.0, 1.0, "in [0, 1]"));
     c.max_speed = o.positive("max_speed", c.max_speed);
     c.cruise_speed = o.non_negative("cruise_speed", c.cruise_speed);
