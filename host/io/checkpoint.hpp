@@ -149,8 +149,9 @@ std::array<char, 4> section_tag(const char (&name)[5]);
 std::string checkpoint_to_bytes(const std::vector<CheckpointSection>& sections);
 // Error(Parse) for anything that is not such a file: wrong magic, another
 // container version, a short file, a checksum mismatch, absurd counts or
-// lengths, a tag twice.
-std::vector<CheckpointSection> parse_checkpoint(const std::string& bytes);
+// lengths, a tag twice.  verify_checksum false: for fuzzing only, so that
+// mutated inputs reach the section parsers instead of stopping at the CRC.
+std::vector<CheckpointSection> parse_checkpoint(const std::string& bytes, bool verify_checksum = true);
 
 // The section with `tag` (Error(Parse) when missing), and a check of its
 // version against the ones this reader knows (1..max_version).

@@ -67,8 +67,8 @@ std::string swarm_checkpoint_bytes(Swarm& swarm) {
     return checkpoint_to_bytes(sections);
 }
 
-SwarmCheckpoint decode_swarm_checkpoint(const std::string& bytes) {
-    const std::vector<CheckpointSection> sections = parse_checkpoint(bytes);
+SwarmCheckpoint decode_swarm_checkpoint(const std::string& bytes, bool verify_checksum) {
+    const std::vector<CheckpointSection> sections = parse_checkpoint(bytes, verify_checksum);
     for (const CheckpointSection& s : sections) {
         bool known = false;
         for (const char* t : {"SWRM", "AGNT", "STAT", "MODL", "MDST"}) known |= s.tag_name() == t;
@@ -134,7 +134,7 @@ std::shared_ptr<Swarm> swarm_from_checkpoint(std::shared_ptr<Context> ctx, const
             r.expect_end();
         }
         swarm->set_behavior(std::move(behavior));
-        swarm->import_state(cp.state);  // the statistics, which set_behavior zeroed
+        swarm->restore_step_stats(cp.state.stats);  // which set_behavior zeroed
         return swarm;
     } catch (const Error& e) {
         if (e.status() == Status::InvalidArgument) fail(Status::Parse, std::string("checkpoint: ") + e.what());

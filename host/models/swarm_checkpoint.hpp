@@ -31,9 +31,10 @@ struct SwarmCheckpoint {
 // The checkpoint's bytes (waits for the device).  Error(InvalidArgument) for
 // a model that cannot be checkpointed.
 std::string swarm_checkpoint_bytes(Swarm& swarm);
-// The parse of any bytes: Error(Parse) naming what is wrong, never a crash
-// (a libFuzzer target can call it directly).
-SwarmCheckpoint decode_swarm_checkpoint(const std::string& bytes);
+// The parse of any bytes: Error(Parse) naming what is wrong, never a crash.
+// A libFuzzer target calls it directly, with verify_checksum false so that
+// mutations reach the sections (tests/test_checkpoint.cpp does both).
+SwarmCheckpoint decode_swarm_checkpoint(const std::string& bytes, bool verify_checksum = true);
 // A new swarm in `ctx` from a decoded checkpoint; Error(Parse) where the
 // values do not make a valid swarm or model (their validation's message).
 std::shared_ptr<Swarm> swarm_from_checkpoint(std::shared_ptr<Context> ctx, const SwarmCheckpoint& checkpoint);

@@ -241,7 +241,7 @@ void Swarm::import_state(const SwarmState& st) {
         for (int a = 0; a < 3; ++a)  // xyz: w is the models' to use
             if (!std::isfinite(st.positions[i].s[a]) || !std::isfinite(st.velocities[i].s[a]))
                 bad("agent " + std::to_string(st.ids[i]) + " has a value that is not finite");
-    if (uint64_t(st.stats.mde_moved_total) > 0xFFFFFFFFu) bad("the MDE counter exceeds 32 bits");
+    if (st.stats.mde_moved_total > 0xFFFFFFFFu) bad("the MDE counter exceeds 32 bits");
     if (n) {
         pos_.upload(*ctx_, st.positions.data(), n);
         vel_.upload(*ctx_, st.velocities.data(), n);
@@ -252,7 +252,12 @@ void Swarm::import_state(const SwarmState& st) {
     grid_.invalidate_layout();  // the next build sorts every agent, to the same (cell, id) order
     grid_current_ = false;
     slot_of_current_ = false;
-    stats_.restore(*ctx_, st.stats);
+    restore_step_stats(st.stats);
+}
+
+void Swarm::restore_step_stats(const StepStats& stats) {
+    require(stats.mde_moved_total <= 0xFFFFFFFFu, "step statistics: the MDE counter exceeds 32 bits");
+    stats_.restore(*ctx_, stats);
 }
 
 cl_uint Swarm::set_step_args(cl::Kernel& kernel, uint64_t step, cl_uint index) {

@@ -104,9 +104,10 @@ public:
     // back in place of this swarm's (validated first: Error(Parse) for a
     // count above the capacity, ids that are not a permutation, non-finite
     // values; nothing changes then).  Put back after set_behavior, which
-    // zeroes the statistics.
+    // zeroes the statistics: restore_step_stats puts them back after it.
     SwarmState export_state();
     void import_state(const SwarmState& state);
+    void restore_step_stats(const StepStats& stats);
 
     // Held by the C API around every call on this swarm.
     std::mutex& mutex() { return mutex_; }
