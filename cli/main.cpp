@@ -285,6 +285,15 @@ int cmd_resume(int argc, char** argv) {
     } catch (const swarmcl::Error& e) {
         throw Failure{std::string("cannot resume: ") + e.what()};
     }
+    // The scenario gives the run its name, agent count and dt: the file it
+    // began with, unchanged.
+    try {
+        if (swarmcl::cli::file_crc32(run.scenario_absolute) != run.scenario_crc32)
+            throw Failure{"cannot resume: the scenario file '" + run.scenario_absolute +
+                          "' changed since the run began"};
+    } catch (const swarmcl::Error& e) {
+        throw Failure{std::string("cannot resume: ") + e.what()};
+    }
     point.swarm_file = dir + "/" + run.swarm_file;
     point.frames_file = run.frames_file;
     point.done = run.done;
@@ -339,6 +348,11 @@ int execute(const RunPlan& plan, swcl_scenario scn, const swcl_scenario_info& in
     if (plan.checkpoint_every) {
         run_state.scenario_file = path;
         run_state.scenario_absolute = plan.scenario_absolute;
+        try {
+            run_state.scenario_crc32 = swarmcl::cli::file_crc32(plan.scenario_absolute);
+        } catch (const swarmcl::Error& e) {
+            throw Failure{e.what()};
+        }
         run_state.out_dir = out_dir;
         run_state.device = device;
         run_state.steps = steps;
@@ -388,6 +402,7 @@ int execute(const RunPlan& plan, swcl_scenario scn, const swcl_scenario_info& in
             check(swcl_recorder_add_frame(rec, holder.handle, f.frame, f.time), "recording");
             ++frames;
         }
+        if (resume->agents != info.agents) throw Failure{"cannot resume: the frames hold another agent count"};
         if (plan.checkpoint_every) kept = resume->frames;
         done = resume->done;
         previous_swarm_file = std::filesystem::path(resume->swarm_file).filename().string();

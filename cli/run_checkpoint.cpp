@@ -47,6 +47,7 @@ void write_run_checkpoint(const RunCheckpoint& run, const std::vector<Frame>& fr
     j["version"] = kRunCheckpointVersion;
     j["scenario_file"] = run.scenario_file;
     j["scenario_absolute"] = run.scenario_absolute;
+    j["scenario_crc32"] = run.scenario_crc32;
     j["out_dir"] = run.out_dir;
     j["device"] = run.device;
     j["steps"] = run.steps;
@@ -86,6 +87,7 @@ RunCheckpoint read_run_checkpoint(const std::string& dir) {
     };
     r.scenario_file = str("scenario_file");
     r.scenario_absolute = str("scenario_absolute");
+    r.scenario_crc32 = u32("scenario_crc32");
     r.out_dir = dir;  // where it is now (the folder may have moved)
     r.device = str("device");
     r.steps = u32("steps");
@@ -100,6 +102,15 @@ RunCheckpoint read_run_checkpoint(const std::string& dir) {
     for (const std::string* f : {&r.swarm_file, &r.frames_file})
         if (f->empty() || f->find('/') != std::string::npos) bad("a file name is not a plain name in the folder");
     return r;
+}
+
+uint32_t file_crc32(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) fail(Status::Io, "'" + path + "' cannot be read");
+    std::ostringstream s;
+    s << in.rdbuf();
+    const std::string bytes = s.str();
+    return crc32_of(bytes.data(), bytes.size());
 }
 
 std::vector<Frame> read_frames(const std::string& path, uint32_t& agents) {

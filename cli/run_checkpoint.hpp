@@ -27,6 +27,7 @@ struct Frame {
 struct RunCheckpoint {
     std::string scenario_file;       // as given on the command line
     std::string scenario_absolute;   // the same, absolute (read by resume)
+    uint32_t scenario_crc32 = 0;     // of its bytes: resume refuses a changed file
     std::string out_dir, device;
     uint32_t steps = 0, every = 1, formats = 0, checkpoint_every = 0;
     uint32_t done = 0;               // steps taken when it was written
@@ -40,5 +41,7 @@ void write_run_checkpoint(const RunCheckpoint& run, const std::vector<Frame>& fr
 // Error(Io) / Error(Parse) naming the file and what is wrong.
 RunCheckpoint read_run_checkpoint(const std::string& dir);
 std::vector<Frame> read_frames(const std::string& path, uint32_t& agents);
+// CRC-32 of a file's bytes (Error(Io) when it cannot be read).
+uint32_t file_crc32(const std::string& path);
 
 }  // namespace swarmcl::cli

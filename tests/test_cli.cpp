@@ -503,6 +503,11 @@ TEST_F(Cli, ResumeRefusesWhatIsNotACheckpoint) {
     r = cli("resume ck --quiet", dir.path());
     EXPECT_EQ(r.status, 1);
     EXPECT_NE(r.err.find("checksum mismatch"), std::string::npos) << r.err;
+    write_text(dir / "ck/checkpoint-000000014.frames", frames);
+    write_text(dir / "tiny.json", std::string(kTiny) + " ");
+    r = cli("resume ck --quiet", dir.path());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("changed since the run began"), std::string::npos) << r.err;
     write_text(dir / "ck/checkpoint.json", "{\"format\": \"something else\"}");
     r = cli("resume ck --quiet", dir.path());
     EXPECT_EQ(r.status, 1);
