@@ -227,6 +227,21 @@ TEST(CheckpointResume, SavedAfterANeighbourQueryAndAtStepZero) {
         12, 0);
 }
 
+TEST(CheckpointResume, AModelWithoutCheckpointHooksIsRefusedWhenSaved) {
+    struct Still : Behavior {
+        void advance(Swarm&, uint64_t) override {}
+    };
+    auto swarm = std::make_shared<Swarm>(test::shared_context(), test::cube_config(16, -1, 1, 0.1f));
+    swarm->set_behavior(std::make_shared<Still>());
+    try {
+        swarm_checkpoint_bytes(*swarm);
+        ADD_FAILURE() << "saved";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.status(), Status::InvalidArgument);
+        EXPECT_NE(std::string(e.what()).find("cannot be saved"), std::string::npos) << e.what();
+    }
+}
+
 // ---- files and the C API --------------------------------------------------------
 
 struct TempDir {
