@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -381,6 +382,137 @@ TEST_F(Cli, InterruptRemovesUnfinishedOutputs) {
     EXPECT_EQ(WEXITSTATUS(status), 1);
     EXPECT_NE(read_bytes(err_path).find("interrupted"), std::string::npos) << read_bytes(err_path);
     EXPECT_TRUE(list_dir(out).empty()) << list_dir(out).size() << " files left, e.g. " << *list_dir(out).begin();
+}
+
+// ---- checkpoints: --checkpoint-every and resume ------------------------------
+
+// The outputs (not run.json, whose timings differ; not the checkpoints).
+std::map<std::string, std::string> outputs(const std::string& dir) {
+    std::map<std::string, std::string> files;
+    for (const std::string& name : list_dir(dir))
+        if (name != "run.json" && name.rfind("checkpoint", 0) != 0) files[name] = read_bytes(dir + "/" + name);
+    return files;
+}
+
+void expect_same_outputs(const std::string& want_dir, const std::string& got_dir) {
+    const auto want = outputs(want_dir), got = outputs(got_dir);
+    ASSERT_FALSE(want.empty());
+    ASSERT_EQ(want.size(), got.size());
+    for (const auto& [name, bytes] : want) {
+        ASSERT_TRUE(got.count(name)) << name << " missing";
+        EXPECT_TRUE(got.at(name) == bytes) << name << " differs";
+    }
+}
+
+TEST_F(Cli, ResumeFromACheckpointWritesTheUninterruptedOutputs) {
+    // Not --quiet: the statistics of every frame are read (and their counters
+    // reset) as the resumed run below does, so run.json's "final" agrees too.
+    Result r = cli("run tiny.json --steps 50 --every 5 --out ref", dir.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    // Checkpoints every 20 steps change no output; the last one (step 40) is kept.
+    r = cli("run tiny.json --steps 50 --every 5 --out ck --checkpoint-every 20", dir.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    expect_same_outputs(dir / "ref", dir / "ck");
+    const auto names = list_dir(dir / "ck");
+    EXPECT_TRUE(names.count("checkpoint.json"));
+    EXPECT_TRUE(names.count("checkpoint-000000040.swcl"));
+    EXPECT_TRUE(names.count("checkpoint-000000040.frames"));
+    EXPECT_FALSE(names.count("checkpoint-000000020.swcl")) << "the older checkpoint is removed";
+    const auto run = nlohmann::json::parse(read_bytes(dir / "ck/checkpoint.json"));
+    EXPECT_EQ(run["done"], 40);
+    EXPECT_EQ(run["steps"], 50);
+
+    // As if the run had stopped after step 40: only the checkpoint is left.
+    for (const std::string& name : names)
+        if (name.rfind("checkpoint", 0) != 0) fs::remove(dir / ("ck/" + name));
+    r = cli("resume ck", dir.path());
+    ASSERT_EQ(r.status, 0) << r.out << r.err;
+    EXPECT_NE(r.out.find("resumed at step 40"), std::string::npos) << r.out;
+    expect_same_outputs(dir / "ref", dir / "ck");
+    const auto meta = nlohmann::json::parse(read_bytes(dir / "ck/run.json"));
+    EXPECT_EQ(meta["steps"], 50);
+    EXPECT_EQ(meta["frames"], 11);
+    EXPECT_EQ(meta["scenario"], "tiny");
+    EXPECT_EQ(meta["final"], nlohmann::json::parse(read_bytes(dir / "ref/run.json"))["final"]);
+}
+
+TEST_F(Cli, InterruptKeepsTheCheckpointAndResumeFinishesTheRun) {
+    const std::string args = " --steps 3000 --every 1000 --format csv,npy --quiet";
+    Result r = cli("run tiny.json --out ref" + args, dir.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    // Stopped by SIGINT once a checkpoint exists (if the run is done by then,
+    // the resume below starts from its last checkpoint all the same).
+    const std::string out = dir / "sig";
+    const std::string cli_path = SWARMCL_CLI, err_path = dir / "sig.err";
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, 2, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    std::vector<std::string> argv_s{cli_path, "run", dir / "tiny.json", "--steps", "3000", "--every", "1000",
+                                    "--format", "csv,npy", "--quiet", "--out", out, "--checkpoint-every", "10"};
+    std::vector<char*> argv;
+    for (auto& a : argv_s) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    pid_t pid = 0;
+    ASSERT_EQ(posix_spawn(&pid, cli_path.c_str(), &actions, nullptr, argv.data(), environ), 0);
+    posix_spawn_file_actions_destroy(&actions);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    int status = 0;
+    bool exited = false;
+    while (!fs::exists(out + "/checkpoint.json") && std::chrono::steady_clock::now() < deadline) {
+        if ((exited = waitpid(pid, &status, WNOHANG) == pid)) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    if (!exited) {
+        kill(pid, SIGINT);
+        waitpid(pid, &status, 0);
+    }
+    ASSERT_TRUE(WIFEXITED(status)) << read_bytes(err_path);
+    if (WEXITSTATUS(status) != 0) {
+        EXPECT_EQ(WEXITSTATUS(status), 1);
+        EXPECT_NE(read_bytes(err_path).find("swarmcl resume"), std::string::npos) << read_bytes(err_path);
+        for (const std::string& name : list_dir(out)) EXPECT_EQ(name.rfind("checkpoint", 0), 0u) << name << " left";
+    }
+    ASSERT_TRUE(fs::exists(out + "/checkpoint.json"));
+    r = cli("resume sig --quiet", dir.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    expect_same_outputs(dir / "ref", out);
+}
+
+TEST_F(Cli, ResumeRefusesWhatIsNotACheckpoint) {
+    Result r = cli("resume", dir.path());
+    EXPECT_EQ(r.status, 2) << r.err;
+    r = cli("resume nowhere", dir.path());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("cannot resume"), std::string::npos) << r.err;
+    r = cli("run tiny.json --steps 20 --every 5 --out ck --quiet --checkpoint-every 7", dir.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    r = cli("run tiny.json --checkpoint-every 0", dir.path());
+    EXPECT_EQ(r.status, 2);
+    // A flipped byte in the swarm checkpoint, then in the frames.
+    std::string swarm = read_bytes(dir / "ck/checkpoint-000000014.swcl");
+    ASSERT_FALSE(swarm.empty());
+    swarm[swarm.size() / 2] ^= 1;
+    write_text(dir / "ck/checkpoint-000000014.swcl", swarm);
+    r = cli("resume ck --quiet", dir.path());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("checksum mismatch"), std::string::npos) << r.err;
+    swarm[swarm.size() / 2] ^= 1;
+    write_text(dir / "ck/checkpoint-000000014.swcl", swarm);
+    std::string frames = read_bytes(dir / "ck/checkpoint-000000014.frames");
+    write_text(dir / "ck/checkpoint-000000014.frames", frames.substr(0, frames.size() - 9));
+    r = cli("resume ck --quiet", dir.path());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("checksum mismatch"), std::string::npos) << r.err;
+    write_text(dir / "ck/checkpoint-000000014.frames", frames);
+    write_text(dir / "tiny.json", std::string(kTiny) + " ");
+    r = cli("resume ck --quiet", dir.path());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("changed since the run began"), std::string::npos) << r.err;
+    write_text(dir / "ck/checkpoint.json", "{\"format\": \"something else\"}");
+    r = cli("resume ck --quiet", dir.path());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("not a swarmcl run checkpoint"), std::string::npos) << r.err;
 }
 
 TEST_F(Cli, DevicesListsAtLeastOne) {

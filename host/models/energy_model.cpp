@@ -1,5 +1,7 @@
 #include "models/energy_model.hpp"
 
+#include "models/model_checkpoint.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -329,6 +331,32 @@ std::array<float, 4> EnergyModel::centre(Swarm&) {
     cl_float4 c;
     centre_.download(ctx_, &c, 1);
     return {c.s[0], c.s[1], c.s[2], c.s[3]};
+}
+
+// The dataset goes into the descriptor itself; stimuli and keypoints as
+// they are now are in config_.  The state: each agent's keypoint goal (by
+// agent id, the capacity's entries).  The swarm centre is recomputed (or
+// uploaded, when fixed) at every step before it is used.
+void EnergyModel::save_checkpoint(Swarm&, ByteWriter& descriptor, ByteWriter& state) {
+    write_model_descriptor(descriptor, config_, *dataset_);
+    std::vector<cl_uint> g(capacity_);
+    goal_.download(ctx_, g.data(), capacity_);
+    state.u64(g.size());
+    for (cl_uint v : g) state.u32(v);
+}
+void EnergyModel::restore_checkpoint(Swarm&, ByteReader& state) {
+    const uint64_t count = state.count(4);
+    if (count != capacity_) state.bad(std::to_string(count) + " keypoint goals for a capacity of " + std::to_string(capacity_));
+    std::vector<cl_uint> g(capacity_);
+    for (cl_uint& v : g) {
+        v = state.u32();
+        // The kernel indexes the keypoints with it.
+        const uint32_t k = v & ~kGoalBackward;
+        if (k != kGoalUnset && k >= config_.keypoints.size())
+            state.bad("keypoint goal " + std::to_string(k) + " of " + std::to_string(config_.keypoints.size()));
+    }
+    state.expect_end();
+    goal_.upload(ctx_, g.data(), capacity_);
 }
 
 }  // namespace swarmcl

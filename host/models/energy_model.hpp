@@ -81,6 +81,9 @@ public:
     EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr<const Dataset> dataset);
 
     void advance(Swarm& swarm, uint64_t step) override;
+    // Checkpoints (swarm/behavior.hpp).
+    void save_checkpoint(Swarm& swarm, ByteWriter& descriptor, ByteWriter& state) override;
+    void restore_checkpoint(Swarm& swarm, ByteReader& state) override;
 
     const EnergyModelConfig& config() const { return config_; }
     const Dataset& dataset() const { return *dataset_; }

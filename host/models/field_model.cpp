@@ -1,5 +1,7 @@
 #include "models/field_model.hpp"
 
+#include "models/model_checkpoint.hpp"
+
 #include <cmath>
 #include <string>
 
@@ -48,5 +50,12 @@ StepStages FieldModel::stages() const {
     s.stats = true;
     return s;
 }
+
+// The field model keeps nothing that changes over steps: its field is
+// rebuilt from the descriptor (the noise bake is deterministic).
+void FieldModel::save_checkpoint(Swarm&, ByteWriter& descriptor, ByteWriter&) {
+    write_model_descriptor(descriptor, config_);
+}
+void FieldModel::restore_checkpoint(Swarm&, ByteReader& state) { state.expect_end(); }
 
 }  // namespace swarmcl

@@ -31,6 +31,9 @@ public:
 
     // MDE at min_distance (keyed by the noise seed), and step statistics.
     StepStages stages() const override;
+    // Checkpoints (swarm/behavior.hpp).
+    void save_checkpoint(Swarm& swarm, ByteWriter& descriptor, ByteWriter& state) override;
+    void restore_checkpoint(Swarm& swarm, ByteReader& state) override;
 
 private:
     FieldModelConfig config_;

@@ -1,5 +1,7 @@
 #include "models/force_model.hpp"
 
+#include "models/model_checkpoint.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -450,6 +452,44 @@ void ForceModel::after_constraints(Swarm& swarm, uint64_t) {
         launch(swarm.context(), project_k_, n);
         swarm.positions_changed();
     }
+}
+
+// Targets are sampled again from the descriptor for the agent count (the
+// constructor's prepare(), seeded); the keyframe in effect and the
+// assignment of agents to its targets, made from the positions when it
+// became active, are the state.
+void ForceModel::save_checkpoint(Swarm&, ByteWriter& descriptor, ByteWriter& state) {
+    write_model_descriptor(descriptor, config_);
+    state.u32(prepared_n_);
+    state.i32(active_);
+    state.u64(target_of_.size());
+    for (uint32_t t : target_of_) state.u32(t);
+}
+void ForceModel::restore_checkpoint(Swarm& swarm, ByteReader& state) {
+    const uint32_t prepared = state.u32();
+    const int32_t active = state.i32();
+    const uint64_t count = state.count(4);
+    const uint32_t n = swarm.agent_count();
+    if (prepared != prepared_n_) {
+        // Saved after the agent count changed and before a step: the next
+        // step prepares anew and drops the old assignment, as here.
+        for (uint64_t i = 0; i < count; ++i) state.u32();
+        state.expect_end();
+        return;
+    }
+    if (active < -1 || active >= int32_t(targets_.size()))
+        state.bad("active keyframe " + std::to_string(active) + " of " + std::to_string(targets_.size()));
+    if (count != 0 && count != n) state.bad("an assignment of " + std::to_string(count) + " agents for " + std::to_string(n));
+    if (active >= 0 && count != n) state.bad("an active keyframe without an assignment");
+    std::vector<uint32_t> target_of(static_cast<size_t>(count));
+    for (uint32_t& t : target_of) {
+        t = state.u32();
+        if (t >= n) state.bad("target " + std::to_string(t) + " of " + std::to_string(n));
+    }
+    state.expect_end();
+    if (!target_of.empty()) target_of_buf_.upload(swarm.context(), target_of.data(), target_of.size());
+    target_of_ = std::move(target_of);
+    active_ = active;
 }
 
 }  // namespace swarmcl

@@ -113,6 +113,9 @@ public:
     void enforce_min_distance(Swarm& swarm, DeviceBuffer<cl_uint>& moved) override;
     // The obstacle push-out after MDE (docs/force-model.md).
     void after_constraints(Swarm& swarm, uint64_t step) override;
+    // Checkpoints (swarm/behavior.hpp).
+    void save_checkpoint(Swarm& swarm, ByteWriter& descriptor, ByteWriter& state) override;
+    void restore_checkpoint(Swarm& swarm, ByteReader& state) override;
 
     // The mesh obstacles' grid (dims 0 without mesh obstacles).
     const Grid3& mesh_grid() const { return mesh_grid_; }

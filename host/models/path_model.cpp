@@ -1,5 +1,7 @@
 #include "models/path_model.hpp"
 
+#include "models/model_checkpoint.hpp"
+
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -167,6 +169,20 @@ StepStages PathModel::stages() const {
     s.seed = config_.noise.seed;
     s.stats = true;
     return s;
+}
+
+// The goals as they are now are in the descriptor (config_.groups: moved by
+// set_goals and the waypoints); the constructor solves their cost fields
+// with the same code as set_goals.  The state: the recomputation counters.
+void PathModel::save_checkpoint(Swarm&, ByteWriter& descriptor, ByteWriter& state) {
+    write_model_descriptor(descriptor, config_);
+    state.u32(recomputes_);
+    state.f64(recompute_seconds_);
+}
+void PathModel::restore_checkpoint(Swarm&, ByteReader& state) {
+    recomputes_ = state.u32();
+    recompute_seconds_ = state.f64();
+    state.expect_end();
 }
 
 }  // namespace swarmcl

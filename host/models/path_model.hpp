@@ -52,6 +52,9 @@ public:
     void advance(Swarm& swarm, uint64_t step) override;
     // MDE at min_distance (keyed by the noise seed), and step statistics.
     StepStages stages() const override;
+    // Checkpoints (swarm/behavior.hpp).
+    void save_checkpoint(Swarm& swarm, ByteWriter& descriptor, ByteWriter& state) override;
+    void restore_checkpoint(Swarm& swarm, ByteReader& state) override;
 
     // Replaces group `group`'s goals and recomputes its cost field (chasing,
     // §7); returns the seconds it took.  Validated first: an error changes nothing.

@@ -12,6 +12,8 @@
 namespace swarmcl {
 
 class Swarm;
+class ByteWriter;
+class ByteReader;
 
 // Statistics of a model's minimum distance enforcement, read back from the
 // device only when asked for (Swarm::take_step_stats,
@@ -55,6 +57,16 @@ public:
     virtual void enforce_min_distance(Swarm&, DeviceBuffer<cl_uint>& /*moved*/) {}
     // After the constraint stage (e.g. the force model's obstacle push-out).
     virtual void after_constraints(Swarm&, uint64_t /*step*/) {}
+
+    // Checkpoints (docs/checkpoint-format.md, host/models/model_checkpoint.hpp):
+    // save_checkpoint writes the model's descriptor as it is now (section
+    // MODL) and what changes over steps that the descriptor does not hold
+    // (section MDST); restore_checkpoint reads the latter back into a model
+    // just rebuilt from that descriptor for the same swarm (Error(Parse) for
+    // state that does not fit it).  The defaults refuse: a model that does
+    // not implement them cannot be checkpointed.
+    virtual void save_checkpoint(Swarm& swarm, ByteWriter& descriptor, ByteWriter& state);
+    virtual void restore_checkpoint(Swarm& swarm, ByteReader& state);
 };
 
 }  // namespace swarmcl

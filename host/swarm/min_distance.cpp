@@ -27,6 +27,24 @@ StepStats StepCounters::take(Swarm& swarm) {
     return s;
 }
 
+StepStats StepCounters::peek(Swarm& swarm) {
+    cl_uint counts[2] = {0, 0};
+    moved_.download(swarm.context(), counts, 2);
+    StepStats s;
+    s.agents = swarm.agent_count();
+    s.mde_moved_last = counts[0];
+    s.mde_moved_total = counts[1];
+    s.steps = steps_;
+    return s;
+}
+
+void StepCounters::restore(Context& ctx, const StepStats& stats) {
+    // moved[1] is a 32-bit device counter (the total since the last read).
+    const cl_uint counts[2] = {stats.mde_moved_last, cl_uint(stats.mde_moved_total)};
+    moved_.upload(ctx, counts, 2);
+    steps_ = stats.steps;
+}
+
 namespace {
 // Measured on 1M agents at 0.05 m (2-core PoCL CPU, CPU time of the pass):
 // the wide kernel takes 0.55x the scalar one's at cells of 2 d_min, the same

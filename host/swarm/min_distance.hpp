@@ -24,6 +24,9 @@ public:
     void reset(Context& ctx);
     // Reads and resets them (waits for the device).
     StepStats take(Swarm& swarm);
+    // Checkpoints: the counters without resetting them, and set back.
+    StepStats peek(Swarm& swarm);
+    void restore(Context& ctx, const StepStats& stats);
 
 private:
     DeviceBuffer<cl_uint> moved_;

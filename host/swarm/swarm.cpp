@@ -212,6 +212,54 @@ void Swarm::step(uint32_t steps) {
     }
 }
 
+SwarmState Swarm::export_state() {
+    SwarmState st;
+    st.steps = steps_;
+    st.positions.resize(n_);
+    st.velocities.resize(n_);
+    st.ids.resize(n_);
+    pos_.download(*ctx_, st.positions.data(), n_);
+    vel_.download(*ctx_, st.velocities.data(), n_);
+    ids_.download(*ctx_, st.ids.data(), n_);
+    st.stats = stats_.peek(*this);
+    return st;
+}
+
+void Swarm::import_state(const SwarmState& st) {
+    const size_t n = st.ids.size();
+    auto bad = [](const std::string& why) { fail(Status::Parse, "checkpoint agent state: " + why); };
+    if (n > config_.capacity)
+        bad(std::to_string(n) + " agents exceed the swarm's capacity " + std::to_string(config_.capacity));
+    if (st.positions.size() != n || st.velocities.size() != n) bad("positions, velocities and ids differ in count");
+    // ids index slot_of on the device: a permutation of 0..n-1 or nothing.
+    std::vector<bool> seen(n, false);
+    for (cl_uint id : st.ids) {
+        if (id >= n || seen[id]) bad("the agent ids are not a permutation of 0.." + std::to_string(n) + "-1");
+        seen[id] = true;
+    }
+    for (size_t i = 0; i < n; ++i)
+        for (int a = 0; a < 3; ++a)  // xyz: w is the models' to use
+            if (!std::isfinite(st.positions[i].s[a]) || !std::isfinite(st.velocities[i].s[a]))
+                bad("agent " + std::to_string(st.ids[i]) + " has a value that is not finite");
+    if (st.stats.mde_moved_total > 0xFFFFFFFFu) bad("the MDE counter exceeds 32 bits");
+    if (n) {
+        pos_.upload(*ctx_, st.positions.data(), n);
+        vel_.upload(*ctx_, st.velocities.data(), n);
+        ids_.upload(*ctx_, st.ids.data(), n);
+    }
+    n_ = uint32_t(n);
+    steps_ = st.steps;
+    grid_.invalidate_layout();  // the next build sorts every agent, to the same (cell, id) order
+    grid_current_ = false;
+    slot_of_current_ = false;
+    restore_step_stats(st.stats);
+}
+
+void Swarm::restore_step_stats(const StepStats& stats) {
+    require(stats.mde_moved_total <= 0xFFFFFFFFu, "step statistics: the MDE counter exceeds 32 bits");
+    stats_.restore(*ctx_, stats);
+}
+
 cl_uint Swarm::set_step_args(cl::Kernel& kernel, uint64_t step, cl_uint index) {
     const float dt = config_.dt;
     kernel.setArg(index++, pos_.get());
@@ -242,6 +290,14 @@ void Swarm::ensure_slot_of() {
     set_args(slot_of_k_, ids_.get(), n_, slot_of_.get());
     launch(*ctx_, slot_of_k_, n_);
     slot_of_current_ = true;
+}
+
+// Models that do not implement checkpoints (swarm/behavior.hpp).
+void Behavior::save_checkpoint(Swarm&, ByteWriter&, ByteWriter&) {
+    fail(Status::InvalidArgument, "this model cannot be saved in a checkpoint");
+}
+void Behavior::restore_checkpoint(Swarm&, ByteReader&) {
+    fail(Status::InvalidArgument, "this model cannot be restored from a checkpoint");
 }
 
 namespace {

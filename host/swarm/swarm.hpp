@@ -8,6 +8,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <vector>
 
 #include "device/buffer.hpp"
 #include "device/context.hpp"
@@ -28,6 +29,19 @@ struct SwarmConfig {
 };
 
 enum class Attribute { Position, Velocity };
+
+// What a step depends on in the swarm itself, for checkpoints
+// (host/models/swarm_checkpoint.hpp): the agent state in slot order, as the
+// device holds it (so the next step runs on the same arrays in the same
+// order), ids[slot] the agent id; the step counter, which with the seeds in
+// the configs is all of the random state (Philox is keyed by seed, agent id
+// and step: no other RNG state exists); and the step statistics' counters.
+struct SwarmState {
+    uint64_t steps = 0;
+    std::vector<cl_float4> positions, velocities;  // agent_count each, slot order
+    std::vector<cl_uint> ids;                      // slot -> agent id, a permutation of 0..n-1
+    StepStats stats;                               // counters since the last take_step_stats
+};
 
 class Swarm {
 public:
@@ -85,6 +99,15 @@ public:
     // Reads and resets the step statistics (waits for the device); none
     // without a model or for a model whose StepStages count none.
     std::optional<StepStats> take_step_stats();
+
+    // Checkpoints: the state now (waits for the device), and a state put
+    // back in place of this swarm's (validated first: Error(Parse) for a
+    // count above the capacity, ids that are not a permutation, non-finite
+    // values; nothing changes then).  Put back after set_behavior, which
+    // zeroes the statistics: restore_step_stats puts them back after it.
+    SwarmState export_state();
+    void import_state(const SwarmState& state);
+    void restore_step_stats(const StepStats& stats);
 
     // Held by the C API around every call on this swarm.
     std::mutex& mutex() { return mutex_; }

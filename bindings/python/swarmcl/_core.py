@@ -257,6 +257,26 @@ class Swarm(_Handle):
         if status:
             raise error_for(status)
 
+    # ---- checkpoints ---------------------------------------------------------------
+
+    def save(self, path) -> None:
+        """Saves the swarm with its model to ``path`` (swcl_swarm_save,
+        docs/checkpoint-format.md), atomically: a failed save leaves an earlier
+        file at ``path`` as it was."""
+        check(lib.swcl_swarm_save(self._h, os.fsencode(path)))
+
+    @classmethod
+    def load(cls, context: Context, path) -> "Swarm":
+        """A new swarm in ``context`` from a file ``save`` wrote: stepping it
+        goes on bit for bit as the saved swarm would.  A truncated, corrupted
+        or foreign file raises ParseError with the reason; an unreadable one
+        IOError_."""
+        if not isinstance(context, Context):
+            raise TypeError(f"context must be a swarmcl.Context, got {type(context).__name__}")
+        out = ffi.new("swcl_swarm*")
+        check(lib.swcl_swarm_load(context._h, os.fsencode(path), out))
+        return cls._wrap(out, context)
+
     def set_field_model(self, model: FieldModel) -> None:
         """Moves the swarm with the curl-noise paper's field model from the next step."""
         if not isinstance(model, FieldModel):

@@ -770,6 +770,24 @@ SWCL_API swcl_status swcl_score(const double* distances, size_t count, const swc
 SWCL_API swcl_status swcl_entropy_weights(const double* x, size_t models, size_t terms, double* out_w,
                                           double* out_p1, double* out_p2);
 
+/* ---- checkpoints -------------------------------------------------------------
+ * A swarm with its model saved to one file and loaded back (in any context on
+ * the same kind of device): a run of N steps equals, bit for bit, k steps +
+ * save + load + N - k steps.  The file holds the swarm's settings, its agents
+ * (positions, velocities, ids, in the device's order), the step counter (with
+ * the seeds, all of the random state), the step statistics, the model's full
+ * descriptor as it is now (moved goals, replaced stimuli and keypoints, the
+ * energy model's dataset itself) and the model's state over steps; fields are
+ * rebuilt from the descriptor.  Versioned, CRC-32 checked
+ * (docs/checkpoint-format.md); written atomically, so a failed save leaves an
+ * earlier file at `path` as it was. */
+
+SWCL_API swcl_status swcl_swarm_save(swcl_swarm swarm, const char* path);
+/* A new swarm in `context`.  A truncated, corrupted or foreign file, another
+ * format version, or values that make no valid swarm give SWCL_ERROR_PARSE
+ * (SWCL_ERROR_IO: cannot be read) with the reason in swcl_last_error, and no
+ * swarm (*out is left as it was). */
+SWCL_API swcl_status swcl_swarm_load(swcl_context context, const char* path, swcl_swarm* out);
 
 /* ---- deprecated names (removed at 1.0) --------------------------------------
  * Version 0.2 named every model function swcl_swarm_<model>_<verb>.  The old
