@@ -130,6 +130,28 @@ __kernel void path_noise_bake(NOISE_PARAMS, __global const float* phi, int4 dims
 }
 #endif
 
+// Positive phototaxis (curl-noise paper §7: "probabilistically added a small
+// magnitude of speed towards the lamp holder for each insect"): with
+// probability lamp_pull.x (a Philox uniform per agent and step) the insect
+// gets lamp_pull.y m/s towards the lamp centre lamp.xyz, turned by the angle
+// (cos, sin) = lamp_pull.zw about the vertical axis, counter-clockwise seen
+// from +z (our light-compass offset); the radial part fades by Eq. 3's ramp within lamp_keep of the
+// bulb (radius lamp.w).  Host reference: tests/test_path_field.cpp.
+#define SWCL_STREAM_PHOTOTAXIS 24u
+SWCL_INLINE float3 path_lamp_pull(float4 lamp, float4 lamp_pull, float lamp_keep, ulong seed, uint agent, uint step,
+                                  float3 p) {
+    const float u = swcl_u01_co(swcl_rand_u4(seed, agent, step, SWCL_STREAM_PHOTOTAXIS, 0u).x);
+    if (!(u < lamp_pull.x)) return (float3)(0.0f);
+    const float3 r = lamp.xyz - p;
+    const float dist = length(r);
+    if (!(dist > 0.0f)) return (float3)(0.0f);
+    const float3 radial = r / dist;
+    const float hl = sqrt(r.x * r.x + r.y * r.y);
+    const float3 tangent = hl > 0.0f ? (float3)(r.y / hl, -r.x / hl, 0.0f) : (float3)(0.0f);  // z x (p - lamp)
+    const float fade = swcl_ramp(fmax(dist - lamp.w, 0.0f) / lamp_keep);
+    return lamp_pull.y * (lamp_pull.z * fade * radial + lamp_pull.w * tangent);
+}
+
 // Agent i's xyz and its velocity and position stores, at the bodies' widths:
 // float4 loads and stores at width 1, lib/noise_field.cl's lane loads and
 // stores at SWCL_W.
