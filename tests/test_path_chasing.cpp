@@ -11,6 +11,8 @@
 
 #include "core/error.hpp"
 #include "models/path_model.hpp"
+#include "scenario/make_swarm.hpp"
+#include "scenario/scenario.hpp"
 #include "reference/noise_reference.hpp"
 #include "test_support.hpp"
 
@@ -365,4 +367,59 @@ TEST(PathPhototaxis, MothsCircleTheLamp) {
     EXPECT_LT(circling.mean_dist, 1.0);
     EXPECT_GT(circling.min_dist, bulb);
     EXPECT_LT(std::fabs(straight.mean_l), 0.2 * circling.mean_l);
+}
+
+// The scenario reader's "targets" and "lamp" (examples/scenarios/path_chasing.json,
+// path_phototaxis.json): read as given, bad values named by their key path,
+// and a target or lamp the model refuses (inside an obstacle, outside the
+// grid, no free space) named when the swarm is made.
+TEST(PathScenario, TargetsAndLampAreReadAndChecked) {
+    const std::string dir = std::string(SWARMCL_SOURCE_DIR) + "/examples/scenarios/";
+    const auto chasing = std::get<PathModelConfig>(load_scenario(dir + "path_chasing.json").model);
+    ASSERT_EQ(chasing.targets.size(), 1u);
+    EXPECT_TRUE(chasing.groups[0].goals.empty());  // the ball is the goal
+    EXPECT_FALSE(chasing.waypoints.empty());
+    const auto photo = std::get<PathModelConfig>(load_scenario(dir + "path_phototaxis.json").model);
+    EXPECT_TRUE(photo.lamp.enabled);
+    EXPECT_NEAR(photo.lamp.angle, 70.0 * kPi / 180.0, 1e-6);
+    const std::string head =
+        R"({"name": "t", "domain": {"min": [0,0,0], "max": [4,2,2]}, "agents": {"count": 4},
+            "obstacles": [{"type": "box", "center": [2,1,1], "half_extents": [0.4,0.4,0.4]}],)";
+    auto error = [&](const std::string& tail, bool make = false) -> std::string {
+        try {
+            const Scenario s = parse_scenario(head + tail);
+            if (make) make_swarm(test::shared_context(), s);
+        } catch (const Error& e) {
+            return e.what();
+        }
+        return "";
+    };
+    const std::string path = R"("model": {"type": "path", "grid": {"resolution": [20, 10, 10]}, )";
+    EXPECT_EQ(error(path + R"("targets": [{"center": [3.5,1,1], "radius": 0.2}]}})", true), "");
+    EXPECT_EQ(error(path + R"("goals": [{"center": [3.5,1,1]}], "lamp": {"center": [3,1,1], "angle_deg": 45}}})", true), "");
+    EXPECT_NE(error(path + R"("targets": [{"center": [3.5,1,1]}]}})").find("model.targets[0].radius: missing"),
+              std::string::npos);
+    EXPECT_NE(error(path + R"("targets": [{"center": [3.5,1,1], "radius": 0.2, "colour": 1}]}})")
+                  .find("model.targets[0].colour: unknown key"),
+              std::string::npos);
+    EXPECT_NE(error(path + R"("targets": []}})").find("model.targets"), std::string::npos);
+    EXPECT_NE(error(path + R"("goals": [{"center": [3.5,1,1]}], "lamp": {"center": [3,1,1], "probability": 2}}})")
+                  .find("model.lamp.probability"),
+              std::string::npos);
+    EXPECT_NE(error(path + R"("goals": [{"center": [3.5,1,1]}], "lamp": {"center": [3,1,1], "angle_deg": 120}}})")
+                  .find("model.lamp.angle_deg"),
+              std::string::npos);
+    EXPECT_NE(error(path + R"("goals": [{"center": [3.5,1,1]}], "lamp": {"radius": 0.1}}})").find("model.lamp.center: missing"),
+              std::string::npos);
+    // Refused by the model when the swarm is made.
+    EXPECT_NE(error(path + R"("targets": [{"center": [2,1,1], "radius": 0.2}]}})", true).find("inside an obstacle"),
+              std::string::npos);
+    EXPECT_NE(error(path + R"("targets": [{"center": [5,1,1], "radius": 0.2}]}})", true).find("outside the path grid"),
+              std::string::npos);
+    EXPECT_NE(error(path + R"("targets": [{"center": [3.5,1,1], "radius": 0.2}], "moving_goal": {"waypoints": [[2.1,1,1]]}}})", true)
+                  .find("waypoint 0"),
+              std::string::npos);
+    EXPECT_NE(error(path + R"("goals": [{"center": [3.5,1,1]}], "lamp": {"center": [2,1,1], "radius": 0.01, "keep_out": 0.01}}})", true)
+                  .find("no free space around it"),
+              std::string::npos);
 }

@@ -19,6 +19,7 @@ from .energy import (Dataset, EnergyModel, EnergyWeights, Stimulus, StimulusKind
 from .force import SHAPES, ForceModel, Keyframe
 from .path import (BoxObstacle, CylinderObstacle, Goal, MeshObstacle, ObjObstacle, PathGroup, PathInfo,
                    PathModel, SphereObstacle)
+from .path import Lamp, PathTarget
 from .errors import (BuildError, InternalError, InvalidArgumentError, InvalidHandleError, IOError_,
                      NoDeviceError, OpenCLError, OutOfMemoryError, ParseError, SwarmclError)
 
@@ -30,7 +31,7 @@ __all__ = [
     "StepStats",
     "Dataset", "EnergyModel", "EnergyWeights", "Stimulus", "StimulusKind", "TimeFormat", "write_mixed_csv",
     "ForceModel", "Keyframe", "SHAPES",
-    "PathModel", "PathGroup", "PathInfo", "Goal", "MeshObstacle", "ObjObstacle", "BoxObstacle",
+    "PathModel", "PathGroup", "PathInfo", "PathTarget", "Lamp", "Goal", "MeshObstacle", "ObjObstacle", "BoxObstacle",
     "SphereObstacle", "CylinderObstacle",
     "SwarmclError", "InvalidArgumentError", "InvalidHandleError", "NoDeviceError", "BuildError",
     "OutOfMemoryError", "IOError_", "ParseError", "OpenCLError", "InternalError",
