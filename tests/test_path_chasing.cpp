@@ -423,3 +423,39 @@ TEST(PathScenario, TargetsAndLampAreReadAndChecked) {
                   .find("no free space around it"),
               std::string::npos);
 }
+
+// The lamp's pull and a target in the explicit-width kernel (CPU devices,
+// baked noise): bitwise the one-agent kernel's run.
+TEST(PathPhototaxis, WideKernelMatchesTheScalarOne) {
+    auto ctx = test::shared_context();
+    auto run = [&](const char* width) {
+        setenv("SWARMCL_NOISE_WIDTH", width, 1);
+        SwarmConfig sc = test::cube_config(700, -1, 1, 0.1f);
+        sc.agent_count = 700;  // not a multiple of 16
+        sc.seed = 8;
+        Swarm swarm(ctx, sc);
+        PathModelConfig pc;
+        pc.noise.baked = true;
+        pc.noise.bake_resolution = {33, 33, 33};
+        pc.obstacles.push_back(sphere_mesh({0, 0, 0}, 0.2f));
+        pc.resolution = {24, 24, 24};
+        pc.goal_falloff = 0.5f;
+        pc.groups.push_back({400, {point_goal(0.9f, 0.9f, 0.9f)}});
+        pc.groups.push_back({0, {}});
+        pc.targets.push_back({1, {-0.6f, 0.5f, 0.0f}, 0.15f});
+        pc.lamp.enabled = true;
+        pc.lamp.radius = 0.2f;
+        pc.lamp.angle = 1.1f;
+        auto model = std::make_shared<PathModel>(swarm, pc);
+        swarm.set_behavior(model);
+        swarm.step(5);
+        model->set_target(0, {-0.5f, -0.5f, 0.2f});
+        swarm.step(5);
+        std::vector<float> p(2100);
+        swarm.read(Attribute::Position, p.data(), 700);
+        return p;
+    };
+    const auto scalar = run("1"), wide = run("16");
+    unsetenv("SWARMCL_NOISE_WIDTH");
+    EXPECT_EQ(scalar, wide);
+}

@@ -226,6 +226,12 @@ double PathModel::set_target(uint32_t index, const std::array<float, 3>& center)
 uint32_t PathModel::add_target(const PathTarget& target) {
     const uint32_t index = uint32_t(config_.targets.size());
     check_target(target, "path model target " + std::to_string(index));
+    if (index == 0)  // the waypoints will move it: each must be a place it may be
+        for (size_t i = 0; i < config_.waypoints.size(); ++i) {
+            PathTarget t = target;
+            t.center = config_.waypoints[i];
+            check_target(t, "path model waypoint " + std::to_string(i) + " (target 0)");
+        }
     std::vector<PathTarget> targets = config_.targets;
     targets.push_back(target);
     retarget(std::move(targets), target.group);
