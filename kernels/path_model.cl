@@ -128,6 +128,28 @@ __kernel void path_noise_bake(NOISE_PARAMS, __global const float* phi, int4 dims
                     0.0f, &vx, &vy, &vz);
     out[i] = (float4)(vx, vy, vz, 0.0f);
 }
+
+// Rebakes the nodes box_lo + [0, box_dims) only, in place (a chasing target
+// moved: Eq. 2 is the identity beyond d0 of the ball, so the other nodes keep
+// their values).  The same node arithmetic as path_noise_bake: bitwise a full bake.
+__kernel void path_noise_rebake_box(NOISE_PARAMS, __global const float* phi, int4 dims, float4 origin_h,
+                                    float4 vl_min, float4 vl_cell, int4 vl_dims, int4 box_lo, int4 box_dims,
+                                    __global float4* out) {
+    const uint j = get_global_id(0);
+    const uint n = (uint)(box_dims.x * box_dims.y * box_dims.z);
+    if (j >= n) return;
+    const uint bx = (uint)box_dims.x, by = (uint)box_dims.y;
+    const uint ix = (uint)box_lo.x + j % bx, iy = (uint)box_lo.y + (j / bx) % by, iz = (uint)box_lo.z + j / (bx * by);
+    const uint nx = (uint)vl_dims.x, ny = (uint)vl_dims.y;
+    const uint i = ix + nx * (iy + ny * iz);
+    float vx, vy, vz;
+    path_noise_mesh(noise_type, noise_flags, noise_shape, noise_fd_step, noise_seed, noise_off0, noise_off1,
+                    noise_off2, noise_prims, noise_nprims, noise_baked, noise_bake_min, noise_bake_cell,
+                    noise_bake_dims, phi, dims, origin_h, vl_min.x + vl_cell.x * (float)(i % nx),
+                    vl_min.y + vl_cell.y * (float)((i / nx) % ny), vl_min.z + vl_cell.z * (float)(i / (nx * ny)),
+                    0.0f, &vx, &vy, &vz);
+    out[i] = (float4)(vx, vy, vz, 0.0f);
+}
 #endif
 
 // Positive phototaxis (curl-noise paper §7: "probabilistically added a small

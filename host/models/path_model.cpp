@@ -1,5 +1,6 @@
 #include "models/path_model.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -117,7 +118,8 @@ void PathModel::check_target(const PathTarget& t, const std::string& what) const
             what + ": center lies inside an obstacle");
 }
 
-PathModel::LocalField PathModel::build_local(const std::vector<PathTarget>& targets) const {
+PathModel::LocalField PathModel::build_local(const std::vector<PathTarget>& targets, const LocalField* previous,
+                                             const std::vector<PathTarget>& changed) const {
     LocalField out;
     NoiseConfig nc = config_.noise;
     if (!nc.has_region()) nc.region_min = domain_min_, nc.region_max = domain_max_;
@@ -143,7 +145,8 @@ PathModel::LocalField PathModel::build_local(const std::vector<PathTarget>& targ
         out.vl_min = g.min;
         out.vl_cell = g.cell;
         out.vl_dims = g.dims;
-        cl::Kernel k = ctx_.kernel("path_model.cl", "path_noise_bake", defines);
+        const bool partial = previous && previous->vl.size() == g.nodes();
+        cl::Kernel k = ctx_.kernel("path_model.cl", partial ? "path_noise_rebake_box" : "path_noise_bake", defines);
         cl_uint i = out.noise->set_args(k, 0);
         k.setArg(i++, phi_dev_.get());
         k.setArg(i++, grid_dims_arg());
@@ -151,7 +154,33 @@ PathModel::LocalField PathModel::build_local(const std::vector<PathTarget>& targ
         k.setArg(i++, out.vl_min);
         k.setArg(i++, out.vl_cell);
         k.setArg(i++, out.vl_dims);
-        out.vl = bake_nodes(ctx_, k, i, g, "baked local field");
+        if (!partial) {
+            out.vl = bake_nodes(ctx_, k, i, g, "baked local field");
+        } else {
+            // Copy the nodes, then rebake the boxes of nodes within d0 (+ one
+            // node) of each changed ball: beyond d0 Eq. 2 leaves N unchanged.
+            out.vl.allocate(ctx_, g.nodes(), "baked local field");
+            ctx_.queue().enqueueCopyBuffer(previous->vl.get(), out.vl.get(), 0, 0, g.nodes() * sizeof(cl_float4));
+            const float d0 = nc.boundary_distance;
+            for (const PathTarget& t : changed) {
+                cl_int4 lo{}, n{};
+                bool empty = false;
+                for (int a = 0; a < 3; ++a) {
+                    const float reach = t.radius + d0;
+                    const int l = std::max(0, int(std::floor((t.center[a] - reach - g.min.s[a]) / g.cell.s[a])) - 1);
+                    const int h = std::min(g.dims.s[a] - 1, int(std::ceil((t.center[a] + reach - g.min.s[a]) / g.cell.s[a])) + 1);
+                    lo.s[a] = l;
+                    n.s[a] = h - l + 1;
+                    empty |= h < l;
+                }
+                if (empty) continue;
+                k.setArg(i, lo);
+                k.setArg(i + 1, n);
+                k.setArg(i + 2, out.vl.get());
+                check_arg_count(k, i + 3);
+                launch(ctx_, k, size_t(n.s[0]) * size_t(n.s[1]) * size_t(n.s[2]));
+            }
+        }
         defines += " -DPATH_BAKED=1";
         // CPU devices: SWCL_W agents per work-item (path_model_advance_w).
         out.width = out.noise->preferred_width();
@@ -192,12 +221,12 @@ double PathModel::set_goals(uint32_t group, std::vector<Goal> goals) {
     return t;
 }
 
-double PathModel::retarget(std::vector<PathTarget> targets, uint32_t group) {
+double PathModel::retarget(std::vector<PathTarget> targets, uint32_t group, const std::vector<PathTarget>& changed) {
     const auto t0 = std::chrono::steady_clock::now();
     // Everything into temporaries first: an error (a goal check, the noise)
     // leaves the model as it was.
     std::vector<double> cost = solve_cost(grid_, slowness_, goals_of(group, targets), config_.second_order);
-    LocalField local = build_local(targets);
+    LocalField local = build_local(targets, &local_, changed);
     std::vector<cl_float4> d(grid_.count());
     direction_field(grid_, cost, phi_, reinterpret_cast<float*>(d.data()));
     ctx_.queue().enqueueWriteBuffer(dirs_.get(), CL_TRUE, size_t(group) * grid_.count() * sizeof(cl_float4),
@@ -220,7 +249,8 @@ double PathModel::set_target(uint32_t index, const std::array<float, 3>& center)
     targets[index].center = center;
     check_target(targets[index], "path model target " + std::to_string(index));
     const uint32_t group = targets[index].group;
-    return retarget(std::move(targets), group);
+    const std::vector<PathTarget> changed{config_.targets[index], targets[index]};  // the old and the new place
+    return retarget(std::move(targets), group, changed);
 }
 
 uint32_t PathModel::add_target(const PathTarget& target) {
@@ -234,7 +264,7 @@ uint32_t PathModel::add_target(const PathTarget& target) {
         }
     std::vector<PathTarget> targets = config_.targets;
     targets.push_back(target);
-    retarget(std::move(targets), target.group);
+    retarget(std::move(targets), target.group, {target});
     return index;
 }
 

@@ -126,12 +126,16 @@ private:
         cl::Kernel advance;
         uint32_t width = 1;
     };
-    LocalField build_local(const std::vector<PathTarget>& targets) const;
+    // With `previous` (a baked mesh-aware field) only the nodes within d0 of
+    // the balls in `changed` (targets that moved, old and new places, or
+    // appeared) are rebaked, into a copy of previous's nodes.
+    LocalField build_local(const std::vector<PathTarget>& targets, const LocalField* previous = nullptr,
+                           const std::vector<PathTarget>& changed = {}) const;
     std::vector<Goal> goals_of(uint32_t group, const std::vector<PathTarget>& targets) const;
     void check_target(const PathTarget& t, const std::string& what) const;
     // Recomputes group `group`'s field and the local field for `targets`,
     // then commits both (an error leaves everything as it was).
-    double retarget(std::vector<PathTarget> targets, uint32_t group);
+    double retarget(std::vector<PathTarget> targets, uint32_t group, const std::vector<PathTarget>& changed);
     void upload_directions(uint32_t group);
 
     PathModelConfig config_;
