@@ -128,7 +128,51 @@ __kernel void path_noise_bake(NOISE_PARAMS, __global const float* phi, int4 dims
                     0.0f, &vx, &vy, &vz);
     out[i] = (float4)(vx, vy, vz, 0.0f);
 }
+
+// Rebakes the nodes box_lo + [0, box_dims) only, in place (a chasing target
+// moved: Eq. 2 is the identity beyond d0 of the ball, so the other nodes keep
+// their values).  The same node arithmetic as path_noise_bake: bitwise a full bake.
+__kernel void path_noise_rebake_box(NOISE_PARAMS, __global const float* phi, int4 dims, float4 origin_h,
+                                    float4 vl_min, float4 vl_cell, int4 vl_dims, int4 box_lo, int4 box_dims,
+                                    __global float4* out) {
+    const uint j = get_global_id(0);
+    const uint n = (uint)(box_dims.x * box_dims.y * box_dims.z);
+    if (j >= n) return;
+    const uint bx = (uint)box_dims.x, by = (uint)box_dims.y;
+    const uint ix = (uint)box_lo.x + j % bx, iy = (uint)box_lo.y + (j / bx) % by, iz = (uint)box_lo.z + j / (bx * by);
+    const uint nx = (uint)vl_dims.x, ny = (uint)vl_dims.y;
+    const uint i = ix + nx * (iy + ny * iz);
+    float vx, vy, vz;
+    path_noise_mesh(noise_type, noise_flags, noise_shape, noise_fd_step, noise_seed, noise_off0, noise_off1,
+                    noise_off2, noise_prims, noise_nprims, noise_baked, noise_bake_min, noise_bake_cell,
+                    noise_bake_dims, phi, dims, origin_h, vl_min.x + vl_cell.x * (float)(i % nx),
+                    vl_min.y + vl_cell.y * (float)((i / nx) % ny), vl_min.z + vl_cell.z * (float)(i / (nx * ny)),
+                    0.0f, &vx, &vy, &vz);
+    out[i] = (float4)(vx, vy, vz, 0.0f);
+}
 #endif
+
+// Positive phototaxis (curl-noise paper §7: "probabilistically added a small
+// magnitude of speed towards the lamp holder for each insect"): with
+// probability lamp_pull.x (a Philox uniform per agent and step) the insect
+// gets lamp_pull.y m/s towards the lamp centre lamp.xyz, turned by the angle
+// (cos, sin) = lamp_pull.zw about the vertical axis, counter-clockwise seen
+// from +z (our light-compass offset); the radial part fades by Eq. 3's ramp within lamp_keep of the
+// bulb (radius lamp.w).  Host reference: tests/test_path_field.cpp.
+#define SWCL_STREAM_PHOTOTAXIS 24u
+SWCL_INLINE float3 path_lamp_pull(float4 lamp, float4 lamp_pull, float lamp_keep, ulong seed, uint agent, uint step,
+                                  float3 p) {
+    const float u = swcl_u01_co(swcl_rand_u4(seed, agent, step, SWCL_STREAM_PHOTOTAXIS, 0u).x);
+    if (!(u < lamp_pull.x)) return (float3)(0.0f);
+    const float3 r = lamp.xyz - p;
+    const float dist = length(r);
+    if (!(dist > 0.0f)) return (float3)(0.0f);
+    const float3 radial = r / dist;
+    const float hl = sqrt(r.x * r.x + r.y * r.y);
+    const float3 tangent = hl > 0.0f ? (float3)(r.y / hl, -r.x / hl, 0.0f) : (float3)(0.0f);  // z x (p - lamp)
+    const float fade = swcl_ramp(fmax(dist - lamp.w, 0.0f) / lamp_keep);
+    return lamp_pull.y * (lamp_pull.z * fade * radial + lamp_pull.w * tangent);
+}
 
 // Agent i's xyz and its velocity and position stores, at the bodies' widths:
 // float4 loads and stores at width 1, lib/noise_field.cl's lane loads and

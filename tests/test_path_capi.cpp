@@ -217,3 +217,74 @@ TEST(PathScenario, ExamplesBuildAndKeysAreChecked) {
     EXPECT_NE(error(R"("model": {"type": "path", "goals": [{"center": [1,1,1]}], "speeed": 1}})").find("model.speeed: unknown key"),
               std::string::npos);
 }
+
+// Chasing (§7) through the C API: a target added to the model, its group's
+// goals cleared so the ball is the only goal, then dragged step by step
+// along a path round the cube as a user would; the swarm ends near it.  Bad
+// targets and lamps: an error naming the problem, nothing changed.
+TEST_F(PathCApi, ChasesATargetDrivenThroughTheCApi) {
+    swcl_path_model_desc d = desc();
+    d.goal_falloff = 0.2f;
+    ASSERT_EQ(swcl_swarm_path_set_model(swarm, &d), SWCL_OK) << swcl_last_error();
+    swcl_path_target t{};
+    t.group = 0;
+    t.center[0] = 0.6f;
+    t.center[2] = 0.4f;
+    t.radius = 0.1f;
+    uint32_t index = 9;
+    ASSERT_EQ(swcl_swarm_path_add_target(swarm, &t, &index), SWCL_OK) << swcl_last_error();
+    EXPECT_EQ(index, 0u);
+    ASSERT_EQ(swcl_swarm_path_set_goals(swarm, 0, nullptr, 0, nullptr), SWCL_OK) << swcl_last_error();
+    float c[3] = {0, 0, 0.4f};
+    for (int leg = 0; leg <= 24; ++leg) {  // round the cube, one step of the path every 10 steps
+        const float a = 2.0f * 3.14159265f * float(leg) / 24.0f;
+        c[0] = 0.6f * std::cos(a);
+        c[1] = 0.6f * std::sin(a);
+        double seconds = -1;
+        ASSERT_EQ(swcl_swarm_path_set_target(swarm, 0, c, &seconds), SWCL_OK) << swcl_last_error();
+        if (leg > 0) EXPECT_GT(seconds, 0.0);
+        ASSERT_EQ(swcl_swarm_step(swarm, 10), SWCL_OK);
+    }
+    ASSERT_EQ(swcl_swarm_step(swarm, 60), SWCL_OK);
+    std::vector<float> p(3 * 64);
+    ASSERT_EQ(swcl_swarm_read(swarm, SWCL_ATTRIBUTE_POSITION, p.data(), 64), SWCL_OK);
+    double mean = 0;
+    for (int i = 0; i < 64; ++i)
+        mean += std::sqrt((p[3 * i] - c[0]) * (p[3 * i] - c[0]) + (p[3 * i + 1] - c[1]) * (p[3 * i + 1] - c[1]) +
+                          (p[3 * i + 2] - c[2]) * (p[3 * i + 2] - c[2])) / 64;
+    EXPECT_LT(mean, 0.3);
+    swcl_path_info info{};
+    info.struct_size = sizeof(info);
+    ASSERT_EQ(swcl_swarm_path_get_info(swarm, &info), SWCL_OK);
+    EXPECT_EQ(info.recomputes, 26u);  // add_target, set_goals, 24 moves (the first set_target did not move it)
+
+    const float inside[3] = {0.0f, 0.05f, 0.0f}, outside[3] = {0.0f, 0.0f, 1.5f};
+    EXPECT_EQ(swcl_swarm_path_set_target(swarm, 0, inside, nullptr), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("inside an obstacle"), std::string::npos) << swcl_last_error();
+    EXPECT_EQ(swcl_swarm_path_set_target(swarm, 0, outside, nullptr), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("outside the path grid"), std::string::npos) << swcl_last_error();
+    EXPECT_EQ(swcl_swarm_path_set_target(swarm, 1, c, nullptr), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_swarm_path_set_target(swarm, 0, nullptr, nullptr), SWCL_ERROR_INVALID_ARGUMENT);
+    swcl_path_target got{};
+    ASSERT_EQ(swcl_swarm_path_get_target(swarm, 0, &got), SWCL_OK);
+    EXPECT_EQ(got.center[0], c[0]);
+    EXPECT_EQ(got.center[1], c[1]);
+    EXPECT_EQ(got.radius, 0.1f);
+    uint32_t count = 0;
+    ASSERT_EQ(swcl_swarm_path_target_count(swarm, &count), SWCL_OK);
+    EXPECT_EQ(count, 1u);
+    ASSERT_EQ(swcl_swarm_path_get_info(swarm, &info), SWCL_OK);
+    EXPECT_EQ(info.recomputes, 26u);
+
+    swcl_path_lamp lamp = swcl_path_lamp_default();
+    lamp.enabled = 1;
+    lamp.radius = 0.01f;
+    lamp.keep_out = 0.01f;  // in the cube's middle: no free cell within 0.19 m
+    EXPECT_EQ(swcl_swarm_path_set_lamp(swarm, &lamp), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("no free space around it"), std::string::npos) << swcl_last_error();
+    lamp.center[0] = 0.7f;
+    ASSERT_EQ(swcl_swarm_path_set_lamp(swarm, &lamp), SWCL_OK) << swcl_last_error();
+    lamp.struct_size = 4;
+    EXPECT_EQ(swcl_swarm_path_set_lamp(swarm, &lamp), SWCL_ERROR_INVALID_ARGUMENT);
+    ASSERT_EQ(swcl_swarm_step(swarm, 5), SWCL_OK);
+}

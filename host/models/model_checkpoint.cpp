@@ -119,6 +119,14 @@ void fields(A& a, Stimulus& s) {
     a(s.position), a(s.velocity), a(s.d_danger);
 }
 template <class A>
+void fields(A& a, PathTarget& t) {
+    a(t.group), a(t.center), a(t.radius);
+}
+template <class A>
+void fields(A& a, PathLamp& l) {
+    a(l.enabled), a(l.center), a(l.radius), a(l.probability), a(l.speed), a(l.angle), a(l.keep_out);
+}
+template <class A>
 void fields(A& a, FieldModelConfig& c) {
     a(c.noise), a(c.has_goal), a(c.goal), a(c.goal_radius), a(c.goal_speed), a(c.goal_falloff), a(c.min_distance);
 }
@@ -126,7 +134,7 @@ template <class A>
 void fields(A& a, PathModelConfig& c) {
     a(c.noise), a(c.obstacles), a(c.has_grid_box), a(c.grid_min), a(c.grid_max), a(c.resolution), a(c.weights);
     a(c.second_order), a(c.speed), a(c.goal_falloff), a(c.min_distance), a(c.groups), a(c.waypoints);
-    a(c.waypoint_every);
+    a(c.waypoint_every), a(c.targets), a(c.lamp);
 }
 template <class A>
 void fields(A& a, ForceModelConfig& c) {
@@ -236,7 +244,7 @@ std::shared_ptr<Behavior> behavior_from_checkpoint(Swarm& swarm, const Checkpoin
 #if defined(__x86_64__) && defined(__GLIBCXX__)
 static_assert(sizeof(NoiseConfig) == 112, "NoiseConfig changed: update fields(NoiseConfig) and the checkpoint format");
 static_assert(sizeof(FieldModelConfig) == 144, "FieldModelConfig changed: update its checkpoint fields()");
-static_assert(sizeof(PathModelConfig) == 264, "PathModelConfig changed: update its checkpoint fields()");
+static_assert(sizeof(PathModelConfig) == 328 && sizeof(PathTarget) == 20 && sizeof(PathLamp) == 36, "PathModelConfig changed: update its checkpoint fields()");
 static_assert(sizeof(ForceModelConfig) == 328, "ForceModelConfig changed: update its checkpoint fields()");
 static_assert(sizeof(EnergyModelConfig) == 288, "EnergyModelConfig changed: update its checkpoint fields()");
 static_assert(sizeof(Boundary) == 48 && sizeof(Goal) == 32 && sizeof(Stimulus) == 32 && sizeof(EnergyWeights) == 32,

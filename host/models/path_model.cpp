@@ -2,6 +2,7 @@
 
 #include "models/model_checkpoint.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -19,7 +20,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 PathModel::PathModel(Swarm& swarm, PathModelConfig config)
-    : config_(std::move(config)), ctx_(swarm.context()) {
+    : config_(std::move(config)), ctx_(swarm.context()),
+      domain_min_(swarm.config().domain_min), domain_max_(swarm.config().domain_max) {
     const auto t0 = std::chrono::steady_clock::now();
     auto& c = config_;
     require(std::isfinite(c.speed) && c.speed >= 0.0f, "path model speed (s0) must be a finite number >= 0");
@@ -41,13 +43,21 @@ PathModel::PathModel(Swarm& swarm, PathModelConfig config)
         phi_ = sdf.phi;
     }
     slowness_ = cost_slowness(grid_, phi_, c.weights);
-    for (size_t g = 0; g < c.groups.size(); ++g) {
+    for (size_t i = 0; i < c.targets.size(); ++i) check_target(c.targets[i], "path model target " + std::to_string(i));
+    if (!c.targets.empty())  // the waypoints move target 0: each must be a place it may be
+        for (size_t i = 0; i < c.waypoints.size(); ++i) {
+            PathTarget t = c.targets[0];
+            t.center = c.waypoints[i];
+            check_target(t, "path model waypoint " + std::to_string(i) + " (target 0)");
+        }
+    for (uint32_t g = 0; g < c.groups.size(); ++g) {
         try {
-            check_goals(grid_, c.groups[g].goals, slowness_);
+            check_goals(grid_, goals_of(g, c.targets), slowness_);
         } catch (const Error& e) {
             throw Error(e.status(), "path model group " + std::to_string(g) + ": " + e.what());
         }
     }
+    if (c.lamp.enabled) set_lamp(c.lamp);  // validates
     // The mesh shapes the curl noise when the kernel can assemble it (curl
     // with analytic derivatives); other noise types are used as they are.
     std::vector<float> phi_upload(phi_);
@@ -55,17 +65,7 @@ PathModel::PathModel(Swarm& swarm, PathModelConfig config)
     for (float& v : phi_upload)
         if (std::isfinite(v)) any_mesh = true;
         else v = 1e20f;  // no mesh in reach: "far"
-    const bool mesh_noise = any_mesh && c.noise.type == NoiseType::Curl && !c.noise.finite_difference;
-    NoiseConfig nc = c.noise;
-    if (!nc.has_region()) nc.region_min = swarm.config().domain_min, nc.region_max = swarm.config().domain_max;
-    NoiseField::validate(nc);  // as given (what can be baked), before the mesh-aware bake takes over
-    if (mesh_noise) nc.baked = false;  // baked below, with the mesh
-    noise_ = std::make_unique<NoiseField>(ctx_, nc, &swarm.config().domain_min, &swarm.config().domain_max);
-    std::string defines = noise_->defines();
-    if (mesh_noise) {
-        // The procedural curl path of noise_field.cl with every boundary, no wide kernels.
-        defines = "-DNOISE_KIND=0 -DNOISE_TIMED=" + std::string(nc.time_scale > 0 ? "1" : "0") + " -DPATH_MESH=1";
-    }
+    mesh_noise_ = any_mesh && c.noise.type == NoiseType::Curl && !c.noise.finite_difference;
     phi_dev_.allocate(ctx_, phi_upload.empty() ? 1 : phi_upload.size(), "path model signed distance");
     if (!phi_upload.empty()) phi_dev_.upload(ctx_, phi_upload.data(), phi_upload.size());
     dirs_.allocate(ctx_, grid_.count() * c.groups.size(), "path model directions");
@@ -79,37 +79,119 @@ PathModel::PathModel(Swarm& swarm, PathModelConfig config)
     group_end_.upload(ctx_, ends.data(), ends.size());
     costs_.resize(c.groups.size());
     for (uint32_t g = 0; g < c.groups.size(); ++g) {
-        costs_[g] = solve_cost(grid_, slowness_, c.groups[g].goals, c.second_order);
+        costs_[g] = solve_cost(grid_, slowness_, goals_of(g, c.targets), c.second_order);
         upload_directions(g);
     }
-    vl_.allocate(ctx_, 1, "baked local field");
-    if (mesh_noise && c.noise.baked) {
-        bake_local_field(defines);
-        defines += " -DPATH_BAKED=1";
-        // CPU devices: SWCL_W agents per work-item (path_model_advance_w).
-        width_ = noise_->preferred_width();
-        if (width_ > 1) defines += " -DNOISE_WIDTH=" + std::to_string(width_);
-    }
-    advance_ = ctx_.kernel("path_model.cl", width_ > 1 ? "path_model_advance_w" : "path_model_advance", defines);
+    local_ = build_local(c.targets);
     ctx_.queue().finish();
     preprocess_seconds_ = seconds_since(t0);
 }
 
-void PathModel::bake_local_field(const std::string& defines) {
-    // The noise's bake grid over its region (NoiseField's bake), with the mesh.
-    const BakeGrid g = bake_grid(noise_->config());
-    vl_min_ = g.min;
-    vl_cell_ = g.cell;
-    vl_dims_ = g.dims;
-    cl::Kernel k = ctx_.kernel("path_model.cl", "path_noise_bake", defines);
-    cl_uint i = noise_->set_args(k, 0);
-    k.setArg(i++, phi_dev_.get());
-    k.setArg(i++, grid_dims_arg());
-    k.setArg(i++, grid_origin_arg());
-    k.setArg(i++, vl_min_);
-    k.setArg(i++, vl_cell_);
-    k.setArg(i++, vl_dims_);
-    vl_ = bake_nodes(ctx_, k, i, g, "baked local field");
+std::vector<Goal> PathModel::goals_of(uint32_t group, const std::vector<PathTarget>& targets) const {
+    std::vector<Goal> goals = config_.groups.at(group).goals;
+    for (const PathTarget& t : targets)
+        if (t.group == group) {
+            Goal g;
+            g.kind = Goal::Kind::Sphere;
+            g.center = t.center;
+            g.radius = t.radius;
+            goals.push_back(g);
+        }
+    return goals;
+}
+
+void PathModel::check_target(const PathTarget& t, const std::string& what) const {
+    require(t.group < config_.groups.size(), what + ": group " + std::to_string(t.group) + " does not exist");
+    require(std::isfinite(t.radius) && t.radius > 0.0f, what + ": radius must be a finite number > 0");
+    require(std::isfinite(t.center[0]) && std::isfinite(t.center[1]) && std::isfinite(t.center[2]),
+            what + ": center must be finite");
+    const auto top = grid_.max_corner();
+    int cell[3];
+    for (int a = 0; a < 3; ++a) {
+        require(t.center[a] > grid_.origin[a] && t.center[a] < top[a],
+                what + ": center (" + std::to_string(t.center[0]) + ", " + std::to_string(t.center[1]) + ", " +
+                    std::to_string(t.center[2]) + ") is outside the path grid [" + std::to_string(grid_.origin[0]) +
+                    ", " + std::to_string(top[0]) + "] x [" + std::to_string(grid_.origin[1]) + ", " +
+                    std::to_string(top[1]) + "] x [" + std::to_string(grid_.origin[2]) + ", " +
+                    std::to_string(top[2]) + "]");
+        cell[a] = std::min(int(grid_.dims[a]) - 1, int((t.center[a] - grid_.origin[a]) / grid_.h));
+    }
+    require(std::isfinite(slowness_[grid_.index(cell[0], cell[1], cell[2])]),
+            what + ": center lies inside an obstacle");
+}
+
+PathModel::LocalField PathModel::build_local(const std::vector<PathTarget>& targets, const LocalField* previous,
+                                             const std::vector<PathTarget>& changed) const {
+    LocalField out;
+    NoiseConfig nc = config_.noise;
+    if (!nc.has_region()) nc.region_min = domain_min_, nc.region_max = domain_max_;
+    // §7 chasing: the target ball is a boundary of Eq. 2, after the others.
+    for (const PathTarget& t : targets) {
+        Boundary b;
+        b.kind = Boundary::Kind::Sphere;
+        b.center = t.center;
+        b.radius = t.radius;
+        nc.boundaries.push_back(b);
+    }
+    NoiseField::validate(nc);  // as given (what can be baked), before the mesh-aware bake takes over
+    if (mesh_noise_) nc.baked = false;  // baked below, with the mesh
+    out.noise = std::make_unique<NoiseField>(ctx_, nc, &domain_min_, &domain_max_);
+    std::string defines = out.noise->defines();
+    if (mesh_noise_) {
+        // The procedural curl path of noise_field.cl with every boundary, no wide kernels.
+        defines = "-DNOISE_KIND=0 -DNOISE_TIMED=" + std::string(nc.time_scale > 0 ? "1" : "0") + " -DPATH_MESH=1";
+    }
+    if (mesh_noise_ && config_.noise.baked) {
+        // The noise's bake grid over its region (NoiseField's bake), with the mesh.
+        const BakeGrid g = bake_grid(out.noise->config());
+        out.vl_min = g.min;
+        out.vl_cell = g.cell;
+        out.vl_dims = g.dims;
+        const bool partial = previous && previous->vl.size() == g.nodes();
+        cl::Kernel k = ctx_.kernel("path_model.cl", partial ? "path_noise_rebake_box" : "path_noise_bake", defines);
+        cl_uint i = out.noise->set_args(k, 0);
+        k.setArg(i++, phi_dev_.get());
+        k.setArg(i++, grid_dims_arg());
+        k.setArg(i++, grid_origin_arg());
+        k.setArg(i++, out.vl_min);
+        k.setArg(i++, out.vl_cell);
+        k.setArg(i++, out.vl_dims);
+        if (!partial) {
+            out.vl = bake_nodes(ctx_, k, i, g, "baked local field");
+        } else {
+            // Copy the nodes, then rebake the boxes of nodes within d0 (+ one
+            // node) of each changed ball: beyond d0 Eq. 2 leaves N unchanged.
+            out.vl.allocate(ctx_, g.nodes(), "baked local field");
+            ctx_.queue().enqueueCopyBuffer(previous->vl.get(), out.vl.get(), 0, 0, g.nodes() * sizeof(cl_float4));
+            const float d0 = nc.boundary_distance;
+            for (const PathTarget& t : changed) {
+                cl_int4 lo{}, n{};
+                bool empty = false;
+                for (int a = 0; a < 3; ++a) {
+                    const float reach = t.radius + d0;
+                    const int l = std::max(0, int(std::floor((t.center[a] - reach - g.min.s[a]) / g.cell.s[a])) - 1);
+                    const int h = std::min(g.dims.s[a] - 1, int(std::ceil((t.center[a] + reach - g.min.s[a]) / g.cell.s[a])) + 1);
+                    lo.s[a] = l;
+                    n.s[a] = h - l + 1;
+                    empty |= h < l;
+                }
+                if (empty) continue;
+                k.setArg(i, lo);
+                k.setArg(i + 1, n);
+                k.setArg(i + 2, out.vl.get());
+                check_arg_count(k, i + 3);
+                launch(ctx_, k, size_t(n.s[0]) * size_t(n.s[1]) * size_t(n.s[2]));
+            }
+        }
+        defines += " -DPATH_BAKED=1";
+        // CPU devices: SWCL_W agents per work-item (path_model_advance_w).
+        out.width = out.noise->preferred_width();
+        if (out.width > 1) defines += " -DNOISE_WIDTH=" + std::to_string(out.width);
+    } else {
+        out.vl.allocate(ctx_, 1, "baked local field");
+    }
+    out.advance = ctx_.kernel("path_model.cl", out.width > 1 ? "path_model_advance_w" : "path_model_advance", defines);
+    return out;
 }
 
 void PathModel::upload_directions(uint32_t group) {
@@ -122,7 +204,16 @@ void PathModel::upload_directions(uint32_t group) {
 double PathModel::set_goals(uint32_t group, std::vector<Goal> goals) {
     const auto t0 = std::chrono::steady_clock::now();
     require(group < config_.groups.size(), "path model: group " + std::to_string(group) + " does not exist");
-    std::vector<double> cost = solve_cost(grid_, slowness_, goals, config_.second_order);  // validates
+    std::vector<Goal> all = goals;
+    for (const PathTarget& t : config_.targets)
+        if (t.group == group) {
+            Goal g;
+            g.kind = Goal::Kind::Sphere;
+            g.center = t.center;
+            g.radius = t.radius;
+            all.push_back(g);
+        }
+    std::vector<double> cost = solve_cost(grid_, slowness_, all, config_.second_order);  // validates
     costs_[group] = std::move(cost);
     config_.groups[group].goals = std::move(goals);
     upload_directions(group);
@@ -132,8 +223,101 @@ double PathModel::set_goals(uint32_t group, std::vector<Goal> goals) {
     return t;
 }
 
+double PathModel::retarget(std::vector<PathTarget> targets, uint32_t group, const std::vector<PathTarget>& changed) {
+    const auto t0 = std::chrono::steady_clock::now();
+    // Everything into temporaries first: an error (a goal check, the noise)
+    // leaves the model as it was.
+    std::vector<double> cost = solve_cost(grid_, slowness_, goals_of(group, targets), config_.second_order);
+    LocalField local = build_local(targets, &local_, changed);
+    std::vector<cl_float4> d(grid_.count());
+    direction_field(grid_, cost, phi_, reinterpret_cast<float*>(d.data()));
+    ctx_.queue().enqueueWriteBuffer(dirs_.get(), CL_TRUE, size_t(group) * grid_.count() * sizeof(cl_float4),
+                                    d.size() * sizeof(cl_float4), d.data());
+    costs_[group] = std::move(cost);
+    local_ = std::move(local);
+    config_.targets = std::move(targets);
+    ctx_.queue().finish();
+    const double t = seconds_since(t0);
+    ++recomputes_;
+    recompute_seconds_ += t;
+    return t;
+}
+
+double PathModel::set_target(uint32_t index, const std::array<float, 3>& center) {
+    require(index < config_.targets.size(), "path model: target " + std::to_string(index) + " does not exist (" +
+                                                std::to_string(config_.targets.size()) + " targets)");
+    if (config_.targets[index].center == center) return 0.0;  // not moved: nothing to recompute
+    std::vector<PathTarget> targets = config_.targets;
+    targets[index].center = center;
+    check_target(targets[index], "path model target " + std::to_string(index));
+    const uint32_t group = targets[index].group;
+    const std::vector<PathTarget> changed{config_.targets[index], targets[index]};  // the old and the new place
+    return retarget(std::move(targets), group, changed);
+}
+
+uint32_t PathModel::add_target(const PathTarget& target) {
+    const uint32_t index = uint32_t(config_.targets.size());
+    check_target(target, "path model target " + std::to_string(index));
+    if (index == 0)  // the waypoints will move it: each must be a place it may be
+        for (size_t i = 0; i < config_.waypoints.size(); ++i) {
+            PathTarget t = target;
+            t.center = config_.waypoints[i];
+            check_target(t, "path model waypoint " + std::to_string(i) + " (target 0)");
+        }
+    std::vector<PathTarget> targets = config_.targets;
+    targets.push_back(target);
+    retarget(std::move(targets), target.group, {target});
+    return index;
+}
+
+void PathModel::set_lamp(const PathLamp& lamp) {
+    if (!lamp.enabled) {
+        config_.lamp.enabled = false;
+        return;
+    }
+    const auto finite3 = [](const std::array<float, 3>& v) {
+        return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+    };
+    require(finite3(lamp.center), "path model lamp: center must be finite");
+    require(std::isfinite(lamp.radius) && lamp.radius > 0.0f, "path model lamp: radius must be a finite number > 0");
+    require(std::isfinite(lamp.probability) && lamp.probability >= 0.0f && lamp.probability <= 1.0f,
+            "path model lamp: probability must be in [0, 1]");
+    require(std::isfinite(lamp.speed) && lamp.speed >= 0.0f, "path model lamp: speed must be a finite number >= 0");
+    require(std::isfinite(lamp.angle) && lamp.angle >= 0.0f && lamp.angle <= 1.5707964f,
+            "path model lamp: angle must be in [0, pi/2] rad");
+    require(std::isfinite(lamp.keep_out) && lamp.keep_out > 0.0f,
+            "path model lamp: keep_out must be a finite number > 0");
+    const auto top = grid_.max_corner();
+    for (int a = 0; a < 3; ++a)
+        require(lamp.center[a] > grid_.origin[a] && lamp.center[a] < top[a],
+                "path model lamp: center is outside the path grid");
+    // Free space around it: some free cell in the shell the moths circle in
+    // (between the bulb and keep_out + 2 cells beyond it).
+    const double inner = lamp.radius, outer = lamp.radius + lamp.keep_out + 2.0 * grid_.h;
+    int lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = std::max(0, int(std::floor((lamp.center[a] - outer - grid_.origin[a]) / grid_.h)));
+        hi[a] = std::min(int(grid_.dims[a]) - 1, int(std::ceil((lamp.center[a] + outer - grid_.origin[a]) / grid_.h)));
+    }
+    bool free = false;
+    for (int k = lo[2]; k <= hi[2] && !free; ++k)
+        for (int j = lo[1]; j <= hi[1] && !free; ++j)
+            for (int i = lo[0]; i <= hi[0] && !free; ++i) {
+                const auto p = grid_.center(i, j, k);
+                double d2 = 0;
+                for (int a = 0; a < 3; ++a) d2 += (p[a] - lamp.center[a]) * (p[a] - lamp.center[a]);
+                const double d = std::sqrt(d2);
+                free = d >= inner && d <= outer && std::isfinite(slowness_[grid_.index(i, j, k)]);
+            }
+    require(free, "path model lamp: no free space around it (every cell within " + std::to_string(outer) +
+                      " m of its centre is inside an obstacle)");
+    config_.lamp = lamp;
+}
+
 void PathModel::advance(Swarm& swarm, uint64_t step) {
-    if (!config_.waypoints.empty() && step > 0 && step % config_.waypoint_every == 0) {
+    if (!config_.waypoints.empty() && step > 0 && step % config_.waypoint_every == 0 && !config_.targets.empty()) {
+        set_target(0, config_.waypoints[(step / config_.waypoint_every - 1) % config_.waypoints.size()]);
+    } else if (!config_.waypoints.empty() && step > 0 && step % config_.waypoint_every == 0) {
         const auto& w = config_.waypoints[(step / config_.waypoint_every - 1) % config_.waypoints.size()];
         std::vector<Goal> goals = config_.groups[0].goals;
         // The first goal moves to the waypoint, the others keep their offsets to it.
@@ -143,8 +327,9 @@ void PathModel::advance(Swarm& swarm, uint64_t step) {
         set_goals(0, std::move(goals));
     }
     const uint32_t n = swarm.agent_count();
+    cl::Kernel& advance_ = local_.advance;
     cl_uint i = swarm.set_step_args(advance_, step);
-    i = noise_->set_args(advance_, i);
+    i = local_.noise->set_args(advance_, i);
     advance_.setArg(i++, dirs_.get());
     advance_.setArg(i++, grid_dims_arg());
     advance_.setArg(i++, grid_origin_arg());
@@ -154,12 +339,18 @@ void PathModel::advance(Swarm& swarm, uint64_t step) {
     advance_.setArg(i++, phi_dev_.get());
     // The ramp compares the cost with A * falloff (cost per metre of free path: A).
     advance_.setArg(i++, config_.goal_falloff > 0.0f ? float(1.0 / (config_.weights.A * config_.goal_falloff)) : 0.0f);
-    advance_.setArg(i++, vl_.get());
-    advance_.setArg(i++, vl_min_);
-    advance_.setArg(i++, vl_cell_);
-    advance_.setArg(i++, vl_dims_);
+    advance_.setArg(i++, local_.vl.get());
+    advance_.setArg(i++, local_.vl_min);
+    advance_.setArg(i++, local_.vl_cell);
+    advance_.setArg(i++, local_.vl_dims);
+    // Phototaxis (§7): radius 0 turns the lamp off.
+    const PathLamp& L = config_.lamp;
+    advance_.setArg(i++, cl_float4{{L.center[0], L.center[1], L.center[2], L.enabled ? L.radius : 0.0f}});
+    advance_.setArg(i++, cl_float4{{L.probability, L.speed, std::cos(L.angle), std::sin(L.angle)}});
+    advance_.setArg(i++, L.keep_out);
+    advance_.setArg(i++, cl_ulong(config_.noise.seed));
     check_arg_count(advance_, i);
-    launch(ctx_, advance_, (size_t(n) + width_ - 1) / width_);
+    launch(ctx_, advance_, (size_t(n) + local_.width - 1) / local_.width);
     swarm.positions_changed();
 }
 

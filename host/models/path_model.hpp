@@ -22,6 +22,34 @@ struct PathGroup {
     std::vector<Goal> goals;
 };
 
+// Chasing (seed 004 §7): a target ball that is both a goal of its group
+// (its cost field is recomputed when it moves) and a boundary of Eq. 2 (the
+// curl noise goes round it, like round an obstacle).  Its centre may be set
+// each step (set_target).
+struct PathTarget {
+    uint32_t group = 0;
+    std::array<float, 3> center{};
+    float radius = 0.1f;  // m, > 0
+};
+
+// Positive phototaxis (seed 004 §7): "probabilistically added a small
+// magnitude of speed towards the lamp holder for each insect".  Each step
+// each insect, with probability `probability` (a Bernoulli draw, Philox
+// keyed by the noise seed, its id and the step), gets `speed` m/s towards
+// the lamp; our additions (docs/path-field.md): the pull is turned by
+// `angle` (rad) about the lamp's vertical axis (a light-compass offset: the
+// moths circle), and its radial part fades by Eq. 3's ramp within
+// `keep_out` m of the lamp's surface (they do not fly into the bulb).
+struct PathLamp {
+    bool enabled = false;
+    std::array<float, 3> center{};
+    float radius = 0.1f;       // m, the bulb (> 0)
+    float probability = 0.5f;  // per insect per step, in [0, 1]
+    float speed = 1.0f;        // m/s added when drawn, >= 0
+    float angle = 0.0f;        // rad, in [0, pi/2]: 0 straight at the lamp (the paper's words)
+    float keep_out = 0.2f;     // m, > 0
+};
+
 struct PathModelConfig {
     NoiseConfig noise;                   // V_l (Eq. 1-3); the meshes join its boundaries (baked: with them)
     std::vector<TriangleMesh> obstacles; // §5.1 obstacles, merged into one signed distance grid
@@ -39,8 +67,11 @@ struct PathModelConfig {
     std::vector<PathGroup> groups;       // at least one, each with a goal
     // Chasing (§7) in a scenario: every `waypoint_every` steps group 0's
     // goals move (their centres) to the next waypoint, cyclically.
+    // With targets, the waypoints move target 0 instead.
     std::vector<std::array<float, 3>> waypoints;
     uint32_t waypoint_every = 60;
+    std::vector<PathTarget> targets;     // chasing targets (a group's goals may then be empty)
+    PathLamp lamp;                       // phototaxis (off unless enabled)
 };
 
 class PathModel : public Behavior {
@@ -60,6 +91,17 @@ public:
     // §7); returns the seconds it took.  Validated first: an error changes nothing.
     double set_goals(uint32_t group, std::vector<Goal> goals);
 
+    // Moves target `index` to `center` (chasing, §7): its group's cost field
+    // and the curl noise's boundaries (rebaked when baked) are recomputed,
+    // only when it moved; returns the seconds it took (0: it did not move).
+    // A centre outside the grid or inside an obstacle: Error, nothing changed.
+    double set_target(uint32_t index, const std::array<float, 3>& center);
+    // Adds a target; returns its index.  Same checks and recomputation.
+    uint32_t add_target(const PathTarget& target);
+    // Sets (or, with enabled = false, turns off) the lamp; a lamp outside the
+    // grid or with no free space around it: Error, nothing changed.
+    void set_lamp(const PathLamp& lamp);
+
     const PathModelConfig& config() const { return config_; }
     const Grid3& grid() const { return grid_; }
     const std::vector<float>& sdf() const { return phi_; }                 // empty: no obstacles
@@ -77,8 +119,27 @@ private:
     cl_float4 grid_origin_arg() const {
         return cl_float4{{float(grid_.origin[0]), float(grid_.origin[1]), float(grid_.origin[2]), float(grid_.h)}};
     }
+    // The curl noise (its boundaries: the config's plus the targets), its
+    // mesh-aware bake and the advance kernel built for it.
+    struct LocalField {
+        std::unique_ptr<NoiseField> noise;
+        DeviceBuffer<cl_float4> vl;
+        cl_float4 vl_min{}, vl_cell{{1, 1, 1, 1}};
+        cl_int4 vl_dims{{2, 2, 2, 0}};
+        cl::Kernel advance;
+        uint32_t width = 1;
+    };
+    // With `previous` (a baked mesh-aware field) only the nodes within d0 of
+    // the balls in `changed` (targets that moved, old and new places, or
+    // appeared) are rebaked, into a copy of previous's nodes.
+    LocalField build_local(const std::vector<PathTarget>& targets, const LocalField* previous = nullptr,
+                           const std::vector<PathTarget>& changed = {}) const;
+    std::vector<Goal> goals_of(uint32_t group, const std::vector<PathTarget>& targets) const;
+    void check_target(const PathTarget& t, const std::string& what) const;
+    // Recomputes group `group`'s field and the local field for `targets`,
+    // then commits both (an error leaves everything as it was).
+    double retarget(std::vector<PathTarget> targets, uint32_t group, const std::vector<PathTarget>& changed);
     void upload_directions(uint32_t group);
-    void bake_local_field(const std::string& defines);
 
     PathModelConfig config_;
     Context& ctx_;
@@ -86,15 +147,11 @@ private:
     std::vector<float> phi_;
     std::vector<double> slowness_;
     std::vector<std::vector<double>> costs_;
-    std::unique_ptr<NoiseField> noise_;
-    cl::Kernel advance_;
-    uint32_t width_ = 1;  // agents per work-item of advance_
+    std::array<float, 3> domain_min_{}, domain_max_{};  // the swarm's (noise region fallback)
+    bool mesh_noise_ = false;  // the meshes shape the curl noise (path_noise_mesh)
+    LocalField local_;
     DeviceBuffer<cl_float4> dirs_;
     DeviceBuffer<cl_float> phi_dev_;
-    // The mesh-aware curl noise baked on the noise's bake grid (noise.baked).
-    DeviceBuffer<cl_float4> vl_;
-    cl_float4 vl_min_{}, vl_cell_{{1, 1, 1, 1}};
-    cl_int4 vl_dims_{{2, 2, 2, 0}};
     DeviceBuffer<cl_uint> group_end_;
     double preprocess_seconds_ = 0.0;
     uint32_t recomputes_ = 0;

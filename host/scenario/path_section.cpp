@@ -46,6 +46,40 @@ std::vector<Goal> read_goals(const json& j, const std::string& path) {
     return out;
 }
 
+// "targets": [{"center", "radius", "group"}]: chasing targets (§7).
+std::vector<PathTarget> read_targets(const json& j, const std::string& path) {
+    if (!j.is_array() || j.empty()) bad_json(path, "expected a non-empty array of targets");
+    std::vector<PathTarget> out;
+    for (size_t i = 0; i < j.size(); ++i) {
+        JsonObject o(j[i], path + "[" + std::to_string(i) + "]");
+        o.allow({"center", "radius", "group"});
+        PathTarget t;
+        t.center = o.required_vec3("center");
+        o.require_key("radius");
+        t.radius = o.positive("radius", t.radius);
+        t.group = uint32_t(o.integer("group", 0, 63));
+        o.finish();
+        out.push_back(t);
+    }
+    return out;
+}
+
+// "lamp": phototaxis (§7); the angle in degrees.
+PathLamp read_lamp(const json& j, const std::string& path) {
+    JsonObject o(j, path);
+    o.allow({"center", "radius", "probability", "speed", "angle_deg", "keep_out"});
+    PathLamp l;
+    l.enabled = true;
+    l.center = o.required_vec3("center");
+    l.radius = o.positive("radius", l.radius);
+    l.probability = float(o.number("probability", l.probability, 0.0, 1.0, "in [0, 1]"));
+    l.speed = o.non_negative("speed", l.speed);
+    l.angle = float(o.number("angle_deg", 0.0, 0.0, 90.0, "in [0, 90]") * 3.14159265358979323846 / 180.0);
+    l.keep_out = o.positive("keep_out", l.keep_out);
+    o.finish();
+    return l;
+}
+
 }  // namespace
 
 ModelSpec read_path_section(const SectionInput& in) {
@@ -104,10 +138,14 @@ ModelSpec read_path_section(const SectionInput& in) {
             c.groups.push_back(std::move(pg));
         }
         if (o.has("goals")) bad_json("model.goals", "give either goals (one group) or groups, not both");
-    } else {
+    } else if (o.has("goals") || !o.has("targets")) {  // a target alone may be the goal
         o.require_key("goals");
         c.groups.push_back({0, read_goals(o.child("goals"), "model.goals")});
+    } else {
+        c.groups.push_back({0, {}});
     }
+    if (o.has("targets")) c.targets = read_targets(o.child("targets"), "model.targets");
+    if (o.has("lamp")) c.lamp = read_lamp(o.child("lamp"), "model.lamp");
     if (o.has("moving_goal")) {
         JsonObject m(o.child("moving_goal"), "model.moving_goal");
         m.allow({"waypoints", "every"});

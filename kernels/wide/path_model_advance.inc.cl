@@ -11,7 +11,8 @@ __kernel void SWCL_KERNEL(path_model_advance)(__global float4* pos, __global flo
                                               __global const uint* group_end, uint ngroups, float s0,
                                               __global const float* phi, float inv_falloff_cost,
                                               __global const float4* vl, float4 vl_min, float4 vl_cell,
-                                              int4 vl_dims) {
+                                              int4 vl_dims, float4 lamp, float4 lamp_pull, float lamp_keep,
+                                              ulong seed) {
     const uint base = get_global_id(0) * SWCL_BW;
     if (base >= n) return;
     swcl_bf px, py, pz;
@@ -41,6 +42,13 @@ __kernel void SWCL_KERNEL(path_model_advance)(__global float4* pos, __global flo
         SWCL_BLANE(vx, k) += kk * d.x;                                                                       \
         SWCL_BLANE(vy, k) += kk * d.y;                                                                       \
         SWCL_BLANE(vz, k) += kk * d.z;                                                                       \
+        if (lamp.w > 0.0f) {                                                                                 \
+            const float3 pl = path_lamp_pull(lamp, lamp_pull, lamp_keep, seed, agent, step,                  \
+                                             (float3)(SWCL_BLANE(px, k), SWCL_BLANE(py, k), SWCL_BLANE(pz, k))); \
+            SWCL_BLANE(vx, k) += pl.x;                                                                       \
+            SWCL_BLANE(vy, k) += pl.y;                                                                       \
+            SWCL_BLANE(vz, k) += pl.z;                                                                       \
+        }                                                                                                    \
     }
     SWCL_BEACH_LANE(PATH_VG_LANE_)
 #undef PATH_VG_LANE_

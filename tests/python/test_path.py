@@ -75,3 +75,34 @@ def test_errors_are_exceptions_and_keep_the_model(ctx):
                                                goals=[swarmcl.Goal((3.6, 1, 1))]))
         assert s.path_info().grid == (40, 20, 20)  # the first model is still there
         s.step(2)
+
+
+def test_chasing_target_driven_from_python(ctx):
+    """§7 chasing: a target dragged each few steps; the swarm follows it; bad centres
+    (inside the cube, outside the grid) raise and leave the target where it was."""
+    with swarmcl.Swarm(ctx, agent_count=60, seed=4, domain=DOMAIN, interaction_radius=0.1, dt=0.02) as s:
+        s.set_path_model(swarmcl.PathModel(obstacles=[swarmcl.MeshObstacle(CUBE_V, CUBE_T)],
+                                           goals=[swarmcl.Goal((3.6, 1.0, 1.0))], resolution=(40, 20, 20),
+                                           speed=1.0, goal_falloff=0.2))
+        assert s.add_path_target(swarmcl.PathTarget((3.5, 0.5, 1.0), 0.15)) == 0
+        s.set_path_goals(0, [])  # the target alone is the goal
+        for k in range(20):
+            c = (3.5, 0.5 + k * 0.05, 1.0)
+            t = s.set_path_target(0, c)
+            assert t > 0 or k == 0  # k = 0: where it was added
+            s.step(10)
+        s.step(100)
+        d = np.linalg.norm(s.positions - c, axis=1)
+        assert np.median(d) < 0.4
+        assert s.set_path_target(0, c) == 0.0  # not moved: nothing recomputed
+        with pytest.raises(swarmcl.InvalidArgumentError, match="inside an obstacle"):
+            s.set_path_target(0, (2.0, 1.0, 1.0))
+        with pytest.raises(swarmcl.InvalidArgumentError, match="outside the path grid"):
+            s.set_path_target(0, (9.0, 1.0, 1.0))
+        assert s.path_target(0).center == pytest.approx(c)
+        assert s.path_target_count() == 1
+        with pytest.raises(swarmcl.InvalidArgumentError, match="no free space"):
+            s.set_path_lamp(swarmcl.Lamp((2.0, 1.0, 1.0), radius=0.01, keep_out=0.01))
+        s.set_path_lamp(swarmcl.Lamp((1.0, 1.0, 1.0), radius=0.1, angle=1.2))
+        s.step(5)
+        assert np.isfinite(s.positions).all()

@@ -21,6 +21,7 @@ from .fitting import Parameter, fit, load_ranges
 from .force import SHAPES, ForceModel, Keyframe
 from .path import (BoxObstacle, CylinderObstacle, Goal, MeshObstacle, ObjObstacle, PathGroup, PathInfo,
                    PathModel, SphereObstacle)
+from .path import Lamp, PathTarget
 from .errors import (BuildError, InternalError, InvalidArgumentError, InvalidHandleError, IOError_,
                      NoDeviceError, OpenCLError, OutOfMemoryError, ParseError, SwarmclError)
 
@@ -34,7 +35,7 @@ __all__ = [
     "ForceModel", "Keyframe", "SHAPES",
     "METRICS", "Metrics", "distances", "score", "entropy_weights", "evaluate", "plot_pdfs",
     "fit", "load_ranges", "Parameter",
-    "PathModel", "PathGroup", "PathInfo", "Goal", "MeshObstacle", "ObjObstacle", "BoxObstacle",
+    "PathModel", "PathGroup", "PathInfo", "PathTarget", "Lamp", "Goal", "MeshObstacle", "ObjObstacle", "BoxObstacle",
     "SphereObstacle", "CylinderObstacle",
     "SwarmclError", "InvalidArgumentError", "InvalidHandleError", "NoDeviceError", "BuildError",
     "OutOfMemoryError", "IOError_", "ParseError", "OpenCLError", "InternalError",

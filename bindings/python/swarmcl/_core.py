@@ -344,6 +344,46 @@ class Swarm(_Handle):
                         preprocess_seconds=float(out.preprocess_seconds), groups=int(out.groups),
                         recomputes=int(out.recomputes), recompute_seconds=float(out.recompute_seconds))
 
+    # ---- the path model's chasing targets and lamp (curl-noise paper §7) ----------------
+
+    def add_path_target(self, target) -> int:
+        """Adds a chasing target (PathTarget); returns its index."""
+        from .path import PathTarget
+        if not isinstance(target, PathTarget):
+            raise TypeError(f"add_path_target: expected a PathTarget, got {type(target).__name__}")
+        index = ffi.new("uint32_t*")
+        check(lib.swcl_swarm_path_add_target(self._h, target._to_c(), index))
+        return int(index[0])
+
+    def set_path_target(self, index: int, center) -> float:
+        """Moves target ``index`` (e.g. each step, as a user drags it); its group's cost field
+        and the noise boundaries are recomputed when it moved.  Returns the seconds it took."""
+        from .descriptors import _vec3
+        c = ffi.new("float[3]", list(_vec3(center, "center")))
+        seconds = ffi.new("double*")
+        check(lib.swcl_swarm_path_set_target(self._h, index, c, seconds))
+        return float(seconds[0])
+
+    def path_target(self, index: int):
+        """Target ``index`` as a PathTarget."""
+        from .path import PathTarget
+        out = ffi.new("swcl_path_target*")
+        check(lib.swcl_swarm_path_get_target(self._h, index, out))
+        return PathTarget(center=tuple(float(out.center[a]) for a in range(3)), radius=float(out.radius),
+                          group=int(out.group))
+
+    def path_target_count(self) -> int:
+        out = ffi.new("uint32_t*")
+        check(lib.swcl_swarm_path_target_count(self._h, out))
+        return int(out[0])
+
+    def set_path_lamp(self, lamp) -> None:
+        """Sets the phototaxis lamp (Lamp; enabled=False turns it off)."""
+        from .path import Lamp
+        if not isinstance(lamp, Lamp):
+            raise TypeError(f"set_path_lamp: expected a Lamp, got {type(lamp).__name__}")
+        check(lib.swcl_swarm_path_set_lamp(self._h, lamp._to_c()))
+
     def clear_model(self) -> None:
         """Back to ballistic motion."""
         check(lib.swcl_swarm_clear_model(self._h))

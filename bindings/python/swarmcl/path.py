@@ -13,7 +13,7 @@ from ._native import ffi, lib
 from .descriptors import NoiseDesc, Vec3, _f32, _vec3
 
 __all__ = ["Goal", "MeshObstacle", "ObjObstacle", "BoxObstacle", "SphereObstacle", "CylinderObstacle",
-           "PathGroup", "PathModel", "PathInfo"]
+           "PathGroup", "PathModel", "PathInfo", "PathTarget", "Lamp"]
 
 _DEFAULT = lib.swcl_path_model_desc_default()
 
@@ -179,3 +179,44 @@ class PathInfo:
     groups: int
     recomputes: int
     recompute_seconds: float
+
+
+@dataclass
+class PathTarget:
+    """swcl_path_target: a chasing target (curl-noise paper §7), a ball that is a goal of
+    ``group`` and a boundary of the curl noise (Eq. 2).  Move it with Swarm.set_path_target."""
+    center: Vec3
+    radius: float
+    group: int = 0
+
+    def _to_c(self):
+        t = ffi.new("swcl_path_target*")
+        t.group = int(self.group)
+        t.center = _vec3(self.center, "PathTarget.center")
+        t.radius = self.radius
+        return t
+
+
+_LAMP_DEFAULT = lib.swcl_path_lamp_default()
+
+
+@dataclass
+class Lamp:
+    """swcl_path_lamp: positive phototaxis (§7).  Each step each insect, with ``probability``,
+    gets ``speed`` m/s towards ``center``, turned by ``angle`` rad counter-clockwise about +z;
+    the radial part fades to 0 over ``keep_out`` m above the bulb (``radius``)."""
+    center: Vec3
+    radius: float = _f32(_LAMP_DEFAULT.radius)
+    probability: float = _f32(_LAMP_DEFAULT.probability)
+    speed: float = _f32(_LAMP_DEFAULT.speed)
+    angle: float = _f32(_LAMP_DEFAULT.angle)
+    keep_out: float = _f32(_LAMP_DEFAULT.keep_out)
+    enabled: bool = True
+
+    def _to_c(self):
+        p = ffi.new("swcl_path_lamp*", lib.swcl_path_lamp_default())
+        p.enabled = 1 if self.enabled else 0
+        p.center = _vec3(self.center, "Lamp.center")
+        p.radius, p.probability, p.speed = self.radius, self.probability, self.speed
+        p.angle, p.keep_out = self.angle, self.keep_out
+        return p

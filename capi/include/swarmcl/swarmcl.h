@@ -456,6 +456,48 @@ typedef struct swcl_path_info {
  * the swarm has no path model. */
 SWCL_API swcl_status swcl_swarm_path_get_info(swcl_swarm swarm, swcl_path_info* out);
 
+/* ---- the path model: chasing targets and the lamp (seed 004 §7) -----------
+ * Chasing: a target ball is a goal of its group and a boundary of Eq. 2 (the
+ * curl noise goes round it).  Set its centre each step, as a user drags it:
+ * the group's cost field and the noise boundaries (rebaked when baked) are
+ * recomputed only when it moved.  Phototaxis: each step each insect, with
+ * `probability`, gets `speed` m/s towards the lamp, turned by `angle` about
+ * the vertical axis (docs/path-field.md, "Chasing and phototaxis").  A centre
+ * outside the path grid or inside an obstacle, a lamp with no free space
+ * around it: SWCL_ERROR_INVALID_ARGUMENT and nothing changes. */
+
+typedef struct swcl_path_target {
+    uint32_t group;                /* the group that chases it */
+    float center[3];
+    float radius;                  /* the ball, m (> 0) */
+} swcl_path_target;
+
+/* Adds a target (its group's field and the noise are recomputed); out_index
+ * (may be NULL) receives its index, 0, 1, ... in the order added. */
+SWCL_API swcl_status swcl_swarm_path_add_target(swcl_swarm swarm, const swcl_path_target* target,
+                                                uint32_t* out_index);
+/* Moves target `index`; out_seconds (may be NULL) receives the time the
+ * recomputation took (0 when the centre did not change). */
+SWCL_API swcl_status swcl_swarm_path_set_target(swcl_swarm swarm, uint32_t index, const float center[3],
+                                                double* out_seconds);
+SWCL_API swcl_status swcl_swarm_path_get_target(swcl_swarm swarm, uint32_t index, swcl_path_target* out);
+SWCL_API swcl_status swcl_swarm_path_target_count(swcl_swarm swarm, uint32_t* out_count);
+
+typedef struct swcl_path_lamp {
+    uint32_t struct_size;
+    int32_t enabled;               /* 0: no lamp (default) */
+    float center[3];
+    float radius;                  /* the bulb, m (default 0.1) */
+    float probability;             /* of a pull per insect per step (default 0.5) */
+    float speed;                   /* m/s of a pull (default 1) */
+    float angle;                   /* rad in [0, pi/2] off the line of sight, counter-clockwise
+                                      about +z (default 0: straight at the lamp) */
+    float keep_out;                /* m: the radial pull fades to 0 at the bulb over this (default 0.2) */
+} swcl_path_lamp;
+
+SWCL_API swcl_path_lamp swcl_path_lamp_default(void);
+SWCL_API swcl_status swcl_swarm_path_set_lamp(swcl_swarm swarm, const swcl_path_lamp* lamp);
+
 
 /* ---- FASTSWARM: data-driven energy model ---------------------------------
  * Xiang et al., "FASTSWARM" (docs/energy-model.md).  A reference dataset D of
