@@ -149,6 +149,23 @@ TEST(CheckpointResume, PathModelGoalsSetByTheCaller) {
         30, 12);
 }
 
+TEST(CheckpointResume, PathModelChasingTargetMovedByTheCaller) {
+    // The target ball (a goal and a boundary of Eq. 2) moved through the API
+    // before the save: its place, cost field and noise come back with it.
+    const Scenario s = example("path_chasing.json");
+    ASSERT_FALSE(std::get<PathModelConfig>(s.model).targets.empty());
+    check_resume(
+        [&](std::shared_ptr<Context> ctx) {
+            auto swarm = make_swarm(ctx, s);
+            auto* path = dynamic_cast<PathModel*>(swarm->behavior());
+            auto c = path->config().targets[0].center;
+            c[0] += 0.7f;
+            path->set_target(0, c);
+            return swarm;
+        },
+        30, 12);
+}
+
 TEST(CheckpointResume, ForceModelKeyframesAndPath) {
     // The horse gallops: keyframes every 6 steps with one topology (the
     // assignment is kept), repeating every 48 steps along a B-spline path.
