@@ -84,7 +84,7 @@ def keep_out(ctx):
         for t in range(1, s["steps"] + 1):
             sw.step(1)
             c = np.array(st["position"]) + np.array(st["velocity"]) * t * s["dt"]
-            closest.append(float(np.linalg.norm(sw.read_positions()[:, :3] - c, axis=1).min()))
+            closest.append(round(float(np.linalg.norm(sw.read_positions()[:, :3] - c, axis=1).min()), 5))
         res[label] = {"step": list(range(1, s["steps"] + 1)), "closest_to_danger": closest, "min": min(closest)}
         print(f"keep_out {label}: closest {min(closest):.3f} m (d_danger {st['d_danger']})", flush=True)
     return res, "closest_to_danger", "closest insect to the danger (m)"
@@ -107,9 +107,9 @@ def time_scale(ctx):
         sw.take_step_stats()
         for t in range(1, s["steps"] + 1):
             sw.step(1)
-            mde.append(100 * sw.take_step_stats().mde_moved_total / n)
+            mde.append(round(100 * sw.take_step_stats().mde_moved_total / n, 4))
             p = sw.read_positions()[:, :3]
-            tracks.append(p[:12].tolist())
+            tracks.append(np.round(p[:12], 4).tolist())
             if t > s["steps"] // 2:
                 # cells of 5 cm a single insect passes through in the second half
                 visited.update(map(tuple, np.floor(p[:100] / 0.05).astype(int).tolist()))
@@ -140,7 +140,7 @@ def goal_falloff(ctx):
             sw.take_step_stats()
             for t in range(s["steps"]):
                 sw.step(1)
-                mde.append(100 * sw.take_step_stats().mde_moved_total / n)
+                mde.append(round(100 * sw.take_step_stats().mde_moved_total / n, 4))
             p = sw.read_positions()[:, :3]
             g = s["model"]["goals"][0]
             if g.get("type", "sphere") == "sphere":
