@@ -125,10 +125,12 @@ def main():
                              if label in ("as shipped", "MDE off (counted)") else {}})
                 print(f"{name:18s} {label:24s} all {rows[-1]['share_percent_all']:.3f}%  bench {rows[-1]['share_percent_bench']:.3f}%"
                       f"  first/last third {rows[-1]['share_percent_first_third']:.3f}/{rows[-1]['share_percent_last_third']:.3f}%", flush=True)
-            json.dump({"scenario": name, "paper_mde_percent": PAPER[name], "agents": base["agents"]["count"],
-                       "min_distance": d0, "dt": base["dt"], "steps": base["steps"], "hist_edges": np.geomspace(1e-4, 10, 61).tolist(),
-                       "command": "PYTHONPATH=bindings/python SWARMCL_BUILD_DIR=$PWD/build python scripts/mde_share.py --only " + name,
-                       "rows": rows}, open(os.path.join(OUT, name + ".json"), "w"), indent=1)
+            meta = {"scenario": name, "paper_mde_percent": PAPER[name], "agents": base["agents"]["count"],
+                    "min_distance": d0, "dt": base["dt"], "steps": base["steps"], "hist_edges": np.geomspace(1e-4, 10, 61).tolist(),
+                    "command": "PYTHONPATH=bindings/python SWARMCL_BUILD_DIR=$PWD/build python scripts/mde_share.py --only " + name}
+            head = json.dumps(meta)[:-1]
+            with open(os.path.join(OUT, name + ".json"), "w") as f:  # one line per variant
+                f.write(head + ', "rows": [\n' + ",\n".join(json.dumps(r) for r in rows) + "\n]}\n")
     if a.plot or a.replot:
         plot(names)
 
