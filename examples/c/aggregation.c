@@ -1,6 +1,7 @@
 /* swarmcl C example — the main job: the aggregation scenario of the
- * curl-noise paper (Table 1: 1000 insects, noise scale 0.4, gain 0.25,
- * s0 1.5) with the local field model: boundary-aware curl noise inside the
+ * curl-noise paper (1000 insects as in Table 1; noise scale 0.4, gain 0.25,
+ * s0 1.5 are Table 1's two-blocks/chasing values, its aggregation column
+ * has 0.2, 0.7, 2.5) with the local field model: boundary-aware curl noise inside the
  * domain walls, a pull to a goal sphere, minimum distance enforcement.
  * Prints statistics every few steps.
  *
@@ -69,7 +70,7 @@ int main(int argc, char** argv) {
     sdesc.dt = 1.0f / 30.0f;
     CHECK(swcl_swarm_create(ctx, &sdesc, &swarm));
 
-    /* Table 1, aggregation: scale 0.4, gain 0.25, s0 1.5; the walls keep the
+    /* Table 1's two-blocks/chasing noise and s0 (0.4, 0.25, 1.5); the walls keep the
      * swarm in; insects outside a 1.2 m sphere at the centre are pulled back,
      * the pull growing to s0 over 1 m. */
     model.noise.scale = 0.4f;

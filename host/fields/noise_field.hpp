@@ -33,8 +33,8 @@ struct Boundary {
 
 struct NoiseConfig {
     NoiseType type = NoiseType::Curl;
-    float scale = 0.4f;         // m; Table 1 (aggregation) of the curl-noise paper
-    float gain = 0.25f;         // m/s; Table 1
+    float scale = 0.4f;         // m; Table 1 of the curl-noise paper (two blocks, chasing)
+    float gain = 0.25f;         // m/s; Table 1 (two blocks, chasing)
     uint64_t seed = 0;
     float time_scale = 0.0f;    // s per noise unit along time; 0: a static field
     float boundary_distance = 0.4f;  // d0 of Eq. 3, m

@@ -16,7 +16,7 @@ struct FieldModelConfig {
     bool has_goal = false;
     std::array<float, 3> goal{};
     float goal_radius = 0.0f;   // no pull inside this sphere around the goal
-    float goal_speed = 1.5f;    // s0, m/s (Table 1, aggregation)
+    float goal_speed = 1.5f;    // s0, m/s (Table 1, two blocks and chasing; aggregation has 2.5)
     float goal_falloff = 0.0f;  // m over which the pull ramps up to s0; 0: at once
     float min_distance = 0.0f;  // MDE threshold, m; 0: no enforcement
 };
