@@ -3,7 +3,7 @@
 script, not a unit test; docs/energy-model.md, "Validation").
 
     python3 scripts/validate_fastswarm.py [--data ../shared/data/anopheles-coluzzii-swarm.csv]
-                                          [--seconds 30] [--seed 4]
+                                          [--seconds 30] [--seed 4] [--png FILE]
 
 1. Reads the real tracks (Anopheles coluzzii, 100 Hz, positions in cm) with
    swarmcl's loader: speed and |a| of every forward-difference sample, and the
@@ -131,6 +131,7 @@ def main():
     ap.add_argument("--data", default=os.environ.get("SWARMCL_MOSQUITO_CSV", DEFAULT_DATA))
     ap.add_argument("--seconds", type=float, default=30.0)
     ap.add_argument("--seed", type=int, default=4)
+    ap.add_argument("--png", default=None, help="write the distributions here (docs/images/baselines_validation.png)")
     args = ap.parse_args()
     if not os.path.isfile(args.data):
         print(f"validate_fastswarm: skipped, no data at {args.data}")
@@ -207,7 +208,36 @@ def main():
         print(f"{name:24s} {l1_zscored(sp, speed_real):8.3f} {l1_zscored(ac, acc_real):8.3f} "
               f"{l1_zscored(nn, nn_real):8.3f}   {np.median(sp):.3f} m/s, {np.median(ac):.2f} m/s^2, "
               f"{np.median(nn):.3f} m")
+    if args.png:
+        figure(args.png, results, speed_real, acc_real, nn_real)
+        print(f"wrote {args.png}")
     return 0
+
+
+def figure(png, results, speed_real, acc_real, nn_real):
+    """FASTSWARM Fig. 7-like: the distributions of speed, nearest-neighbour
+    distance and |a| of every model against the real data."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, 3, figsize=(11, 3.2), dpi=72)
+    panels = (("speed (m/s)", 0, speed_real, np.linspace(0, 2, 41)),
+              ("nearest-neighbour distance (m)", 1, nn_real, np.linspace(0, 2.5, 41)),
+              ("|a| (m/s^2)", 2, acc_real, np.linspace(0, 40, 41)))
+    sims = {name: (*kinematics(traj), nn) for name, (traj, nn) in results.items()}
+    for title, k, real, edges in panels:
+        ax = axes[k]
+        ax.hist(np.clip(real, edges[0], edges[-1]), edges, density=True, color="0.8", label="real")
+        for name, (sp, ac, nn) in sims.items():
+            x = (sp, nn, ac)[k]
+            h, _ = np.histogram(np.clip(x, edges[0], edges[-1]), edges, density=True)
+            ax.plot(0.5 * (edges[1:] + edges[:-1]), h, lw=1.2, label=name)
+        ax.set_xlabel(title, fontsize=8)
+        ax.tick_params(labelsize=7)
+    axes[0].legend(fontsize=6)
+    fig.tight_layout()
+    fig.savefig(png)
+    plt.close(fig)
 
 
 if __name__ == "__main__":
