@@ -128,6 +128,12 @@ def main():
     print(f"window: frames {start}..{start + args.frames - 1} of the data ({args.frames * DT:.2f} s); "
           f"{len(ids)} tracks (CSV ids 0..{len(ids) - 1}), {sum(len(t) for t, _ in real)} samples")
 
+    try:
+        most = max(len(ids) for ids, _, _ in swarmcl.real_frames(real, DT, 0.0, args.frames))
+    except ValueError as e:  # tracks covering fewer frames than asked for
+        print(f"synthesize_mixed_tracks: {e}", file=sys.stderr)
+        return 1
+
     # Nearest-neighbour distances and centre of the whole file, as validate_fastswarm.py.
     frames = defaultdict(list)
     for s in samples.values():
@@ -141,13 +147,15 @@ def main():
 
     # Virtual starts: real samples of the first 50 frames, jittered.
     rng = np.random.default_rng(args.seed)
-    early = [(p[i], (p[i + 1] - p[i]) / (t[i + 1] - t[i])) for t, p in real for i in range(len(t) - 1) if t[i] < 50 * DT]
+    early = [(p[i], (p[i + 1] - p[i]) / (t[i + 1] - t[i])) for t, p in real for i in range(len(t) - 1)
+             if t[i] < 50 * DT]
+    if not early:  # no real insect in the first 50 frames: start at any of the window's samples
+        early = [(p[i], (p[i + 1] - p[i]) / (t[i + 1] - t[i])) for t, p in real for i in range(len(t) - 1)]
     pick = rng.integers(0, len(early), args.virtual)
     vpos = np.array([early[k][0] for k in pick]) + rng.normal(0, p5, (args.virtual, 3))
     vvel = np.array([early[k][1] for k in pick])
 
     dataset = swarmcl.Dataset.from_csv(args.data, columns=COLUMNS, unit_scale=0.01, k=300, seed=args.seed)
-    most = max(len(v) for v in swarmcl.real_frames(real, DT, 0.0, args.frames) for v in [v[0]])
     with swarmcl.Context() as ctx, swarmcl.Swarm(ctx, capacity=args.virtual + most, seed=args.seed,
                                                  domain=(tuple(lo), tuple(hi)), interaction_radius=float(2 * p50),
                                                  dt=DT) as s:
@@ -155,8 +163,12 @@ def main():
             d_rep=float(p5), d_att1=float(p50), d_att2=float(2 * p50), centre=centre,
             noise=swarmcl.NoiseDesc(scale=float(p50), time_scale=1.0, seed=args.seed)))
         os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
-        rows, in_view = swarmcl.mix_time_aligned(s, real, vpos, args.frames, DT, virtual_velocities=vvel,
-                                                 path=args.out)
+        try:
+            rows, in_view = swarmcl.mix_time_aligned(s, real, vpos, args.frames, DT, virtual_velocities=vvel,
+                                                     path=args.out)
+        except ValueError as e:  # e.g. tracks shorter than --frames: nothing written
+            print(f"synthesize_mixed_tracks: {e}", file=sys.stderr)
+            return 1
     n_real = int((rows[:, 8] == 1).sum())
     print(f"wrote {args.out}: {len(rows)} rows ({n_real} real, {len(rows) - n_real} virtual), "
           f"real insects in view per frame: mean {np.mean([len(v) for v in in_view]):.1f}, most {most}")
