@@ -20,6 +20,7 @@
 #include "shapes/shape_library.hpp"
 #include "swarm/swarm.hpp"
 #include "test_support.hpp"
+#include "reference/noise_reference.hpp"
 
 using namespace swarmcl;
 using swarmcl::test::shared_context;
@@ -359,6 +360,51 @@ TEST_F(ForceTerms, CurlNoiseIsTheNoiseModulesField) {
     for (uint32_t i = 0; i < n; ++i)
         for (int k = 0; k < 3; ++k) want[i][k] = c.alpha * v[3 * i + k];
     expect_close(got, want, "curl noise");
+}
+
+// The baselines' noise terms (docs/baselines.md): the internal noise as
+// another noise type.  Gaussian (BSwarm-style) and white (Boids + random
+// noise) against the plain Philox / Box-Muller formulas (agent id, step 0),
+// Perlin (Boids + Perlin noise) against the noise module, itself tested
+// against the Perlin reference in test_noise.
+TEST_F(ForceTerms, RandomNoiseTermsMatchThePlainFormulas) {
+    for (const NoiseType type : {NoiseType::Gaussian, NoiseType::White}) {
+        ForceModelConfig c = term_config(kForceCurl);
+        c.noise.type = type;
+        c.noise.gain = 1.7f;
+        c.noise.seed = 0x1234567890ull;
+        ForceModel model(*swarm, c);
+        const auto got = forces_by_id(*swarm, model);
+        std::vector<D3> want(n);
+        for (uint32_t i = 0; i < n; ++i) {
+            if (type == NoiseType::Gaussian) {
+                const auto u = swcl_ref::rand_u4(c.noise.seed, i, 0, swcl_ref::STREAM_GAUSSIAN_NOISE, 0);
+                const auto g0 = swcl_ref::box_muller(u[0], u[1]), g1 = swcl_ref::box_muller(u[2], u[3]);
+                want[i] = {c.alpha * c.noise.gain * g0[0], c.alpha * c.noise.gain * g0[1],
+                           c.alpha * c.noise.gain * g1[0]};
+            } else {
+                const auto u = swcl_ref::rand_u4(c.noise.seed, i, 0, swcl_ref::STREAM_WHITE_NOISE, 0);
+                for (int k = 0; k < 3; ++k)
+                    want[i][k] = c.alpha * c.noise.gain * (2.0 * swcl_ref::u01_co(u[k]) - 1.0);
+            }
+        }
+        expect_close(got, want, type == NoiseType::Gaussian ? "gaussian noise" : "white noise");
+    }
+}
+
+TEST_F(ForceTerms, PerlinNoiseTermIsTheNoiseModulesField) {
+    ForceModelConfig c = term_config(kForceCurl);
+    c.noise.type = NoiseType::Perlin;
+    c.noise.gain = 0.8f;
+    ForceModel model(*swarm, c);
+    const auto got = forces_by_id(*swarm, model);
+    NoiseField field(swarm->context(), c.noise, &swarm->config().domain_min, &swarm->config().domain_max);
+    std::vector<float> v(3 * size_t(n));
+    field.sample(pos.data(), n, 0.0f, 0, v.data());
+    std::vector<D3> want(n);
+    for (uint32_t i = 0; i < n; ++i)
+        for (int k = 0; k < 3; ++k) want[i][k] = c.alpha * v[3 * i + k];
+    expect_close(got, want, "perlin noise");
 }
 
 TEST_F(ForceTerms, ShapeAndDistanceForcesMatchReference) {
@@ -1023,6 +1069,30 @@ TEST(ForceScenario, ParsesTheForceModel) {
     const Scenario off = parse_scenario(R"({"agents": {"count": 5}, "model": {"type": "force",
         "path": {"points": [[0,0,0],[1,0,0],[2,0,0],[3,0,0]], "orient": false}}})");
     EXPECT_FALSE(std::get<ForceModelConfig>(off.model).path_orient);
+}
+
+TEST(ForceScenario, NoiseObjectSetsTheBaselineNoise) {
+    const Scenario s = parse_scenario(R"({"agents": {"count": 5}, "model": {"type": "force", "alpha": 1,
+        "noise": {"type": "gaussian", "gain": 3.5, "seed": 9}}})");
+    const ForceModelConfig& c = std::get<ForceModelConfig>(s.model);
+    EXPECT_EQ(c.noise.type, NoiseType::Gaussian);
+    EXPECT_FLOAT_EQ(c.noise.gain, 3.5f);  // the module's gain, not eta / rho
+    EXPECT_EQ(c.noise.seed, 9u);
+    EXPECT_TRUE(c.keyframes.empty());
+    try {
+        parse_scenario(R"({"agents": {"count": 5}, "model": {"type": "force", "eta": 0.1,
+            "noise": {"type": "white"}}})");
+        ADD_FAILURE() << "eta and noise together parsed";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.status(), Status::Parse);
+        EXPECT_NE(std::string(e.what()).find("model.eta"), std::string::npos) << e.what();
+    }
+    try {
+        parse_scenario(R"({"agents": {"count": 5}, "model": {"type": "force", "noise": {"type": "pink"}}})");
+        ADD_FAILURE() << "noise type pink parsed";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("model.noise.type"), std::string::npos) << e.what();
+    }
 }
 
 TEST(ForceScenario, BadForceModelsNameTheKey) {

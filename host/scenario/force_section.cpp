@@ -94,16 +94,27 @@ ForceModelConfig read_force_model(JsonObject& o, std::vector<Boundary> obstacles
     c.neighbor_k = o.positive("neighbor_k", c.neighbor_k);
     c.distance_scale = o.non_negative("distance_scale", c.distance_scale);
     c.neighbor_sample = uint32_t(o.integer("neighbor_sample", c.neighbor_sample, 0xFFFFFFFFu));
-    const float rho = o.positive("rho", c.noise.scale);
-    const float eta = o.non_negative("eta", c.noise.gain * c.noise.scale);
-    c.noise.scale = rho;
-    c.noise.gain = eta / rho;  // Eq. 4 in metres (ForceModelConfig::noise)
-    c.noise.seed = o.integer("noise_seed", c.noise.seed, std::numeric_limits<uint64_t>::max());
-    // The noise term of Eq. 4 is curl noise; the other types stand in for it
-    // in the noise paper's study of noise functions (§4.2, docs/evaluation.md).
-    c.noise.type = read_noise_type(o, "noise_type", c.noise.type);
-    // > 0: the noise field varies in time (4D noise), seconds per noise unit.
-    c.noise.time_scale = o.non_negative("noise_time_scale", c.noise.time_scale);
+    if (o.has("noise")) {
+        // The internal noise term as a noise object (as the field model's):
+        // another type than curl gives the papers' baselines (BSwarm-style
+        // Gaussian noise, Boids + Perlin / random noise; docs/baselines.md).
+        // Its gain is the noise module's (force units, m/s^2), not eta / rho.
+        for (const char* key : {"eta", "rho", "noise_seed", "noise_type", "noise_time_scale"})
+            if (o.has(key)) bad_json(o.at(key), std::string("give either \"noise\" or ") + key + ", not both");
+        c.noise = read_noise(o.child("noise"), o.at("noise"));
+    } else {
+        const float rho = o.positive("rho", c.noise.scale);
+        const float eta = o.non_negative("eta", c.noise.gain * c.noise.scale);
+        c.noise.scale = rho;
+        c.noise.gain = eta / rho;  // Eq. 4 in metres (ForceModelConfig::noise)
+        c.noise.seed = o.integer("noise_seed", c.noise.seed, std::numeric_limits<uint64_t>::max());
+        // The noise term of Eq. 4 is curl noise; the other types stand in for
+        // it in the noise paper's study of noise functions (§4.2,
+        // docs/evaluation.md), with eta / rho as for curl.
+        c.noise.type = read_noise_type(o, "noise_type", c.noise.type);
+        // > 0: the noise field varies in time (4D noise), seconds per noise unit.
+        c.noise.time_scale = o.non_negative("noise_time_scale", c.noise.time_scale);
+    }
     c.alpha = float(o.number("alpha", c.alpha, 0.0, 1.0, "in [0, 1]"));
     c.max_speed = o.positive("max_speed", c.max_speed);
     c.cruise_speed = o.non_negative("cruise_speed", c.cruise_speed);

@@ -18,6 +18,7 @@ from .energy import (Dataset, EnergyModel, EnergyWeights, Stimulus, StimulusKind
                      write_mixed_csv)
 from .evaluation import METRICS, Metrics, distances, entropy_weights, evaluate, plot_pdfs, score
 from .fitting import Parameter, fit, load_ranges
+from .synthesis import mix_time_aligned, real_frames
 from .force import SHAPES, ForceModel, Keyframe
 from .path import (BoxObstacle, CylinderObstacle, Goal, MeshObstacle, ObjObstacle, PathGroup, PathInfo,
                    PathModel, SphereObstacle)
@@ -32,7 +33,7 @@ __all__ = [
     "NoiseDesc", "NoiseType", "FieldModel", "Sphere", "Box", "Plane", "DeviceInfo", "DeviceType",
     "StepStats",
     "Dataset", "EnergyModel", "EnergyWeights", "Stimulus", "StimulusKind", "TimeFormat", "write_mixed_csv",
-    "ForceModel", "Keyframe", "SHAPES",
+    "ForceModel", "Keyframe", "SHAPES", "mix_time_aligned", "real_frames",
     "METRICS", "Metrics", "distances", "score", "entropy_weights", "evaluate", "plot_pdfs",
     "fit", "load_ranges", "Parameter",
     "PathModel", "PathGroup", "PathInfo", "PathTarget", "Lamp", "Goal", "MeshObstacle", "ObjObstacle", "BoxObstacle",
