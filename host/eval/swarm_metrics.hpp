@@ -1,0 +1,73 @@
+// The seven metrics (noise paper §3.2) of a running swarm, any model,
+// computed on the device frame by frame (kernels/metrics.cl) and streamed
+// into fine histograms and moments (eval/metric_accumulator.hpp): memory is
+// fixed by the agent count (a ring of the last 4 sampled positions, the
+// nearest neighbours of the last frame, the point grid) and the histogram,
+// not by the number of frames.
+//
+// Use: step the swarm K steps, sample(), repeat; result() at any time.  The
+// samples are frames dt_between_samples apart (K times the swarm's dt), as
+// if the positions of every sample were recorded and given to
+// frame_metrics(): v, η of a frame are known one sample later (forward
+// differences), a, ω two and α, μ three samples later; the last frame has
+// d only.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "device/buffer.hpp"
+#include "eval/metric_accumulator.hpp"
+#include "spatial/point_grid.hpp"
+#include "swarm/swarm.hpp"
+
+namespace swarmcl {
+
+class SwarmMetrics {
+public:
+    // Error(InvalidArgument) for dt_between_samples <= 0 or not finite, and
+    // for a swarm of fewer than 2 agents (no nearest-neighbour distance).
+    SwarmMetrics(Swarm& swarm, double dt_between_samples);
+    ~SwarmMetrics();
+    SwarmMetrics(const SwarmMetrics&) = delete;
+    SwarmMetrics& operator=(const SwarmMetrics&) = delete;
+
+    // Samples the swarm's current positions (enqueued; reads nothing back
+    // but the previous sample's few per-work-group moments).  The agent
+    // count must not have changed since construction.
+    void sample();
+    uint64_t samples() const { return samples_; }
+    double dt() const { return dt_; }
+
+    // Everything sampled so far (waits for the device).  Sampling may go on.
+    MetricAccumulator result();
+
+    // Bytes of device memory this object holds (fixed at construction).
+    size_t device_bytes() const;
+
+private:
+    void fold_partials(uint32_t buffer);
+    void fold_histogram();
+    size_t groups() const { return groups_; }
+
+    Swarm& swarm_;
+    Context& ctx_;
+    double dt_;
+    uint32_t n_;
+    uint32_t group_size_;
+    size_t groups_;
+    uint64_t samples_ = 0;
+    uint64_t since_fold_ = 0;    // samples counted into the device histogram since it was last folded
+    int64_t pending_ = -1;       // the sample whose moments are still being read back
+    std::array<DeviceBuffer<cl_float4>, 4> ring_;  // positions of the last 4 samples, id order
+    DeviceBuffer<cl_uint> nn_idx_, hist_;
+    DeviceBuffer<cl_float> nn_dist_;
+    std::array<DeviceBuffer<cl_float4>, 2> part_;  // per-work-group moments, alternate samples
+    std::array<std::vector<cl_float4>, 2> host_part_;
+    std::array<cl::Event, 2> read_done_;
+    PointGrid grid_;
+    MetricAccumulator folded_;  // histograms folded in and every merged moment
+    cl::Kernel gather_, sample_, nearest_;
+};
+
+}  // namespace swarmcl

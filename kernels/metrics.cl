@@ -1,0 +1,270 @@
+// The seven metrics of the data-driven evaluation (noise paper §3.2) from a
+// running swarm, one sampled frame at a time (eval/swarm_metrics.hpp).  The
+// formulas are host/eval/metrics.cpp's (forward differences of positions
+// sampled dt apart), computed in float: differences of positions first,
+// divided by dt at the end, so nearby positions subtract exactly.
+//
+// Every value goes into a fine histogram (eval/metric_accumulator.hpp: the
+// bin is an integer function of the float's bits, the host's bin_of) with
+// atomic_inc, which is order independent; and into per-work-group moments
+// (count, mean, M2 of the finite values, two passes in a fixed order over
+// the group) that the host merges in group order: no float atomics.
+//
+// Build defines (from the host, one source of truth): FB_SHIFT, FB_LOW_KEY,
+// FB_SIDE, FB_COUNT (fine_bins), METRICS_GROUP (the work-group size every
+// launch uses).
+#include "lib/grid_common.cl"
+
+#ifndef SWCL_INLINE
+#define SWCL_INLINE __attribute__((always_inline)) inline
+#endif
+
+#define M_SPEED 0
+#define M_ACCEL 1
+#define M_OMEGA 2
+#define M_ALPHA 3
+#define M_JERK 4
+#define M_DIST 5
+#define M_ETA 6
+#define M_COUNT 7
+
+// fine_bins::bin_of (eval/metric_accumulator.cpp), bit for bit.
+SWCL_INLINE uint fine_bin(float x) {
+    if (isnan(x)) return FB_COUNT - 1u;
+    const uint key = as_uint(fabs(x)) >> FB_SHIFT;
+    if (key < FB_LOW_KEY) return FB_SIDE + 1u;
+    const uint k = key - FB_LOW_KEY;
+    if (k >= FB_SIDE) return x < 0.0f ? 0u : 2u * FB_SIDE + 2u;
+    return x < 0.0f ? FB_SIDE - k : FB_SIDE + 2u + k;
+}
+
+SWCL_INLINE float dot3(float4 a, float4 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+
+// ω, α and η in double where the device has it: α is a difference of two
+// nearby ω and η of two nearby speeds, so float's relative error (1e-7)
+// grows by ω/Δω or v/Δv there; in double the values are the host's to its
+// float rounding.
+#ifdef cl_khr_fp64
+#pragma OPENCL EXTENSION cl_khr_fp64 : enable
+typedef double mreal;
+typedef double3 mreal3;
+#define to_mreal3 convert_double3
+#else
+typedef float mreal;
+typedef float3 mreal3;
+#define to_mreal3(v) (v)
+#endif
+
+// b - a, exactly where mreal is double.
+SWCL_INLINE mreal3 diff3(float4 b, float4 a) { return to_mreal3(b.xyz) - to_mreal3(a.xyz); }
+SWCL_INLINE mreal len3(mreal3 a) { return sqrt(a.x * a.x + a.y * a.y + a.z * a.z); }
+
+// The angle between a and b: atan2(|a x b|, a . b) is arccos(â . b̂) of the
+// host (§3.2's ω) without arccos's loss of digits at small angles.
+SWCL_INLINE mreal angle3(mreal3 a, mreal3 b) {
+    const mreal cx = a.y * b.z - a.z * b.y, cy = a.z * b.x - a.x * b.z, cz = a.x * b.y - a.y * b.x;
+    return atan2(sqrt(cx * cx + cy * cy + cz * cz), a.x * b.x + a.y * b.y + a.z * b.z);
+}
+
+// Moments of this work-group's values of the metrics in `mask`:
+// vals[m * METRICS_GROUP + lid], flags bit m of has[lid].  Work-item m
+// reduces metric m in slot order (two passes: mean, then M2) and writes
+// part[m * groups + group] = (count bits, mean, M2, 0).
+SWCL_INLINE void group_moments(__local const float* vals, __local const uint* has, uint mask, uint groups,
+                               __global float4* part) {
+    barrier(CLK_LOCAL_MEM_FENCE);
+    const uint metric = get_local_id(0);
+    if (metric < M_COUNT && ((mask >> metric) & 1u)) {
+        __local const float* v = vals + metric * METRICS_GROUP;
+        uint c = 0;
+        float sum = 0.0f;
+        for (uint k = 0; k < METRICS_GROUP; ++k)
+            if (((has[k] >> metric) & 1u) && isfinite(v[k])) {
+                sum += v[k];
+                ++c;
+            }
+        const float mean = c ? sum / (float)c : 0.0f;
+        float m2 = 0.0f;
+        for (uint k = 0; k < METRICS_GROUP; ++k)
+            if (((has[k] >> metric) & 1u) && isfinite(v[k])) {
+                const float d = v[k] - mean;
+                m2 += d * d;
+            }
+        part[metric * groups + get_group_id(0)] = (float4)(as_float(c), mean, m2, 0.0f);
+    }
+}
+
+SWCL_INLINE void count_value(__global volatile uint* hist, uint metric, float x) {
+    atomic_inc(&hist[metric * FB_COUNT + fine_bin(x)]);
+}
+
+// ring[id] = the agent's position (slot order -> id order), w = 0.
+__kernel void metrics_gather(__global const float4* pos, __global const uint* ids, uint n, __global float4* ring) {
+    const uint s = get_global_id(0);
+    if (s >= n) return;
+    ring[ids[s]] = (float4)(pos[s].xyz, 0.0f);
+}
+
+// Sample `have` (1, 2 or 3: how many earlier frames there are, at most 3)
+// with p0 the frame just sampled and p1, p2, p3 the ones before (only the
+// first `have` are read).  Forward differences d1 = p0 - p1 (v of frame
+// f-1 times dt), d2 = p1 - p2, d3 = p2 - p3 give:
+//   v  of frame f-1: |d1| / dt
+//   a, ω of frame f-2: |d1 - d2| / dt², angle(d2, d1) / dt (both speeds > 0)
+//   α, μ of frame f-3: (ω_{f-2} - ω_{f-3}) / dt, |(d1 - d2) - (d2 - d3)| / dt³
+//   η of frame f-1 (its nearest neighbour nn_idx, at nn_dist > 0, found when
+//   frame f-1 was sampled): | |v_nei| - |v| | / d, both forward speeds.
+__kernel void metrics_sample(__global const float4* p0, __global const float4* p1, __global const float4* p2,
+                             __global const float4* p3, uint n, uint have, float dt,
+                             __global const uint* nn_idx, __global const float* nn_dist,
+                             __global volatile uint* hist, uint groups, __global float4* part) {
+    __local float vals[M_COUNT * METRICS_GROUP];
+    __local uint has[METRICS_GROUP];
+    const uint i = get_global_id(0), lid = get_local_id(0);
+    uint flags = 0;
+    float x[M_COUNT];
+    for (uint m = 0; m < M_COUNT; ++m) x[m] = 0.0f;
+    if (i < n) {
+        const float4 a0 = p0[i], a1 = p1[i];
+        const float4 d1 = a0 - a1;
+        const float s1 = dot3(d1, d1);
+        const float speed = sqrt(s1) / dt;
+        x[M_SPEED] = speed;
+        flags |= 1u << M_SPEED;
+        const mreal dtr = dt;
+        const float dn = nn_dist[i];
+        if (dn > 0.0f) {
+            const uint j = nn_idx[i];
+            x[M_ETA] = (float)(fabs(len3(diff3(p0[j], p1[j])) / dtr - len3(diff3(a0, a1)) / dtr) / dn);
+            flags |= 1u << M_ETA;
+        }
+        if (have >= 2u) {
+            const float4 a2 = p2[i];
+            const float4 d2 = a1 - a2, acc1 = d1 - d2;
+            x[M_ACCEL] = sqrt(dot3(acc1, acc1)) / dt / dt;
+            flags |= 1u << M_ACCEL;
+            const mreal3 e1 = diff3(a0, a1), e2 = diff3(a1, a2);
+            const bool turn1 = any(e1 != (mreal3)(0)) && any(e2 != (mreal3)(0));
+            const mreal w1 = turn1 ? angle3(e2, e1) / dtr : (mreal)0;
+            if (turn1) {
+                x[M_OMEGA] = (float)w1;
+                flags |= 1u << M_OMEGA;
+            }
+            if (have >= 3u) {
+                const float4 a3 = p3[i];
+                const float4 d3 = a2 - a3, acc0 = d2 - d3, jerk = acc1 - acc0;
+                x[M_JERK] = sqrt(dot3(jerk, jerk)) / dt / dt / dt;
+                flags |= 1u << M_JERK;
+                const mreal3 e3 = diff3(a2, a3);
+                if (turn1 && any(e3 != (mreal3)(0))) {
+                    x[M_ALPHA] = (float)((w1 - angle3(e3, e2) / dtr) / dtr);
+                    flags |= 1u << M_ALPHA;
+                }
+            }
+        }
+        for (uint m = 0; m < M_COUNT; ++m)
+            if ((flags >> m) & 1u) count_value(hist, m, x[m]);
+    }
+    for (uint m = 0; m < M_COUNT; ++m) vals[m * METRICS_GROUP + lid] = x[m];
+    has[lid] = flags;
+    group_moments(vals, has, ~(1u << M_DIST), groups, part);
+}
+
+// Lower bound of the distance from p to any point outside the cell box
+// [lo, hi] (faces on the grid's border at infinity: border cells hold the
+// clamped points beyond), shrunk so float rounding of the cell assignment
+// cannot make it too big.  As neighbors.cl's outside_bound.
+SWCL_INLINE float metrics_outside_bound(const Grid* g, float4 p, int4 lo, int4 hi) {
+    const float cell = 1.0f / g->inv_cell;
+    float bound = INFINITY;
+    const float pc[3] = {p.x, p.y, p.z};
+    const float oc[3] = {g->origin.x, g->origin.y, g->origin.z};
+    const int l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z};
+    const int d[3] = {g->dims.x, g->dims.y, g->dims.z};
+    for (int a = 0; a < 3; ++a) {
+        if (l[a] > 0) {
+            const float face = oc[a] + (float)l[a] * cell;
+            bound = fmin(bound, pc[a] - face - 1e-5f * (fabs(face) + cell));
+        }
+        if (h[a] < d[a] - 1) {
+            const float face = oc[a] + (float)(h[a] + 1) * cell;
+            bound = fmin(bound, face - pc[a] - 1e-5f * (fabs(face) + cell));
+        }
+    }
+    return bound;
+}
+
+// The candidates at sorted positions [k0, k1) of the point grid.  Ties go to
+// the lowest index.
+SWCL_INLINE void metrics_visit(__global const float4* pts, __global const uint* slots, uint i, float4 p, uint k0,
+                               uint k1, float* best_d2, uint* best) {
+    for (uint k = k0; k < k1; ++k) {
+        const uint j = slots[k];
+        if (j == i) continue;
+        const float d2 = dist2(p, pts[j]);
+        if (d2 < *best_d2 || (d2 == *best_d2 && j < *best)) {
+            *best_d2 = d2;
+            *best = j;
+        }
+    }
+}
+
+// d of the frame just sampled (§3.2, the shortest distance): the nearest
+// other point of every point over the point grid (spatial/point_grid.hpp,
+// built on these points): boxes of cells growing one cell per side, each
+// visiting only the cells not seen before, until the best distance is below
+// the distance to anything outside the box or the box is the whole grid.
+// nn_idx, nn_dist are kept for η at the next sample.
+__kernel void metrics_nearest(__global const float4* pts, uint n, __global const float4* geo,
+                              __global const uint* cell_start, __global const uint* slots,
+                              __global uint* nn_idx, __global float* nn_dist, __global volatile uint* hist,
+                              uint groups, __global float4* part) {
+    __local float vals[M_COUNT * METRICS_GROUP];
+    __local uint has[METRICS_GROUP];
+    const uint i = get_global_id(0), lid = get_local_id(0);
+    float d = 0.0f;
+    uint flags = 0;
+    if (i < n) {
+        const Grid g = grid_from_geometry(geo, cell_start);
+        const float4 p = pts[i];
+        const int4 c = grid_cell_of(&g, p);
+        const int4 last = g.dims - (int4)(1, 1, 1, 1);
+        float best_d2 = INFINITY;
+        uint best = 0xffffffffu;
+        int4 plo = (int4)(1, 1, 1, 0), phi = (int4)(0, 0, 0, 0);  // empty "previous" box
+        for (int k = 0;; ++k) {
+            const int4 lo = max(c - (int4)(k, k, k, 0), (int4)(0, 0, 0, 0));
+            const int4 hi = min(c + (int4)(k, k, k, 0), last);
+            for (int z = lo.z; z <= hi.z; ++z)
+                for (int y = lo.y; y <= hi.y; ++y) {
+                    const bool inner = z >= plo.z && z <= phi.z && y >= plo.y && y <= phi.y;
+                    if (!inner) {
+                        const uint2 rg = grid_row_range(&g, lo.x, hi.x, y, z);
+                        metrics_visit(pts, slots, i, p, rg.x, rg.y, &best_d2, &best);
+                    } else {  // only the x-cells outside the previous box
+                        if (lo.x < plo.x) {
+                            const uint2 rg = grid_row_range(&g, lo.x, plo.x - 1, y, z);
+                            metrics_visit(pts, slots, i, p, rg.x, rg.y, &best_d2, &best);
+                        }
+                        if (hi.x > phi.x) {
+                            const uint2 rg = grid_row_range(&g, phi.x + 1, hi.x, y, z);
+                            metrics_visit(pts, slots, i, p, rg.x, rg.y, &best_d2, &best);
+                        }
+                    }
+                }
+            if (all(lo.xyz == (int3)(0)) && all(hi.xyz == last.xyz)) break;
+            const float bound = metrics_outside_bound(&g, p, lo, hi);
+            if (bound > 0.0f && best_d2 <= bound * bound) break;
+            plo = lo;
+            phi = hi;
+        }
+        d = sqrt(best_d2);
+        nn_idx[i] = best;
+        nn_dist[i] = d;
+        flags = 1u << M_DIST;
+        count_value(hist, M_DIST, d);
+    }
+    vals[M_DIST * METRICS_GROUP + lid] = d;
+    has[lid] = flags;
+    group_moments(vals, has, 1u << M_DIST, groups, part);
+}
