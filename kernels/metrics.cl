@@ -133,8 +133,8 @@ __kernel void metrics_sample(__global const float4* p0, __global const float4* p
         flags |= 1u << M_SPEED;
         const mreal dtr = dt;
         const float dn = nn_dist[i];
-        if (dn > 0.0f) {
-            const uint j = nn_idx[i];
+        const uint j = nn_idx[i];
+        if (dn > 0.0f && j < n) {  // j = ~0: no neighbour found (positions not finite)
             x[M_ETA] = (float)(fabs(len3(diff3(p0[j], p1[j])) / dtr - len3(diff3(a0, a1)) / dtr) / dn);
             flags |= 1u << M_ETA;
         }
@@ -194,15 +194,27 @@ SWCL_INLINE float metrics_outside_bound(const Grid* g, float4 p, int4 lo, int4 h
     return bound;
 }
 
-// The candidates at sorted positions [k0, k1) of the point grid.  Ties go to
+// sorted[k] = the point at sorted position k of the point grid, its index
+// in w (as uint bits): the nearest-neighbour search then reads candidates
+// in a row's range contiguously, and neighbouring work-items search
+// neighbouring cells.
+__kernel void metrics_sort_points(__global const float4* pts, __global const uint* slots, uint n,
+                                  __global float4* sorted) {
+    const uint k = get_global_id(0);
+    if (k >= n) return;
+    const uint j = slots[k];
+    sorted[k] = (float4)(pts[j].xyz, as_float(j));
+}
+
+// The candidates at sorted positions [k0, k1) (but k itself).  Ties go to
 // the lowest index.
-SWCL_INLINE void metrics_visit(__global const float4* pts, __global const uint* slots, uint i, float4 p, uint k0,
-                               uint k1, float* best_d2, uint* best) {
+SWCL_INLINE void metrics_visit(__global const float4* sp, uint self, float4 p, uint k0, uint k1, float* best_d2,
+                               uint* best) {
     for (uint k = k0; k < k1; ++k) {
-        const uint j = slots[k];
-        if (j == i) continue;
-        const float d2 = dist2(p, pts[j]);
-        if (d2 < *best_d2 || (d2 == *best_d2 && j < *best)) {
+        const float4 q = sp[k];
+        const float d2 = dist2(p, q);
+        const uint j = as_uint(q.w);
+        if (k != self && (d2 < *best_d2 || (d2 == *best_d2 && j < *best))) {
             *best_d2 = d2;
             *best = j;
         }
@@ -211,22 +223,22 @@ SWCL_INLINE void metrics_visit(__global const float4* pts, __global const uint* 
 
 // d of the frame just sampled (§3.2, the shortest distance): the nearest
 // other point of every point over the point grid (spatial/point_grid.hpp,
-// built on these points): boxes of cells growing one cell per side, each
-// visiting only the cells not seen before, until the best distance is below
-// the distance to anything outside the box or the box is the whole grid.
-// nn_idx, nn_dist are kept for η at the next sample.
-__kernel void metrics_nearest(__global const float4* pts, uint n, __global const float4* geo,
-                              __global const uint* cell_start, __global const uint* slots,
-                              __global uint* nn_idx, __global float* nn_dist, __global volatile uint* hist,
-                              uint groups, __global float4* part) {
+// built on these points; sp: metrics_sort_points), one work-item per
+// sorted position: boxes of cells growing one cell per side, each visiting
+// only the cells not seen before, until the best distance is below the
+// distance to anything outside the box or the box is the whole grid.
+// nn_idx, nn_dist (index order) are kept for η at the next sample.
+__kernel void metrics_nearest(__global const float4* sp, uint n, __global const float4* geo,
+                              __global const uint* cell_start, __global uint* nn_idx, __global float* nn_dist,
+                              __global volatile uint* hist, uint groups, __global float4* part) {
     __local float vals[M_COUNT * METRICS_GROUP];
     __local uint has[METRICS_GROUP];
-    const uint i = get_global_id(0), lid = get_local_id(0);
+    const uint self = get_global_id(0), lid = get_local_id(0);
     float d = 0.0f;
     uint flags = 0;
-    if (i < n) {
+    if (self < n) {
         const Grid g = grid_from_geometry(geo, cell_start);
-        const float4 p = pts[i];
+        const float4 p = sp[self];
         const int4 c = grid_cell_of(&g, p);
         const int4 last = g.dims - (int4)(1, 1, 1, 1);
         float best_d2 = INFINITY;
@@ -240,15 +252,15 @@ __kernel void metrics_nearest(__global const float4* pts, uint n, __global const
                     const bool inner = z >= plo.z && z <= phi.z && y >= plo.y && y <= phi.y;
                     if (!inner) {
                         const uint2 rg = grid_row_range(&g, lo.x, hi.x, y, z);
-                        metrics_visit(pts, slots, i, p, rg.x, rg.y, &best_d2, &best);
+                        metrics_visit(sp, self, p, rg.x, rg.y, &best_d2, &best);
                     } else {  // only the x-cells outside the previous box
                         if (lo.x < plo.x) {
                             const uint2 rg = grid_row_range(&g, lo.x, plo.x - 1, y, z);
-                            metrics_visit(pts, slots, i, p, rg.x, rg.y, &best_d2, &best);
+                            metrics_visit(sp, self, p, rg.x, rg.y, &best_d2, &best);
                         }
                         if (hi.x > phi.x) {
                             const uint2 rg = grid_row_range(&g, phi.x + 1, hi.x, y, z);
-                            metrics_visit(pts, slots, i, p, rg.x, rg.y, &best_d2, &best);
+                            metrics_visit(sp, self, p, rg.x, rg.y, &best_d2, &best);
                         }
                     }
                 }
@@ -259,6 +271,7 @@ __kernel void metrics_nearest(__global const float4* pts, uint n, __global const
             phi = hi;
         }
         d = sqrt(best_d2);
+        const uint i = as_uint(p.w);
         nn_idx[i] = best;
         nn_dist[i] = d;
         flags = 1u << M_DIST;

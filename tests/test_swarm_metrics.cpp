@@ -266,6 +266,27 @@ TEST(SwarmMetrics, SameSeedGivesBitwiseTheSameHistogramsAndMoments) {
     }
 }
 
+// The 32-bit device counters folded into the host's every few samples
+// (as they are before one could overflow) give the same result.
+TEST(SwarmMetrics, FoldingTheDeviceCountersChangesNothing) {
+    MetricAccumulator r[2];
+    for (int t = 0; t < 2; ++t) {
+        auto swarm = noisy_swarm(200, 8);
+        SwarmMetrics dev(*swarm, kDt);
+        if (t) dev.set_fold_limit(700);  // a fold every 3 samples
+        for (int f = 0; f < 20; ++f) {
+            swarm->step(1);
+            dev.sample();
+        }
+        r[t] = dev.result();
+    }
+    for (size_t k = 0; k < kMetricCount; ++k) {
+        EXPECT_EQ(r[0].histogram(Metric(k)), r[1].histogram(Metric(k))) << metric_name(Metric(k));
+        EXPECT_EQ(r[0].raw_moments(Metric(k)).m2, r[1].raw_moments(Metric(k)).m2);
+    }
+    EXPECT_EQ(r[1].count(Metric::NearestDistance), 20u * 200u);
+}
+
 TEST(SwarmMetrics, MemoryDoesNotGrowWithFrames) {
     auto swarm = noisy_swarm(200, 2);
     SwarmMetrics dev(*swarm, kDt);
@@ -280,6 +301,32 @@ TEST(SwarmMetrics, MemoryDoesNotGrowWithFrames) {
     EXPECT_EQ(r.count(Metric::NearestDistance), 400u * 200u);
     EXPECT_EQ(r.count(Metric::Speed), 399u * 200u);
     EXPECT_EQ(r.histogram(Metric::Speed).size(), size_t(fine_bins::kCount));
+}
+
+// A diverged run (positions not finite) is counted, never crashes, and
+// refuses a PDF of the metrics it spoils.
+TEST(SwarmMetrics, NonFinitePositionsAreCountedAndRefuseAPdf) {
+    const uint32_t n = 50;
+    auto p = random_points(n, -1.0f, 1.0f, 12);
+    SwarmConfig c = cube_config(n, -1.0f, 1.0f, 0.1f);
+    c.agent_count = n;
+    Swarm swarm(shared_context(), c);
+    SwarmMetrics dev(swarm, 0.1);
+    for (int f = 0; f < 4; ++f) {
+        if (f == 2) p[0] = p[1] = p[2] = std::numeric_limits<float>::quiet_NaN();
+        for (auto& v : p) v += 0.01f;
+        // Straight into the device state: Swarm::write refuses non-finite values.
+        std::vector<cl_float4> q(n);
+        for (uint32_t i = 0; i < n; ++i) q[i] = cl_float4{{p[3 * i], p[3 * i + 1], p[3 * i + 2], 0.0f}};
+        swarm.positions().upload(swarm.context(), q.data(), n);
+        dev.sample();
+    }
+    const MetricAccumulator r = dev.result();
+    EXPECT_EQ(r.count(Metric::NearestDistance), 4u * n);
+    EXPECT_GT(r.nonfinite_count(Metric::NearestDistance), 0u);
+    EXPECT_GT(r.nonfinite_count(Metric::Speed), 0u);
+    EXPECT_THROW(r.discrete_pdf(Metric::Speed, PdfOptions{}), Error);
+    EXPECT_TRUE(std::isfinite(r.moments(Metric::Speed).mean));
 }
 
 TEST(SwarmMetrics, BadInputIsAClearError) {

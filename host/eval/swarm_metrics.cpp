@@ -41,9 +41,13 @@ SwarmMetrics::SwarmMetrics(Swarm& swarm, double dt_between_samples)
     gather_ = ctx_.kernel("metrics.cl", "metrics_gather", defines);
     sample_ = ctx_.kernel("metrics.cl", "metrics_sample", defines);
     nearest_ = ctx_.kernel("metrics.cl", "metrics_nearest", defines);
+    sort_ = ctx_.kernel("metrics.cl", "metrics_sort_points", defines);
     for (auto& r : ring_) r.allocate(ctx_, n_, "metrics position ring");
     nn_idx_.allocate(ctx_, n_, "metrics nearest neighbours");
+    sorted_.allocate(ctx_, n_, "metrics sorted points");
     nn_dist_.allocate(ctx_, n_, "metrics nearest distances");
+    nn_idx_.fill(ctx_, 0u, n_);  // written by every sample before use; defined anyway
+    nn_dist_.fill(ctx_, 0.0f, n_);
     hist_.allocate(ctx_, kMetricCount * size_t(fine_bins::kCount), "metrics histograms");
     hist_.fill(ctx_, 0u, hist_.size());
     for (int b = 0; b < 2; ++b) {
@@ -63,7 +67,7 @@ SwarmMetrics::~SwarmMetrics() {
 }
 
 size_t SwarmMetrics::device_bytes() const {
-    size_t b = 4 * size_t(n_) * sizeof(cl_float4) + size_t(n_) * (sizeof(cl_uint) + sizeof(cl_float)) +
+    size_t b = 5 * size_t(n_) * sizeof(cl_float4) + size_t(n_) * (sizeof(cl_uint) + sizeof(cl_float)) +
                hist_.size() * sizeof(cl_uint) + 2 * part_[0].size() * sizeof(cl_float4);
     // The point grid: keys and slots twice, cell starts (at most max_cells + 1).
     b += 4 * size_t(n_) * sizeof(cl_uint) + (size_t(PointGrid::max_cells(n_)) + 1) * sizeof(cl_uint);
@@ -74,7 +78,7 @@ void SwarmMetrics::sample() {
     require(swarm_.agent_count() == n_, "metrics: the swarm's agent count changed since sampling began");
     // Device counters are 32-bit: fold them into the host's before a sample
     // could overflow one (each sample adds at most n per metric).
-    if ((since_fold_ + 1) * uint64_t(n_) > uint64_t(std::numeric_limits<cl_uint>::max())) fold_histogram();
+    if ((since_fold_ + 1) * uint64_t(n_) > fold_limit_) fold_histogram();
     const uint64_t s = samples_;
     const uint32_t buf = uint32_t(s % 2);
     auto& cur = ring_[s % 4];
@@ -93,8 +97,10 @@ void SwarmMetrics::sample() {
     // Cells of the bounding box at most 8 per point (PointGrid's own bound):
     // exact at any cell size, so the size only sets the speed.
     grid_.build(cur, n_, 0.0f);
-    set_args(nearest_, cur.get(), n_, grid_.geometry().get(), grid_.cell_start().get(), grid_.sorted_slots().get(),
-             nn_idx_.get(), nn_dist_.get(), hist_.get(), groups, part_[buf].get());
+    set_args(sort_, cur.get(), grid_.sorted_slots().get(), n_, sorted_.get());
+    launch(ctx_, sort_, n_);
+    set_args(nearest_, sorted_.get(), n_, grid_.geometry().get(), grid_.cell_start().get(), nn_idx_.get(),
+             nn_dist_.get(), hist_.get(), groups, part_[buf].get());
     launch_groups(ctx_, nearest_, groups_, group_size_);
     ctx_.queue().enqueueReadBuffer(part_[buf].get(), CL_FALSE, 0, part_[buf].size() * sizeof(cl_float4),
                                    host_part_[buf].data(), nullptr, &read_done_[buf]);

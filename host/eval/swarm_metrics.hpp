@@ -45,6 +45,11 @@ public:
     // Bytes of device memory this object holds (fixed at construction).
     size_t device_bytes() const;
 
+    // The most a device counter may reach before the histograms are folded
+    // into the host's 64-bit counts (default 2^32 - 1; lower only to test
+    // the fold).
+    void set_fold_limit(uint64_t counts) { fold_limit_ = counts; }
+
 private:
     void fold_partials(uint32_t buffer);
     void fold_histogram();
@@ -57,9 +62,11 @@ private:
     uint32_t group_size_;
     size_t groups_;
     uint64_t samples_ = 0;
-    uint64_t since_fold_ = 0;    // samples counted into the device histogram since it was last folded
+    uint64_t since_fold_ = 0;
+    uint64_t fold_limit_ = 0xffffffffu;    // samples counted into the device histogram since it was last folded
     int64_t pending_ = -1;       // the sample whose moments are still being read back
     std::array<DeviceBuffer<cl_float4>, 4> ring_;  // positions of the last 4 samples, id order
+    DeviceBuffer<cl_float4> sorted_;               // the last sample's positions in grid order
     DeviceBuffer<cl_uint> nn_idx_, hist_;
     DeviceBuffer<cl_float> nn_dist_;
     std::array<DeviceBuffer<cl_float4>, 2> part_;  // per-work-group moments, alternate samples
@@ -67,7 +74,7 @@ private:
     std::array<cl::Event, 2> read_done_;
     PointGrid grid_;
     MetricAccumulator folded_;  // histograms folded in and every merged moment
-    cl::Kernel gather_, sample_, nearest_;
+    cl::Kernel gather_, sample_, nearest_, sort_;
 };
 
 }  // namespace swarmcl
