@@ -6,13 +6,15 @@
 //
 // Every value goes into a fine histogram (eval/metric_accumulator.hpp: the
 // bin is an integer function of the float's bits, the host's bin_of) with
-// atomic_inc, which is order independent; and into per-work-group moments
-// (count, mean, M2 of the finite values, two passes in a fixed order over
-// the group) that the host merges in group order: no float atomics.
+// atomic_inc, which is order independent; and into a values buffer whose
+// blocks of METRICS_BLOCK give per-block moments (count, mean, M2 of the
+// finite values, two passes in a fixed order) that the host merges in block
+// order: no float atomics, no barriers, results independent of the launch's
+// work-group size.  A missing value (e.g. ω at zero speed) is stored as NaN:
+// the moments skip every non-finite value.
 //
 // Build defines (from the host, one source of truth): FB_SHIFT, FB_LOW_KEY,
-// FB_SIDE, FB_COUNT (fine_bins), METRICS_GROUP (the work-group size every
-// launch uses).
+// FB_SIDE, FB_COUNT (fine_bins), METRICS_BLOCK.
 #include "lib/grid_common.cl"
 
 #ifndef SWCL_INLINE
@@ -66,31 +68,32 @@ SWCL_INLINE mreal angle3(mreal3 a, mreal3 b) {
     return atan2(sqrt(cx * cx + cy * cy + cz * cz), a.x * b.x + a.y * b.y + a.z * b.z);
 }
 
-// Moments of this work-group's values of the metrics in `mask`:
-// vals[m * METRICS_GROUP + lid], flags bit m of has[lid].  Work-item m
-// reduces metric m in slot order (two passes: mean, then M2) and writes
-// part[m * groups + group] = (count bits, mean, M2, 0).
-SWCL_INLINE void group_moments(__local const float* vals, __local const uint* has, uint mask, uint groups,
-                               __global float4* part) {
-    barrier(CLK_LOCAL_MEM_FENCE);
-    const uint metric = get_local_id(0);
-    if (metric < M_COUNT && ((mask >> metric) & 1u)) {
-        __local const float* v = vals + metric * METRICS_GROUP;
+// Moments of block b of every metric in `mask`: vals[m * n + k] for k in
+// [b * METRICS_BLOCK, min(n, (b + 1) * METRICS_BLOCK)), in order, two passes
+// (mean, then M2); part[m * blocks + b] = (count bits, mean, M2, 0).
+__kernel void metrics_moments(__global const float* vals, uint n, uint mask, uint blocks,
+                              __global float4* part) {
+    const uint b = get_global_id(0);
+    if (b >= blocks) return;
+    const uint begin = b * METRICS_BLOCK, end = min(n, begin + METRICS_BLOCK);
+    for (uint m = 0; m < M_COUNT; ++m) {
+        if (!((mask >> m) & 1u)) continue;
+        __global const float* v = vals + (size_t)m * n;
         uint c = 0;
         float sum = 0.0f;
-        for (uint k = 0; k < METRICS_GROUP; ++k)
-            if (((has[k] >> metric) & 1u) && isfinite(v[k])) {
+        for (uint k = begin; k < end; ++k)
+            if (isfinite(v[k])) {
                 sum += v[k];
                 ++c;
             }
         const float mean = c ? sum / (float)c : 0.0f;
         float m2 = 0.0f;
-        for (uint k = 0; k < METRICS_GROUP; ++k)
-            if (((has[k] >> metric) & 1u) && isfinite(v[k])) {
+        for (uint k = begin; k < end; ++k)
+            if (isfinite(v[k])) {
                 const float d = v[k] - mean;
                 m2 += d * d;
             }
-        part[metric * groups + get_group_id(0)] = (float4)(as_float(c), mean, m2, 0.0f);
+        part[m * blocks + b] = (float4)(as_float(c), mean, m2, 0.0f);
     }
 }
 
@@ -117,14 +120,13 @@ __kernel void metrics_gather(__global const float4* pos, __global const uint* id
 __kernel void metrics_sample(__global const float4* p0, __global const float4* p1, __global const float4* p2,
                              __global const float4* p3, uint n, uint have, float dt,
                              __global const uint* nn_idx, __global const float* nn_dist,
-                             __global volatile uint* hist, uint groups, __global float4* part) {
-    __local float vals[M_COUNT * METRICS_GROUP];
-    __local uint has[METRICS_GROUP];
-    const uint i = get_global_id(0), lid = get_local_id(0);
+                             __global volatile uint* hist, __global float* vals) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
     uint flags = 0;
     float x[M_COUNT];
-    for (uint m = 0; m < M_COUNT; ++m) x[m] = 0.0f;
-    if (i < n) {
+    for (uint m = 0; m < M_COUNT; ++m) x[m] = NAN;
+    {
         const float4 a0 = p0[i], a1 = p1[i];
         const float4 d1 = a0 - a1;
         const float s1 = dot3(d1, d1);
@@ -165,9 +167,9 @@ __kernel void metrics_sample(__global const float4* p0, __global const float4* p
         for (uint m = 0; m < M_COUNT; ++m)
             if ((flags >> m) & 1u) count_value(hist, m, x[m]);
     }
-    for (uint m = 0; m < M_COUNT; ++m) vals[m * METRICS_GROUP + lid] = x[m];
-    has[lid] = flags;
-    group_moments(vals, has, ~(1u << M_DIST), groups, part);
+    // Missing values stay NaN (the moments skip them); d is the nearest kernel's.
+    for (uint m = 0; m < M_COUNT; ++m)
+        if (m != M_DIST) vals[(size_t)m * n + i] = (flags >> m) & 1u ? x[m] : NAN;
 }
 
 // Lower bound of the distance from p to any point outside the cell box
@@ -230,13 +232,10 @@ SWCL_INLINE void metrics_visit(__global const float4* sp, uint self, float4 p, u
 // nn_idx, nn_dist (index order) are kept for η at the next sample.
 __kernel void metrics_nearest(__global const float4* sp, uint n, __global const float4* geo,
                               __global const uint* cell_start, __global uint* nn_idx, __global float* nn_dist,
-                              __global volatile uint* hist, uint groups, __global float4* part) {
-    __local float vals[M_COUNT * METRICS_GROUP];
-    __local uint has[METRICS_GROUP];
-    const uint self = get_global_id(0), lid = get_local_id(0);
-    float d = 0.0f;
-    uint flags = 0;
-    if (self < n) {
+                              __global volatile uint* hist, __global float* vals) {
+    const uint self = get_global_id(0);
+    if (self >= n) return;
+    {
         const Grid g = grid_from_geometry(geo, cell_start);
         const float4 p = sp[self];
         const int4 c = grid_cell_of(&g, p);
@@ -270,14 +269,11 @@ __kernel void metrics_nearest(__global const float4* sp, uint n, __global const 
             plo = lo;
             phi = hi;
         }
-        d = sqrt(best_d2);
+        const float d = sqrt(best_d2);
         const uint i = as_uint(p.w);
         nn_idx[i] = best;
         nn_dist[i] = d;
-        flags = 1u << M_DIST;
         count_value(hist, M_DIST, d);
+        vals[(size_t)M_DIST * n + self] = d;  // grid order: the moments' order is still fixed
     }
-    vals[M_DIST * METRICS_GROUP + lid] = d;
-    has[lid] = flags;
-    group_moments(vals, has, 1u << M_DIST, groups, part);
 }

@@ -10,41 +10,37 @@
 
 namespace swarmcl {
 namespace {
-// Work-items per group of both metric kernels: the moments are reduced per
-// group in a fixed order, so a fixed size (not the driver's) keeps the
-// result the same on every launch.
-constexpr uint32_t kGroup = 64;
+// Values per block of the moments (metrics_moments): each block's moments in
+// float, the blocks merged on the host in double.
+constexpr uint32_t kBlock = 64;
 
-std::string metric_defines(uint32_t group) {
+std::string metric_defines(uint32_t block) {
     using namespace fine_bins;
     return "-DFB_SHIFT=" + std::to_string(kShift) + "u -DFB_LOW_KEY=" + std::to_string(kLowKey) +
            "u -DFB_SIDE=" + std::to_string(kSide) + "u -DFB_COUNT=" + std::to_string(fine_bins::kCount) +
-           "u -DMETRICS_GROUP=" + std::to_string(group);
+           "u -DMETRICS_BLOCK=" + std::to_string(block) + "u";
 }
 
-void launch_groups(Context& ctx, cl::Kernel& k, size_t groups, uint32_t group) {
-    ctx.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(groups * group), cl::NDRange(group));
-}
 }  // namespace
 
 SwarmMetrics::SwarmMetrics(Swarm& swarm, double dt_between_samples)
     : swarm_(swarm), ctx_(swarm.context()), dt_(dt_between_samples), n_(swarm.agent_count()),
-      group_size_(kGroup), groups_(0), grid_(swarm.context()) {
+      groups_(0), grid_(swarm.context()) {
     require(std::isfinite(dt_between_samples) && dt_between_samples > 0.0 &&
                 float(dt_between_samples) > 0.0f && std::isfinite(float(dt_between_samples)),
             "metrics: the time between samples must be finite and > 0");
     require(n_ >= 2, "metrics: the swarm needs at least 2 agents (the nearest-neighbour distance d)");
-    require(ctx_.device().max_work_group_size >= group_size_,
-            "metrics: the device's work-groups are smaller than the metric kernels' 64 work-items");
-    groups_ = (size_t(n_) + group_size_ - 1) / group_size_;
-    const std::string defines = metric_defines(group_size_);
+    groups_ = (size_t(n_) + kBlock - 1) / kBlock;
+    const std::string defines = metric_defines(kBlock);
     gather_ = ctx_.kernel("metrics.cl", "metrics_gather", defines);
     sample_ = ctx_.kernel("metrics.cl", "metrics_sample", defines);
     nearest_ = ctx_.kernel("metrics.cl", "metrics_nearest", defines);
     sort_ = ctx_.kernel("metrics.cl", "metrics_sort_points", defines);
+    moments_ = ctx_.kernel("metrics.cl", "metrics_moments", defines);
     for (auto& r : ring_) r.allocate(ctx_, n_, "metrics position ring");
     nn_idx_.allocate(ctx_, n_, "metrics nearest neighbours");
     sorted_.allocate(ctx_, n_, "metrics sorted points");
+    vals_.allocate(ctx_, kMetricCount * size_t(n_), "metrics values of a sample");
     nn_dist_.allocate(ctx_, n_, "metrics nearest distances");
     nn_idx_.fill(ctx_, 0u, n_);  // written by every sample before use; defined anyway
     nn_dist_.fill(ctx_, 0.0f, n_);
@@ -68,6 +64,7 @@ SwarmMetrics::~SwarmMetrics() {
 
 size_t SwarmMetrics::device_bytes() const {
     size_t b = 5 * size_t(n_) * sizeof(cl_float4) + size_t(n_) * (sizeof(cl_uint) + sizeof(cl_float)) +
+               kMetricCount * size_t(n_) * sizeof(cl_float) +
                hist_.size() * sizeof(cl_uint) + 2 * part_[0].size() * sizeof(cl_float4);
     // The point grid: keys and slots twice, cell starts (at most max_cells + 1).
     b += 4 * size_t(n_) * sizeof(cl_uint) + (size_t(PointGrid::max_cells(n_)) + 1) * sizeof(cl_uint);
@@ -91,8 +88,8 @@ void SwarmMetrics::sample() {
         auto& r3 = s >= 3 ? ring_[(s + 1) % 4] : cur;
         const cl_uint have = cl_uint(std::min<uint64_t>(s, 3));
         set_args(sample_, cur.get(), r1.get(), r2.get(), r3.get(), n_, have, cl_float(dt_), nn_idx_.get(),
-                 nn_dist_.get(), hist_.get(), groups, part_[buf].get());
-        launch_groups(ctx_, sample_, groups_, group_size_);
+                 nn_dist_.get(), hist_.get(), vals_.get());
+        launch(ctx_, sample_, n_);
     }
     // Cells of the bounding box at most 8 per point (PointGrid's own bound):
     // exact at any cell size, so the size only sets the speed.
@@ -100,8 +97,13 @@ void SwarmMetrics::sample() {
     set_args(sort_, cur.get(), grid_.sorted_slots().get(), n_, sorted_.get());
     launch(ctx_, sort_, n_);
     set_args(nearest_, sorted_.get(), n_, grid_.geometry().get(), grid_.cell_start().get(), nn_idx_.get(),
-             nn_dist_.get(), hist_.get(), groups, part_[buf].get());
-    launch_groups(ctx_, nearest_, groups_, group_size_);
+             nn_dist_.get(), hist_.get(), vals_.get());
+    launch(ctx_, nearest_, n_);
+    // Sample 0 has d only: the other metrics' moments stay empty (filled
+    // with zeros at construction, never written for sample 0).
+    const cl_uint mask = s >= 1 ? (1u << kMetricCount) - 1u : 1u << uint32_t(Metric::NearestDistance);
+    set_args(moments_, vals_.get(), n_, mask, groups, part_[buf].get());
+    launch(ctx_, moments_, groups_);
     ctx_.queue().enqueueReadBuffer(part_[buf].get(), CL_FALSE, 0, part_[buf].size() * sizeof(cl_float4),
                                    host_part_[buf].data(), nullptr, &read_done_[buf]);
     // One sample in flight: the device runs ahead while the host merges.

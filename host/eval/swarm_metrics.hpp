@@ -33,7 +33,7 @@ public:
     SwarmMetrics& operator=(const SwarmMetrics&) = delete;
 
     // Samples the swarm's current positions (enqueued; reads nothing back
-    // but the previous sample's few per-work-group moments).  The agent
+    // but the previous sample's few per-block moments).  The agent
     // count must not have changed since construction.
     void sample();
     uint64_t samples() const { return samples_; }
@@ -59,7 +59,6 @@ private:
     Context& ctx_;
     double dt_;
     uint32_t n_;
-    uint32_t group_size_;
     size_t groups_;
     uint64_t samples_ = 0;
     uint64_t since_fold_ = 0;
@@ -68,13 +67,13 @@ private:
     std::array<DeviceBuffer<cl_float4>, 4> ring_;  // positions of the last 4 samples, id order
     DeviceBuffer<cl_float4> sorted_;               // the last sample's positions in grid order
     DeviceBuffer<cl_uint> nn_idx_, hist_;
-    DeviceBuffer<cl_float> nn_dist_;
-    std::array<DeviceBuffer<cl_float4>, 2> part_;  // per-work-group moments, alternate samples
+    DeviceBuffer<cl_float> nn_dist_, vals_;  // vals_: the sample's values, metric-major (NaN: none)
+    std::array<DeviceBuffer<cl_float4>, 2> part_;  // per-block moments, alternate samples
     std::array<std::vector<cl_float4>, 2> host_part_;
     std::array<cl::Event, 2> read_done_;
     PointGrid grid_;
     MetricAccumulator folded_;  // histograms folded in and every merged moment
-    cl::Kernel gather_, sample_, nearest_, sort_;
+    cl::Kernel gather_, sample_, nearest_, sort_, moments_;
 };
 
 }  // namespace swarmcl
