@@ -113,14 +113,15 @@ __kernel void metrics_gather(__global const float4* pos, __global const uint* id
 // first `have` are read).  Forward differences d1 = p0 - p1 (v of frame
 // f-1 times dt), d2 = p1 - p2, d3 = p2 - p3 give:
 //   v  of frame f-1: |d1| / dt
-//   a, ω of frame f-2: |d1 - d2| / dt², angle(d2, d1) / dt (both speeds > 0)
+//   a, ω of frame f-2: |d1 - d2| / dt², angle(d2, d1) / dt (both speeds > 0;
+//       omega[i] keeps it for α at the next sample)
 //   α, μ of frame f-3: (ω_{f-2} - ω_{f-3}) / dt, |(d1 - d2) - (d2 - d3)| / dt³
 //   η of frame f-1 (its nearest neighbour nn_idx, at nn_dist > 0, found when
 //   frame f-1 was sampled): | |v_nei| - |v| | / d, both forward speeds.
 __kernel void metrics_sample(__global const float4* p0, __global const float4* p1, __global const float4* p2,
                              __global const float4* p3, uint n, uint have, float dt,
                              __global const uint* nn_idx, __global const float* nn_dist,
-                             __global volatile uint* hist, __global float* vals) {
+                             __global float2* omega, __global volatile uint* hist, __global float* vals) {
     const uint i = get_global_id(0);
     if (i >= n) return;
     uint flags = 0;
@@ -152,14 +153,18 @@ __kernel void metrics_sample(__global const float4* p0, __global const float4* p
                 x[M_OMEGA] = (float)w1;
                 flags |= 1u << M_OMEGA;
             }
+            // ω of the frame before, kept from the last sample (hi + lo: a
+            // double to 2^-48) instead of a second atan2; NaN: none.
+            const float2 w0s = omega[i];
+            const float w1_hi = (float)w1;
+            omega[i] = turn1 ? (float2)(w1_hi, (float)(w1 - (mreal)w1_hi)) : (float2)(NAN, 0.0f);
             if (have >= 3u) {
                 const float4 a3 = p3[i];
                 const float4 d3 = a2 - a3, acc0 = d2 - d3, jerk = acc1 - acc0;
                 x[M_JERK] = sqrt(dot3(jerk, jerk)) / dt / dt / dt;
                 flags |= 1u << M_JERK;
-                const mreal3 e3 = diff3(a2, a3);
-                if (turn1 && any(e3 != (mreal3)(0))) {
-                    x[M_ALPHA] = (float)((w1 - angle3(e3, e2) / dtr) / dtr);
+                if (turn1 && !isnan(w0s.x)) {
+                    x[M_ALPHA] = (float)((w1 - ((mreal)w0s.x + (mreal)w0s.y)) / dtr);
                     flags |= 1u << M_ALPHA;
                 }
             }

@@ -41,6 +41,8 @@ SwarmMetrics::SwarmMetrics(Swarm& swarm, double dt_between_samples)
     nn_idx_.allocate(ctx_, n_, "metrics nearest neighbours");
     sorted_.allocate(ctx_, n_, "metrics sorted points");
     vals_.allocate(ctx_, kMetricCount * size_t(n_), "metrics values of a sample");
+    omega_.allocate(ctx_, n_, "metrics angular velocities");
+    omega_.fill(ctx_, cl_float2{{std::numeric_limits<float>::quiet_NaN(), 0.0f}}, n_);
     nn_dist_.allocate(ctx_, n_, "metrics nearest distances");
     nn_idx_.fill(ctx_, 0u, n_);  // written by every sample before use; defined anyway
     nn_dist_.fill(ctx_, 0.0f, n_);
@@ -64,7 +66,7 @@ SwarmMetrics::~SwarmMetrics() {
 
 size_t SwarmMetrics::device_bytes() const {
     size_t b = 5 * size_t(n_) * sizeof(cl_float4) + size_t(n_) * (sizeof(cl_uint) + sizeof(cl_float)) +
-               kMetricCount * size_t(n_) * sizeof(cl_float) +
+               kMetricCount * size_t(n_) * sizeof(cl_float) + size_t(n_) * sizeof(cl_float2) +
                hist_.size() * sizeof(cl_uint) + 2 * part_[0].size() * sizeof(cl_float4);
     // The point grid: keys and slots twice, cell starts (at most max_cells + 1).
     b += 4 * size_t(n_) * sizeof(cl_uint) + (size_t(PointGrid::max_cells(n_)) + 1) * sizeof(cl_uint);
@@ -88,7 +90,7 @@ void SwarmMetrics::sample() {
         auto& r3 = s >= 3 ? ring_[(s + 1) % 4] : cur;
         const cl_uint have = cl_uint(std::min<uint64_t>(s, 3));
         set_args(sample_, cur.get(), r1.get(), r2.get(), r3.get(), n_, have, cl_float(dt_), nn_idx_.get(),
-                 nn_dist_.get(), hist_.get(), vals_.get());
+                 nn_dist_.get(), omega_.get(), hist_.get(), vals_.get());
         launch(ctx_, sample_, n_);
     }
     // Cells of the bounding box at most 8 per point (PointGrid's own bound):

@@ -67,6 +67,7 @@ private:
     std::array<DeviceBuffer<cl_float4>, 4> ring_;  // positions of the last 4 samples, id order
     DeviceBuffer<cl_float4> sorted_;               // the last sample's positions in grid order
     DeviceBuffer<cl_uint> nn_idx_, hist_;
+    DeviceBuffer<cl_float2> omega_;           // ω of the last sample's frame f-2 (hi, lo), for α
     DeviceBuffer<cl_float> nn_dist_, vals_;  // vals_: the sample's values, metric-major (NaN: none)
     std::array<DeviceBuffer<cl_float4>, 2> part_;  // per-block moments, alternate samples
     std::array<std::vector<cl_float4>, 2> host_part_;
