@@ -17,8 +17,11 @@
 //
 //   metrics_bench [--agents 100000] [--frames 500] [--steps-between 1]
 //                 [--repeats 3] [--host-frames 20] [--device SELECTOR] [--json PATH]
+#include <sys/resource.h>
+
 #include <chrono>
 #include <cstdio>
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -46,6 +49,15 @@ using namespace swarmcl::bench;
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// CPU seconds of the whole process (PoCL's worker threads included): on a
+// machine shared with other work, CPU time / cores is what the wall time
+// would be with the cores to itself.
+double cpu_seconds() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
 
 struct Options {
     uint32_t agents = 100000, frames = 500, steps_between = 1, repeats = 3, host_frames = 20;
@@ -108,34 +120,41 @@ int main(int argc, char** argv) {
     const double dt = double(o.steps_between) / 60.0;
     std::printf("metrics_bench: %u agents x %u sampled frames, %u step(s) between, device %s\n", o.agents, o.frames,
                 o.steps_between, ctx->device().device_name.c_str());
-    std::vector<double> step_s, with_s;
+    std::vector<double> step_s, with_s, step_cpu, with_cpu;
     uint64_t checksum = 0;
     for (uint32_t r = 0; r <= o.repeats; ++r) {  // r = 0: warm-up
         {
             auto swarm = make_swarm(ctx, o.agents);
             auto t0 = Clock::now();
+            const double c0 = cpu_seconds();
             for (uint32_t f = 0; f < o.frames; ++f) swarm->step(o.steps_between);
             ctx->queue().finish();
-            if (r) step_s.push_back(seconds_since(t0));
+            if (r) step_s.push_back(seconds_since(t0)), step_cpu.push_back(cpu_seconds() - c0);
         }
         {
             auto swarm = make_swarm(ctx, o.agents);
             SwarmMetrics metrics(*swarm, dt);
             auto t0 = Clock::now();
+            const double c0 = cpu_seconds();
             for (uint32_t f = 0; f < o.frames; ++f) {
                 swarm->step(o.steps_between);
                 metrics.sample();
             }
             const MetricAccumulator acc = metrics.result();
-            if (r) with_s.push_back(seconds_since(t0));
+            if (r) with_s.push_back(seconds_since(t0)), with_cpu.push_back(cpu_seconds() - c0);
             checksum = acc.count(Metric::NearestDistance);
         }
         if (r) std::printf("  run %u: steps %.3f s, steps + metrics %.3f s\n", r, step_s.back(), with_s.back());
     }
     const double steps = median(step_s), with = median(with_s), metrics_s = with - steps;
+    const double metrics_cpu = median(with_cpu) - median(step_cpu);
+    const unsigned cores = std::max(1u, ctx->device().compute_units);
     const double af = double(o.agents) * o.frames;
     std::printf("steps alone %.3f s; with metrics %.3f s; metrics %.3f s = %.3g agent-frames/s (target: %.3g in 10 s)\n",
                 steps, with, metrics_s, af / metrics_s, af / 10.0);
+
+    std::printf("CPU time of sampling %.3f s (all threads; load average %.2f): %.3f s over %u cores with them to itself\n",
+                metrics_cpu, load_average(), metrics_cpu / cores, cores);
 
     // Peer: the host path on the first host_frames frames of the same run.
     double host_s = 0.0;
@@ -165,6 +184,8 @@ int main(int argc, char** argv) {
       << ",\n  \"steps_between\": " << o.steps_between << ",\n  \"repeats\": " << o.repeats
       << ",\n  \"model\": \"field (curl noise, time varying, domain walls)\""
       << ",\n  \"step_s\": " << json_array(step_s, 1.0) << ",\n  \"with_metrics_s\": " << json_array(with_s, 1.0)
+      << ",\n  \"step_cpu_s\": " << json_array(step_cpu, 1.0) << ",\n  \"with_metrics_cpu_s\": "
+      << json_array(with_cpu, 1.0) << ",\n  \"metrics_cpu_s\": " << metrics_cpu << ",\n  \"compute_units\": " << cores
       << ",\n  \"metrics_s_median\": " << metrics_s << ",\n  \"agent_frames_per_s\": " << af / metrics_s
       << ",\n  \"d_samples\": " << checksum << ",\n  \"host_frames\": " << o.host_frames
       << ",\n  \"host_s\": " << host_s << ",\n  \"host_agent_frames_per_s\": "

@@ -2,8 +2,10 @@
 // computed on the device frame by frame (kernels/metrics.cl) and streamed
 // into fine histograms and moments (eval/metric_accumulator.hpp): memory is
 // fixed by the agent count (a ring of the last 4 sampled positions, the
-// nearest neighbours of the last frame, the point grid) and the histogram,
-// not by the number of frames.
+// positions in grid order, the nearest neighbours of the last frame, each
+// agent's last ω, one sample's values, the point grid) and the histograms
+// (7 x 61444 counters), not by the number of frames.  Holds a reference to
+// the swarm: destroy it first.
 //
 // Use: step the swarm K steps, sample(), repeat; result() at any time.  The
 // samples are frames dt_between_samples apart (K times the swarm's dt), as
