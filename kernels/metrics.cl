@@ -4,17 +4,17 @@
 // sampled dt apart), computed in float: differences of positions first,
 // divided by dt at the end, so nearby positions subtract exactly.
 //
-// Every value goes into a fine histogram (eval/metric_accumulator.hpp: the
-// bin is an integer function of the float's bits, the host's bin_of) with
-// atomic_inc, which is order independent; and into a values buffer whose
-// blocks of METRICS_BLOCK give per-block moments (count, mean, M2 of the
-// finite values, two passes in a fixed order) that the host merges in block
-// order: no float atomics, no barriers, results independent of the launch's
-// work-group size.  A missing value (e.g. ω at zero speed) is stored as NaN:
-// the moments skip every non-finite value.
+// Every value goes into a values buffer (metric-major), whose blocks of
+// METRICS_BLOCK give per-block moments (count, mean, M2 of the finite
+// values, two passes in a fixed order) that the host merges in block order,
+// and into a fine histogram (eval/metric_accumulator.hpp: the bin is an
+// integer function of the float's bits, the host's bin_of): atomic_inc
+// where the value is made (GPUs) or plain increments into per-chunk copies
+// (CPU devices).  Integer counts are order independent: no float atomics,
+// no barriers, results independent of the launch's work-group size.
 //
 // Build defines (from the host, one source of truth): FB_SHIFT, FB_LOW_KEY,
-// FB_SIDE, FB_COUNT (fine_bins), METRICS_BLOCK.
+// FB_SIDE, FB_COUNT (fine_bins), METRICS_BLOCK, HIST_ATOMIC.
 #include "lib/grid_common.cl"
 
 #ifndef SWCL_INLINE
@@ -97,8 +97,37 @@ __kernel void metrics_moments(__global const float* vals, uint n, uint mask, uin
     }
 }
 
+// A metric with no value for an agent (e.g. ω at zero speed): a NaN with a
+// payload no arithmetic makes (computed NaNs are the default NaN), so a
+// value that is NaN is still counted in the NaN bin.
+#define M_MISSING 0x7fc0beefu
+
+// HIST_ATOMIC (GPUs): each value counted where it is made, atomic_inc.
+// Otherwise (CPU devices) metrics_histogram counts the values buffer into
+// per-chunk copies with plain increments: a locked increment waits for its
+// cache line, so the random bins' misses did not overlap (a third of the
+// per-agent kernel's time).
 SWCL_INLINE void count_value(__global volatile uint* hist, uint metric, float x) {
+#if HIST_ATOMIC
     atomic_inc(&hist[metric * FB_COUNT + fine_bin(x)]);
+#endif
+}
+
+// Chunk c of nchunks counts the values of agents [c * size, ...) of every
+// metric in `mask` into its own copy, hist + c * M_COUNT * FB_COUNT.
+__kernel void metrics_histogram(__global const float* vals, uint n, uint mask, uint nchunks, __global uint* hist) {
+    const uint c = get_global_id(0);
+    if (c >= nchunks) return;
+    const uint size = (n + nchunks - 1u) / nchunks;
+    const uint begin = min(c * size, n), end = min(begin + size, n);
+    __global uint* h = hist + (size_t)c * M_COUNT * FB_COUNT;
+    for (uint m = 0; m < M_COUNT; ++m) {
+        if (!((mask >> m) & 1u)) continue;
+        __global const float* v = vals + (size_t)m * n;
+        __global uint* hm = h + m * FB_COUNT;
+        for (uint k = begin; k < end; ++k)
+            if (as_uint(v[k]) != M_MISSING) hm[fine_bin(v[k])] += 1u;
+    }
 }
 
 // ring[id] = the agent's position (slot order -> id order), w = 0.
@@ -172,9 +201,10 @@ __kernel void metrics_sample(__global const float4* p0, __global const float4* p
         for (uint m = 0; m < M_COUNT; ++m)
             if ((flags >> m) & 1u) count_value(hist, m, x[m]);
     }
-    // Missing values stay NaN (the moments skip them); d is the nearest kernel's.
+    // Missing values as M_MISSING (the moments skip every NaN); d is the
+    // nearest kernel's.
     for (uint m = 0; m < M_COUNT; ++m)
-        if (m != M_DIST) vals[(size_t)m * n + i] = (flags >> m) & 1u ? x[m] : NAN;
+        if (m != M_DIST) vals[(size_t)m * n + i] = (flags >> m) & 1u ? x[m] : as_float(M_MISSING);
 }
 
 // Lower bound of the distance from p to any point outside the cell box

@@ -14,11 +14,11 @@ namespace {
 // float, the blocks merged on the host in double.
 constexpr uint32_t kBlock = 64;
 
-std::string metric_defines(uint32_t block) {
+std::string metric_defines(uint32_t block, bool atomic) {
     using namespace fine_bins;
     return "-DFB_SHIFT=" + std::to_string(kShift) + "u -DFB_LOW_KEY=" + std::to_string(kLowKey) +
            "u -DFB_SIDE=" + std::to_string(kSide) + "u -DFB_COUNT=" + std::to_string(fine_bins::kCount) +
-           "u -DMETRICS_BLOCK=" + std::to_string(block) + "u";
+           "u -DMETRICS_BLOCK=" + std::to_string(block) + "u -DHIST_ATOMIC=" + (atomic ? "1" : "0");
 }
 
 }  // namespace
@@ -31,12 +31,17 @@ SwarmMetrics::SwarmMetrics(Swarm& swarm, double dt_between_samples)
             "metrics: the time between samples must be finite and > 0");
     require(n_ >= 2, "metrics: the swarm needs at least 2 agents (the nearest-neighbour distance d)");
     groups_ = (size_t(n_) + kBlock - 1) / kBlock;
-    const std::string defines = metric_defines(kBlock);
+    // CPU devices: histogram copies per chunk of agents, counted with plain
+    // increments by metrics_histogram (2 chunks per compute unit); GPUs:
+    // one histogram, atomic_inc.
+    copies_ = ctx_.device().cpu_profile ? 2 * std::max<uint32_t>(1, ctx_.device().compute_units) : 1;
+    const std::string defines = metric_defines(kBlock, copies_ == 1);
     gather_ = ctx_.kernel("metrics.cl", "metrics_gather", defines);
     sample_ = ctx_.kernel("metrics.cl", "metrics_sample", defines);
     nearest_ = ctx_.kernel("metrics.cl", "metrics_nearest", defines);
     sort_ = ctx_.kernel("metrics.cl", "metrics_sort_points", defines);
     moments_ = ctx_.kernel("metrics.cl", "metrics_moments", defines);
+    if (copies_ > 1) histogram_ = ctx_.kernel("metrics.cl", "metrics_histogram", defines);
     for (auto& r : ring_) r.allocate(ctx_, n_, "metrics position ring");
     nn_idx_.allocate(ctx_, n_, "metrics nearest neighbours");
     sorted_.allocate(ctx_, n_, "metrics sorted points");
@@ -46,7 +51,7 @@ SwarmMetrics::SwarmMetrics(Swarm& swarm, double dt_between_samples)
     nn_dist_.allocate(ctx_, n_, "metrics nearest distances");
     nn_idx_.fill(ctx_, 0u, n_);  // written by every sample before use; defined anyway
     nn_dist_.fill(ctx_, 0.0f, n_);
-    hist_.allocate(ctx_, kMetricCount * size_t(fine_bins::kCount), "metrics histograms");
+    hist_.allocate(ctx_, copies_ * kMetricCount * size_t(fine_bins::kCount), "metrics histograms");
     hist_.fill(ctx_, 0u, hist_.size());
     for (int b = 0; b < 2; ++b) {
         part_[b].allocate(ctx_, kMetricCount * groups_, "metrics moments");
@@ -106,6 +111,10 @@ void SwarmMetrics::sample() {
     const cl_uint mask = s >= 1 ? (1u << kMetricCount) - 1u : 1u << uint32_t(Metric::NearestDistance);
     set_args(moments_, vals_.get(), n_, mask, groups, part_[buf].get());
     launch(ctx_, moments_, groups_);
+    if (copies_ > 1) {
+        set_args(histogram_, vals_.get(), n_, mask, copies_, hist_.get());
+        launch_chunks(ctx_, histogram_, copies_);
+    }
     ctx_.queue().enqueueReadBuffer(part_[buf].get(), CL_FALSE, 0, part_[buf].size() * sizeof(cl_float4),
                                    host_part_[buf].data(), nullptr, &read_done_[buf]);
     // One sample in flight: the device runs ahead while the host merges.
@@ -135,14 +144,21 @@ void SwarmMetrics::fold_partials(uint32_t buffer) {
     pending_ = -1;
 }
 
-void SwarmMetrics::fold_histogram() {
+void SwarmMetrics::add_device_histograms(MetricAccumulator& to) {
     std::vector<cl_uint> h(hist_.size());
     hist_.download(ctx_, h.data(), h.size());
+    const size_t per_copy = kMetricCount * size_t(fine_bins::kCount);
     std::vector<uint64_t> wide(fine_bins::kCount);
     for (size_t m = 0; m < kMetricCount; ++m) {
-        for (uint32_t b = 0; b < fine_bins::kCount; ++b) wide[b] = h[m * fine_bins::kCount + b];
-        folded_.add_raw(Metric(m), wide.data(), RawMoments{});
+        std::fill(wide.begin(), wide.end(), 0);
+        for (uint32_t c = 0; c < copies_; ++c)
+            for (uint32_t b = 0; b < fine_bins::kCount; ++b) wide[b] += h[c * per_copy + m * fine_bins::kCount + b];
+        to.add_raw(Metric(m), wide.data(), RawMoments{});
     }
+}
+
+void SwarmMetrics::fold_histogram() {
+    add_device_histograms(folded_);
     hist_.fill(ctx_, 0u, hist_.size());
     since_fold_ = 0;
 }
@@ -150,13 +166,7 @@ void SwarmMetrics::fold_histogram() {
 MetricAccumulator SwarmMetrics::result() {
     if (pending_ >= 0) fold_partials(uint32_t(pending_ % 2));
     MetricAccumulator out = folded_;
-    std::vector<cl_uint> h(hist_.size());
-    hist_.download(ctx_, h.data(), h.size());
-    std::vector<uint64_t> wide(fine_bins::kCount);
-    for (size_t m = 0; m < kMetricCount; ++m) {
-        for (uint32_t b = 0; b < fine_bins::kCount; ++b) wide[b] = h[m * fine_bins::kCount + b];
-        out.add_raw(Metric(m), wide.data(), RawMoments{});
-    }
+    add_device_histograms(out);
     return out;
 }
 

@@ -4,7 +4,8 @@
 // fixed by the agent count (a ring of the last 4 sampled positions, the
 // positions in grid order, the nearest neighbours of the last frame, each
 // agent's last ω, one sample's values, the point grid) and the histograms
-// (7 x 61444 counters), not by the number of frames.  Holds a reference to
+// (7 x 61444 counters; one copy per chunk of agents on CPU devices), not by
+// the number of frames.  Holds a reference to
 // the swarm: destroy it first.
 //
 // Use: step the swarm K steps, sample(), repeat; result() at any time.  The
@@ -55,6 +56,7 @@ public:
 private:
     void fold_partials(uint32_t buffer);
     void fold_histogram();
+    void add_device_histograms(MetricAccumulator& to);
     size_t groups() const { return groups_; }
 
     Swarm& swarm_;
@@ -62,6 +64,7 @@ private:
     double dt_;
     uint32_t n_;
     size_t groups_;
+    uint32_t copies_ = 1;  // histogram copies on the device (per chunk of agents on CPU devices)
     uint64_t samples_ = 0;
     uint64_t since_fold_ = 0;
     uint64_t fold_limit_ = 0xffffffffu;    // samples counted into the device histogram since it was last folded
@@ -76,7 +79,7 @@ private:
     std::array<cl::Event, 2> read_done_;
     PointGrid grid_;
     MetricAccumulator folded_;  // histograms folded in and every merged moment
-    cl::Kernel gather_, sample_, nearest_, sort_, moments_;
+    cl::Kernel gather_, sample_, nearest_, sort_, moments_, histogram_;
 };
 
 }  // namespace swarmcl
