@@ -70,7 +70,8 @@ SWCL_INLINE mreal angle3(mreal3 a, mreal3 b) {
 
 // Moments of block b of every metric in `mask`: vals[m * n + k] for k in
 // [b * METRICS_BLOCK, min(n, (b + 1) * METRICS_BLOCK)), in order, two passes
-// (mean, then M2); part[m * blocks + b] = (count bits, mean, M2, 0).
+// (mean, then M2); part[m * blocks + b] = (count, mean, M2, 0) (the count as
+// a float: exact up to 2^24, and not denormal bits a GPU might flush).
 __kernel void metrics_moments(__global const float* vals, uint n, uint mask, uint blocks,
                               __global float4* part) {
     const uint b = get_global_id(0);
@@ -93,7 +94,7 @@ __kernel void metrics_moments(__global const float* vals, uint n, uint mask, uin
                 const float d = v[k] - mean;
                 m2 += d * d;
             }
-        part[m * blocks + b] = (float4)(as_float(c), mean, m2, 0.0f);
+        part[m * blocks + b] = (float4)((float)c, mean, m2, 0.0f);
     }
 }
 

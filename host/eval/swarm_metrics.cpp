@@ -131,10 +131,8 @@ void SwarmMetrics::fold_partials(uint32_t buffer) {
         RawMoments sum;
         for (size_t g = 0; g < groups_; ++g) {
             const cl_float4& q = p[m * groups_ + g];
-            uint32_t c;
-            std::memcpy(&c, &q.s[0], sizeof c);  // the count's bits
             RawMoments r;
-            r.count = c;
+            r.count = uint64_t(q.s[0]);  // at most kBlock: exact in float
             r.mean = q.s[1];
             r.m2 = q.s[2];
             sum.merge(r);
