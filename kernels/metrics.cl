@@ -1,0 +1,315 @@
+// The seven metrics of the data-driven evaluation (noise paper §3.2) from a
+// running swarm, one sampled frame at a time (eval/swarm_metrics.hpp).  The
+// formulas are host/eval/metrics.cpp's (forward differences of positions
+// sampled dt apart), computed in float: differences of positions first,
+// divided by dt at the end, so nearby positions subtract exactly.
+//
+// Every value goes into a values buffer (metric-major), whose blocks of
+// METRICS_BLOCK give per-block moments (count, mean, M2 of the finite
+// values, two passes in a fixed order) that the host merges in block order,
+// and into a fine histogram (eval/metric_accumulator.hpp: the bin is an
+// integer function of the float's bits, the host's bin_of): atomic_inc
+// where the value is made (GPUs) or plain increments into per-chunk copies
+// (CPU devices).  Integer counts are order independent: no float atomics,
+// no barriers, results independent of the launch's work-group size.
+//
+// Build defines (from the host, one source of truth): FB_SHIFT, FB_LOW_KEY,
+// FB_SIDE, FB_COUNT (fine_bins), METRICS_BLOCK, HIST_ATOMIC.
+#include "lib/grid_common.cl"
+
+#ifndef SWCL_INLINE
+#define SWCL_INLINE __attribute__((always_inline)) inline
+#endif
+
+#define M_SPEED 0
+#define M_ACCEL 1
+#define M_OMEGA 2
+#define M_ALPHA 3
+#define M_JERK 4
+#define M_DIST 5
+#define M_ETA 6
+#define M_COUNT 7
+
+// fine_bins::bin_of (eval/metric_accumulator.cpp), bit for bit.
+SWCL_INLINE uint fine_bin(float x) {
+    if (isnan(x)) return FB_COUNT - 1u;
+    const uint key = as_uint(fabs(x)) >> FB_SHIFT;
+    if (key < FB_LOW_KEY) return FB_SIDE + 1u;
+    const uint k = key - FB_LOW_KEY;
+    if (k >= FB_SIDE) return x < 0.0f ? 0u : 2u * FB_SIDE + 2u;
+    return x < 0.0f ? FB_SIDE - k : FB_SIDE + 2u + k;
+}
+
+SWCL_INLINE float dot3(float4 a, float4 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+
+// ω, α and η in double where the device has it: α is a difference of two
+// nearby ω and η of two nearby speeds, so float's relative error (1e-7)
+// grows by ω/Δω or v/Δv there; in double the values are the host's to its
+// float rounding.
+#ifdef cl_khr_fp64
+#pragma OPENCL EXTENSION cl_khr_fp64 : enable
+typedef double mreal;
+typedef double3 mreal3;
+#define to_mreal3 convert_double3
+#else
+typedef float mreal;
+typedef float3 mreal3;
+#define to_mreal3(v) (v)
+#endif
+
+// b - a, exactly where mreal is double.
+SWCL_INLINE mreal3 diff3(float4 b, float4 a) { return to_mreal3(b.xyz) - to_mreal3(a.xyz); }
+SWCL_INLINE mreal len3(mreal3 a) { return sqrt(a.x * a.x + a.y * a.y + a.z * a.z); }
+
+// The angle between a and b: atan2(|a x b|, a . b) is arccos(â . b̂) of the
+// host (§3.2's ω) without arccos's loss of digits at small angles.
+SWCL_INLINE mreal angle3(mreal3 a, mreal3 b) {
+    const mreal cx = a.y * b.z - a.z * b.y, cy = a.z * b.x - a.x * b.z, cz = a.x * b.y - a.y * b.x;
+    return atan2(sqrt(cx * cx + cy * cy + cz * cz), a.x * b.x + a.y * b.y + a.z * b.z);
+}
+
+// Moments of block b of every metric in `mask`: vals[m * n + k] for k in
+// [b * METRICS_BLOCK, min(n, (b + 1) * METRICS_BLOCK)), in order, two passes
+// (mean, then M2); part[m * blocks + b] = (count, mean, M2, 0) (the count as
+// a float: exact up to 2^24, and not denormal bits a GPU might flush).
+__kernel void metrics_moments(__global const float* vals, uint n, uint mask, uint blocks,
+                              __global float4* part) {
+    const uint b = get_global_id(0);
+    if (b >= blocks) return;
+    const uint begin = b * METRICS_BLOCK, end = min(n, begin + METRICS_BLOCK);
+    for (uint m = 0; m < M_COUNT; ++m) {
+        if (!((mask >> m) & 1u)) continue;
+        __global const float* v = vals + (size_t)m * n;
+        uint c = 0;
+        float sum = 0.0f;
+        for (uint k = begin; k < end; ++k)
+            if (isfinite(v[k])) {
+                sum += v[k];
+                ++c;
+            }
+        const float mean = c ? sum / (float)c : 0.0f;
+        float m2 = 0.0f;
+        for (uint k = begin; k < end; ++k)
+            if (isfinite(v[k])) {
+                const float d = v[k] - mean;
+                m2 += d * d;
+            }
+        part[m * blocks + b] = (float4)((float)c, mean, m2, 0.0f);
+    }
+}
+
+// A metric with no value for an agent (e.g. ω at zero speed): a NaN with a
+// payload no arithmetic makes (computed NaNs are the default NaN), so a
+// value that is NaN is still counted in the NaN bin.
+#define M_MISSING 0x7fc0beefu
+
+// HIST_ATOMIC (GPUs): each value counted where it is made, atomic_inc.
+// Otherwise (CPU devices) metrics_histogram counts the values buffer into
+// per-chunk copies with plain increments: a locked increment waits for its
+// cache line, so the random bins' misses did not overlap (a third of the
+// per-agent kernel's time).
+SWCL_INLINE void count_value(__global volatile uint* hist, uint metric, float x) {
+#if HIST_ATOMIC
+    atomic_inc(&hist[metric * FB_COUNT + fine_bin(x)]);
+#endif
+}
+
+// Chunk c of nchunks counts the values of agents [c * size, ...) of every
+// metric in `mask` into its own copy, hist + c * M_COUNT * FB_COUNT.
+__kernel void metrics_histogram(__global const float* vals, uint n, uint mask, uint nchunks, __global uint* hist) {
+    const uint c = get_global_id(0);
+    if (c >= nchunks) return;
+    const uint size = (n + nchunks - 1u) / nchunks;
+    const uint begin = min(c * size, n), end = min(begin + size, n);
+    __global uint* h = hist + (size_t)c * M_COUNT * FB_COUNT;
+    for (uint m = 0; m < M_COUNT; ++m) {
+        if (!((mask >> m) & 1u)) continue;
+        __global const float* v = vals + (size_t)m * n;
+        __global uint* hm = h + m * FB_COUNT;
+        for (uint k = begin; k < end; ++k)
+            if (as_uint(v[k]) != M_MISSING) hm[fine_bin(v[k])] += 1u;
+    }
+}
+
+// ring[id] = the agent's position (slot order -> id order), w = 0.
+__kernel void metrics_gather(__global const float4* pos, __global const uint* ids, uint n, __global float4* ring) {
+    const uint s = get_global_id(0);
+    if (s >= n) return;
+    ring[ids[s]] = (float4)(pos[s].xyz, 0.0f);
+}
+
+// Sample `have` (1, 2 or 3: how many earlier frames there are, at most 3)
+// with p0 the frame just sampled and p1, p2, p3 the ones before (only the
+// first `have` are read).  Forward differences d1 = p0 - p1 (v of frame
+// f-1 times dt), d2 = p1 - p2, d3 = p2 - p3 give:
+//   v  of frame f-1: |d1| / dt
+//   a, ω of frame f-2: |d1 - d2| / dt², angle(d2, d1) / dt (both speeds > 0;
+//       omega[i] keeps it for α at the next sample)
+//   α, μ of frame f-3: (ω_{f-2} - ω_{f-3}) / dt, |(d1 - d2) - (d2 - d3)| / dt³
+//   η of frame f-1 (its nearest neighbour nn_idx, at nn_dist > 0, found when
+//   frame f-1 was sampled): | |v_nei| - |v| | / d, both forward speeds.
+__kernel void metrics_sample(__global const float4* p0, __global const float4* p1, __global const float4* p2,
+                             __global const float4* p3, uint n, uint have, float dt,
+                             __global const uint* nn_idx, __global const float* nn_dist,
+                             __global float2* omega, __global volatile uint* hist, __global float* vals) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    uint flags = 0;
+    float x[M_COUNT];
+    for (uint m = 0; m < M_COUNT; ++m) x[m] = NAN;
+    {
+        const float4 a0 = p0[i], a1 = p1[i];
+        const float4 d1 = a0 - a1;
+        const float s1 = dot3(d1, d1);
+        const float speed = sqrt(s1) / dt;
+        x[M_SPEED] = speed;
+        flags |= 1u << M_SPEED;
+        const mreal dtr = dt;
+        const float dn = nn_dist[i];
+        const uint j = nn_idx[i];
+        if (dn > 0.0f && j < n) {  // j = ~0: no neighbour found (positions not finite)
+            x[M_ETA] = (float)(fabs(len3(diff3(p0[j], p1[j])) / dtr - len3(diff3(a0, a1)) / dtr) / dn);
+            flags |= 1u << M_ETA;
+        }
+        if (have >= 2u) {
+            const float4 a2 = p2[i];
+            const float4 d2 = a1 - a2, acc1 = d1 - d2;
+            x[M_ACCEL] = sqrt(dot3(acc1, acc1)) / dt / dt;
+            flags |= 1u << M_ACCEL;
+            const mreal3 e1 = diff3(a0, a1), e2 = diff3(a1, a2);
+            const bool turn1 = any(e1 != (mreal3)(0)) && any(e2 != (mreal3)(0));
+            const mreal w1 = turn1 ? angle3(e2, e1) / dtr : (mreal)0;
+            if (turn1) {
+                x[M_OMEGA] = (float)w1;
+                flags |= 1u << M_OMEGA;
+            }
+            // ω of the frame before, kept from the last sample (hi + lo: a
+            // double to 2^-48) instead of a second atan2; NaN: none.
+            const float2 w0s = omega[i];
+            const float w1_hi = (float)w1;
+            omega[i] = turn1 ? (float2)(w1_hi, (float)(w1 - (mreal)w1_hi)) : (float2)(NAN, 0.0f);
+            if (have >= 3u) {
+                const float4 a3 = p3[i];
+                const float4 d3 = a2 - a3, acc0 = d2 - d3, jerk = acc1 - acc0;
+                x[M_JERK] = sqrt(dot3(jerk, jerk)) / dt / dt / dt;
+                flags |= 1u << M_JERK;
+                if (turn1 && !isnan(w0s.x)) {
+                    x[M_ALPHA] = (float)((w1 - ((mreal)w0s.x + (mreal)w0s.y)) / dtr);
+                    flags |= 1u << M_ALPHA;
+                }
+            }
+        }
+        for (uint m = 0; m < M_COUNT; ++m)
+            if ((flags >> m) & 1u) count_value(hist, m, x[m]);
+    }
+    // Missing values as M_MISSING (the moments skip every NaN); d is the
+    // nearest kernel's.
+    for (uint m = 0; m < M_COUNT; ++m)
+        if (m != M_DIST) vals[(size_t)m * n + i] = (flags >> m) & 1u ? x[m] : as_float(M_MISSING);
+}
+
+// Lower bound of the distance from p to any point outside the cell box
+// [lo, hi] (faces on the grid's border at infinity: border cells hold the
+// clamped points beyond), shrunk so float rounding of the cell assignment
+// cannot make it too big.  As neighbors.cl's outside_bound.
+SWCL_INLINE float metrics_outside_bound(const Grid* g, float4 p, int4 lo, int4 hi) {
+    const float cell = 1.0f / g->inv_cell;
+    float bound = INFINITY;
+    const float pc[3] = {p.x, p.y, p.z};
+    const float oc[3] = {g->origin.x, g->origin.y, g->origin.z};
+    const int l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z};
+    const int d[3] = {g->dims.x, g->dims.y, g->dims.z};
+    for (int a = 0; a < 3; ++a) {
+        if (l[a] > 0) {
+            const float face = oc[a] + (float)l[a] * cell;
+            bound = fmin(bound, pc[a] - face - 1e-5f * (fabs(face) + cell));
+        }
+        if (h[a] < d[a] - 1) {
+            const float face = oc[a] + (float)(h[a] + 1) * cell;
+            bound = fmin(bound, face - pc[a] - 1e-5f * (fabs(face) + cell));
+        }
+    }
+    return bound;
+}
+
+// sorted[k] = the point at sorted position k of the point grid, its index
+// in w (as uint bits): the nearest-neighbour search then reads candidates
+// in a row's range contiguously, and neighbouring work-items search
+// neighbouring cells.
+__kernel void metrics_sort_points(__global const float4* pts, __global const uint* slots, uint n,
+                                  __global float4* sorted) {
+    const uint k = get_global_id(0);
+    if (k >= n) return;
+    const uint j = slots[k];
+    sorted[k] = (float4)(pts[j].xyz, as_float(j));
+}
+
+// The candidates at sorted positions [k0, k1) (but k itself).  Ties go to
+// the lowest index.
+SWCL_INLINE void metrics_visit(__global const float4* sp, uint self, float4 p, uint k0, uint k1, float* best_d2,
+                               uint* best) {
+    for (uint k = k0; k < k1; ++k) {
+        const float4 q = sp[k];
+        const float d2 = dist2(p, q);
+        const uint j = as_uint(q.w);
+        if (k != self && (d2 < *best_d2 || (d2 == *best_d2 && j < *best))) {
+            *best_d2 = d2;
+            *best = j;
+        }
+    }
+}
+
+// d of the frame just sampled (§3.2, the shortest distance): the nearest
+// other point of every point over the point grid (spatial/point_grid.hpp,
+// built on these points; sp: metrics_sort_points), one work-item per
+// sorted position: boxes of cells growing one cell per side, each visiting
+// only the cells not seen before, until the best distance is below the
+// distance to anything outside the box or the box is the whole grid.
+// nn_idx, nn_dist (index order) are kept for η at the next sample.
+__kernel void metrics_nearest(__global const float4* sp, uint n, __global const float4* geo,
+                              __global const uint* cell_start, __global uint* nn_idx, __global float* nn_dist,
+                              __global volatile uint* hist, __global float* vals) {
+    const uint self = get_global_id(0);
+    if (self >= n) return;
+    {
+        const Grid g = grid_from_geometry(geo, cell_start);
+        const float4 p = sp[self];
+        const int4 c = grid_cell_of(&g, p);
+        const int4 last = g.dims - (int4)(1, 1, 1, 1);
+        float best_d2 = INFINITY;
+        uint best = 0xffffffffu;
+        int4 plo = (int4)(1, 1, 1, 0), phi = (int4)(0, 0, 0, 0);  // empty "previous" box
+        for (int k = 0;; ++k) {
+            const int4 lo = max(c - (int4)(k, k, k, 0), (int4)(0, 0, 0, 0));
+            const int4 hi = min(c + (int4)(k, k, k, 0), last);
+            for (int z = lo.z; z <= hi.z; ++z)
+                for (int y = lo.y; y <= hi.y; ++y) {
+                    const bool inner = z >= plo.z && z <= phi.z && y >= plo.y && y <= phi.y;
+                    if (!inner) {
+                        const uint2 rg = grid_row_range(&g, lo.x, hi.x, y, z);
+                        metrics_visit(sp, self, p, rg.x, rg.y, &best_d2, &best);
+                    } else {  // only the x-cells outside the previous box
+                        if (lo.x < plo.x) {
+                            const uint2 rg = grid_row_range(&g, lo.x, plo.x - 1, y, z);
+                            metrics_visit(sp, self, p, rg.x, rg.y, &best_d2, &best);
+                        }
+                        if (hi.x > phi.x) {
+                            const uint2 rg = grid_row_range(&g, phi.x + 1, hi.x, y, z);
+                            metrics_visit(sp, self, p, rg.x, rg.y, &best_d2, &best);
+                        }
+                    }
+                }
+            if (all(lo.xyz == (int3)(0)) && all(hi.xyz == last.xyz)) break;
+            const float bound = metrics_outside_bound(&g, p, lo, hi);
+            if (bound > 0.0f && best_d2 <= bound * bound) break;
+            plo = lo;
+            phi = hi;
+        }
+        const float d = sqrt(best_d2);
+        const uint i = as_uint(p.w);
+        nn_idx[i] = best;
+        nn_dist[i] = d;
+        count_value(hist, M_DIST, d);
+        vals[(size_t)M_DIST * n + self] = d;  // grid order: the moments' order is still fixed
+    }
+}
