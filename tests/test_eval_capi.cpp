@@ -2,6 +2,7 @@
 // windows, PDFs, distances, scores, entropy weights, and their errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -134,4 +135,54 @@ TEST(EvalCapi, BadInputGetsAClearErrorAndNoHandle) {
     ASSERT_EQ(swcl_entropy_weights(x, 2, 2, wout, nullptr, nullptr), SWCL_OK);
     EXPECT_NEAR(wout[0] + wout[1], 1.0, 1e-12);
     swcl_metrics_destroy(m);
+}
+
+// Streamed metrics of a running swarm against the host path on the same
+// positions (read back at every sample).
+TEST(EvalCapi, AttachedMetricsMatchTheFramesOfTheSameRun) {
+    const std::string text = R"({"name": "attach", "seed": 5, "dt": 0.02, "steps": 30,
+        "domain": {"min": [0, 0, 0], "max": [2, 2, 2]}, "interaction_radius": 0.2,
+        "agents": {"count": 200, "initial": {"type": "uniform", "min": [0.5, 0.5, 0.5], "max": [1.5, 1.5, 1.5]}},
+        "model": {"type": "field", "noise": {"type": "curl", "scale": 0.5, "gain": 0.4, "seed": 1, "domain_walls": true},
+                  "goal": {"center": [1, 1, 1], "speed": 0.3}}})";
+    swcl_scenario scn{};
+    ASSERT_EQ(swcl_scenario_parse(text.c_str(), text.size(), &scn), SWCL_OK) << swcl_last_error();
+    swcl_context_desc cd = swcl_context_desc_default();
+    swcl_context ctx{};
+    ASSERT_EQ(swcl_context_create(&cd, &ctx), SWCL_OK);
+    swcl_swarm swarm{};
+    ASSERT_EQ(swcl_scenario_create_swarm(scn, ctx, &swarm), SWCL_OK);
+    swcl_metrics live{};
+    ASSERT_EQ(swcl_metrics_attach(swarm, 0.04, &live), SWCL_OK) << swcl_last_error();
+    const size_t n = 200, frames = 40;
+    std::vector<float> xyz;
+    for (size_t f = 0; f < frames; ++f) {
+        if (f) ASSERT_EQ(swcl_swarm_step(swarm, 2), SWCL_OK);
+        ASSERT_EQ(swcl_metrics_sample(live), SWCL_OK) << swcl_last_error();
+        xyz.resize(xyz.size() + 3 * n);
+        ASSERT_EQ(swcl_swarm_read(swarm, SWCL_ATTRIBUTE_POSITION, xyz.data() + xyz.size() - 3 * n, n), SWCL_OK);
+    }
+    swcl_metrics host{};
+    ASSERT_EQ(swcl_metrics_from_frames(xyz.data(), frames, n, 0.04, &host), SWCL_OK);
+    // The swarm may go first: the metrics keep it alive.
+    EXPECT_EQ(swcl_swarm_destroy(swarm), SWCL_OK);
+    for (int k = 0; k < SWCL_METRIC_COUNT; ++k) {
+        swcl_metric_info a{sizeof(a)}, b{sizeof(b)};
+        ASSERT_EQ(swcl_metrics_get_info(live, swcl_metric(k), &a), SWCL_OK) << swcl_last_error();
+        ASSERT_EQ(swcl_metrics_get_info(host, swcl_metric(k), &b), SWCL_OK);
+        EXPECT_EQ(a.count, b.count) << k;
+        EXPECT_NEAR(a.mean, b.mean, 1e-4 * std::max(std::abs(b.mean), b.sigma)) << k;
+    }
+    double e[SWCL_METRIC_COUNT];
+    ASSERT_EQ(swcl_metrics_distances(live, host, nullptr, e, SWCL_METRIC_COUNT), SWCL_OK) << swcl_last_error();
+    for (double v : e) EXPECT_LT(v, 0.05);
+    double t = 0;
+    ASSERT_EQ(swcl_metrics_frame_time(live, &t), SWCL_OK);
+    EXPECT_EQ(t, 0.04);
+    EXPECT_EQ(swcl_metrics_sample(host), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_metrics_attach(swcl_swarm{777}, 0.1, &host), SWCL_ERROR_INVALID_HANDLE);
+    swcl_metrics_destroy(live);
+    swcl_metrics_destroy(host);
+    swcl_context_destroy(ctx);
+    swcl_scenario_destroy(scn);
 }

@@ -3,12 +3,17 @@
 // distances and scores, and entropy weights.
 #include <cmath>
 #include <cstring>
+#include <memory>
+#include <mutex>
+#include <optional>
 
 #include "capi_common.hpp"
 #include "capi_tracks.hpp"
 #include "eval/entropy_weights.hpp"
+#include "eval/metric_accumulator.hpp"
 #include "eval/metrics.hpp"
 #include "eval/pdf_distance.hpp"
+#include "eval/swarm_metrics.hpp"
 #include "eval/time_window.hpp"
 
 using namespace swarmcl;
@@ -16,13 +21,48 @@ using namespace swarmcl::capi;
 
 namespace {
 
-HandleRegistry<const MetricSamples>& metric_sets() {
-    static auto* registry = new HandleRegistry<const MetricSamples>(0xE7, "metrics");
+// What a swcl_metrics holds: the samples themselves (tracks, frames: exact
+// PDFs), or the streamed fine histograms of a swarm's metrics on the device
+// (eval/swarm_metrics.hpp), which keep the swarm alive and are sampled under
+// its lock.
+struct MetricSet {
+    std::optional<MetricSamples> samples;
+    std::shared_ptr<Swarm> swarm;
+    std::unique_ptr<SwarmMetrics> stream;
+    double frame_time = 0.0;
+
+    Moments moments(Metric m) const {
+        if (samples) return moments_of((*samples)[m]);
+        return stream_result().moments(m);
+    }
+    uint64_t count(Metric m) const { return samples ? (*samples)[m].size() : stream_result().count(m); }
+    std::vector<double> pdf(Metric m, const PdfOptions& o) const {
+        if (samples) {
+            const auto& x = (*samples)[m];
+            for (double v : x)
+                if (!std::isfinite(v))
+                    fail(Status::InvalidArgument, std::string("pdf: a sample of ") + metric_name(m) + " is not finite");
+            return discrete_pdf(x, moments_of(x), o);
+        }
+        return stream_result().discrete_pdf(m, o);
+    }
+    // The streamed result, taken once per call under the swarm's lock.
+    MetricAccumulator stream_result() const {
+        std::lock_guard<std::mutex> lock(swarm->mutex());
+        return stream->result();
+    }
+};
+
+HandleRegistry<MetricSet>& metric_sets() {
+    static auto* registry = new HandleRegistry<MetricSet>(0xE7, "metrics");
     return *registry;
 }
 
 void add_metrics(swcl_metrics* out, MetricSamples&& m) {
-    out->id = metric_sets().add(std::make_shared<const MetricSamples>(std::move(m)));
+    auto set = std::make_shared<MetricSet>();
+    set->frame_time = m.frame_time;
+    set->samples = std::move(m);
+    out->id = metric_sets().add(set);
 }
 
 TrackLoadOptions options_or_default(const swcl_dataset_desc* desc) {
@@ -80,6 +120,29 @@ swcl_status swcl_metrics_from_frames(const float* xyz, size_t frames, size_t age
     });
 }
 
+swcl_status swcl_metrics_attach(swcl_swarm swarm, double sample_dt, swcl_metrics* out) {
+    return guarded(__func__, [&] {
+        check_out(out, "out");
+        auto set = std::make_shared<MetricSet>();
+        set->swarm = swarms().get(swarm.id);
+        {
+            std::lock_guard<std::mutex> lock(set->swarm->mutex());
+            set->stream = std::make_unique<SwarmMetrics>(*set->swarm, sample_dt);
+        }
+        set->frame_time = sample_dt;
+        out->id = metric_sets().add(set);
+    });
+}
+
+swcl_status swcl_metrics_sample(swcl_metrics metrics) {
+    return guarded(__func__, [&] {
+        const auto set = metric_sets().get(metrics.id);
+        if (!set->stream) fail(Status::InvalidArgument, "these metrics come from tracks or frames, not a swarm (swcl_metrics_attach)");
+        std::lock_guard<std::mutex> lock(set->swarm->mutex());
+        set->stream->sample();
+    });
+}
+
 swcl_status swcl_metrics_destroy(swcl_metrics metrics) {
     return guarded(__func__, [&] { metric_sets().remove(metrics.id); });
 }
@@ -95,7 +158,7 @@ swcl_status swcl_metrics_get_info(swcl_metrics metrics, swcl_metric metric, swcl
     return guarded(__func__, [&] {
         check_struct_size(out, sizeof(swcl_metric_info), "out");
         const auto set = metric_sets().get(metrics.id);
-        const Moments m = moments_of((*set)[metric_from(metric)]);
+        const Moments m = set->moments(metric_from(metric));
         out->count = m.count;
         out->mean = m.mean;
         out->sigma = m.sigma;
@@ -119,8 +182,7 @@ swcl_status swcl_metrics_pdf(swcl_metrics metrics, swcl_metric metric, const swc
         require(out != nullptr, "out is NULL");
         require(count == p.bins, "count must equal options->bins (" + std::to_string(p.bins) + ")");
         const auto set = metric_sets().get(metrics.id);
-        const auto& samples = (*set)[metric_from(metric)];
-        const auto q = discrete_pdf(samples, moments_of(samples), p);
+        const auto q = set->pdf(metric_from(metric), p);
         std::memcpy(out, q.data(), q.size() * sizeof(double));
     });
 }
@@ -133,8 +195,18 @@ swcl_status swcl_metrics_distances(swcl_metrics real, swcl_metrics sim, const sw
         require(count == kMetricCount, "count must be SWCL_METRIC_COUNT (7)");
         const auto r = metric_sets().get(real.id);
         const auto s = metric_sets().get(sim.id);
-        const auto e = metric_distances(*r, *s, p);
-        std::memcpy(out, e.data(), sizeof(e));
+        if (r->samples && s->samples) {  // both exact: the samples' own distances
+            const auto e = metric_distances(*r->samples, *s->samples, p);
+            std::memcpy(out, e.data(), sizeof(e));
+            return;
+        }
+        // Eq. 2 per metric; a metric with no samples on a side gets the
+        // largest distance, as metric_distances does.
+        const double worst = 2.0 * p.bins / (2.0 * p.half_width);
+        for (size_t k = 0; k < kMetricCount; ++k) {
+            const Metric m = Metric(k);
+            out[k] = r->count(m) == 0 || s->count(m) == 0 ? worst : pdf_l1(r->pdf(m, p), s->pdf(m, p));
+        }
     });
 }
 

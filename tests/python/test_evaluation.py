@@ -113,3 +113,19 @@ def test_the_swarmcl_program_evaluates_and_plots_beside_its_json(tmp_path, rng):
     assert "plot: ev.png" in p.stdout
     assert (tmp_path / "ev.png").read_bytes()[:4] == b"\x89PNG"
     assert json.loads((tmp_path / "ev.json").read_text())["metrics"].keys() == set(swarmcl.METRICS)
+
+
+def test_attached_metrics_stream_a_running_swarm(ctx):
+    scenario = swarmcl.Scenario.parse(TINY)
+    frames = []
+    with scenario.create_swarm(ctx) as swarm, swarmcl.Metrics.attach(swarm, 0.04) as live:
+        for f in range(30):
+            if f:
+                swarm.step(2)
+            live.sample()
+            frames.append(swarm.read_positions())
+        with swarmcl.Metrics.from_frames(np.stack(frames), 0.04) as host:
+            assert live.info("speed")["count"] == host.info("speed")["count"] == 29 * 20
+            assert np.all(swarmcl.distances(live, host) < 0.2)
+    with swarmcl.Metrics.from_frames(np.stack(frames), 0.04) as host, pytest.raises(swarmcl.InvalidArgumentError):
+        host.sample()

@@ -94,6 +94,19 @@ class Metrics(_Handle):
         ptr = ffi.from_buffer("float[]", a) if a.size else ffi.NULL
         return cls._make(lambda h: lib.swcl_metrics_from_frames(ptr, a.shape[0], a.shape[1], float(dt), h))
 
+    @classmethod
+    def attach(cls, swarm, sample_dt: float) -> "Metrics":
+        """Metrics of a running swarm, computed on the device and streamed into
+        fixed-size histograms: step the swarm K steps, ``sample()``, repeat;
+        ``sample_dt`` is K times the swarm's dt.  Keeps the swarm alive."""
+        m = cls._make(lambda h: lib.swcl_metrics_attach(swarm._h, float(sample_dt), h))
+        m._swarm = swarm
+        return m
+
+    def sample(self) -> None:
+        """Samples the attached swarm's positions now (Metrics.attach only)."""
+        check(lib.swcl_metrics_sample(self._h))
+
     @property
     def frame_time(self) -> float:
         """Seconds between the frames the samples came from."""

@@ -126,8 +126,13 @@ class PopulationEvaluator:
 
     def __init__(self, scenario: dict, params: Sequence[Parameter], real: Metrics, context: Context, *,
                  steps: Optional[int] = None, every: Optional[int] = None, warmup: int = 0, bins: int = 50,
-                 half_width: float = 4.0, weights=None, p1=None, p2=None):
+                 half_width: float = 4.0, weights=None, p1=None, p2=None, streamed: bool = True):
         self.scenario, self.params, self.real, self.context = scenario, list(params), real, context
+        # streamed: each swarm's metrics computed on the device into fine
+        # histograms (Metrics.attach; nothing per frame is read back);
+        # otherwise positions are read every sample and measured on the host
+        # (exact PDFs, slower).
+        self.streamed = bool(streamed)
         info = Scenario.parse(json.dumps(scenario)).info
         self.dt = info["dt"]
         self.steps = info["steps"] if steps is None else int(steps)
@@ -150,48 +155,76 @@ class PopulationEvaluator:
             self.refused += 1
             return None
 
-    def _frames(self, swarms) -> List[np.ndarray]:
-        """Positions (frames, agents, 3) of each swarm: the swarms advance side
-        by side, `every` steps at a time, sampled after each advance."""
+    def _advance(self, swarms, sample) -> None:
+        """The swarms advance side by side, `every` steps at a time, after the
+        warm-up; sample(i) after each advance (and once before the first)."""
         for done in range(0, self.warmup, self.every):
             for s in swarms:
                 s.step(min(self.every, self.warmup - done))
-        frames = [[s.read_positions()] for s in swarms]
+        for i in range(len(swarms)):
+            sample(i)
         for _ in range(self.steps // self.every):
             for s in swarms:
                 s.step(self.every)
-            for f, s in zip(frames, swarms):
-                f.append(s.read_positions())
-        return [np.stack(f) for f in frames]
+            for i in range(len(swarms)):
+                sample(i)
 
-    def _terms(self, frames: np.ndarray) -> np.ndarray:
-        with Metrics.from_frames(frames, self.every * self.dt) as sim:
-            return distances(self.real, sim, self.bins, self.half_width)
+    def _all_terms(self, swarms) -> List[np.ndarray]:
+        """The seven E_phi of each swarm's run."""
+        sample_dt = self.every * self.dt
+        if self.streamed:
+            metrics = [Metrics.attach(s, sample_dt) for s in swarms]
+            try:
+                self._advance(swarms, lambda i: metrics[i].sample())
+                return [distances(self.real, m, self.bins, self.half_width) for m in metrics]
+            finally:
+                for m in metrics:
+                    m.close()
+        frames = [[] for _ in swarms]
+        self._advance(swarms, lambda i: frames[i].append(swarms[i].read_positions()))
+        out = []
+        for f in frames:
+            with Metrics.from_frames(np.stack(f), sample_dt) as sim:
+                out.append(distances(self.real, sim, self.bins, self.half_width))
+        return out
+
+    def _score(self, terms_or_error) -> float:
+        # A run that blew up (non-finite positions, so non-finite metrics)
+        # scores as refused: never a NaN for the optimiser.
+        if isinstance(terms_or_error, Exception):
+            self.refused += 1
+            return REFUSED_SCORE
+        return score(terms_or_error, self.weights, self.p1, self.p2)
 
     def __call__(self, population) -> List[float]:
         swarms = [self._swarm(u) for u in population]
         live = [s for s in swarms if s is not None]
         try:
-            scores = iter([self._score(f) for f in self._frames(live)])
+            try:
+                terms = self._all_terms(live)
+            except SwarmclError:
+                # A run blew up: run each individual again alone, from a
+                # fresh swarm, so only the one that fails is refused.
+                terms = []
+                for u, s in zip(population, swarms):
+                    if s is None:
+                        continue
+                    with self._swarm(u) as fresh:
+                        try:
+                            terms.append(self._all_terms([fresh])[0])
+                        except SwarmclError as e:
+                            terms.append(e)
+            scores = iter([self._score(t) for t in terms])
         finally:
             for s in live:
                 s.close()
         self.evaluations += len(population)
         return [next(scores) if s is not None else REFUSED_SCORE for s in swarms]
 
-    def _score(self, frames: np.ndarray) -> float:
-        # A run that blew up (non-finite positions, so non-finite metrics)
-        # scores as refused: never a NaN for the optimiser.
-        try:
-            return score(self._terms(frames), self.weights, self.p1, self.p2)
-        except SwarmclError:
-            self.refused += 1
-            return REFUSED_SCORE
-
     def terms(self, scenario: dict) -> np.ndarray:
         """The seven energy terms E_phi (Eq. 2) of one scenario, run as a population member is."""
         with Scenario.parse(json.dumps(scenario)).create_swarm(self.context) as s:
-            return self._terms(self._frames([s])[0])
+            return self._all_terms([s])[0]
 
 
 class _Ranks:
@@ -311,13 +344,15 @@ def _context_for_rank(rank: int, device=None) -> Context:
 def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations: int = 10, population: int = 8,
         seed: int = 1, steps: Optional[int] = None, every: Optional[int] = None, warmup: int = 0, bins: int = 50,
         half_width: float = 4.0, weights=None, p1=None, p2=None, comm=None, context: Optional[Context] = None,
-        progress: Optional[Callable[[dict], None]] = None) -> Optional[dict]:
+        progress: Optional[Callable[[dict], None]] = None, streamed: bool = True) -> Optional[dict]:
     """Fits the ranged parameters of ``scenario`` (a path or a dict) to
     ``tracks`` (a Metrics) by maximising E.  ``method``: "cmaes" or "ga".
     With ``comm`` (an mpi4py communicator of R ranks), every rank must call
     fit() with the same arguments: rank 0 returns the result, the others
     serve evaluations and return None.  The same seed gives the same result
-    for any R."""
+    for any R.  ``streamed``: each run's metrics on the device (fine
+    histograms, the default); False reads positions back and measures them
+    on the host (exact PDFs, slower)."""
     if method not in ("cmaes", "ga"):
         raise ValueError(f"method: 'cmaes' or 'ga', got {method!r}")
     if int(generations) < 1 or int(population) < 2:
@@ -333,7 +368,8 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
     ctx = _context_for_rank(rank) if own else context
     try:
         evaluator = PopulationEvaluator(scenario, params, tracks, ctx, steps=steps, every=every, warmup=warmup,
-                                        bins=bins, half_width=half_width, weights=weights, p1=p1, p2=p2)
+                                        bins=bins, half_width=half_width, weights=weights, p1=p1, p2=p2,
+                                        streamed=streamed)
         ranks = _Ranks(evaluator, comm)
         if rank != 0:
             ranks.serve()

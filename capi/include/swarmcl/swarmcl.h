@@ -762,6 +762,18 @@ SWCL_API swcl_status swcl_metrics_from_tracks(const uint32_t* counts, size_t tra
  * frame). */
 SWCL_API swcl_status swcl_metrics_from_frames(const float* xyz, size_t frames, size_t agents, double dt,
                                               swcl_metrics* out);
+/* Metrics of a running swarm (any model), computed on the device and
+ * streamed into fixed-size histograms and moments: memory does not grow with
+ * the number of frames.  Step the swarm K steps, swcl_metrics_sample, repeat;
+ * sample_dt is the time between samples (K times the swarm's dt).  The
+ * metrics keep the swarm alive until they are destroyed; the swarm's agent
+ * count must not change.  Read them like any other metrics (the PDFs come
+ * from fine histograms, close to the samples' exact PDFs: docs/evaluation.md).
+ * SWCL_ERROR_INVALID_ARGUMENT for fewer than 2 agents or sample_dt <= 0. */
+SWCL_API swcl_status swcl_metrics_attach(swcl_swarm swarm, double sample_dt, swcl_metrics* out);
+/* Samples the swarm's positions now (enqueued on the device).
+ * SWCL_ERROR_INVALID_ARGUMENT for metrics not made by swcl_metrics_attach. */
+SWCL_API swcl_status swcl_metrics_sample(swcl_metrics metrics);
 SWCL_API swcl_status swcl_metrics_destroy(swcl_metrics metrics);
 /* Seconds between the frames the samples came from: the tracks' frame time
  * (given, or the median step of the data), or dt of simulated frames. */
