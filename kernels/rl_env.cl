@@ -55,6 +55,53 @@ SWCL_INLINE float3 rl_ray_dir(int k, float3 f, float3 r, float3 u) {
     return cos(el) * cos(az) * f + cos(el) * sin(az) * r + sin(el) * u;
 }
 
+// rl_ray_dir's coefficients (forward, right, up) = (cos el cos az, cos el
+// sin az, sin el), k = 7 * elevation index + azimuth index.
+__constant float rl_ray_table[3 * RL_RAYS] = {
+    1.584809576e-17f, -2.588190451e-01f, -9.659258263e-01f,
+    1.294095226e-01f, -2.241438680e-01f, -9.659258263e-01f,
+    2.241438680e-01f, -1.294095226e-01f, -9.659258263e-01f,
+    2.588190451e-01f, 0.000000000e+00f, -9.659258263e-01f,
+    2.241438680e-01f, 1.294095226e-01f, -9.659258263e-01f,
+    1.294095226e-01f, 2.241438680e-01f, -9.659258263e-01f,
+    1.584809576e-17f, 2.588190451e-01f, -9.659258263e-01f,
+    4.329780281e-17f, -7.071067812e-01f, -7.071067812e-01f,
+    3.535533906e-01f, -6.123724357e-01f, -7.071067812e-01f,
+    6.123724357e-01f, -3.535533906e-01f, -7.071067812e-01f,
+    7.071067812e-01f, 0.000000000e+00f, -7.071067812e-01f,
+    6.123724357e-01f, 3.535533906e-01f, -7.071067812e-01f,
+    3.535533906e-01f, 6.123724357e-01f, -7.071067812e-01f,
+    4.329780281e-17f, 7.071067812e-01f, -7.071067812e-01f,
+    5.914589857e-17f, -9.659258263e-01f, -2.588190451e-01f,
+    4.829629131e-01f, -8.365163037e-01f, -2.588190451e-01f,
+    8.365163037e-01f, -4.829629131e-01f, -2.588190451e-01f,
+    9.659258263e-01f, 0.000000000e+00f, -2.588190451e-01f,
+    8.365163037e-01f, 4.829629131e-01f, -2.588190451e-01f,
+    4.829629131e-01f, 8.365163037e-01f, -2.588190451e-01f,
+    5.914589857e-17f, 9.659258263e-01f, -2.588190451e-01f,
+    5.914589857e-17f, -9.659258263e-01f, 2.588190451e-01f,
+    4.829629131e-01f, -8.365163037e-01f, 2.588190451e-01f,
+    8.365163037e-01f, -4.829629131e-01f, 2.588190451e-01f,
+    9.659258263e-01f, 0.000000000e+00f, 2.588190451e-01f,
+    8.365163037e-01f, 4.829629131e-01f, 2.588190451e-01f,
+    4.829629131e-01f, 8.365163037e-01f, 2.588190451e-01f,
+    5.914589857e-17f, 9.659258263e-01f, 2.588190451e-01f,
+    4.329780281e-17f, -7.071067812e-01f, 7.071067812e-01f,
+    3.535533906e-01f, -6.123724357e-01f, 7.071067812e-01f,
+    6.123724357e-01f, -3.535533906e-01f, 7.071067812e-01f,
+    7.071067812e-01f, 0.000000000e+00f, 7.071067812e-01f,
+    6.123724357e-01f, 3.535533906e-01f, 7.071067812e-01f,
+    3.535533906e-01f, 6.123724357e-01f, 7.071067812e-01f,
+    4.329780281e-17f, 7.071067812e-01f, 7.071067812e-01f,
+    1.584809576e-17f, -2.588190451e-01f, 9.659258263e-01f,
+    1.294095226e-01f, -2.241438680e-01f, 9.659258263e-01f,
+    2.241438680e-01f, -1.294095226e-01f, 9.659258263e-01f,
+    2.588190451e-01f, 0.000000000e+00f, 9.659258263e-01f,
+    2.241438680e-01f, 1.294095226e-01f, 9.659258263e-01f,
+    1.294095226e-01f, 2.241438680e-01f, 9.659258263e-01f,
+    1.584809576e-17f, 2.588190451e-01f, 9.659258263e-01f,
+};
+
 // Signed distance to the nearest axis-aligned box obstacle (centre c, half
 // extents h); INFINITY without obstacles.
 SWCL_INLINE float rl_sdf(float3 p, __global const float4* box_c, __global const float4* box_h, uint nbox) {
@@ -81,18 +128,6 @@ SWCL_INLINE float rl_trace(float3 p, float3 dir, float max_t, __global const flo
         t += d;
     }
     return INFINITY;
-}
-
-// Distance along unit dir from p to a sphere (centre offset d from p,
-// radius rad); INFINITY when missed or behind.  Inside the sphere: 0.
-SWCL_INLINE float rl_ray_sphere(float3 d, float3 dir, float rad) {
-    const float dd = dot(d, d);
-    if (dd <= rad * rad) return 0.0f;
-    const float t = dot(d, dir);
-    if (t <= 0.0f) return INFINITY;
-    const float perp2 = dd - t * t;
-    if (perp2 >= rad * rad) return INFINITY;
-    return t - sqrt(rad * rad - perp2);
 }
 
 // Eq. 9: the zone of a neighbour at distance d.
@@ -247,19 +282,22 @@ __kernel void rl_observe(__global const float4* pos, __global const float4* vel,
 
     float3 fr, fu;
     rl_frame(q, &fr, &fu);
+    // Ray hits are found in the heading frame: each target's offset turned
+    // into (forward, right, up) once, then one dot product per ray with the
+    // constant table (no trigonometry per target).
     float ray[RL_RAYS];
     for (int k = 0; k < RL_RAYS; ++k) ray[k] = INFINITY;
-    // The leader as a ray target.
-    for (int k = 0; k < RL_RAYS; ++k) ray[k] = fmin(ray[k], rl_ray_sphere(to_l, rl_ray_dir(k, q, fr, fu), body));
-
+    const float b2 = body * body;
     float sum_u = 0.0f, sum_q = 0.0f, sum_d = 0.0f, sum_du = 0.0f, sum_dist = 0.0f;
     uint nn = 0;
     const float d_target = prm[10];
-    for (uint j = first; j < first + agents; ++j) {
+    for (uint j = first; j <= first + agents; ++j) {  // j == first + agents: the leader
         if (j == s) continue;
-        const float3 d = pos[j].xyz - p;
-        const float dist = length(d);
-        if (dist <= r_nbr) {
+        const bool leader = j == first + agents;
+        const float3 d = leader ? to_l : pos[j].xyz - p;
+        const float dd = dot(d, d);
+        const float dist = sqrt(dd);
+        if (!leader && dist <= r_nbr) {
             const float4 vj = vel[j];
             ++nn;
             sum_u += vj.w;
@@ -269,12 +307,20 @@ __kernel void rl_observe(__global const float4* pos, __global const float4* vel,
             const float e = dist - d_target;
             sum_dist += e * e;
         }
-        if (dist <= r_coh + body)
-            for (int k = 0; k < RL_RAYS; ++k) ray[k] = fmin(ray[k], rl_ray_sphere(d, rl_ray_dir(k, q, fr, fu), body));
+        if (dist > r_coh + body) continue;
+        if (dd <= b2) {  // inside the target: every ray hits at 0
+            for (int k = 0; k < RL_RAYS; ++k) ray[k] = 0.0f;
+            continue;
+        }
+        const float lf = dot(d, q), lr = dot(d, fr), lu = dot(d, fu);
+        for (int k = 0; k < RL_RAYS; ++k) {
+            const float t = rl_ray_table[3 * k] * lf + rl_ray_table[3 * k + 1] * lr + rl_ray_table[3 * k + 2] * lu;
+            const float perp2 = dd - t * t;
+            if (t > 0.0f && perp2 < b2) ray[k] = fmin(ray[k], t - sqrt(b2 - perp2));
+        }
     }
     for (int k = 0; k < RL_RAYS; ++k) {
-        const float3 dir = rl_ray_dir(k, q, fr, fu);
-        const float to = rl_trace(p, dir, r_coh, box_c, box_h, nbox);
+        const float to = nbox ? rl_trace(p, rl_ray_dir(k, q, fr, fu), r_coh, box_c, box_h, nbox) : INFINITY;
         float val = r_coh;
         if (to <= r_coh && to <= ray[k]) val = -to;
         else if (ray[k] <= r_coh) val = ray[k];
