@@ -47,16 +47,8 @@ SWCL_INLINE void rl_frame(float3 f, float3* r, float3* u) {
 
 // Ray k (0..41): azimuth -90..90° in 30° steps (7) x elevation -75..75° in
 // 30° steps (6), k = 7 * elevation index + azimuth index; every ray lies in
-// the heading hemisphere (forward component cos(el) cos(az) >= 0).
-SWCL_INLINE float3 rl_ray_dir(int k, float3 f, float3 r, float3 u) {
-    const float d2r = 0.017453292519943295f;
-    const float az = (float)(k % 7 * 30 - 90) * d2r;
-    const float el = (float)(k / 7 * 30 - 75) * d2r;
-    return cos(el) * cos(az) * f + cos(el) * sin(az) * r + sin(el) * u;
-}
-
-// rl_ray_dir's coefficients (forward, right, up) = (cos el cos az, cos el
-// sin az, sin el), k = 7 * elevation index + azimuth index.
+// the heading hemisphere (forward component cos(el) cos(az) >= 0).  The
+// table holds (forward, right, up) = (cos el cos az, cos el sin az, sin el).
 __constant float rl_ray_table[3 * RL_RAYS] = {
     1.584809576e-17f, -2.588190451e-01f, -9.659258263e-01f,
     1.294095226e-01f, -2.241438680e-01f, -9.659258263e-01f,
@@ -102,6 +94,10 @@ __constant float rl_ray_table[3 * RL_RAYS] = {
     1.584809576e-17f, 2.588190451e-01f, 9.659258263e-01f,
 };
 
+SWCL_INLINE float3 rl_ray_dir(int k, float3 f, float3 r, float3 u) {
+    return rl_ray_table[3 * k] * f + rl_ray_table[3 * k + 1] * r + rl_ray_table[3 * k + 2] * u;
+}
+
 // Signed distance to the nearest axis-aligned box obstacle (centre c, half
 // extents h); INFINITY without obstacles.
 SWCL_INLINE float rl_sdf(float3 p, __global const float4* box_c, __global const float4* box_h, uint nbox) {
@@ -115,19 +111,30 @@ SWCL_INLINE float rl_sdf(float3 p, __global const float4* box_c, __global const 
     return best;
 }
 
-// Sphere tracing (hit when the distance drops below 1e-3; at most 64 steps):
-// the distance along dir to the first obstacle surface, or INFINITY within
-// max_t.  A ray starting inside an obstacle hits at 0.
-SWCL_INLINE float rl_trace(float3 p, float3 dir, float max_t, __global const float4* box_c,
-                           __global const float4* box_h, uint nbox) {
-    if (nbox == 0) return INFINITY;
-    float t = 0.0f;
-    for (int it = 0; it < 64 && t <= max_t; ++it) {
-        const float d = rl_sdf(p + t * dir, box_c, box_h, nbox);
-        if (d < 1e-3f) return t;
-        t += d;
+// Distance along unit dir from p to the first box obstacle (exact slab
+// test; 0 from inside a box), INFINITY when none is hit.  The boxes are
+// analytic, so the rays need no sphere tracing of their distance field.
+// One axis of the slab test: narrows [t0, t1], or marks a miss.
+SWCL_INLINE void rl_slab(float p, float d, float lo, float hi, float* t0, float* t1, int* miss) {
+    if (fabs(d) < 1e-12f) {
+        if (p < lo || p > hi) *miss = 1;
+        return;
     }
-    return INFINITY;
+    const float ta = (lo - p) / d, tb = (hi - p) / d;
+    *t0 = fmax(*t0, fmin(ta, tb));
+    *t1 = fmin(*t1, fmax(ta, tb));
+}
+
+// Distance along unit dir from p to box (c, h): exact slab test, 0 from
+// inside, INFINITY when missed.  The boxes are analytic, so the rays need no
+// sphere tracing of their distance field.
+SWCL_INLINE float rl_ray_box(float3 p, float3 dir, float4 c, float4 h) {
+    float t0 = 0.0f, t1 = INFINITY;
+    int miss = 0;
+    rl_slab(p.x, dir.x, c.x - h.x, c.x + h.x, &t0, &t1, &miss);
+    rl_slab(p.y, dir.y, c.y - h.y, c.y + h.y, &t0, &t1, &miss);
+    rl_slab(p.z, dir.z, c.z - h.z, c.z + h.z, &t0, &t1, &miss);
+    return (!miss && t0 <= t1) ? t0 : INFINITY;
 }
 
 // Eq. 9: the zone of a neighbour at distance d.
@@ -319,10 +326,18 @@ __kernel void rl_observe(__global const float4* pos, __global const float4* vel,
             if (t > 0.0f && perp2 < b2) ray[k] = fmin(ray[k], t - sqrt(b2 - perp2));
         }
     }
+    // Obstacles: only boxes within r_coh can be hit within r_coh.
+    float obst[RL_RAYS];
+    for (int k = 0; k < RL_RAYS; ++k) obst[k] = INFINITY;
+    for (uint b = 0; b < nbox; ++b) {
+        const float4 c = box_c[b], h = box_h[b];
+        const float3 e = fabs(p - c.xyz) - h.xyz;
+        if (length(fmax(e, (float3)(0.0f))) > r_coh) continue;
+        for (int k = 0; k < RL_RAYS; ++k) obst[k] = fmin(obst[k], rl_ray_box(p, rl_ray_dir(k, q, fr, fu), c, h));
+    }
     for (int k = 0; k < RL_RAYS; ++k) {
-        const float to = nbox ? rl_trace(p, rl_ray_dir(k, q, fr, fu), r_coh, box_c, box_h, nbox) : INFINITY;
         float val = r_coh;
-        if (to <= r_coh && to <= ray[k]) val = -to;
+        if (obst[k] <= r_coh && obst[k] <= ray[k]) val = -obst[k];
         else if (ray[k] <= r_coh) val = ray[k];
         o[RL_OBS_LOCAL + k] = val;
     }

@@ -56,8 +56,7 @@ inline float sdf(V3 p, const std::vector<RlObstacleBox>& boxes) {
     return best;
 }
 
-// Exact ray / box distance (slab method): the brute-force reference the
-// device's sphere tracing is checked against.  0 inside.
+// Exact ray / box distance (slab method), 0 inside.
 inline float ray_box(V3 p, V3 dir, const RlObstacleBox& b) {
     float t0 = 0, t1 = kInf;
     for (int a = 0; a < 3; ++a) {
@@ -66,10 +65,9 @@ inline float ray_box(V3 p, V3 dir, const RlObstacleBox& b) {
             if (p[a] < lo || p[a] > hi) return kInf;
             continue;
         }
-        float ta = (lo - p[a]) / dir[a], tb = (hi - p[a]) / dir[a];
-        if (ta > tb) std::swap(ta, tb);
-        t0 = std::max(t0, ta);
-        t1 = std::min(t1, tb);
+        const float ta = (lo - p[a]) / dir[a], tb = (hi - p[a]) / dir[a];
+        t0 = std::max(t0, std::min(ta, tb));
+        t1 = std::min(t1, std::max(ta, tb));
     }
     return t0 <= t1 ? t0 : kInf;
 }
