@@ -140,7 +140,6 @@ void LeaderEnv::reset_world(uint32_t w, std::vector<cl_float4>& pos, std::vector
 void LeaderEnv::reset(uint64_t seed) {
     seed_ = seed;
     std::fill(episode_.begin(), episode_.end(), 0u);
-    std::vector<uint8_t> all(c_.worlds, 1);
     was_reset_ = true;
     lpos_h_.assign(c_.worlds, f4(0, 0, 0, 0));
     lvel_h_.assign(c_.worlds, f4(0, 0, 0, 0));
@@ -161,7 +160,6 @@ void LeaderEnv::reset_worlds(const uint8_t* mask, size_t count) {
     require(mask != nullptr && count == c_.worlds,
             "rl env: reset mask needs worlds = " + std::to_string(c_.worlds) + " entries (" + std::to_string(count) +
                 " given)");
-    const size_t N = c_.agents;
     std::vector<cl_float4> pos(n()), vel(n());
     std::vector<cl_uint> wp(c_.worlds);
     pos_.download(ctx_, pos.data(), n());
@@ -176,7 +174,6 @@ void LeaderEnv::reset_worlds(const uint8_t* mask, size_t count) {
         reset_world(w, pos, vel);
         wp[w] = c_.leader_mode == RlLeaderMode::Navigation ? 1u : 0u;
     }
-    (void)N;
     pos_.upload(ctx_, pos.data(), n());
     vel_.upload(ctx_, vel.data(), n());
     lpos_.upload(ctx_, lpos_h_.data(), c_.worlds);

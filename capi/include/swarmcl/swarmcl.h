@@ -681,40 +681,6 @@ SWCL_API swcl_status swcl_swarm_force_set_path(swcl_swarm swarm, const float* po
  * heading. */
 SWCL_API swcl_status swcl_swarm_force_get_targets(swcl_swarm swarm, float* out_xyz, size_t count);
 
-
-/* ---- deprecated names (removed at 1.0) --------------------------------------
- * Version 0.2 named every model function swcl_swarm_<model>_<verb>.  The old
- * names still work and call the new ones; compilers warn where they are used. */
-
-#if defined(__GNUC__) || defined(__clang__)
-#  define SWCL_DEPRECATED __attribute__((deprecated))
-#elif defined(_MSC_VER)
-#  define SWCL_DEPRECATED __declspec(deprecated)
-#else
-#  define SWCL_DEPRECATED
-#endif
-
-/* Use swcl_swarm_field_set_model. */
-SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_set_field_model(swcl_swarm swarm, const swcl_field_model_desc* desc);
-/* Use swcl_swarm_path_set_model. */
-SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_set_path_model(swcl_swarm swarm, const swcl_path_model_desc* desc);
-/* Use swcl_swarm_path_set_goals. */
-SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_set_path_goals(swcl_swarm swarm, uint32_t group, const swcl_goal* goals, uint32_t goal_count, double* out_seconds);
-/* Use swcl_swarm_path_get_info. */
-SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_get_path_info(swcl_swarm swarm, swcl_path_info* out);
-/* Use swcl_swarm_energy_set_model. */
-SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_set_energy_model(swcl_swarm swarm, swcl_dataset dataset, const swcl_energy_model_desc* desc);
-/* Use swcl_swarm_energy_get_goals. */
-SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_energy_goals(swcl_swarm swarm, int32_t* out_goals, size_t count);
-/* Use swcl_swarm_force_set_model. */
-SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_set_force_model(swcl_swarm swarm, const swcl_force_model_desc* desc);
-/* Use swcl_swarm_force_set_keyframes. */
-SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_set_force_keyframes(swcl_swarm swarm, const swcl_keyframe* keyframes, uint32_t count, uint32_t period);
-/* Use swcl_swarm_force_set_path. */
-SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_set_force_path(swcl_swarm swarm, const float* points, uint32_t count, float speed);
-/* Use swcl_swarm_force_get_targets. */
-SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_get_force_targets(swcl_swarm swarm, float* out_xyz, size_t count);
-
 /* ---- Deep-RL swarms: the batched leader-following environment (issue 15) ----
  * W independent worlds of N followers and one leader each (paper
  * drl-swarm-animation-rule-based-action-generator, §III; docs/rl-swarm.md).
@@ -774,6 +740,39 @@ SWCL_API swcl_status swcl_rl_env_set_leader_controls(swcl_rl_env env, const floa
 SWCL_API swcl_status swcl_rl_env_read_state(swcl_rl_env env, float* out_pos, size_t pos_count, float* out_vel,
                                             size_t vel_count, float* out_leader_pos, float* out_leader_vel,
                                             size_t leader_count);
+
+/* ---- deprecated names (removed at 1.0) --------------------------------------
+ * Version 0.2 named every model function swcl_swarm_<model>_<verb>.  The old
+ * names still work and call the new ones; compilers warn where they are used. */
+
+#if defined(__GNUC__) || defined(__clang__)
+#  define SWCL_DEPRECATED __attribute__((deprecated))
+#elif defined(_MSC_VER)
+#  define SWCL_DEPRECATED __declspec(deprecated)
+#else
+#  define SWCL_DEPRECATED
+#endif
+
+/* Use swcl_swarm_field_set_model. */
+SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_set_field_model(swcl_swarm swarm, const swcl_field_model_desc* desc);
+/* Use swcl_swarm_path_set_model. */
+SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_set_path_model(swcl_swarm swarm, const swcl_path_model_desc* desc);
+/* Use swcl_swarm_path_set_goals. */
+SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_set_path_goals(swcl_swarm swarm, uint32_t group, const swcl_goal* goals, uint32_t goal_count, double* out_seconds);
+/* Use swcl_swarm_path_get_info. */
+SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_get_path_info(swcl_swarm swarm, swcl_path_info* out);
+/* Use swcl_swarm_energy_set_model. */
+SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_set_energy_model(swcl_swarm swarm, swcl_dataset dataset, const swcl_energy_model_desc* desc);
+/* Use swcl_swarm_energy_get_goals. */
+SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_energy_goals(swcl_swarm swarm, int32_t* out_goals, size_t count);
+/* Use swcl_swarm_force_set_model. */
+SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_set_force_model(swcl_swarm swarm, const swcl_force_model_desc* desc);
+/* Use swcl_swarm_force_set_keyframes. */
+SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_set_force_keyframes(swcl_swarm swarm, const swcl_keyframe* keyframes, uint32_t count, uint32_t period);
+/* Use swcl_swarm_force_set_path. */
+SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_set_force_path(swcl_swarm swarm, const float* points, uint32_t count, float speed);
+/* Use swcl_swarm_force_get_targets. */
+SWCL_DEPRECATED SWCL_API swcl_status swcl_swarm_get_force_targets(swcl_swarm swarm, float* out_xyz, size_t count);
 
 #ifdef __cplusplus
 } /* extern "C" */
