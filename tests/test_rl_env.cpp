@@ -398,6 +398,26 @@ TEST(RlEnv, ResetIsDeterministic) {
     EXPECT_EQ(0, std::memcmp(o1.data(), o2.data(), o1.size() * sizeof(float)));
 }
 
+// A world's run depends on the seed and its index only, not on how many
+// worlds run beside it: world 1 of 2 and world 1 of 4 agree bit for bit.
+TEST(RlEnv, AWorldDoesNotDependOnTheWorldCount) {
+    auto ctx = shared_context();
+    auto world1 = [&](uint32_t W) {
+        RlEnvConfig c = small_config(W, 25);
+        LeaderEnv env(*ctx, c);
+        env.reset(5);
+        std::vector<float> a(4 * 25 * W), obs(54 * 25 * W);
+        for (int i = 0; i < 6; ++i) {
+            env.rag_actions(a.data(), a.size());
+            env.step(a.data(), a.size());
+        }
+        env.read_observations(obs.data(), obs.size());
+        return std::vector<float>(obs.begin() + 54 * 25, obs.begin() + 54 * 50);
+    };
+    const auto a = world1(2), b = world1(4);
+    EXPECT_EQ(0, std::memcmp(a.data(), b.data(), a.size() * sizeof(float)));
+}
+
 TEST(RlEnv, BadInputIsRefusedAndTheEnvStaysUsable) {
     auto ctx = shared_context();
     auto refused = [&](RlEnvConfig c, const char* needle) {
