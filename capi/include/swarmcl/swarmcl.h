@@ -723,6 +723,65 @@ SWCL_API swcl_status swcl_swarm_force_set_path(swcl_swarm swarm, const float* po
  * heading. */
 SWCL_API swcl_status swcl_swarm_force_get_targets(swcl_swarm swarm, float* out_xyz, size_t count);
 
+/* ---- Deep-RL swarms: the batched leader-following environment (issue 15) ----
+ * W independent worlds of N followers and one leader each (paper
+ * drl-swarm-animation-rule-based-action-generator, §III; docs/rl-swarm.md).
+ * Every array is whole and in slot order, slot = world * N + agent:
+ * actions W*N*4 {Δu, Δq.xyz}, observations W*N*obs_dim (54; 51 without EFS),
+ * rewards W*N, terminated / truncated flags W.  No call is per agent. */
+typedef struct swcl_rl_env { uint64_t id; } swcl_rl_env;
+
+typedef struct swcl_rl_env_desc {
+    uint32_t struct_size;
+    uint32_t worlds, agents;       /* W >= 1, N >= 1, W*N <= 2^24 */
+    const char* scenario;          /* "roaming" (joystick leader, default),
+                                      "quadrilateral", "stairway", "maze" */
+    const float* waypoints;        /* optional: packed (x, y, z, target speed), >= 2;
+                                      replaces the scenario's path (navigation leader) */
+    uint32_t waypoint_count;
+    const float* obstacles;        /* optional boxes (cx, cy, cz, hx, hy, hz): added to
+                                      the scenario's */
+    uint32_t obstacle_count;
+    uint32_t max_steps;            /* M, truncation (Table 1: 1200) */
+    int32_t efs;                   /* 1: embedded swarm features (54 obs); 0: ablation (51) */
+    float dt, du_max, dq_max_deg;  /* Table 1: 0.1, 0.1, 4 */
+    float r_sep, r_ali, r_coh;     /* Table 1: 1, 9, 18 */
+    float u_max;                   /* speed ceiling (3) */
+    float body_radius;             /* agents' sphere for the rays (0.5) */
+    float neighbor_radius;         /* EFS / reward neighbours; 0: r_coh */
+    float rag_w_sep, rag_w_ali, rag_w_coh;  /* Eq. 8 weights (4, 2, 2) */
+    float w_spd, w_dir, w_leader, w_obs, w_dist;  /* Table 1: 1.3, 1, 4.9, 16, 9.5 */
+    float l_spd, l_dir, l_leader, l_obs;          /* λ (ours: 2, 1, 0.1, 0.5) */
+    float dist_target;             /* Eq. 19's neighbour distance; 0: (r_ali - r_sep) / 2 */
+} swcl_rl_env_desc;
+
+SWCL_API swcl_rl_env_desc swcl_rl_env_desc_default(void);
+SWCL_API swcl_status swcl_rl_env_create(swcl_context context, const swcl_rl_env_desc* desc, swcl_rl_env* out);
+SWCL_API swcl_status swcl_rl_env_destroy(swcl_rl_env env);
+/* out_obs_dim: 54, or 51 without EFS. */
+SWCL_API swcl_status swcl_rl_env_get_info(swcl_rl_env env, uint32_t* out_worlds, uint32_t* out_agents,
+                                          uint32_t* out_obs_dim);
+/* Every world to its start (same seed: the same bits); out_obs may be NULL. */
+SWCL_API swcl_status swcl_rl_env_reset(swcl_rl_env env, uint64_t seed, float* out_obs, size_t obs_count);
+/* Only the worlds with mask[w] != 0 (W entries), each to its next episode's
+ * start; out_obs (all worlds) may be NULL. */
+SWCL_API swcl_status swcl_rl_env_reset_worlds(swcl_rl_env env, const uint8_t* mask, size_t mask_count,
+                                              float* out_obs, size_t obs_count);
+/* One step of every world.  Actions must be finite (else nothing moves).
+ * Any output pointer may be NULL (its count is then ignored). */
+SWCL_API swcl_status swcl_rl_env_step(swcl_rl_env env, const float* actions, size_t action_count,
+                                      float* out_obs, size_t obs_count, float* out_rewards, size_t reward_count,
+                                      uint8_t* out_terminated, uint8_t* out_truncated, size_t world_count);
+/* The rule-based action generator's actions (Eq. 8-10) for the current
+ * state, W*N*4: pass them to step for the rule-based baseline. */
+SWCL_API swcl_status swcl_rl_env_rag_actions(swcl_rl_env env, float* out_actions, size_t action_count);
+/* Joystick leaders: W*4 {Δu, Δq.xyz} per step, kept until changed. */
+SWCL_API swcl_status swcl_rl_env_set_leader_controls(swcl_rl_env env, const float* controls, size_t count);
+/* State, any pointer NULL to skip: follower positions (x, y, z, 0) and
+ * velocities (q.xyz, u), W*N*4 each; leaders' the same, W*4 each. */
+SWCL_API swcl_status swcl_rl_env_read_state(swcl_rl_env env, float* out_pos, size_t pos_count, float* out_vel,
+                                            size_t vel_count, float* out_leader_pos, float* out_leader_vel,
+                                            size_t leader_count);
 
 /* ---- evaluation against real insects -----------------------------------------
  * The data-driven evaluation of the noise paper (§3, docs/evaluation.md):

@@ -1,0 +1,133 @@
+// The RL environment through the C API (issue 15): whole arrays, the
+// rule-based baseline loop, determinism, and every bad input as a status
+// with a message that names the problem.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "swarmcl/swarmcl.h"
+
+namespace {
+
+class RlCApi : public ::testing::Test {
+protected:
+    void SetUp() override {
+        swcl_context_desc d = swcl_context_desc_default();
+        ASSERT_EQ(swcl_context_create(&d, &ctx), SWCL_OK) << swcl_last_error();
+    }
+    void TearDown() override { swcl_context_destroy(ctx); }
+    swcl_context ctx{};
+};
+
+bool error_mentions(const char* needle) { return std::string(swcl_last_error()).find(needle) != std::string::npos; }
+
+}  // namespace
+
+TEST_F(RlCApi, RuleBasedBaselineLoopWithWholeArrays) {
+    swcl_rl_env_desc d = swcl_rl_env_desc_default();
+    EXPECT_EQ(d.w_leader, 4.9f);  // Table 1
+    EXPECT_EQ(d.dq_max_deg, 4.0f);
+    d.worlds = 3;
+    d.agents = 20;
+    d.scenario = "stairway";
+    d.max_steps = 30;
+    swcl_rl_env env{};
+    ASSERT_EQ(swcl_rl_env_create(ctx, &d, &env), SWCL_OK) << swcl_last_error();
+    uint32_t W = 0, N = 0, D = 0;
+    ASSERT_EQ(swcl_rl_env_get_info(env, &W, &N, &D), SWCL_OK);
+    EXPECT_EQ(W, 3u);
+    EXPECT_EQ(N, 20u);
+    EXPECT_EQ(D, 54u);
+    const size_t n = size_t(W) * N;
+    std::vector<float> obs(n * D), obs2(n * D), act(4 * n), rew(n);
+    std::vector<uint8_t> term(W), trunc(W);
+    ASSERT_EQ(swcl_rl_env_reset(env, 42, obs.data(), obs.size()), SWCL_OK) << swcl_last_error();
+    for (int t = 0; t < 30; ++t) {
+        ASSERT_EQ(swcl_rl_env_rag_actions(env, act.data(), act.size()), SWCL_OK) << swcl_last_error();
+        ASSERT_EQ(swcl_rl_env_step(env, act.data(), act.size(), obs.data(), obs.size(), rew.data(), rew.size(),
+                                   term.data(), trunc.data(), W),
+                  SWCL_OK)
+            << swcl_last_error();
+        for (float r : rew) ASSERT_TRUE(std::isfinite(r));
+        for (float o : obs) ASSERT_TRUE(std::isfinite(o));
+    }
+    for (uint32_t w = 0; w < W; ++w) EXPECT_EQ(trunc[w], 1);
+    // Same seed: the same bits.
+    ASSERT_EQ(swcl_rl_env_reset(env, 42, obs2.data(), obs2.size()), SWCL_OK);
+    ASSERT_EQ(swcl_rl_env_reset(env, 42, obs.data(), obs.size()), SWCL_OK);
+    EXPECT_EQ(0, std::memcmp(obs.data(), obs2.data(), obs.size() * sizeof(float)));
+    // Masked reset of world 1 only.
+    const uint8_t mask[3] = {0, 1, 0};
+    EXPECT_EQ(swcl_rl_env_reset_worlds(env, mask, 3, nullptr, 0), SWCL_OK) << swcl_last_error();
+    std::vector<float> pos(4 * n), lpos(4 * W);
+    EXPECT_EQ(swcl_rl_env_read_state(env, pos.data(), pos.size(), nullptr, 0, lpos.data(), nullptr, lpos.size()),
+              SWCL_OK)
+        << swcl_last_error();
+    EXPECT_EQ(lpos[4], -20.0f);  // stairway's first waypoint
+    EXPECT_EQ(swcl_rl_env_destroy(env), SWCL_OK);
+}
+
+TEST_F(RlCApi, BadInputGivesAStatusAndAMessage) {
+    swcl_rl_env_desc d = swcl_rl_env_desc_default();
+    swcl_rl_env env{};
+    d.worlds = 0;
+    EXPECT_EQ(swcl_rl_env_create(ctx, &d, &env), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_TRUE(error_mentions("worlds must be >= 1")) << swcl_last_error();
+    d.worlds = 2;
+    d.agents = 0;
+    EXPECT_EQ(swcl_rl_env_create(ctx, &d, &env), SWCL_ERROR_INVALID_ARGUMENT);
+    d.agents = 1u << 30;
+    EXPECT_EQ(swcl_rl_env_create(ctx, &d, &env), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_TRUE(error_mentions("exceeds")) << swcl_last_error();
+    d.agents = 10;
+    d.scenario = "labyrinth";
+    EXPECT_EQ(swcl_rl_env_create(ctx, &d, &env), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_TRUE(error_mentions("labyrinth")) << swcl_last_error();
+    d.scenario = nullptr;
+    const float one_wp[4] = {0, 0, 0, 1};
+    d.waypoints = one_wp;
+    d.waypoint_count = 1;
+    EXPECT_EQ(swcl_rl_env_create(ctx, &d, &env), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_TRUE(error_mentions("at least 2 waypoints")) << swcl_last_error();
+    d.waypoints = nullptr;
+    d.waypoint_count = 0;
+    d.struct_size = 4;
+    EXPECT_EQ(swcl_rl_env_create(ctx, &d, &env), SWCL_ERROR_INVALID_ARGUMENT);
+    d = swcl_rl_env_desc_default();
+    d.worlds = 2;
+    d.agents = 10;
+    ASSERT_EQ(swcl_rl_env_create(ctx, &d, &env), SWCL_OK) << swcl_last_error();
+    std::vector<float> act(80, 0.0f), obs(54 * 20), rew(20);
+    uint8_t term[2], trunc[2];
+    EXPECT_EQ(swcl_rl_env_step(env, act.data(), act.size(), nullptr, 0, nullptr, 0, nullptr, nullptr, 0),
+              SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_TRUE(error_mentions("reset")) << swcl_last_error();
+    ASSERT_EQ(swcl_rl_env_reset(env, 1, nullptr, 0), SWCL_OK);
+    EXPECT_EQ(swcl_rl_env_step(env, act.data(), 79, nullptr, 0, nullptr, 0, nullptr, nullptr, 0),
+              SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_TRUE(error_mentions("80 floats (79 given)")) << swcl_last_error();
+    EXPECT_EQ(swcl_rl_env_step(env, act.data(), 80, obs.data(), obs.size() - 1, nullptr, 0, nullptr, nullptr, 0),
+              SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_rl_env_step(env, act.data(), 80, nullptr, 0, rew.data(), rew.size(), term, trunc, 1),
+              SWCL_ERROR_INVALID_ARGUMENT);
+    act[5] = NAN;
+    EXPECT_EQ(swcl_rl_env_step(env, act.data(), 80, nullptr, 0, nullptr, 0, nullptr, nullptr, 0),
+              SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_TRUE(error_mentions("not finite")) << swcl_last_error();
+    act[5] = 0;
+    const float bad_ctl[8] = {0, 0, 0, INFINITY, 0, 0, 0, 0};
+    EXPECT_EQ(swcl_rl_env_set_leader_controls(env, bad_ctl, 8), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_rl_env_set_leader_controls(env, bad_ctl, 4), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_rl_env_rag_actions(env, act.data(), 3), SWCL_ERROR_INVALID_ARGUMENT);
+    // Still usable.
+    EXPECT_EQ(swcl_rl_env_step(env, act.data(), 80, obs.data(), obs.size(), rew.data(), rew.size(), term, trunc, 2),
+              SWCL_OK)
+        << swcl_last_error();
+    EXPECT_EQ(swcl_rl_env_destroy(env), SWCL_OK);
+    EXPECT_EQ(swcl_rl_env_destroy(env), SWCL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(swcl_rl_env_step(env, act.data(), 80, nullptr, 0, nullptr, 0, nullptr, nullptr, 0),
+              SWCL_ERROR_INVALID_HANDLE);
+}
