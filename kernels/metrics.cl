@@ -208,30 +208,6 @@ __kernel void metrics_sample(__global const float4* p0, __global const float4* p
         if (m != M_DIST) vals[(size_t)m * n + i] = (flags >> m) & 1u ? x[m] : as_float(M_MISSING);
 }
 
-// Lower bound of the distance from p to any point outside the cell box
-// [lo, hi] (faces on the grid's border at infinity: border cells hold the
-// clamped points beyond), shrunk so float rounding of the cell assignment
-// cannot make it too big.  As neighbors.cl's outside_bound.
-SWCL_INLINE float metrics_outside_bound(const Grid* g, float4 p, int4 lo, int4 hi) {
-    const float cell = 1.0f / g->inv_cell;
-    float bound = INFINITY;
-    const float pc[3] = {p.x, p.y, p.z};
-    const float oc[3] = {g->origin.x, g->origin.y, g->origin.z};
-    const int l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z};
-    const int d[3] = {g->dims.x, g->dims.y, g->dims.z};
-    for (int a = 0; a < 3; ++a) {
-        if (l[a] > 0) {
-            const float face = oc[a] + (float)l[a] * cell;
-            bound = fmin(bound, pc[a] - face - 1e-5f * (fabs(face) + cell));
-        }
-        if (h[a] < d[a] - 1) {
-            const float face = oc[a] + (float)(h[a] + 1) * cell;
-            bound = fmin(bound, face - pc[a] - 1e-5f * (fabs(face) + cell));
-        }
-    }
-    return bound;
-}
-
 // sorted[k] = the point at sorted position k of the point grid, its index
 // in w (as uint bits): the nearest-neighbour search then reads candidates
 // in a row's range contiguously, and neighbouring work-items search
@@ -300,7 +276,7 @@ __kernel void metrics_nearest(__global const float4* sp, uint n, __global const 
                     }
                 }
             if (all(lo.xyz == (int3)(0)) && all(hi.xyz == last.xyz)) break;
-            const float bound = metrics_outside_bound(&g, p, lo, hi);
+            const float bound = grid_outside_bound(&g, p, lo, hi);
             if (bound > 0.0f && best_d2 <= bound * bound) break;
             plo = lo;
             phi = hi;

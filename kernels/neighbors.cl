@@ -34,30 +34,6 @@ inline void visit_nearest(__global const float4* pos, __global const uint* ids, 
     }
 }
 
-// Lower bound of the distance from p to any agent outside the cell box
-// [lo, hi]: the distance to the nearest box face, where faces on the grid's
-// border are at infinity (border cells also hold the clamped agents beyond).
-// Shrunk slightly so float rounding of cell assignment cannot make it too big.
-inline float outside_bound(const Grid* g, float4 p, int4 lo, int4 hi) {
-    const float cell = 1.0f / g->inv_cell;
-    float bound = INFINITY;
-    const float pc[3] = {p.x, p.y, p.z};
-    const float oc[3] = {g->origin.x, g->origin.y, g->origin.z};
-    const int l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z};
-    const int d[3] = {g->dims.x, g->dims.y, g->dims.z};
-    for (int a = 0; a < 3; ++a) {
-        if (l[a] > 0) {
-            const float face = oc[a] + (float)l[a] * cell;
-            bound = fmin(bound, pc[a] - face - 1e-5f * (fabs(face) + cell));
-        }
-        if (h[a] < d[a] - 1) {
-            const float face = oc[a] + (float)(h[a] + 1) * cell;
-            bound = fmin(bound, face - pc[a] - 1e-5f * (fabs(face) + cell));
-        }
-    }
-    return bound;
-}
-
 // Nearest other agent: boxes of cells growing one cell per side around the
 // agent's cell, each time visiting only the cells not seen before, until the
 // best distance found is below the distance to anything outside the box, or
@@ -96,7 +72,7 @@ __kernel void nearest_neighbor(__global const float4* pos, __global const uint* 
         const bool whole = lo.x == 0 && lo.y == 0 && lo.z == 0 && hi.x == last.x && hi.y == last.y &&
                            hi.z == last.z;
         if (whole) break;
-        const float bound = outside_bound(&g, p, lo, hi);
+        const float bound = grid_outside_bound(&g, p, lo, hi);
         if (bound > 0.0f && best_d2 <= bound * bound) break;
         plo = lo;
         phi = hi;

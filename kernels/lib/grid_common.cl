@@ -133,3 +133,31 @@ inline Grid grid_from_geometry(__global const float4* geo, __global const uint* 
     const float4 a = geo[0], b = geo[1];
     return grid_make((float4)(a.xyz, 0.0f), a.w, (int4)(as_int(b.x), as_int(b.y), as_int(b.z), 0), cell_start);
 }
+
+#ifndef SWCL_INLINE
+#define SWCL_INLINE __attribute__((always_inline)) inline
+#endif
+
+// Lower bound of the distance from p to any agent outside the cell box
+// [lo, hi]: the distance to the nearest box face, where faces on the grid's
+// border are at infinity (border cells also hold the clamped agents beyond).
+// Shrunk slightly so float rounding of cell assignment cannot make it too big.
+SWCL_INLINE float grid_outside_bound(const Grid* g, float4 p, int4 lo, int4 hi) {
+    const float cell = 1.0f / g->inv_cell;
+    float bound = INFINITY;
+    const float pc[3] = {p.x, p.y, p.z};
+    const float oc[3] = {g->origin.x, g->origin.y, g->origin.z};
+    const int l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z};
+    const int d[3] = {g->dims.x, g->dims.y, g->dims.z};
+    for (int a = 0; a < 3; ++a) {
+        if (l[a] > 0) {
+            const float face = oc[a] + (float)l[a] * cell;
+            bound = fmin(bound, pc[a] - face - 1e-5f * (fabs(face) + cell));
+        }
+        if (h[a] < d[a] - 1) {
+            const float face = oc[a] + (float)(h[a] + 1) * cell;
+            bound = fmin(bound, face - pc[a] - 1e-5f * (fabs(face) + cell));
+        }
+    }
+    return bound;
+}
