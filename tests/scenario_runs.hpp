@@ -6,6 +6,7 @@
 
 #include <cstring>
 #include <fstream>
+#include <ostream>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -22,6 +23,8 @@ struct ModelCase {
     const char* file;
     uint32_t agents;
 };
+// gtest prints a parameter in the test's listed name: the model, not its bytes.
+inline void PrintTo(const ModelCase& c, std::ostream* os) { *os << c.model; }
 inline const std::vector<ModelCase>& model_cases() {
     static const std::vector<ModelCase> cases{{"field", "aggregation.json", 48},
                                               {"path", "path_aggregation.json", 48},
