@@ -95,4 +95,30 @@ TEST(Threads, LastErrorIsPerThread) {
     EXPECT_EQ(wrong.load(), 0);
 }
 
+TEST(Threads, DestroyingASwarmWhileAnotherThreadStepsItIsNotACrash) {
+    // Documented as safe but unordered: each step is OK (before the destroy)
+    // or SWCL_ERROR_INVALID_HANDLE (after), never anything else.
+    swcl_context_desc d = swcl_context_desc_default();
+    swcl_context ctx;
+    ASSERT_EQ(swcl_context_create(&d, &ctx), SWCL_OK) << swcl_last_error();
+    for (int round = 0; round < 5; ++round) {
+        swcl_swarm s;
+        ASSERT_EQ(scenario_swarm(scenario_text(model_cases()[0], 10), ctx, &s), SWCL_OK) << swcl_last_error();
+        std::atomic<int> other{0};
+        std::atomic<bool> started{false};
+        std::thread stepper([&] {
+            for (int i = 0; i < 200; ++i) {
+                const swcl_status st = swcl_swarm_step(s, 1);
+                started = true;
+                if (st != SWCL_OK && st != SWCL_ERROR_INVALID_HANDLE) other++;
+            }
+        });
+        while (!started) std::this_thread::yield();
+        EXPECT_EQ(swcl_swarm_destroy(s), SWCL_OK);
+        stepper.join();
+        EXPECT_EQ(other.load(), 0);
+    }
+    swcl_context_destroy(ctx);
+}
+
 }  // namespace
