@@ -227,3 +227,17 @@ TEST(RadixSort, EmptyAndSingleEntry) {
     expect_stable_sort(15, 2, 4, keys, 1, true, 2);
     expect_stable_sort(15, 2, 64, keys, 4, false, 2);
 }
+
+namespace {
+// Regression (issue 16, limits): 8 n used to wrap in 32 bits for n >= 2^29.
+TEST(PointGridLimits, MaxCellsNeverWrapsAndStaysBelow2To31) {
+    uint32_t prev = 0;
+    for (uint32_t n : {0u, 1u, 1000u, 1u << 20, (1u << 29) - 1, 1u << 29, 1u << 30, 0xFFFFFFFFu}) {
+        const uint32_t c = swarmcl::PointGrid::max_cells(n);
+        EXPECT_GE(c, prev) << n;
+        EXPECT_LE(c, 1u << 30) << n;
+        prev = c;
+    }
+    EXPECT_EQ(swarmcl::PointGrid::max_cells(1u << 29), 1u << 30);
+}
+}  // namespace

@@ -9,7 +9,7 @@ namespace {
 // thousand cells per agent count: 9 bits, as the force model's fine grid
 // was tuned); cells per point at most, and at least this many cells.
 constexpr uint32_t kBoundsChunks = 16, kRadixBlocks = 16, kMaxRadixBits = 9;
-constexpr uint32_t kCellsPerPoint = 8, kMinCells = 1024;
+constexpr uint32_t kCellsPerPoint = 8, kMinCells = 1024, kMaxCells = 1u << 30;
 }  // namespace
 
 PointGrid::PointGrid(Context& ctx) : ctx_(ctx) {
@@ -22,7 +22,11 @@ PointGrid::PointGrid(Context& ctx) : ctx_(ctx) {
     count_.allocate(ctx, 1, "point grid count");
 }
 
-uint32_t PointGrid::max_cells(uint32_t n) { return std::max(kMinCells, kCellsPerPoint * n); }
+// In 64 bits and capped: 8 n wrapped around in 32 bits for n >= 2^29 (a
+// 2^29-point grid got 1024 cells), and the cell index must stay 32-bit.
+uint32_t PointGrid::max_cells(uint32_t n) {
+    return uint32_t(std::clamp<uint64_t>(uint64_t(kCellsPerPoint) * n, kMinCells, kMaxCells));
+}
 
 void PointGrid::reserve(uint32_t n, uint32_t cells) {
     if (allocated_ && n == n_ && cells == cells_) return;

@@ -11,6 +11,23 @@
  *  - units are SI (metres, seconds); vectors are packed float xyz triples;
  *  - reads and writes of agent attributes are in agent-id order.
  *
+ * Threads (docs/reliability.md, tests/test_threads.cpp):
+ *  - every function may be called from any thread; swcl_last_error() is
+ *    thread_local, so each thread sees its own last failure;
+ *  - different contexts (and everything made on them) are fully independent
+ *    and may be used from different threads at once;
+ *  - calls on ONE context from several threads at once are safe too: the
+ *    handle registries are locked, the context's program cache is locked, its
+ *    OpenCL queue is thread-safe, and every call on a swarm holds that swarm's
+ *    lock, so calls on one swarm are serialised (each call is atomic; the
+ *    ORDER of two threads' steps on one swarm is whatever the lock grants, so
+ *    for a reproducible run drive each swarm from one thread at a time);
+ *  - results do not depend on threads: a swarm stepped on another thread, or
+ *    beside other swarms, gives bitwise the same state;
+ *  - destroying a handle while another thread is inside a call on it is
+ *    safe (the call finishes on its own reference), but the caller cannot
+ *    know which of the two came first: don't.
+ *
  * The header is plain C99 without function-like macros in declarations, so
  * FFI generators (cffi, bindgen, ClangSharp) read it as it is.
  */
