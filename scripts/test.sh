@@ -19,3 +19,11 @@ cd "$root"
 # swarmcl fit and with the swarmcl program.
 SWARMCL_REQUIRE_MPI=1 SWARMCL_CLI="${SWARMCL_BUILD_DIR:-$root/build}/swarmcl" \
   "$venv/bin/python" -m pytest -q -p no:cacheprovider tests/python
+
+# ---- Sanitizers (issue 16): the whole ctest suite once more, built with
+# -fsanitize=address,undefined in build-asan/ (docs/reliability.md,
+# "Sanitizers"); PoCL and LLVM are not instrumented, their leaks only are
+# suppressed (scripts/lsan.supp).  SWARMCL_SKIP_ASAN=1 skips it locally.
+if [ "${SWARMCL_SKIP_ASAN:-0}" != 1 ]; then
+  "$root/scripts/asan.sh"
+fi

@@ -88,6 +88,7 @@ const char* swcl_status_string(swcl_status status) {
         case SWCL_ERROR_PARSE: return "SWCL_ERROR_PARSE";
         case SWCL_ERROR_OPENCL: return "SWCL_ERROR_OPENCL";
         case SWCL_ERROR_INTERNAL: return "SWCL_ERROR_INTERNAL";
+        case SWCL_STATUS_MAX_ENUM: break;  // not a status
     }
     return "SWCL_UNKNOWN_STATUS";
 }

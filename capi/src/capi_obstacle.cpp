@@ -46,6 +46,7 @@ TriangleMesh obstacle_mesh(const swcl_obstacle& o, const std::string& what) {
                 return swarmcl::obstacle_mesh(spec);
             case SWCL_OBSTACLE_PLANE:
                 fail(Status::InvalidArgument, "a PLANE is not a mesh (only the noise field's boundaries take planes)");
+            case SWCL_OBSTACLE_TYPE_MAX_ENUM: break;  // not a type
         }
     } catch (const Error& e) {
         throw Error(e.status(), what + ": " + e.what());

@@ -15,6 +15,7 @@ Attribute attribute_of(swcl_attribute a) {
     switch (a) {
         case SWCL_ATTRIBUTE_POSITION: return Attribute::Position;
         case SWCL_ATTRIBUTE_VELOCITY: return Attribute::Velocity;
+        case SWCL_ATTRIBUTE_MAX_ENUM: break;  // not an attribute
     }
     fail(Status::InvalidArgument, "unknown attribute " + std::to_string(int(a)));
 }

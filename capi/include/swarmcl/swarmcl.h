@@ -70,6 +70,11 @@ SWCL_API uint32_t swcl_version(void);
 SWCL_API const char* swcl_version_string(void);
 
 /* ---- status codes (values never change) ---------------------------------- */
+/* Enums: every enum ends with a *_MAX_ENUM = 0x7FFFFFFF entry (never a valid
+ * value) so that its range is all of int32 in C and C++ alike: any int a
+ * caller passes, wrong ones included, is a value the library can check and
+ * refuse with SWCL_ERROR_INVALID_ARGUMENT, not undefined behaviour (found by
+ * UBSan, scripts/asan.sh). */
 
 typedef enum swcl_status {
     SWCL_OK = 0,
@@ -81,7 +86,8 @@ typedef enum swcl_status {
     SWCL_ERROR_IO = -6,
     SWCL_ERROR_PARSE = -7,
     SWCL_ERROR_OPENCL = -8,
-    SWCL_ERROR_INTERNAL = -99
+    SWCL_ERROR_INTERNAL = -99,
+    SWCL_STATUS_MAX_ENUM = 0x7FFFFFFF  /* 32-bit range (see "Enums" above) */
 } swcl_status;
 
 /* A static name for a status, e.g. "SWCL_ERROR_INVALID_HANDLE". */
@@ -102,7 +108,8 @@ typedef enum swcl_device_type {
     SWCL_DEVICE_TYPE_OTHER = 0,
     SWCL_DEVICE_TYPE_CPU = 1,
     SWCL_DEVICE_TYPE_GPU = 2,
-    SWCL_DEVICE_TYPE_ACCELERATOR = 3
+    SWCL_DEVICE_TYPE_ACCELERATOR = 3,
+    SWCL_DEVICE_TYPE_MAX_ENUM = 0x7FFFFFFF  /* 32-bit range (see "Enums" above) */
 } swcl_device_type;
 
 typedef struct swcl_device_info {
@@ -146,7 +153,8 @@ SWCL_API swcl_status swcl_context_device_info(swcl_context context, swcl_device_
 
 typedef enum swcl_attribute {
     SWCL_ATTRIBUTE_POSITION = 0,   /* metres, float xyz */
-    SWCL_ATTRIBUTE_VELOCITY = 1    /* metres per second, float xyz */
+    SWCL_ATTRIBUTE_VELOCITY = 1,   /* metres per second, float xyz */
+    SWCL_ATTRIBUTE_MAX_ENUM = 0x7FFFFFFF  /* 32-bit range (see "Enums" above) */
 } swcl_attribute;
 
 typedef struct swcl_swarm_desc {
@@ -245,7 +253,8 @@ SWCL_API swcl_status swcl_scenario_destroy(swcl_scenario scenario);
 typedef enum swcl_export_format {
     SWCL_EXPORT_CSV = 1,   /* <base>.csv: id,frame,P.x,P.y,P.z,v.x,v.y,v.z */
     SWCL_EXPORT_NPY = 2,   /* <base>_positions.npy, <base>_velocities.npy: float32 (frames, N, 3) */
-    SWCL_EXPORT_VTP = 4    /* <base>_<frame>.vtp per frame and <base>.pvd for ParaView */
+    SWCL_EXPORT_VTP = 4,   /* <base>_<frame>.vtp per frame and <base>.pvd for ParaView */
+    SWCL_EXPORT_FORMAT_MAX_ENUM = 0x7FFFFFFF  /* 32-bit range (see "Enums" above) */
 } swcl_export_format;
 
 typedef struct swcl_scenario_info {
@@ -310,7 +319,8 @@ typedef enum swcl_obstacle_type {
                                     needs rounded edges), unused where it is meshed */
     SWCL_OBSTACLE_SPHERE = 3,    /* center, radius */
     SWCL_OBSTACLE_CYLINDER = 4,  /* center = centre of the bottom cap, radius, height (along +z) */
-    SWCL_OBSTACLE_PLANE = 5      /* half space dot(normal, x) >= offset is free (analytic only) */
+    SWCL_OBSTACLE_PLANE = 5,     /* half space dot(normal, x) >= offset is free (analytic only) */
+    SWCL_OBSTACLE_TYPE_MAX_ENUM = 0x7FFFFFFF  /* 32-bit range (see "Enums" above) */
 } swcl_obstacle_type;
 
 typedef struct swcl_obstacle {
@@ -343,7 +353,8 @@ typedef enum swcl_noise_type {
     SWCL_NOISE_CURL = 0,
     SWCL_NOISE_PERLIN = 1,
     SWCL_NOISE_WHITE = 2,
-    SWCL_NOISE_GAUSSIAN = 3
+    SWCL_NOISE_GAUSSIAN = 3,
+    SWCL_NOISE_TYPE_MAX_ENUM = 0x7FFFFFFF  /* 32-bit range (see "Enums" above) */
 } swcl_noise_type;
 
 typedef struct swcl_noise_desc {
@@ -411,7 +422,8 @@ SWCL_API swcl_status swcl_swarm_field_set_model(swcl_swarm swarm, const swcl_fie
 typedef enum swcl_goal_type {
     SWCL_GOAL_POINT = 0,   /* center */
     SWCL_GOAL_SPHERE = 1,  /* center, radius */
-    SWCL_GOAL_BOX = 2      /* center, half_extents */
+    SWCL_GOAL_BOX = 2,     /* center, half_extents */
+    SWCL_GOAL_TYPE_MAX_ENUM = 0x7FFFFFFF  /* 32-bit range (see "Enums" above) */
 } swcl_goal_type;
 
 typedef struct swcl_goal {
@@ -530,7 +542,8 @@ typedef enum swcl_time_format {
     SWCL_TIME_AUTO = 0,      /* a number: seconds; else "YYYY-MM-DD HH:MM:SS[.f]" */
     SWCL_TIME_SECONDS = 1,
     SWCL_TIME_FRAME = 2,     /* integer frame numbers times frame_time */
-    SWCL_TIME_DATETIME = 3
+    SWCL_TIME_DATETIME = 3,
+    SWCL_TIME_FORMAT_MAX_ENUM = 0x7FFFFFFF  /* 32-bit range (see "Enums" above) */
 } swcl_time_format;
 
 typedef struct swcl_dataset_desc {
@@ -583,7 +596,8 @@ typedef struct swcl_energy_weights {
 } swcl_energy_weights;
 typedef enum swcl_stimulus_kind {
     SWCL_STIMULUS_ATTRACT = 0,     /* a female, a light: Psi = |v^ - v^_sti| (Eq. 12) */
-    SWCL_STIMULUS_STARTLE = 1      /* a danger: Psi = 1 - |p' - p_sti| / d_danger within d_danger */
+    SWCL_STIMULUS_STARTLE = 1,     /* a danger: Psi = 1 - |p' - p_sti| / d_danger within d_danger */
+    SWCL_STIMULUS_KIND_MAX_ENUM = 0x7FFFFFFF  /* 32-bit range (see "Enums" above) */
 } swcl_stimulus_kind;
 typedef struct swcl_stimulus {
     swcl_stimulus_kind kind;
@@ -653,7 +667,8 @@ SWCL_API swcl_status swcl_swarm_start_from_tracks(swcl_swarm swarm, const uint32
 
 typedef enum swcl_assignment {
     SWCL_ASSIGN_NEAREST = 0,  /* each agent (in id order) takes the nearest free target */
-    SWCL_ASSIGN_CURVE = 1     /* both sets ordered along a Hilbert curve, matched by rank */
+    SWCL_ASSIGN_CURVE = 1,    /* both sets ordered along a Hilbert curve, matched by rank */
+    SWCL_ASSIGNMENT_MAX_ENUM = 0x7FFFFFFF  /* 32-bit range (see "Enums" above) */
 } swcl_assignment;
 
 /* A target mesh from `frame` on: a generated shape by name ("sphere", "torus",
@@ -817,7 +832,8 @@ typedef enum swcl_metric {
     SWCL_METRIC_JERK = 4,                  /* |dv1 - dv2| / dt^2 */
     SWCL_METRIC_NEAREST_DISTANCE = 5,      /* to the nearest insect in view on the same frame */
     SWCL_METRIC_VELOCITY_DIFFERENCE = 6,   /* ||v_nei| - |v|| / d */
-    SWCL_METRIC_COUNT = 7
+    SWCL_METRIC_COUNT = 7,
+    SWCL_METRIC_MAX_ENUM = 0x7FFFFFFF  /* 32-bit range (see "Enums" above) */
 } swcl_metric;
 
 /* Metrics of tracks from a CSV file (columns, time format, unit and gap

@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# The test suite under AddressSanitizer + UndefinedBehaviorSanitizer: builds
+# the library, the swarmcl program and every test with
+# -fsanitize=address,undefined in its own build directory (build-asan/, or
+# $SWARMCL_ASAN_BUILD_DIR) and runs ctest there (all but the install
+# check).  Any UBSan report aborts the test (-fno-sanitize-recover), any ASan
+# report fails it.  PoCL and LLVM are
+# not instrumented; scripts/lsan.supp suppresses leaks allocated inside them
+# (and only them).  Arguments go to ctest (e.g. -R Eval).
+#   scripts/asan.sh [CTEST_ARGS...]
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+build="${SWARMCL_ASAN_BUILD_DIR:-$root/build-asan}"
+launcher=()
+command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+# -O1 -g1: line tables for the reports; lighter to build than -O2 -g.
+san="-O1 -g1 -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer"
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE= "${launcher[@]}" \
+  -DCMAKE_C_FLAGS="$san" -DCMAKE_CXX_FLAGS="$san" \
+  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
+  -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=address,undefined" \
+  -DSWARMCL_BUILD_EXAMPLES=OFF -DSWARMCL_BUILD_BENCH=OFF >/dev/null
+cmake --build "$build" -j"${JOBS:-$(nproc)}"
+# detect_leaks: LeakSanitizer at exit; suppressions only for the OpenCL runtime.
+# new_delete_type_mismatch etc. stay on.  halt_on_error so a report fails the test.
+export ASAN_OPTIONS="detect_leaks=1 halt_on_error=1 abort_on_error=0 detect_stack_use_after_return=0 ${ASAN_OPTIONS:-}"
+export LSAN_OPTIONS="suppressions=$root/scripts/lsan.supp print_suppressions=0 ${LSAN_OPTIONS:-}"
+export UBSAN_OPTIONS="print_stacktrace=1 halt_on_error=1 ${UBSAN_OPTIONS:-}"
+cd "$build"
+# All but the installed-package check: it builds a plain C program against the
+# installed library, which would need the ASan runtime preloaded into the
+# compiler too; the library code it calls is what the other tests run.
+ctest --output-on-failure -j "$(nproc)" -E '^install_and_build_c_example$' "$@"
+echo "asan: every test clean under ASan + UBSan"
