@@ -167,7 +167,7 @@ TEST(ModelSections, OneSectionPerModelSpecAlternative) {
     const auto& table = model_sections();
     std::vector<std::string> types;
     for (const ModelSection& s : table) types.push_back(s.type);
-    EXPECT_EQ(types, (std::vector<std::string>{"field", "path", "force", "energy", "ballistic"}));
+    EXPECT_EQ(types, (std::vector<std::string>{"field", "path", "force", "energy", "policy", "ballistic"}));
     EXPECT_EQ(table.size(), std::variant_size_v<ModelSpec>);
     for (const ModelSection& s : table) EXPECT_EQ(find_model_section(s.type), &s);
     EXPECT_EQ(find_model_section("swarmy"), nullptr);
@@ -178,6 +178,7 @@ TEST(ModelSections, OneSectionPerModelSpecAlternative) {
         {"path", R"({"type": "path", "goals": [{"center": [1, 1, 1]}]})"},
         {"force", R"({"type": "force"})"},
         {"energy", R"({"type": "energy"})"},
+        {"policy", R"({"type": "policy", "weights": "w.safetensors"})"},
         {"ballistic", R"({"type": "ballistic"})"},
     };
     for (const auto& [name, model] : models) EXPECT_STREQ(model_name(parse_scenario(head + model + "}").model), name.c_str());
@@ -198,7 +199,7 @@ std::string error_of(const std::string& text) {
 TEST(ModelSections, UnknownTypesGetTheSameMessagesAsBefore) {
     const std::string head = R"({"agents": {"count": 5}, "model": )";
     EXPECT_EQ(error_of(head + R"({"type": "swarmy"}})"),
-              R"(model.type: expected "field", "path", "force", "energy" or "ballistic")");
+              R"(model.type: expected "field", "path", "force", "energy", "policy" or "ballistic")");
     EXPECT_EQ(error_of(head + R"({"type": 3}})"), "model.type: expected a string");
     EXPECT_EQ(error_of(head + R"([1, 2]})"), "model: expected an object");
     // Obstacles are read before the model's type, as they were.
