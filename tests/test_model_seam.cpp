@@ -60,6 +60,10 @@ std::shared_ptr<Swarm> old_construction(std::shared_ptr<Context> ctx, const Scen
     if (auto* e = std::get_if<EnergySpec>(&s.model))
         swarm->set_behavior(std::make_shared<EnergyModel>(*swarm, e->config, energy_spec_dataset(*e)));
     if (auto* c = std::get_if<ForceModelConfig>(&s.model)) swarm->set_behavior(std::make_shared<ForceModel>(*swarm, *c));
+    // The policy model came after make_swarm: built here directly.
+    if (auto* p = std::get_if<PolicySpec>(&s.model))
+        swarm->set_behavior(std::make_shared<PolicyModel>(
+            *swarm, p->config, std::make_shared<const std::string>(read_policy_file(p->weights_path))));
     return swarm;
 }
 
