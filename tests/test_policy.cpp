@@ -531,3 +531,60 @@ TEST(PolicyCapi, BadWeightsGiveAParseErrorAndTheSwarmStaysUsable) {
     swcl_swarm_destroy(swarm);
     swcl_context_destroy(ctx);
 }
+
+// ---- the shipped policy ---------------------------------------------------------------
+
+TEST(PolicyShipped, FollowersStayWithATouringLeader) {
+    // 200 followers (the paper's swarm size) start in a ball behind the
+    // leader, which tours a 50 x 50 m loop climbing 8 m at 0.7-1.1 m/s for
+    // 1,200 steps (Table 1's episode length).
+    const std::string path = std::string(SWARMCL_SOURCE_DIR) + "/models/policy_roaming.safetensors";
+    const auto bytes = std::make_shared<const std::string>(read_policy_file(path));
+    const PolicyWeights w = parse(*bytes);
+    EXPECT_NE(w.trained_by.find("behaviour cloning"), std::string::npos) << w.trained_by;
+    const uint32_t n = 200;
+    auto swarm = small_swarm(n, 80.0f);
+    std::mt19937 rng(81);
+    std::normal_distribution<float> g(0.0f, 1.0f);
+    std::vector<float> p, v;
+    for (uint32_t a = 0; a < n; ++a) {
+        p.insert(p.end(), {-8.0f + 3.0f * g(rng), 3.0f * g(rng), 3.0f * g(rng)});
+        v.insert(v.end(), {0.5f, 0.0f, 0.0f});
+    }
+    swarm->write(Attribute::Position, p.data(), n);
+    swarm->write(Attribute::Velocity, v.data(), n);
+    PolicyModelConfig c;
+    c.leader_mode = PolicyLeaderMode::Tour;
+    c.waypoints = {{{30, 0, 2, 0.7f}}, {{50, 25, 5, 0.9f}}, {{30, 50, 8, 1.1f}}, {{-10, 45, 4, 0.9f}},
+                   {{-35, 20, 0, 0.7f}}, {{-20, -10, -2, 0.9f}}, {{0, 0, 0, 0.7f}}};
+    auto model = std::make_shared<PolicyModel>(*swarm, c, bytes);
+    swarm->set_behavior(model);
+    double sum_mean = 0, worst_mean = 0, travelled = 0;
+    int samples = 0;
+    cl_float4 prev_l{{0, 0, 0, 0}};
+    for (int t = 0; t < 1200; t += 50) {
+        swarm->step(50);
+        swarm->read(Attribute::Position, p.data(), n);
+        cl_float4 lp, lv;
+        model->read_leader(&lp, &lv);
+        double mean = 0;
+        for (uint32_t a = 0; a < n; ++a) {
+            for (int k = 0; k < 3; ++k) ASSERT_TRUE(std::isfinite(p[3 * a + k])) << "step " << t;
+            const float dx = p[3 * a] - lp.s[0], dy = p[3 * a + 1] - lp.s[1], dz = p[3 * a + 2] - lp.s[2];
+            mean += std::sqrt(dx * dx + dy * dy + dz * dz) / n;
+        }
+        travelled += std::sqrt((lp.s[0] - prev_l.s[0]) * (lp.s[0] - prev_l.s[0]) +
+                               (lp.s[1] - prev_l.s[1]) * (lp.s[1] - prev_l.s[1]));
+        prev_l = lp;
+        sum_mean += mean;
+        worst_mean = std::max(worst_mean, mean);
+        ++samples;
+    }
+    std::printf("shipped policy, 200 followers, 1200 steps: mean distance to the leader %.2f on average, "
+                "%.2f at worst; the leader travelled %.0f m\n", sum_mean / samples, worst_mean, travelled);
+    EXPECT_GT(travelled, 80.0);
+    // Measured: 7.3 on average, 10.7 at worst (the RAG swarm of
+    // RlEnv.RagSwarmFollowsLeaderThroughQuadrilateral: 6.3 and 10.9).
+    EXPECT_LT(sum_mean / samples, 10.0);
+    EXPECT_LT(worst_mean, 15.0);
+}
