@@ -43,7 +43,7 @@ inline std::string scenario_text(const ModelCase& c, uint32_t steps, uint32_t ev
     j["agents"]["count"] = c.agents;
     j["steps"] = steps;
     // A weights file relative to the scenario file, for a text parsed elsewhere.
-    if (j.contains("model") && j["model"].contains("weights"))
+    if (j.contains("model") && j["model"].value("type", "") == "policy" && j["model"].contains("weights"))
         j["model"]["weights"] = std::string(SWARMCL_SOURCE_DIR) + "/examples/scenarios/" +
                                 j["model"]["weights"].get<std::string>();
     j["output"]["formats"] = nlohmann::json::array({"npy"});

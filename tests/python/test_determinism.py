@@ -39,7 +39,7 @@ def test_python_frames_equal_the_cli_files(model, ctx, tmp_path):
     sc["agents"]["count"] = agents
     sc["steps"] = STEPS
     sc["output"]["formats"], sc["output"]["every"] = ["npy"], EVERY
-    if "weights" in sc["model"]:  # relative to the example's folder
+    if sc["model"].get("type") == "policy":  # weights relative to the example's folder
         sc["model"]["weights"] = str(REPO / "examples" / "scenarios" / sc["model"]["weights"])
     text = json.dumps(sc)
     (tmp_path / "s.json").write_text(text)
