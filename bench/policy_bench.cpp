@@ -3,7 +3,7 @@
 // MLP + Eq. 2 on the device, one swarm), with the MLP and the observations
 // timed apart, beside the RAG-driven environment step at the same number of
 // agents (W worlds of 100: the environment's neighbour loops are per world).
-//   policy_bench [--weights FILE] [--out FILE] [N [steps]] ...
+//   policy_bench [--weights FILE] [--out FILE] [--cell M] [N [steps]] ...
 //   (default: the shipped policy, 10k, 100k and 1M agents)
 // Agents are placed uniformly at the density of a 200-agent swarm in a ball
 // of radius 15 (~0.014 per m^3: ~370 agents within R_coh + body = 18.5 m of
@@ -40,6 +40,8 @@ struct Row {
     double step_s = 0, observe_s = 0, mlp_s = 0, env_step_s = 0, rag_s = 0, neighbours = 0;
 };
 
+float g_cell = 6.17f;  // the swarm's interaction_radius: the grid's cell edge ((r_coh + body) / 3)
+
 Row run(std::shared_ptr<Context> ctx, const std::shared_ptr<const std::string>& bytes, uint32_t n, int steps) {
     Row r;
     r.n = n;
@@ -50,7 +52,7 @@ Row run(std::shared_ptr<Context> ctx, const std::shared_ptr<const std::string>& 
     sc.agent_count = 0;
     sc.domain_min = {-half, -half, -half};
     sc.domain_max = {half, half, half};
-    sc.interaction_radius = 18.5f;
+    sc.interaction_radius = g_cell;
     sc.dt = 0.1f;
     Swarm swarm(ctx, sc);
     std::mt19937 rng(1);
@@ -142,6 +144,8 @@ int main(int argc, char** argv) {
         const std::string a = argv[i];
         if (a == "--weights" && i + 1 < argc) {
             weights = argv[++i];
+        } else if (a == "--cell" && i + 1 < argc) {
+            g_cell = float(std::atof(argv[++i]));
         } else if (a == "--out" && i + 1 < argc) {
             out = argv[++i];
         } else {
@@ -161,9 +165,9 @@ int main(int argc, char** argv) {
         macs += double(L.in) * L.out;
         shape += "-" + std::to_string(L.out);
     }
-    std::printf("policy_bench on %s (%u compute units), policy %s (%.0f multiply-adds per agent); load %.1f\n",
-                ctx->device().device_name.c_str(), ctx->device().compute_units, shape.c_str(), macs,
-                bench::load_average());
+    std::printf("policy_bench on %s (%u compute units), policy %s (%.0f multiply-adds per agent), grid cell %.2f m; "
+                "load %.1f\n", ctx->device().device_name.c_str(), ctx->device().compute_units, shape.c_str(), macs,
+                g_cell, bench::load_average());
     std::vector<Row> rows;
     for (auto [n, steps] : sizes) {
         const Row r = run(ctx, bytes, n, steps);
@@ -178,7 +182,7 @@ int main(int argc, char** argv) {
     std::ofstream f(out);
     f << "{\n  \"benchmark\": \"policy_bench\",\n  \"date\": \"" << bench::utc_now() << "\",\n  \"device\": \""
       << bench::json_escape(ctx->device().device_name) << "\",\n  \"compute_units\": " << ctx->device().compute_units
-      << ",\n  \"load_average\": " << bench::load_average() << ",\n  \"policy\": \"" << shape
+      << ",\n  \"load_average\": " << bench::load_average() << ",\n  \"grid_cell_m\": " << g_cell << ",\n  \"policy\": \"" << shape
       << "\",\n  \"macs_per_agent\": " << macs << ",\n  \"density_per_m3\": " << kDensity << ",\n  \"rows\": [\n";
     for (size_t i = 0; i < rows.size(); ++i) {
         const Row& r = rows[i];

@@ -47,12 +47,25 @@ __kernel void policy_observe(__global const float4* pos, __global const float4* 
     rl_frame(q, &fr, &fu);
     RlObsAcc acc;
     rl_obs_begin(&acc);
-    GRID_FOR_EACH_CANDIDATE(&g, p4, search, j) {
-        if (j == s) continue;
-        const float3 pj = pos[j].xyz;
-        rl_obs_target(&acc, pj - p, 1, policy_qu(vel[j], pj, lp), q, u, fr, fu, r_nbr, r_coh, body, 0.0f);
-    } GRID_END_FOR
-    rl_obs_target(&acc, lp - p, 0, (float4)(0.0f), q, u, fr, fu, r_nbr, r_coh, body, 0.0f);
+    // The search box's rows trimmed to the ball of radius `search`
+    // (grid_row_x_range), and candidates beyond it skipped before anything
+    // else: rl_obs_target ignores them anyway (beyond r_nbr and r_coh + body).
+    const float s2 = search * search * 1.0001f;
+    int4 lo, hi;
+    grid_search_box(&g, p4, search, &lo, &hi);
+    for (int z = lo.z; z <= hi.z; ++z)
+        for (int y = lo.y; y <= hi.y; ++y) {
+            int x0, x1;
+            if (!grid_row_x_range(&g, p4, search, y, z, &x0, &x1)) continue;
+            const uint2 rg = grid_row_range(&g, x0, x1, y, z);
+            for (uint j = rg.x; j < rg.y; ++j) {
+                const float3 pj = pos[j].xyz;
+                const float3 dj = pj - p;
+                if (j == s || dot(dj, dj) > s2) continue;  // s2 widened: rounding never drops one
+                rl_obs_target(&acc, dj, 1, policy_qu(vel[j], pj, lp), q, u, fr, fu, r_nbr, r_coh, body, 0.0f, 1);
+            }
+        }
+    rl_obs_target(&acc, lp - p, 0, (float4)(0.0f), q, u, fr, fu, r_nbr, r_coh, body, 0.0f, 1);
     rl_obs_finish(&acc, o, p, q, fr, fu, r_coh, box_c, box_h, nbox, efs);
 }
 

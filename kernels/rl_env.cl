@@ -164,7 +164,7 @@ __kernel void rl_observe(__global const float4* pos, __global const float4* vel,
         if (j == s) continue;
         const bool leader = j == first + agents;
         rl_obs_target(&acc, leader ? to_l : pos[j].xyz - p, !leader, leader ? (float4)(0.0f) : vel[j], q, u, fr,
-                      fu, r_nbr, r_coh, body, d_target);
+                      fu, r_nbr, r_coh, body, d_target, 0);
     }
     rl_obs_finish(&acc, o, p, q, fr, fu, r_coh, box_c, box_h, nbox, efs);
     const uint nn = acc.nn;

@@ -157,12 +157,18 @@ SWCL_INLINE void rl_obs_begin(RlObsAcc* a) {
     a->nn = 0;
 }
 
+// cos and sin of the rays' six elevations (-75, -45, ..., 75 degrees).
+__constant float rl_row_cos[6] = {2.588190451e-01f, 7.071067812e-01f, 9.659258263e-01f,
+                                  9.659258263e-01f, 7.071067812e-01f, 2.588190451e-01f};
+__constant float rl_row_sin[6] = {-9.659258263e-01f, -7.071067812e-01f, -2.588190451e-01f,
+                                  2.588190451e-01f, 7.071067812e-01f, 9.659258263e-01f};
+
 // One target at offset d from the agent (heading q, frame fr/fu, speed u):
 // a follower (vj = its (q, u)) within r_nbr is a neighbour (Eq. 12 and the
 // rewards' sums); any target (followers and the leader, spheres of radius
 // body) within r_coh + body may be hit by the rays.
 SWCL_INLINE void rl_obs_target(RlObsAcc* a, float3 d, int follower, float4 vj, float3 q, float u, float3 fr,
-                               float3 fu, float r_nbr, float r_coh, float body, float d_target) {
+                               float3 fu, float r_nbr, float r_coh, float body, float d_target, int cull) {
     const float dd = dot(d, d);
     const float dist = sqrt(dd);
     if (follower && dist <= r_nbr) {
@@ -184,10 +190,31 @@ SWCL_INLINE void rl_obs_target(RlObsAcc* a, float3 d, int follower, float4 vj, f
     // into (forward, right, up) once, then one dot product per ray with the
     // constant table (no trigonometry per target).
     const float lf = dot(d, q), lr = dot(d, fr), lu = dot(d, fu);
-    for (int k = 0; k < RL_RAYS; ++k) {
-        const float t = rl_ray_table[3 * k] * lf + rl_ray_table[3 * k + 1] * lr + rl_ray_table[3 * k + 2] * lu;
-        const float perp2 = dd - t * t;
-        if (t > 0.0f && perp2 < b2) a->ray[k] = fmin(a->ray[k], t - sqrt(b2 - perp2));
+    if (!cull) {
+        for (int k = 0; k < RL_RAYS; ++k) {
+            const float t = rl_ray_table[3 * k] * lf + rl_ray_table[3 * k + 1] * lr + rl_ray_table[3 * k + 2] * lu;
+            const float perp2 = dd - t * t;
+            if (t > 0.0f && perp2 < b2) a->ray[k] = fmin(a->ray[k], t - sqrt(b2 - perp2));
+        }
+        return;
+    }
+    // cull: a ray of elevation row e (up component sin e) has t <= cos(e) h
+    // + sin(e) lu with h = |(lf, lr)|; a row whose bound is below
+    // sqrt(dd - b2) (with a margin far above float rounding) holds no hit
+    // and is skipped.  Every ray visited is decided by the same test, so the
+    // hits are the same; most targets reach one row or none.  (Worth it where
+    // the loop is scalar, as over the grid; the environment's per-world loop
+    // is vectorised across work-items and runs it without.)
+    const float h = sqrt(lf * lf + lr * lr);
+    const float need = (dd - b2) - 1e-5f * dd;
+    for (int e = 0; e < RL_RAYS / 7; ++e) {
+        const float bound = rl_row_cos[e] * h + rl_row_sin[e] * lu;
+        if (bound <= 0.0f || bound * bound < need) continue;
+        for (int k = 7 * e; k < 7 * e + 7; ++k) {
+            const float t = rl_ray_table[3 * k] * lf + rl_ray_table[3 * k + 1] * lr + rl_ray_table[3 * k + 2] * lu;
+            const float perp2 = dd - t * t;
+            if (t > 0.0f && perp2 < b2) a->ray[k] = fmin(a->ray[k], t - sqrt(b2 - perp2));
+        }
     }
 }
 
