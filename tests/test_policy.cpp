@@ -588,3 +588,42 @@ TEST(PolicyShipped, FollowersStayWithATouringLeader) {
     EXPECT_LT(sum_mean / samples, 10.0);
     EXPECT_LT(worst_mean, 15.0);
 }
+
+// ---- the scenario section ---------------------------------------------------------------
+
+#include "scenario/scenario.hpp"
+
+TEST(PolicyScenario, SectionReadsAndNamesBadKeys) {
+    const std::string head = R"({"agents": {"count": 5}, "dt": 0.1, )";
+    const Scenario s = parse_scenario(head + R"("model": {"type": "policy", "weights": "w.safetensors", "r_coh": 20,
+        "leader": {"mode": "tour", "waypoints": [[1, 2, 3, 0.5], [4, 5, 6, 1]], "speed": 0.7}},
+        "obstacles": [{"type": "box", "center": [0, 0, 0], "half_extents": [1, 2, 3]}]})");
+    const auto& p = std::get<PolicySpec>(s.model);
+    EXPECT_EQ(p.weights_path, "w.safetensors");
+    EXPECT_EQ(p.config.r_coh, 20.0f);
+    EXPECT_EQ(p.config.leader_mode, PolicyLeaderMode::Tour);
+    ASSERT_EQ(p.config.waypoints.size(), 2u);
+    EXPECT_EQ(p.config.waypoints[1][3], 1.0f);
+    EXPECT_EQ(p.config.leader_speed, 0.7f);
+    ASSERT_EQ(p.config.obstacles.size(), 1u);
+    EXPECT_EQ(p.config.obstacles[0].half[2], 3.0f);
+    auto err = [&](const std::string& model, const std::string& extra = "") {
+        try {
+            parse_scenario(head + R"("model": )" + model + extra + "}");
+        } catch (const Error& e) {
+            EXPECT_EQ(e.status(), Status::Parse);
+            return std::string(e.what());
+        }
+        return std::string("parsed");
+    };
+    EXPECT_TRUE(contains(err(R"({"type": "policy"})"), "model.weights"));
+    EXPECT_TRUE(contains(err(R"({"type": "policy", "weights": "w", "leader": {"mode": "fly"}})"), "model.leader.mode"));
+    EXPECT_TRUE(contains(err(R"({"type": "policy", "weights": "w", "leader": {"mode": "tour"}})"), "at least 2 waypoints"));
+    EXPECT_TRUE(contains(err(R"({"type": "policy", "weights": "w", "leader": {"waypoints": [[1, 2, 3]]}})"),
+                         "model.leader.waypoints[0]"));
+    EXPECT_TRUE(contains(err(R"({"type": "policy", "weights": "w", "r_ali": 30})"), "r_sep < r_ali < r_coh"));
+    EXPECT_TRUE(contains(err(R"({"type": "policy", "weights": "w", "x": 1})"), "model.x"));
+    EXPECT_TRUE(contains(err(R"({"type": "policy", "weights": "w"})",
+                             R"(, "obstacles": [{"type": "sphere", "center": [0, 0, 0], "radius": 1}])"),
+                         "boxes only"));
+}
