@@ -141,8 +141,11 @@ PolicyModel::PolicyModel(Swarm& swarm, PolicyModelConfig config, std::shared_ptr
     lanes_ = ctx.device().cpu_profile ? preferred_noise_width(ctx.device()) : 1;
     if (env && (std::string(env) == "1" || std::string(env) == "8" || std::string(env) == "16"))
         lanes_ = uint32_t(std::stoul(env));
-    observe_k_ = ctx.kernel("policy.cl", "policy_observe");
-    mlp_k_ = ctx.kernel("policy.cl", "policy_mlp", "-DPM_W=" + std::to_string(lanes_));
+    const std::string lanes_define = "-DPM_W=" + std::to_string(lanes_);
+    // With lanes, the observations too come PM_W agents per work-item.
+    observe_k_ = lanes_ > 1 ? ctx.kernel("policy.cl", "policy_observe_w", lanes_define)
+                            : ctx.kernel("policy.cl", "policy_observe");
+    mlp_k_ = ctx.kernel("policy.cl", "policy_mlp", lanes_define);
     apply_k_ = ctx.kernel("policy.cl", "policy_apply");
     copy_k_ = ctx.kernel("policy.cl", "policy_leader_copy");
     leader_k_ = ctx.kernel("rl_env.cl", "rl_leader_step");
@@ -186,8 +189,10 @@ void PolicyModel::enqueue_observe(Swarm& swarm) {
     observe_k_.setArg(i++, cl_uint(weights_.obs_dim));
     observe_k_.setArg(i++, obs_.get());
     check_arg_count(observe_k_, i);
-    // Two 42-float arrays per work-item: small work-groups (buffer.hpp).
-    launch(ctx_, observe_k_, n, 256);
+    // Two 42-float arrays per work-item (42 vectors with lanes): small
+    // work-groups (buffer.hpp).
+    if (lanes_ > 1) launch(ctx_, observe_k_, (size_t(n) + lanes_ - 1) / lanes_, 16);
+    else launch(ctx_, observe_k_, n, 256);
 }
 
 void PolicyModel::enqueue_mlp(DeviceBuffer<float>& obs, uint32_t n, DeviceBuffer<float>& actions) {
