@@ -8,139 +8,7 @@
 // State: pos[s] = (x, y, z, 0); vel[s] = (q.x, q.y, q.z, u) with q the unit
 // heading and u the speed; the same for the leaders (lpos[w], lvel[w]).
 #pragma OPENCL FP_CONTRACT OFF
-#ifndef SWCL_INLINE
-#define SWCL_INLINE __attribute__((always_inline)) inline
-#endif
-
-#define RL_RAYS 42
-#define RL_OBS_LOCAL 9
-
-// Rotates unit q towards normalize(q + dq) by at most max_angle (radians):
-// Eq. 2's q' = q + ω with Table 1's Δq = 4° clamp.  A zero or opposite target
-// keeps q / turns about an arbitrary perpendicular axis.
-SWCL_INLINE float3 rl_turn(float3 q, float3 dq, float max_angle) {
-    const float3 t0 = q + dq;
-    const float len = length(t0);
-    if (!(len > 1e-6f)) return q;
-    const float3 t = t0 / len;
-    const float c = clamp(dot(q, t), -1.0f, 1.0f);
-    const float angle = acos(c);
-    if (angle <= max_angle) return t;
-    float3 w = t - c * q;
-    float wl = length(w);
-    if (!(wl > 1e-6f)) {
-        w = fabs(q.x) < 0.9f ? cross(q, (float3)(1.0f, 0.0f, 0.0f)) : cross(q, (float3)(0.0f, 1.0f, 0.0f));
-        wl = length(w);
-    }
-    w /= wl;
-    const float3 r = cos(max_angle) * q + sin(max_angle) * w;
-    return r / length(r);
-}
-
-// Heading frame: forward f, right r, up u (z up; x up when f is vertical).
-SWCL_INLINE void rl_frame(float3 f, float3* r, float3* u) {
-    float3 up = (float3)(0.0f, 0.0f, 1.0f);
-    if (fabs(f.z) > 0.999f) up = (float3)(1.0f, 0.0f, 0.0f);
-    *r = normalize(cross(f, up));
-    *u = cross(*r, f);
-}
-
-// Ray k (0..41): azimuth -90..90° in 30° steps (7) x elevation -75..75° in
-// 30° steps (6), k = 7 * elevation index + azimuth index; every ray lies in
-// the heading hemisphere (forward component cos(el) cos(az) >= 0).  The
-// table holds (forward, right, up) = (cos el cos az, cos el sin az, sin el).
-__constant float rl_ray_table[3 * RL_RAYS] = {
-    1.584809576e-17f, -2.588190451e-01f, -9.659258263e-01f,
-    1.294095226e-01f, -2.241438680e-01f, -9.659258263e-01f,
-    2.241438680e-01f, -1.294095226e-01f, -9.659258263e-01f,
-    2.588190451e-01f, 0.000000000e+00f, -9.659258263e-01f,
-    2.241438680e-01f, 1.294095226e-01f, -9.659258263e-01f,
-    1.294095226e-01f, 2.241438680e-01f, -9.659258263e-01f,
-    1.584809576e-17f, 2.588190451e-01f, -9.659258263e-01f,
-    4.329780281e-17f, -7.071067812e-01f, -7.071067812e-01f,
-    3.535533906e-01f, -6.123724357e-01f, -7.071067812e-01f,
-    6.123724357e-01f, -3.535533906e-01f, -7.071067812e-01f,
-    7.071067812e-01f, 0.000000000e+00f, -7.071067812e-01f,
-    6.123724357e-01f, 3.535533906e-01f, -7.071067812e-01f,
-    3.535533906e-01f, 6.123724357e-01f, -7.071067812e-01f,
-    4.329780281e-17f, 7.071067812e-01f, -7.071067812e-01f,
-    5.914589857e-17f, -9.659258263e-01f, -2.588190451e-01f,
-    4.829629131e-01f, -8.365163037e-01f, -2.588190451e-01f,
-    8.365163037e-01f, -4.829629131e-01f, -2.588190451e-01f,
-    9.659258263e-01f, 0.000000000e+00f, -2.588190451e-01f,
-    8.365163037e-01f, 4.829629131e-01f, -2.588190451e-01f,
-    4.829629131e-01f, 8.365163037e-01f, -2.588190451e-01f,
-    5.914589857e-17f, 9.659258263e-01f, -2.588190451e-01f,
-    5.914589857e-17f, -9.659258263e-01f, 2.588190451e-01f,
-    4.829629131e-01f, -8.365163037e-01f, 2.588190451e-01f,
-    8.365163037e-01f, -4.829629131e-01f, 2.588190451e-01f,
-    9.659258263e-01f, 0.000000000e+00f, 2.588190451e-01f,
-    8.365163037e-01f, 4.829629131e-01f, 2.588190451e-01f,
-    4.829629131e-01f, 8.365163037e-01f, 2.588190451e-01f,
-    5.914589857e-17f, 9.659258263e-01f, 2.588190451e-01f,
-    4.329780281e-17f, -7.071067812e-01f, 7.071067812e-01f,
-    3.535533906e-01f, -6.123724357e-01f, 7.071067812e-01f,
-    6.123724357e-01f, -3.535533906e-01f, 7.071067812e-01f,
-    7.071067812e-01f, 0.000000000e+00f, 7.071067812e-01f,
-    6.123724357e-01f, 3.535533906e-01f, 7.071067812e-01f,
-    3.535533906e-01f, 6.123724357e-01f, 7.071067812e-01f,
-    4.329780281e-17f, 7.071067812e-01f, 7.071067812e-01f,
-    1.584809576e-17f, -2.588190451e-01f, 9.659258263e-01f,
-    1.294095226e-01f, -2.241438680e-01f, 9.659258263e-01f,
-    2.241438680e-01f, -1.294095226e-01f, 9.659258263e-01f,
-    2.588190451e-01f, 0.000000000e+00f, 9.659258263e-01f,
-    2.241438680e-01f, 1.294095226e-01f, 9.659258263e-01f,
-    1.294095226e-01f, 2.241438680e-01f, 9.659258263e-01f,
-    1.584809576e-17f, 2.588190451e-01f, 9.659258263e-01f,
-};
-
-SWCL_INLINE float3 rl_ray_dir(int k, float3 f, float3 r, float3 u) {
-    return rl_ray_table[3 * k] * f + rl_ray_table[3 * k + 1] * r + rl_ray_table[3 * k + 2] * u;
-}
-
-// Signed distance to the nearest axis-aligned box obstacle (centre c, half
-// extents h); INFINITY without obstacles.
-SWCL_INLINE float rl_sdf(float3 p, __global const float4* box_c, __global const float4* box_h, uint nbox) {
-    float best = INFINITY;
-    for (uint b = 0; b < nbox; ++b) {
-        const float3 d = fabs(p - box_c[b].xyz) - box_h[b].xyz;
-        const float outside = length(fmax(d, (float3)(0.0f)));
-        const float inside = fmin(fmax(d.x, fmax(d.y, d.z)), 0.0f);
-        best = fmin(best, outside + inside);
-    }
-    return best;
-}
-
-// Distance along unit dir from p to the first box obstacle (exact slab
-// test; 0 from inside a box), INFINITY when none is hit.  The boxes are
-// analytic, so the rays need no sphere tracing of their distance field.
-// One axis of the slab test: narrows [t0, t1], or marks a miss.
-SWCL_INLINE void rl_slab(float p, float d, float lo, float hi, float* t0, float* t1, int* miss) {
-    if (fabs(d) < 1e-12f) {
-        if (p < lo || p > hi) *miss = 1;
-        return;
-    }
-    const float ta = (lo - p) / d, tb = (hi - p) / d;
-    *t0 = fmax(*t0, fmin(ta, tb));
-    *t1 = fmin(*t1, fmax(ta, tb));
-}
-
-// Distance along unit dir from p to box (c, h): exact slab test, 0 from
-// inside, INFINITY when missed.  The boxes are analytic, so the rays need no
-// sphere tracing of their distance field.
-SWCL_INLINE float rl_ray_box(float3 p, float3 dir, float4 c, float4 h) {
-    float t0 = 0.0f, t1 = INFINITY;
-    int miss = 0;
-    rl_slab(p.x, dir.x, c.x - h.x, c.x + h.x, &t0, &t1, &miss);
-    rl_slab(p.y, dir.y, c.y - h.y, c.y + h.y, &t0, &t1, &miss);
-    rl_slab(p.z, dir.z, c.z - h.z, c.z + h.z, &t0, &t1, &miss);
-    return (!miss && t0 <= t1) ? t0 : INFINITY;
-}
-
-// Eq. 9: the zone of a neighbour at distance d.
-SWCL_INLINE float rl_zone(float d, float r_sep, float r_ali) {
-    return d <= r_sep ? -1.0f : (d <= r_ali ? 0.0f : 1.0f);
-}
+#include "lib/rl_common.cl"
 
 // ---- kinematics (§III-B, Eq. 2) ----------------------------------------------
 // actions[4 s ..]: {v, ω.x, ω.y, ω.z}; v clamped to ±du_max, the turn to
@@ -164,6 +32,7 @@ __kernel void rl_agents_step(__global float4* pos, __global float4* vel, __globa
 // speed); the leader turns towards waypoint wp[w] and its speed towards that
 // waypoint's target speed, both within the leader's clamps; within `reach`
 // of it, the next one; after the last, done[w] = 1 and the leader stops.
+// mode 2: navigation that starts over at waypoint 0 after the last.
 __kernel void rl_leader_step(__global float4* lpos, __global float4* lvel, __global const float4* ctl, uint worlds,
                              int mode, __global const float4* waypoints, uint wp_count, __global uint* wp,
                              __global uint* done, float reach, float du_max, float dq_max, float u_max, float dt) {
@@ -186,7 +55,10 @@ __kernel void rl_leader_step(__global float4* lpos, __global float4* lvel, __glo
         if (length(to) <= reach) {
             ++k;
             wp[w] = k;
-            if (k >= wp_count) {
+            if (k >= wp_count && mode == 2) {  // a closed tour (the policy model's leader)
+                k = 0;
+                wp[w] = 0;
+            } else if (k >= wp_count) {
                 done[w] = 1u;
                 lvel[w] = (float4)(v.xyz, 0.0f);
                 return;
@@ -281,72 +153,23 @@ __kernel void rl_observe(__global const float4* pos, __global const float4* vel,
     __global float* o = obs + (size_t)s * obs_dim;
     const float3 to_l = lp - p;
     const float dl = length(to_l);
-    o[0] = u;
-    o[1] = q.x; o[2] = q.y; o[3] = q.z;
-    o[4] = to_l.x; o[5] = to_l.y; o[6] = to_l.z;
-    o[7] = dl;
-    o[8] = lvel[w].w - u;
+    rl_obs_local(o, p, q, u, lp, lvel[w].w);
 
     float3 fr, fu;
     rl_frame(q, &fr, &fu);
-    // Ray hits are found in the heading frame: each target's offset turned
-    // into (forward, right, up) once, then one dot product per ray with the
-    // constant table (no trigonometry per target).
-    float ray[RL_RAYS];
-    for (int k = 0; k < RL_RAYS; ++k) ray[k] = INFINITY;
-    const float b2 = body * body;
-    float sum_u = 0.0f, sum_q = 0.0f, sum_d = 0.0f, sum_du = 0.0f, sum_dist = 0.0f;
-    uint nn = 0;
+    RlObsAcc acc;
+    rl_obs_begin(&acc);
     const float d_target = prm[10];
     for (uint j = first; j <= first + agents; ++j) {  // j == first + agents: the leader
         if (j == s) continue;
         const bool leader = j == first + agents;
-        const float3 d = leader ? to_l : pos[j].xyz - p;
-        const float dd = dot(d, d);
-        const float dist = sqrt(dd);
-        if (!leader && dist <= r_nbr) {
-            const float4 vj = vel[j];
-            ++nn;
-            sum_u += vj.w;
-            sum_du += fabs(u - vj.w);
-            sum_q += length(vj.xyz - q);
-            sum_d += dist;
-            const float e = dist - d_target;
-            sum_dist += e * e;
-        }
-        if (dist > r_coh + body) continue;
-        if (dd <= b2) {  // inside the target: every ray hits at 0
-            for (int k = 0; k < RL_RAYS; ++k) ray[k] = 0.0f;
-            continue;
-        }
-        const float lf = dot(d, q), lr = dot(d, fr), lu = dot(d, fu);
-        for (int k = 0; k < RL_RAYS; ++k) {
-            const float t = rl_ray_table[3 * k] * lf + rl_ray_table[3 * k + 1] * lr + rl_ray_table[3 * k + 2] * lu;
-            const float perp2 = dd - t * t;
-            if (t > 0.0f && perp2 < b2) ray[k] = fmin(ray[k], t - sqrt(b2 - perp2));
-        }
+        rl_obs_target(&acc, leader ? to_l : pos[j].xyz - p, !leader, leader ? (float4)(0.0f) : vel[j], q, u, fr,
+                      fu, r_nbr, r_coh, body, d_target, 0);
     }
-    // Obstacles: only boxes within r_coh can be hit within r_coh.
-    float obst[RL_RAYS];
-    for (int k = 0; k < RL_RAYS; ++k) obst[k] = INFINITY;
-    for (uint b = 0; b < nbox; ++b) {
-        const float4 c = box_c[b], h = box_h[b];
-        const float3 e = fabs(p - c.xyz) - h.xyz;
-        if (length(fmax(e, (float3)(0.0f))) > r_coh) continue;
-        for (int k = 0; k < RL_RAYS; ++k) obst[k] = fmin(obst[k], rl_ray_box(p, rl_ray_dir(k, q, fr, fu), c, h));
-    }
-    for (int k = 0; k < RL_RAYS; ++k) {
-        float val = r_coh;
-        if (obst[k] <= r_coh && obst[k] <= ray[k]) val = -obst[k];
-        else if (ray[k] <= r_coh) val = ray[k];
-        o[RL_OBS_LOCAL + k] = val;
-    }
+    rl_obs_finish(&acc, o, p, q, fr, fu, r_coh, box_c, box_h, nbox, efs);
+    const uint nn = acc.nn;
+    const float sum_du = acc.sum_du, sum_q = acc.sum_q, sum_dist = acc.sum_dist;
     const float inv = nn ? 1.0f / (float)nn : 0.0f;
-    if (efs) {
-        o[RL_OBS_LOCAL + RL_RAYS] = sum_u * inv;
-        o[RL_OBS_LOCAL + RL_RAYS + 1] = sum_q * inv;
-        o[RL_OBS_LOCAL + RL_RAYS + 2] = sum_d * inv;
-    }
     // Rewards: prm = {w_spd, w_dir, w_leader, w_obs, w_dist,
     //                 l_spd, l_dir, l_leader, l_obs, (unused), d_target}.
     float r = 0.0f;

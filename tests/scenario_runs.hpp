@@ -29,7 +29,8 @@ inline const std::vector<ModelCase>& model_cases() {
     static const std::vector<ModelCase> cases{{"field", "aggregation.json", 48},
                                               {"path", "path_aggregation.json", 48},
                                               {"force", "force_moon_5k.json", 48},
-                                              {"energy", "energy_aggregation_37.json", 37}};
+                                              {"energy", "energy_aggregation_37.json", 37},
+                                              {"policy", "policy_roaming.json", 48}};
     return cases;
 }
 
@@ -41,6 +42,10 @@ inline std::string scenario_text(const ModelCase& c, uint32_t steps, uint32_t ev
     nlohmann::json j = nlohmann::json::parse(ss.str());
     j["agents"]["count"] = c.agents;
     j["steps"] = steps;
+    // A weights file relative to the scenario file, for a text parsed elsewhere.
+    if (j.contains("model") && j["model"].value("type", "") == "policy" && j["model"].contains("weights"))
+        j["model"]["weights"] = std::string(SWARMCL_SOURCE_DIR) + "/examples/scenarios/" +
+                                j["model"]["weights"].get<std::string>();
     j["output"]["formats"] = nlohmann::json::array({"npy"});
     j["output"]["every"] = every;
     return j.dump();

@@ -219,6 +219,34 @@ TEST(CheckpointResume, EnergyModelStimuliAndKeypointsSetByTheCaller) {
         30, 14);
 }
 
+TEST(CheckpointResume, PolicyModelExample) {
+    // The shipped policy, its leader on a tour (the waypoint index is state).
+    Scenario s = example("policy_roaming.json");
+    s.swarm.agent_count = s.swarm.capacity = 120;
+    check_example(s, 40, 17);
+}
+
+TEST(CheckpointResume, PolicyModelJoystickAndWaypointsPassed) {
+    // Joystick controls set by the caller (state), and a navigation leader
+    // that passes waypoints before and after the checkpoint.
+    Scenario s = example("policy_roaming.json");
+    s.swarm.agent_count = s.swarm.capacity = 60;
+    check_resume(
+        [&](std::shared_ptr<Context> ctx) {
+            auto swarm = make_swarm(ctx, s);
+            auto* p = dynamic_cast<PolicyModel*>(swarm->behavior());
+            p->set_leader_controls({0.05f, 0.0f, 0.03f, 0.01f});
+            return swarm;
+        },
+        30, 11);
+    Scenario n = example("policy_roaming.json");
+    n.swarm.agent_count = n.swarm.capacity = 60;
+    auto& spec = std::get<PolicySpec>(n.model);
+    spec.config.leader_mode = PolicyLeaderMode::Navigation;
+    spec.config.waypoints = {{{1.0f, 0.0f, 0.0f, 0.6f}}, {{2.5f, 0.5f, 0.0f, 0.8f}}, {{4.0f, 2.0f, 0.0f, 1.0f}}};
+    check_example(n, 60, 23);
+}
+
 TEST(CheckpointResume, BallisticSwarm) {
     check_resume(
         [](std::shared_ptr<Context> ctx) {

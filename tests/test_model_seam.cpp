@@ -60,6 +60,10 @@ std::shared_ptr<Swarm> old_construction(std::shared_ptr<Context> ctx, const Scen
     if (auto* e = std::get_if<EnergySpec>(&s.model))
         swarm->set_behavior(std::make_shared<EnergyModel>(*swarm, e->config, energy_spec_dataset(*e)));
     if (auto* c = std::get_if<ForceModelConfig>(&s.model)) swarm->set_behavior(std::make_shared<ForceModel>(*swarm, *c));
+    // The policy model came after make_swarm: built here directly.
+    if (auto* p = std::get_if<PolicySpec>(&s.model))
+        swarm->set_behavior(std::make_shared<PolicyModel>(
+            *swarm, p->config, std::make_shared<const std::string>(read_policy_file(p->weights_path))));
     return swarm;
 }
 
@@ -167,7 +171,7 @@ TEST(ModelSections, OneSectionPerModelSpecAlternative) {
     const auto& table = model_sections();
     std::vector<std::string> types;
     for (const ModelSection& s : table) types.push_back(s.type);
-    EXPECT_EQ(types, (std::vector<std::string>{"field", "path", "force", "energy", "ballistic"}));
+    EXPECT_EQ(types, (std::vector<std::string>{"field", "path", "force", "energy", "policy", "ballistic"}));
     EXPECT_EQ(table.size(), std::variant_size_v<ModelSpec>);
     for (const ModelSection& s : table) EXPECT_EQ(find_model_section(s.type), &s);
     EXPECT_EQ(find_model_section("swarmy"), nullptr);
@@ -178,6 +182,7 @@ TEST(ModelSections, OneSectionPerModelSpecAlternative) {
         {"path", R"({"type": "path", "goals": [{"center": [1, 1, 1]}]})"},
         {"force", R"({"type": "force"})"},
         {"energy", R"({"type": "energy"})"},
+        {"policy", R"({"type": "policy", "weights": "w.safetensors"})"},
         {"ballistic", R"({"type": "ballistic"})"},
     };
     for (const auto& [name, model] : models) EXPECT_STREQ(model_name(parse_scenario(head + model + "}").model), name.c_str());
@@ -198,7 +203,7 @@ std::string error_of(const std::string& text) {
 TEST(ModelSections, UnknownTypesGetTheSameMessagesAsBefore) {
     const std::string head = R"({"agents": {"count": 5}, "model": )";
     EXPECT_EQ(error_of(head + R"({"type": "swarmy"}})"),
-              R"(model.type: expected "field", "path", "force", "energy" or "ballistic")");
+              R"(model.type: expected "field", "path", "force", "energy", "policy" or "ballistic")");
     EXPECT_EQ(error_of(head + R"({"type": 3}})"), "model.type: expected a string");
     EXPECT_EQ(error_of(head + R"([1, 2]})"), "model: expected an object");
     // Obstacles are read before the model's type, as they were.

@@ -152,6 +152,18 @@ void fields(A& a, EnergyModelConfig& c) {
     a(c.noise), a(c.stimuli), a(c.keypoints), a(c.keypoints_closed), a(c.bidirectional), a(c.keypoint_reach);
 }
 
+template <class A>
+void fields(A& a, RlObstacleBox& b) {
+    a(b.center), a(b.half);
+}
+
+template <class A>
+void fields(A& a, PolicyModelConfig& c) {
+    a(c.r_sep), a(c.r_ali), a(c.r_coh), a(c.neighbor_radius), a(c.body_radius), a(c.du_max), a(c.dq_max_deg);
+    a(c.u_max), a.enumeration(c.leader_mode, 2), a(c.waypoints), a(c.leader_du_max), a(c.leader_dq_max_deg);
+    a(c.reach_radius), a(c.leader_position), a(c.leader_heading), a(c.leader_speed), a(c.obstacles);
+}
+
 namespace {
 
 // Meshes are used as they are by the models (no make_mesh on load): every
@@ -196,6 +208,11 @@ CheckpointModel read_alternative(const std::string& name, ByteReader& in) {
                 in.bad(std::string("the energy model's dataset: ") + err.what());
             }
             m.spec = std::move(e);
+        } else if constexpr (std::is_same_v<Config, PolicySpec>) {
+            PolicySpec p;
+            l(p.config);
+            p.weights_bytes = std::make_shared<const std::string>(in.string());
+            m.spec = std::move(p);
         } else {
             Config c;
             l(c);
@@ -215,6 +232,12 @@ void write_model_descriptor(ByteWriter& out, const EnergyModelConfig& c, const D
     Save s{out};
     s(c);
     out.string(dataset_to_bytes(d));
+}
+void write_model_descriptor(ByteWriter& out, const PolicyModelConfig& c, const std::string& weights) {
+    out.string(ModelTraits<PolicySpec>::name);
+    Save s{out};
+    s(c);
+    out.string(weights);
 }
 void write_ballistic_descriptor(ByteWriter& out) { out.string(ModelTraits<Ballistic>::name); }
 
@@ -246,6 +269,7 @@ static_assert(sizeof(NoiseConfig) == 112, "NoiseConfig changed: update fields(No
 static_assert(sizeof(FieldModelConfig) == 144, "FieldModelConfig changed: update its checkpoint fields()");
 static_assert(sizeof(PathModelConfig) == 328 && sizeof(PathTarget) == 20 && sizeof(PathLamp) == 36, "PathModelConfig changed: update its checkpoint fields()");
 static_assert(sizeof(ForceModelConfig) == 328, "ForceModelConfig changed: update its checkpoint fields()");
+static_assert(sizeof(PolicyModelConfig) == 128 && sizeof(RlObstacleBox) == 24, "PolicyModelConfig changed: update its checkpoint fields()");
 static_assert(sizeof(EnergyModelConfig) == 288, "EnergyModelConfig changed: update its checkpoint fields()");
 static_assert(sizeof(Boundary) == 48 && sizeof(Goal) == 32 && sizeof(Stimulus) == 32 && sizeof(EnergyWeights) == 32,
               "an obstacle, goal or stimulus struct changed: update its checkpoint fields()");

@@ -31,6 +31,8 @@ void write_model_descriptor(ByteWriter& out, const FieldModelConfig& config);
 void write_model_descriptor(ByteWriter& out, const PathModelConfig& config);
 void write_model_descriptor(ByteWriter& out, const ForceModelConfig& config);
 void write_model_descriptor(ByteWriter& out, const EnergyModelConfig& config, const Dataset& dataset);
+// The policy model: its config and the weights file's bytes.
+void write_model_descriptor(ByteWriter& out, const PolicyModelConfig& config, const std::string& weights);
 void write_ballistic_descriptor(ByteWriter& out);
 
 // Error(Parse) for an unknown model name, a bad enum value, a short section,

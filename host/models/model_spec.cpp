@@ -17,6 +17,10 @@ std::shared_ptr<Behavior> behavior_for(Swarm& s, const ForceModelConfig& c) { re
 std::shared_ptr<Behavior> behavior_for(Swarm& s, const EnergySpec& e) {
     return std::make_shared<EnergyModel>(s, e.config, energy_spec_dataset(e));
 }
+std::shared_ptr<Behavior> behavior_for(Swarm& s, const PolicySpec& p) {
+    auto bytes = p.weights_bytes ? p.weights_bytes : std::make_shared<const std::string>(read_policy_file(p.weights_path));
+    return std::make_shared<PolicyModel>(s, p.config, std::move(bytes));
+}
 
 }  // namespace
 

@@ -12,6 +12,7 @@
 #include "models/field_model.hpp"
 #include "models/force_model.hpp"
 #include "models/path_model.hpp"
+#include "models/policy_model.hpp"
 
 namespace swarmcl {
 
@@ -21,7 +22,8 @@ class Swarm;
 // No model: agents keep their velocity (the swarm's own integration).
 struct Ballistic {};
 
-using ModelSpec = std::variant<Ballistic, FieldModelConfig, PathModelConfig, ForceModelConfig, EnergySpec>;
+using ModelSpec =
+    std::variant<Ballistic, FieldModelConfig, PathModelConfig, ForceModelConfig, EnergySpec, PolicySpec>;
 
 // Per model: its name ("model.type" in scenario files, swcl_scenario_info.model)
 // and its minimum distance enforcement threshold (0: none).  Left undefined
@@ -54,6 +56,11 @@ template <>
 struct ModelTraits<EnergySpec> {
     static constexpr const char* name = "energy";
     static float min_distance(const EnergySpec&) { return 0.0f; }  // no MDE: the energy terms keep distances
+};
+template <>
+struct ModelTraits<PolicySpec> {
+    static constexpr const char* name = "policy";
+    static float min_distance(const PolicySpec&) { return 0.0f; }  // no MDE: the policy keeps its spacing (Eq. 19)
 };
 
 const char* model_name(const ModelSpec& spec);

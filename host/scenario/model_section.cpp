@@ -49,6 +49,7 @@ const std::vector<ModelSection>& model_sections() {
         {type_of<PathModelConfig>, read_path_section, check_path_section},
         {type_of<ForceModelConfig>, read_force_section, nullptr},
         {type_of<EnergySpec>, read_energy_section, check_energy_section},
+        {type_of<PolicySpec>, read_policy_section, nullptr},
         {type_of<Ballistic>, read_ballistic_section, nullptr},
     };
     return table;

@@ -47,6 +47,7 @@ ModelSpec read_field_section(const SectionInput& in);
 ModelSpec read_path_section(const SectionInput& in);
 ModelSpec read_force_section(const SectionInput& in);
 ModelSpec read_energy_section(const SectionInput& in);
+ModelSpec read_policy_section(const SectionInput& in);
 // Their noise against the domain (NoiseField::validate), as "model.noise: ...".
 void check_field_section(const ModelSpec& spec, const SwarmConfig& swarm);
 void check_path_section(const ModelSpec& spec, const SwarmConfig& swarm);

@@ -15,7 +15,8 @@ import swarmcl
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
 CASES = {"field": ("aggregation.json", 48), "path": ("path_aggregation.json", 48),
-         "force": ("force_moon_5k.json", 48), "energy": ("energy_aggregation_37.json", 37)}
+         "force": ("force_moon_5k.json", 48), "energy": ("energy_aggregation_37.json", 37),
+         "policy": ("policy_roaming.json", 48)}
 STEPS, EVERY = 20, 5
 
 
@@ -38,6 +39,8 @@ def test_python_frames_equal_the_cli_files(model, ctx, tmp_path):
     sc["agents"]["count"] = agents
     sc["steps"] = STEPS
     sc["output"]["formats"], sc["output"]["every"] = ["npy"], EVERY
+    if sc["model"].get("type") == "policy":  # weights relative to the example's folder
+        sc["model"]["weights"] = str(REPO / "examples" / "scenarios" / sc["model"]["weights"])
     text = json.dumps(sc)
     (tmp_path / "s.json").write_text(text)
     subprocess.run([cli, "run", "s.json", "--out", "o", "--format", "npy", "--quiet"], cwd=tmp_path,

@@ -314,6 +314,41 @@ class Swarm(_Handle):
         out = _out_array(out, (n, 3), np.float32, "force_targets")
         check(lib.swcl_swarm_force_get_targets(self._h, _fptr(out), n))
         return out
+    # ---- the policy model (bindings/python/swarmcl/policy.py) -------------------------
+
+    def set_policy_model(self, model=None) -> None:
+        """Moves the swarm with a trained policy (a PolicyModel; default: the
+        shipped policy with a joystick leader) from the next step."""
+        from .policy import PolicyModel
+        model = PolicyModel() if model is None else model
+        if not isinstance(model, PolicyModel):
+            raise TypeError(f"set_policy_model: expected a PolicyModel, got {type(model).__name__}")
+        desc, _keep = model.to_c()
+        check(lib.swcl_swarm_policy_set_model(self._h, desc))
+
+    def set_policy_leader_controls(self, du: float, dq) -> None:
+        """Joystick leader: speed change and heading change (3,) per step."""
+        c = np.asarray([du, *np.asarray(dq, dtype=np.float32).reshape(3)], dtype=np.float32)
+        check(lib.swcl_swarm_policy_set_leader_controls(self._h, _fptr(c)))
+
+    def policy_leader(self):
+        """The leader now: (position (3,), heading (3,), speed)."""
+        p = np.zeros(3, np.float32)
+        v = np.zeros(4, np.float32)
+        check(lib.swcl_swarm_policy_get_leader(self._h, _fptr(p), _fptr(v)))
+        return p, v[:3].copy(), float(v[3])
+
+    def policy_observe(self):
+        """Observations (N, obs_dim) of the current state and the policy's
+        actions (N, 4) on them, agent-id order."""
+        dim = ffi.new("uint32_t*")
+        check(lib.swcl_swarm_policy_get_info(self._h, dim, ffi.NULL, ffi.NULL))
+        n = self.agent_count
+        obs = np.zeros((n, int(dim[0])), np.float32)
+        act = np.zeros((n, 4), np.float32)
+        check(lib.swcl_swarm_policy_observe(self._h, _fptr(obs), _fptr(act), n))
+        return obs, act
+
     # ---- the path model (bindings/python/swarmcl/path.py) -----------------------------
 
     def set_path_model(self, model) -> None:

@@ -815,6 +815,56 @@ SWCL_API swcl_status swcl_rl_env_read_state(swcl_rl_env env, float* out_pos, siz
                                             size_t vel_count, float* out_leader_pos, float* out_leader_vel,
                                             size_t leader_count);
 
+/* ---- the policy model (issue 15 item 7) -------------------------------------
+ * A trained actor (an MLP in a safetensors file: docs/rl-swarm.md, "Policy
+ * model") drives the swarm's agents as followers of one leader: each step
+ * the observations of Eq. 11-13 (the environment's, over the swarm's
+ * neighbour grid), the MLP batched over agents on the device, Eq. 2's
+ * kinematics with the swarm's dt (Table 1: 0.1 s).  Velocities read from
+ * the swarm are u q.  Bad weights (truncated, wrong shapes or dtype, corrupt
+ * header) give SWCL_ERROR_PARSE naming the problem; the swarm keeps its
+ * previous model.  models/policy_roaming.safetensors is a shipped policy. */
+typedef enum swcl_policy_leader_mode {
+    SWCL_POLICY_LEADER_JOYSTICK = 0,    /* controls through swcl_swarm_policy_set_leader_controls */
+    SWCL_POLICY_LEADER_NAVIGATION = 1,  /* through the waypoints, stops after the last */
+    SWCL_POLICY_LEADER_TOUR = 2         /* through the waypoints, over and over */
+} swcl_policy_leader_mode;
+
+typedef struct swcl_policy_model_desc {
+    uint32_t struct_size;
+    const char* weights_path;      /* a safetensors file, or NULL with weights_data */
+    const void* weights_data;      /* the file's bytes in memory (used when weights_path is NULL) */
+    size_t weights_size;
+    swcl_policy_leader_mode leader_mode;  /* default JOYSTICK */
+    const float* waypoints;        /* packed (x, y, z, target speed), >= 2 for NAVIGATION / TOUR */
+    uint32_t waypoint_count;
+    float leader_position[3];      /* default origin */
+    float leader_heading[3];       /* default +x (normalised) */
+    float leader_speed;            /* default 0.5 */
+    float leader_du_max, leader_dq_max_deg, reach_radius;  /* 0.1, 4, 2 */
+    float r_sep, r_ali, r_coh;     /* Table 1: 1, 9, 18 */
+    float neighbor_radius;         /* EFS neighbours; 0: r_coh */
+    float body_radius;             /* agents' sphere for the rays (0.5) */
+    float du_max, dq_max_deg, u_max;  /* Table 1: 0.1, 4; u_max 3 */
+    const float* obstacles;        /* boxes (cx, cy, cz, hx, hy, hz) */
+    uint32_t obstacle_count;
+} swcl_policy_model_desc;
+
+SWCL_API swcl_policy_model_desc swcl_policy_model_desc_default(void);
+SWCL_API swcl_status swcl_swarm_policy_set_model(swcl_swarm swarm, const swcl_policy_model_desc* desc);
+/* Joystick leader: {du, dq.xyz} applied every step (Eq. 1 with h = one step),
+ * kept until changed. */
+SWCL_API swcl_status swcl_swarm_policy_set_leader_controls(swcl_swarm swarm, const float controls[4]);
+/* The leader now: position xyz and (q.xyz, u); either pointer may be NULL. */
+SWCL_API swcl_status swcl_swarm_policy_get_leader(swcl_swarm swarm, float out_position[3], float out_heading_speed[4]);
+/* The loaded policy: observation size (54 or 51), layer count, widths of
+ * its layers' outputs (up to 8 written to out_widths, may be NULL). */
+SWCL_API swcl_status swcl_swarm_policy_get_info(swcl_swarm swarm, uint32_t* out_obs_dim, uint32_t* out_layers,
+                                                uint32_t* out_widths);
+/* The observations of the current state (count * obs_dim floats) and the
+ * policy's actions on them (count * 4), agent-id order; either may be NULL. */
+SWCL_API swcl_status swcl_swarm_policy_observe(swcl_swarm swarm, float* out_obs, float* out_actions, size_t count);
+
 /* ---- evaluation against real insects -----------------------------------------
  * The data-driven evaluation of the noise paper (§3, docs/evaluation.md):
  * seven time-varying metrics (speed, acceleration, angular velocity, angular

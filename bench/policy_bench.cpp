@@ -1,0 +1,198 @@
+// The policy model's speed (issue 15 item 7): steps per second of a swarm of
+// N agents driven by a policy (observations over the neighbour grid + the
+// MLP + Eq. 2 on the device, one swarm), with the MLP and the observations
+// timed apart, beside the RAG-driven environment step at the same number of
+// agents (W worlds of 100: the environment's neighbour loops are per world).
+//   policy_bench [--weights FILE] [--out FILE] [--cell M] [N [steps]] ...
+//   (default: the shipped policy, 10k, 100k and 1M agents)
+// Agents are placed uniformly at the density of a 200-agent swarm in a ball
+// of radius 15 (~0.014 per m^3: ~370 agents within R_coh + body = 18.5 m of
+// each), headings random, speed 1; the leader in the middle.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "bench_util.hpp"
+#include "device/context.hpp"
+#include "models/policy_model.hpp"
+#include "rl/leader_env.hpp"
+#include "rl/rl_scenarios.hpp"
+#include "swarm/swarm.hpp"
+
+using namespace swarmcl;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+constexpr double kDensity = 200.0 / (4.0 / 3.0 * 3.14159265 * 15.0 * 15.0 * 15.0);
+
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+struct Row {
+    uint32_t n = 0;
+    int steps = 0;
+    double step_s = 0, observe_s = 0, mlp_s = 0, env_step_s = 0, rag_s = 0, neighbours = 0;
+};
+
+float g_cell = 6.17f;  // the swarm's interaction_radius: the grid's cell edge ((r_coh + body) / 3)
+
+Row run(std::shared_ptr<Context> ctx, const std::shared_ptr<const std::string>& bytes, uint32_t n, int steps) {
+    Row r;
+    r.n = n;
+    r.steps = steps;
+    const float half = float(0.5 * std::cbrt(double(n) / kDensity));
+    SwarmConfig sc;
+    sc.capacity = n;
+    sc.agent_count = 0;
+    sc.domain_min = {-half, -half, -half};
+    sc.domain_max = {half, half, half};
+    sc.interaction_radius = g_cell;
+    sc.dt = 0.1f;
+    Swarm swarm(ctx, sc);
+    std::mt19937 rng(1);
+    std::uniform_real_distribution<float> u(-half, half);
+    std::normal_distribution<float> g(0.0f, 1.0f);
+    std::vector<float> p(3 * size_t(n)), v(3 * size_t(n));
+    for (uint32_t a = 0; a < n; ++a) {
+        float d[3] = {g(rng), g(rng), g(rng)};
+        const float l = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        for (int k = 0; k < 3; ++k) {
+            p[3 * size_t(a) + k] = u(rng);
+            v[3 * size_t(a) + k] = d[k] / l;
+        }
+    }
+    swarm.write(Attribute::Position, p.data(), n);
+    swarm.write(Attribute::Velocity, v.data(), n);
+    PolicyModelConfig pc;
+    pc.leader_speed = 1.0f;
+    auto model = std::make_shared<PolicyModel>(swarm, pc, bytes);
+    swarm.set_behavior(model);
+    // Mean neighbours within 18.5 m, from the grid's count query (a sample).
+    {
+        std::vector<uint32_t> counts(n);
+        swarm.neighbor_count(18.5f, counts.data(), n);
+        double s = 0;
+        for (uint32_t c : counts) s += c;
+        r.neighbours = s / n;
+    }
+    swarm.step(1);  // warm-up: PoCL compiles per launch size
+    ctx->queue().finish();
+    std::vector<double> ts;
+    for (int i = 0; i < steps; ++i) {
+        const auto t0 = Clock::now();
+        swarm.step(1);
+        ctx->queue().finish();
+        ts.push_back(since(t0));
+    }
+    r.step_s = bench::median(ts);
+    // The MLP alone on this step's observations, and the observations alone.
+    std::vector<float> obs;
+    const auto t1 = Clock::now();
+    model->observe(swarm, &obs, nullptr);
+    const double obs_and_mlp = since(t1);
+    std::vector<double> tm;
+    const uint32_t sub = std::min<uint32_t>(n, 100000);
+    obs.resize(size_t(sub) * model->obs_dim());
+    model->infer(obs, sub);  // warm-up
+    for (int i = 0; i < 3; ++i) {
+        const auto t2 = Clock::now();
+        model->infer(obs, sub);
+        tm.push_back(since(t2));
+    }
+    r.mlp_s = bench::median(tm) * double(n) / sub;
+    r.observe_s = std::max(0.0, obs_and_mlp - r.mlp_s);
+    // The environment at the same number of agents: W worlds of 100, RAG actions.
+    RlEnvConfig ec;
+    apply_rl_scenario("roaming", ec);
+    ec.worlds = std::max<uint32_t>(1, n / 100);
+    ec.agents = 100;
+    ec.max_steps = 1u << 30;
+    LeaderEnv env(*ctx, ec);
+    env.reset(1);
+    std::vector<float> act(4 * size_t(ec.worlds) * 100);
+    env.rag_actions(act.data(), act.size());
+    env.step(act.data(), act.size());
+    std::vector<double> te, tr;
+    const int env_steps = std::max(2, steps / 2);
+    for (int i = 0; i < env_steps; ++i) {
+        auto t0 = Clock::now();
+        env.rag_actions(act.data(), act.size());
+        tr.push_back(since(t0));
+        t0 = Clock::now();
+        env.step(act.data(), act.size());
+        ctx->queue().finish();
+        te.push_back(since(t0));
+    }
+    r.env_step_s = bench::median(te);
+    r.rag_s = bench::median(tr);
+    return r;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::string weights = std::string(SWARMCL_SOURCE_DIR) + "/models/policy_roaming.safetensors";
+    std::string out = std::string(SWARMCL_SOURCE_DIR) + "/bench/results/policy.json";
+    std::vector<std::pair<uint32_t, int>> sizes;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--weights" && i + 1 < argc) {
+            weights = argv[++i];
+        } else if (a == "--cell" && i + 1 < argc) {
+            g_cell = float(std::atof(argv[++i]));
+        } else if (a == "--out" && i + 1 < argc) {
+            out = argv[++i];
+        } else {
+            const uint32_t n = uint32_t(std::atol(argv[i]));
+            int steps = 10;
+            if (i + 1 < argc && std::atol(argv[i + 1]) < 1000 && std::string(argv[i + 1]).find('-') != 0) steps = std::atoi(argv[++i]);
+            sizes.push_back({n, steps});
+        }
+    }
+    if (sizes.empty()) sizes = {{10000, 10}, {100000, 10}, {1000000, 3}};
+    auto ctx = std::make_shared<Context>("", "");
+    auto bytes = std::make_shared<const std::string>(read_policy_file(weights));
+    const PolicyWeights w = parse_policy_weights(reinterpret_cast<const uint8_t*>(bytes->data()), bytes->size());
+    double macs = 0;
+    std::string shape = std::to_string(w.obs_dim);
+    for (const auto& L : w.layers) {
+        macs += double(L.in) * L.out;
+        shape += "-" + std::to_string(L.out);
+    }
+    std::printf("policy_bench on %s (%u compute units), policy %s (%.0f multiply-adds per agent), grid cell %.2f m; "
+                "load %.1f\n", ctx->device().device_name.c_str(), ctx->device().compute_units, shape.c_str(), macs,
+                g_cell, bench::load_average());
+    std::vector<Row> rows;
+    for (auto [n, steps] : sizes) {
+        const Row r = run(ctx, bytes, n, steps);
+        rows.push_back(r);
+        std::printf("N %8u: policy step %9.2f ms = %7.2f steps/s (observe ~%.1f ms, MLP %.1f ms = %.1f GFLOP/s; "
+                    "%.0f neighbours within 18.5 m) | env step (%u worlds x 100, RAG) %8.2f ms + RAG %7.2f ms\n",
+                    n, 1e3 * r.step_s, 1.0 / r.step_s, 1e3 * r.observe_s, 1e3 * r.mlp_s,
+                    2.0 * macs * n / r.mlp_s * 1e-9, r.neighbours, std::max<uint32_t>(1, n / 100), 1e3 * r.env_step_s,
+                    1e3 * r.rag_s);
+        std::fflush(stdout);
+    }
+    std::ofstream f(out);
+    f << "{\n  \"benchmark\": \"policy_bench\",\n  \"date\": \"" << bench::utc_now() << "\",\n  \"device\": \""
+      << bench::json_escape(ctx->device().device_name) << "\",\n  \"compute_units\": " << ctx->device().compute_units
+      << ",\n  \"load_average\": " << bench::load_average() << ",\n  \"grid_cell_m\": " << g_cell << ",\n  \"policy\": \"" << shape
+      << "\",\n  \"macs_per_agent\": " << macs << ",\n  \"density_per_m3\": " << kDensity << ",\n  \"rows\": [\n";
+    for (size_t i = 0; i < rows.size(); ++i) {
+        const Row& r = rows[i];
+        f << "    {\"agents\": " << r.n << ", \"steps_timed\": " << r.steps << ", \"policy_step_ms\": " << 1e3 * r.step_s
+          << ", \"policy_steps_per_s\": " << 1.0 / r.step_s << ", \"observe_ms\": " << 1e3 * r.observe_s
+          << ", \"mlp_ms\": " << 1e3 * r.mlp_s << ", \"mean_neighbours\": " << r.neighbours
+          << ", \"env_worlds_x_100_step_ms\": " << 1e3 * r.env_step_s << ", \"env_rag_ms\": " << 1e3 * r.rag_s << "}"
+          << (i + 1 < rows.size() ? "," : "") << "\n";
+    }
+    f << "  ]\n}\n";
+    std::printf("wrote %s\n", out.c_str());
+    return 0;
+}

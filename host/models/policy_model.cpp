@@ -1,0 +1,315 @@
+#include "models/policy_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "core/error.hpp"
+#include "fields/noise_field.hpp"
+#include "models/model_checkpoint.hpp"
+#include "swarm/swarm.hpp"
+
+namespace swarmcl {
+namespace {
+
+constexpr float kDegToRad = 0.017453292519943295f;
+// Tiles of the MLP per launch: its scratch is 2 * max_width * lanes floats
+// per tile (at most 64 MiB for 512-wide layers and 16 lanes).
+constexpr uint32_t kMlpChunkTiles = 1024;
+
+bool finite_all(const float* v, size_t n) {
+    for (size_t i = 0; i < n; ++i)
+        if (!std::isfinite(v[i])) return false;
+    return true;
+}
+
+cl_float4 f4(float x, float y, float z, float w) { return cl_float4{{x, y, z, w}}; }
+
+float activate(float x, PolicyActivation a) {
+    if (a == PolicyActivation::Relu) return std::max(x, 0.0f);
+    if (a == PolicyActivation::Tanh) return std::tanh(x);
+    return x;
+}
+
+}  // namespace
+
+void validate(const PolicyModelConfig& c) {
+    const float scalars[] = {c.r_sep, c.r_ali, c.r_coh, c.neighbor_radius, c.body_radius, c.du_max, c.dq_max_deg,
+                             c.u_max, c.leader_du_max, c.leader_dq_max_deg, c.reach_radius, c.leader_speed,
+                             c.leader_position[0], c.leader_position[1], c.leader_position[2],
+                             c.leader_heading[0], c.leader_heading[1], c.leader_heading[2]};
+    require(finite_all(scalars, sizeof scalars / sizeof *scalars), "policy model: every parameter must be finite");
+    require(0 < c.r_sep && c.r_sep < c.r_ali && c.r_ali < c.r_coh,
+            "policy model: radii need 0 < r_sep < r_ali < r_coh (Table 1: 1, 9, 18)");
+    require(c.neighbor_radius >= 0 && c.body_radius > 0, "policy model: neighbor_radius >= 0 and body_radius > 0");
+    require(c.du_max >= 0 && c.dq_max_deg >= 0 && c.u_max > 0, "policy model: du_max, dq_max_deg >= 0, u_max > 0");
+    require(c.leader_du_max >= 0 && c.leader_dq_max_deg >= 0 && c.reach_radius > 0,
+            "policy model: leader_du_max, leader_dq_max_deg >= 0 and reach_radius > 0");
+    require(c.leader_speed >= 0 && c.leader_speed <= c.u_max, "policy model: leader_speed must lie in [0, u_max]");
+    const float h = std::sqrt(c.leader_heading[0] * c.leader_heading[0] + c.leader_heading[1] * c.leader_heading[1] +
+                              c.leader_heading[2] * c.leader_heading[2]);
+    require(h > 1e-6f, "policy model: leader_heading must not be zero");
+    require(uint32_t(c.leader_mode) <= 2, "policy model: unknown leader mode");
+    if (c.leader_mode != PolicyLeaderMode::Joystick) {
+        require(c.waypoints.size() >= 2, "policy model: navigation needs at least 2 waypoints (" +
+                                             std::to_string(c.waypoints.size()) + " given)");
+        for (size_t k = 0; k < c.waypoints.size(); ++k)
+            require(finite_all(c.waypoints[k].data(), 4) && c.waypoints[k][3] >= 0 && c.waypoints[k][3] <= c.u_max,
+                    "policy model: waypoint " + std::to_string(k) + " must be finite with 0 <= speed <= u_max");
+    }
+    for (size_t b = 0; b < c.obstacles.size(); ++b)
+        require(finite_all(c.obstacles[b].center.data(), 3) && finite_all(c.obstacles[b].half.data(), 3) &&
+                    c.obstacles[b].half[0] > 0 && c.obstacles[b].half[1] > 0 && c.obstacles[b].half[2] > 0,
+                "policy model: obstacle " + std::to_string(b) + " must be finite with half extents > 0");
+}
+
+std::array<float, 4> policy_forward(const PolicyWeights& w, const float* obs) {
+    std::vector<float> x(obs, obs + w.obs_dim), y;
+    if (!w.obs_mean.empty())
+        for (uint32_t i = 0; i < w.obs_dim; ++i) x[i] = (x[i] - w.obs_mean[i]) / w.obs_std[i];
+    for (const PolicyLayer& L : w.layers) {
+        y.assign(L.out, 0.0f);
+        for (uint32_t o = 0; o < L.out; ++o) {
+            float acc = L.bias[o];
+            for (uint32_t i = 0; i < L.in; ++i) acc = std::fma(L.weight[size_t(o) * L.in + i], x[i], acc);
+            y[o] = activate(acc, L.activation);
+        }
+        x.swap(y);
+    }
+    return {x[0] * w.action_scale[0], x[1] * w.action_scale[1], x[2] * w.action_scale[2], x[3] * w.action_scale[3]};
+}
+
+PolicyModel::PolicyModel(Swarm& swarm, PolicyModelConfig config, std::shared_ptr<const std::string> bytes)
+    : config_(std::move(config)), bytes_(std::move(bytes)), ctx_(swarm.context()) {
+    require(bytes_ != nullptr, "policy model: no weights");
+    weights_ = parse_policy_weights(reinterpret_cast<const uint8_t*>(bytes_->data()), bytes_->size());
+    validate(config_);
+    Context& ctx = ctx_;
+    // Parameters in one array: per layer weight then bias, then mean and std.
+    std::vector<float> params;
+    std::vector<cl_uint> table;
+    for (const PolicyLayer& L : weights_.layers) {
+        table.insert(table.end(), {L.in, L.out, cl_uint(L.activation), cl_uint(params.size()),
+                                   cl_uint(params.size() + L.weight.size())});
+        params.insert(params.end(), L.weight.begin(), L.weight.end());
+        params.insert(params.end(), L.bias.begin(), L.bias.end());
+        max_width_ = std::max({max_width_, L.in, L.out});
+    }
+    mean_off_ = uint32_t(params.size());
+    params.insert(params.end(), weights_.obs_mean.begin(), weights_.obs_mean.end());
+    std_off_ = uint32_t(params.size());
+    params.insert(params.end(), weights_.obs_std.begin(), weights_.obs_std.end());
+    params_.allocate(ctx, params.size(), "policy weights");
+    params_.upload(ctx, params.data(), params.size());
+    layers_.allocate(ctx, table.size(), "policy layer table");
+    layers_.upload(ctx, table.data(), table.size());
+
+    // The leader: at leader_position heading along leader_heading at
+    // leader_speed; navigation and tours start at waypoint 0.
+    const auto& c = config_;
+    const float hl = std::sqrt(c.leader_heading[0] * c.leader_heading[0] + c.leader_heading[1] * c.leader_heading[1] +
+                               c.leader_heading[2] * c.leader_heading[2]);
+    const cl_float4 lp = f4(c.leader_position[0], c.leader_position[1], c.leader_position[2], 0.0f);
+    const cl_float4 lv = f4(c.leader_heading[0] / hl, c.leader_heading[1] / hl, c.leader_heading[2] / hl, c.leader_speed);
+    lpos_.allocate(ctx, 1, "policy leader position");
+    lvel_.allocate(ctx, 1, "policy leader velocity");
+    lst_.allocate(ctx, 2, "policy leader state");
+    ctl_.allocate(ctx, 1, "policy leader controls");
+    lpos_.upload(ctx, &lp, 1);
+    lvel_.upload(ctx, &lv, 1);
+    ctl_.fill(ctx, f4(0, 0, 0, 0), 1);
+    wp_.allocate(ctx, 1, "policy leader waypoint");
+    done_.allocate(ctx, 1, "policy leader done");
+    wp_.fill(ctx, 0u, 1);
+    done_.fill(ctx, 0u, 1);
+    std::vector<cl_float4> wps;
+    for (const auto& w : c.waypoints) wps.push_back(f4(w[0], w[1], w[2], w[3]));
+    waypoints_.allocate(ctx, wps.size(), "policy waypoints");
+    waypoints_.upload(ctx, wps.data(), wps.size());
+    std::vector<cl_float4> bc, bh;
+    for (const auto& b : c.obstacles) {
+        bc.push_back(f4(b.center[0], b.center[1], b.center[2], 0));
+        bh.push_back(f4(b.half[0], b.half[1], b.half[2], 0));
+    }
+    box_c_.allocate(ctx, bc.size(), "policy obstacles");
+    box_h_.allocate(ctx, bh.size(), "policy obstacles");
+    box_c_.upload(ctx, bc.data(), bc.size());
+    box_h_.upload(ctx, bh.data(), bh.size());
+
+    // CPU devices: the noise kernels' lane width (16 with AVX-512, 8 else).
+    const char* env = std::getenv("SWARMCL_POLICY_LANES");
+    lanes_ = ctx.device().cpu_profile ? preferred_noise_width(ctx.device()) : 1;
+    if (env && (std::string(env) == "1" || std::string(env) == "8" || std::string(env) == "16"))
+        lanes_ = uint32_t(std::stoul(env));
+    const std::string lanes_define = "-DPM_W=" + std::to_string(lanes_);
+    // With lanes, the observations too come PM_W agents per work-item.
+    observe_k_ = lanes_ > 1 ? ctx.kernel("policy.cl", "policy_observe_w", lanes_define)
+                            : ctx.kernel("policy.cl", "policy_observe");
+    mlp_k_ = ctx.kernel("policy.cl", "policy_mlp", lanes_define);
+    apply_k_ = ctx.kernel("policy.cl", "policy_apply");
+    copy_k_ = ctx.kernel("policy.cl", "policy_leader_copy");
+    leader_k_ = ctx.kernel("rl_env.cl", "rl_leader_step");
+    set_args(copy_k_, lpos_.get(), lvel_.get(), lst_.get());
+    launch(ctx, copy_k_, 1);
+    (void)swarm;
+}
+
+void PolicyModel::set_leader_controls(const std::array<float, 4>& ctl) {
+    require(finite_all(ctl.data(), 4), "policy model: leader controls must be finite");
+    const cl_float4 v = f4(ctl[0], ctl[1], ctl[2], ctl[3]);
+    ctl_.upload(ctx_, &v, 1);
+}
+
+void PolicyModel::read_leader(cl_float4* position, cl_float4* heading_speed) {
+    if (position) lpos_.download(ctx_, position, 1);
+    if (heading_speed) lvel_.download(ctx_, heading_speed, 1);
+}
+
+void PolicyModel::enqueue_observe(Swarm& swarm) {
+    const uint32_t n = swarm.agent_count();
+    swarm.ensure_grid();
+    obs_.reserve(ctx_, size_t(n) * weights_.obs_dim, "policy observations");
+    const auto& c = config_;
+    const float r_nbr = c.neighbor_radius > 0 ? c.neighbor_radius : c.r_coh;
+    const float search = std::max(c.r_coh + c.body_radius, r_nbr);
+    cl_uint i = 0;
+    observe_k_.setArg(i++, swarm.positions().get());
+    observe_k_.setArg(i++, swarm.velocities().get());
+    observe_k_.setArg(i++, n);
+    i = swarm.grid().set_grid_args(observe_k_, i);
+    observe_k_.setArg(i++, lst_.get());
+    observe_k_.setArg(i++, search);
+    observe_k_.setArg(i++, c.r_coh);
+    observe_k_.setArg(i++, r_nbr);
+    observe_k_.setArg(i++, c.body_radius);
+    observe_k_.setArg(i++, box_c_.get());
+    observe_k_.setArg(i++, box_h_.get());
+    observe_k_.setArg(i++, cl_uint(c.obstacles.size()));
+    observe_k_.setArg(i++, cl_int(weights_.efs ? 1 : 0));
+    observe_k_.setArg(i++, cl_uint(weights_.obs_dim));
+    observe_k_.setArg(i++, obs_.get());
+    check_arg_count(observe_k_, i);
+    // Two 42-float arrays per work-item (42 vectors with lanes): small
+    // work-groups (buffer.hpp).
+    if (lanes_ > 1) launch(ctx_, observe_k_, (size_t(n) + lanes_ - 1) / lanes_, 16);
+    else launch(ctx_, observe_k_, n, 256);
+}
+
+void PolicyModel::enqueue_mlp(DeviceBuffer<float>& obs, uint32_t n, DeviceBuffer<float>& actions) {
+    if (n == 0) return;
+    const uint32_t tiles = (n + lanes_ - 1) / lanes_;
+    const uint32_t chunk = std::min(tiles, kMlpChunkTiles);
+    scratch_.reserve(ctx_, size_t(chunk) * 2 * max_width_ * lanes_, "policy MLP scratch");
+    const auto& s = weights_.action_scale;
+    for (uint32_t first = 0; first < tiles; first += chunk) {
+        set_args(mlp_k_, obs.get(), n, cl_uint(weights_.obs_dim), first, params_.get(), layers_.get(),
+                 cl_uint(weights_.layers.size()), cl_int(weights_.obs_mean.empty() ? 0 : 1), mean_off_, std_off_,
+                 cl_float4{{s[0], s[1], s[2], s[3]}}, max_width_, scratch_.get(), actions.get());
+        launch(ctx_, mlp_k_, std::min(chunk, tiles - first), 64);
+    }
+}
+
+void PolicyModel::advance(Swarm& swarm, uint64_t) {
+    const uint32_t n = swarm.agent_count();
+    const auto& c = config_;
+    set_args(copy_k_, lpos_.get(), lvel_.get(), lst_.get());
+    launch(ctx_, copy_k_, 1);
+    if (n > 0) {
+        enqueue_observe(swarm);
+        actions_.reserve(ctx_, size_t(n) * 4, "policy actions");
+        enqueue_mlp(obs_, n, actions_);
+    }
+    // The leader moves (rl_env.cl, one world), then the followers by the
+    // actions of the state they observed: the environment's order.
+    set_args(leader_k_, lpos_.get(), lvel_.get(), ctl_.get(), cl_uint(1),
+             cl_int(c.leader_mode == PolicyLeaderMode::Joystick ? 0 : c.leader_mode == PolicyLeaderMode::Navigation ? 1 : 2),
+             waypoints_.get(), cl_uint(c.waypoints.size()), wp_.get(), done_.get(), c.reach_radius, c.leader_du_max,
+             c.leader_dq_max_deg * kDegToRad, c.u_max, swarm.config().dt);
+    launch(ctx_, leader_k_, 1);
+    if (n > 0) {
+        set_args(apply_k_, swarm.positions().get(), swarm.velocities().get(), actions_.get(), n, lst_.get(),
+                 c.du_max, c.dq_max_deg * kDegToRad, c.u_max, swarm.config().dt);
+        launch(ctx_, apply_k_, n);
+        swarm.positions_changed();
+    }
+}
+
+StepStages PolicyModel::stages() const { return {}; }
+
+void PolicyModel::observe(Swarm& swarm, std::vector<float>* obs, std::vector<float>* actions) {
+    const uint32_t n = swarm.agent_count();
+    set_args(copy_k_, lpos_.get(), lvel_.get(), lst_.get());
+    launch(ctx_, copy_k_, 1);
+    if (n == 0) {
+        if (obs) obs->clear();
+        if (actions) actions->clear();
+        return;
+    }
+    enqueue_observe(swarm);
+    actions_.reserve(ctx_, size_t(n) * 4, "policy actions");
+    enqueue_mlp(obs_, n, actions_);
+    std::vector<cl_uint> ids(n);
+    swarm.ids().download(ctx_, ids.data(), n);
+    const uint32_t d = weights_.obs_dim;
+    if (obs) {
+        std::vector<float> by_slot(size_t(n) * d);
+        obs_.download(ctx_, by_slot.data(), by_slot.size());
+        obs->assign(by_slot.size(), 0.0f);
+        for (uint32_t s = 0; s < n; ++s)
+            std::copy_n(&by_slot[size_t(s) * d], d, &(*obs)[size_t(ids[s]) * d]);
+    }
+    if (actions) {
+        std::vector<float> by_slot(size_t(n) * 4);
+        actions_.download(ctx_, by_slot.data(), by_slot.size());
+        actions->assign(by_slot.size(), 0.0f);
+        for (uint32_t s = 0; s < n; ++s) std::copy_n(&by_slot[size_t(s) * 4], 4, &(*actions)[size_t(ids[s]) * 4]);
+    }
+}
+
+std::vector<float> PolicyModel::infer(const std::vector<float>& obs, uint32_t count) {
+    require(obs.size() == size_t(count) * weights_.obs_dim, "policy model infer: obs size != count * obs_dim");
+    std::vector<float> out(size_t(count) * 4);
+    if (!count) return out;
+    DeviceBuffer<float> in(ctx_, obs.size(), "policy infer input"), act(ctx_, out.size(), "policy infer actions");
+    in.upload(ctx_, obs.data(), obs.size());
+    enqueue_mlp(in, count, act);
+    act.download(ctx_, out.data(), out.size());
+    return out;
+}
+
+// Checkpoints: the descriptor (config and the weights file's bytes) and, as
+// state, the leader (position, (q, u), waypoint index, done, controls).
+void PolicyModel::save_checkpoint(Swarm&, ByteWriter& descriptor, ByteWriter& state) {
+    write_model_descriptor(descriptor, config_, *bytes_);
+    cl_float4 v[3];
+    cl_uint u[2];
+    lpos_.download(ctx_, &v[0], 1);
+    lvel_.download(ctx_, &v[1], 1);
+    ctl_.download(ctx_, &v[2], 1);
+    wp_.download(ctx_, &u[0], 1);
+    done_.download(ctx_, &u[1], 1);
+    for (const cl_float4& x : v)
+        for (int k = 0; k < 4; ++k) state.f32(x.s[k]);
+    state.u32(u[0]);
+    state.u32(u[1]);
+}
+
+void PolicyModel::restore_checkpoint(Swarm&, ByteReader& state) {
+    cl_float4 v[3];
+    for (cl_float4& x : v)
+        for (int k = 0; k < 4; ++k) x.s[k] = state.f32();
+    const cl_uint wp = state.u32(), done = state.u32();
+    state.expect_end();
+    for (const cl_float4& x : v)
+        if (!finite_all(x.s, 4)) state.bad("the policy model's leader state is not finite");
+    if (done > 1 || (!config_.waypoints.empty() && wp > config_.waypoints.size()) ||
+        (config_.waypoints.empty() && wp != 0))
+        state.bad("the policy model's waypoint index is out of range");
+    lpos_.upload(ctx_, &v[0], 1);
+    lvel_.upload(ctx_, &v[1], 1);
+    ctl_.upload(ctx_, &v[2], 1);
+    wp_.upload(ctx_, &wp, 1);
+    done_.upload(ctx_, &done, 1);
+}
+
+}  // namespace swarmcl

@@ -1,0 +1,103 @@
+// The policy model (issue 15 item 7; paper drl-swarm-animation-rule-based-
+// action-generator, §III-IV): a trained actor (an MLP in a safetensors file,
+// host/rl/policy_weights.hpp) drives the swarm's agents as followers of a
+// leader.  Each step: the observations of Eq. 11-13 over the swarm's
+// neighbour grid (kernels/policy.cl with the environment's code,
+// kernels/lib/rl_common.cl), the MLP batched over agents, Eq. 2's
+// kinematics; the leader moves by joystick controls or through waypoints.
+// docs/rl-swarm.md, "Policy model".
+#pragma once
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rl/leader_env.hpp"
+#include "rl/policy_weights.hpp"
+#include "swarm/behavior.hpp"
+
+namespace swarmcl {
+
+enum class PolicyLeaderMode : uint32_t { Joystick = 0, Navigation = 1, Tour = 2 };
+
+// Defaults: Table 1 and the environment's choices (RlEnvConfig), so a policy
+// trained in the environment sees the same world.  The time step is the
+// swarm's dt (Table 1: 0.1 s).
+struct PolicyModelConfig {
+    float r_sep = 1.0f, r_ali = 9.0f, r_coh = 18.0f;  // Table 1
+    float neighbor_radius = 0.0f;                     // EFS neighbours; 0: r_coh
+    float body_radius = 0.5f;                         // agents' sphere for the rays
+    float du_max = 0.1f, dq_max_deg = 4.0f;           // Table 1 (Eq. 2's clamps)
+    float u_max = 3.0f;
+    // The leader: joystick (controls {Δu, Δq.xyz} set through the API, kept
+    // until changed), navigation through waypoints (x, y, z, target speed;
+    // it stops after the last) or a tour (starts over at the first).
+    PolicyLeaderMode leader_mode = PolicyLeaderMode::Joystick;
+    std::vector<std::array<float, 4>> waypoints;
+    float leader_du_max = 0.1f, leader_dq_max_deg = 4.0f, reach_radius = 2.0f;
+    std::array<float, 3> leader_position{{0.0f, 0.0f, 0.0f}};
+    std::array<float, 3> leader_heading{{1.0f, 0.0f, 0.0f}};  // normalised
+    float leader_speed = 0.5f;
+    std::vector<RlObstacleBox> obstacles;
+};
+
+// Error(InvalidArgument) naming the field; `weights` checked against it
+// (the file's observation size is the model's).
+void validate(const PolicyModelConfig& config);
+
+// The model as a scenario or the C API describes it: the weights file's
+// bytes (kept for checkpoints) or its path.
+struct PolicySpec {
+    PolicyModelConfig config;
+    std::string weights_path;                         // read when the behaviour is built
+    std::shared_ptr<const std::string> weights_bytes; // used instead of the path when set
+};
+
+// The plain C++ forward pass of the MLP for one observation (tests and the
+// kernel's reference): acc = fma(w, x, acc) in input order from the bias.
+std::array<float, 4> policy_forward(const PolicyWeights& w, const float* obs);
+
+class PolicyModel : public Behavior {
+public:
+    // Parses the weights (Error(Parse) naming the problem) and validates the
+    // configuration; nothing of the swarm changes on failure.
+    PolicyModel(Swarm& swarm, PolicyModelConfig config, std::shared_ptr<const std::string> weights_bytes);
+
+    void advance(Swarm& swarm, uint64_t step) override;
+    StepStages stages() const override;
+    void save_checkpoint(Swarm& swarm, ByteWriter& descriptor, ByteWriter& state) override;
+    void restore_checkpoint(Swarm& swarm, ByteReader& state) override;
+
+    const PolicyModelConfig& config() const { return config_; }
+    const PolicyWeights& weights() const { return weights_; }
+    uint32_t obs_dim() const { return weights_.obs_dim; }
+
+    // Joystick controls {Δu, Δq.xyz} (finite), used from the next step on.
+    void set_leader_controls(const std::array<float, 4>& controls);
+    // Leader position (x, y, z, 0) and (q.xyz, u), waits for the device.
+    void read_leader(cl_float4* position, cl_float4* heading_speed);
+    // The observations of the current state (obs_dim per agent, agent-id
+    // order) and the actions the policy takes on them (4 per agent).
+    void observe(Swarm& swarm, std::vector<float>* obs, std::vector<float>* actions);
+    // The MLP alone on `count` observations (tests, benchmarks): 4 actions each.
+    std::vector<float> infer(const std::vector<float>& obs, uint32_t count);
+    // Agents per work-item of the MLP kernel.
+    uint32_t lanes() const { return lanes_; }
+
+private:
+    void enqueue_observe(Swarm& swarm);
+    void enqueue_mlp(DeviceBuffer<float>& obs, uint32_t n, DeviceBuffer<float>& actions);
+
+    PolicyModelConfig config_;
+    std::shared_ptr<const std::string> bytes_;
+    PolicyWeights weights_;
+    uint32_t lanes_ = 1, max_width_ = 0, mean_off_ = 0, std_off_ = 0;
+    Context& ctx_;
+    DeviceBuffer<float> params_, obs_, actions_, scratch_;
+    DeviceBuffer<cl_uint> layers_, wp_, done_;
+    DeviceBuffer<cl_float4> lpos_, lvel_, lst_, ctl_, waypoints_, box_c_, box_h_;
+    cl::Kernel observe_k_, mlp_k_, apply_k_, copy_k_, leader_k_;
+};
+
+}  // namespace swarmcl
