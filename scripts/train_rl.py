@@ -94,11 +94,14 @@ def main() -> int:
     p.add_argument("--json", default=str(ROOT / f"bench/results/rl/train_{dt.date.today().isoformat()}.json"))
     p.add_argument("--models", default=str(ROOT / "models"), help="folder for the two exported actors")
     p.add_argument("--sequential", action="store_true", help="one run after the other instead of side by side")
+    p.add_argument("--reward-scale", type=float, default=0.1, help="DDPGConfig.reward_scale (ours)")
+    p.add_argument("--train-args", default="", help="more options for both runs of python -m swarmcl.rl train")
     args = p.parse_args()
 
     common = ["--worlds", str(args.worlds), "--agents", str(args.agents), "--max-steps", str(args.max_steps),
               "--episodes-per-leader", str(args.episodes_per_leader), "--seed", str(args.seed),
-              "--budget-seconds", str(args.budget_seconds), "--eval-every", str(args.eval_every), "--threads", "1"]
+              "--budget-seconds", str(args.budget_seconds), "--eval-every", str(args.eval_every), "--threads", "1",
+              "--reward-scale", str(args.reward_scale), *args.train_args.split()]
     Path(args.models).mkdir(parents=True, exist_ok=True)
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(ROOT / "bindings/python"), os.environ.get("PYTHONPATH", "")]))
     started = dt.datetime.now(dt.timezone.utc)

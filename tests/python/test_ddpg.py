@@ -73,6 +73,47 @@ def test_an_update_moves_the_networks_and_the_targets_by_tau():
         torch.testing.assert_close(agent.actor_target.state_dict()[k], expect, rtol=0, atol=1e-7)
 
 
+def _batch(rng, n=8, protected=0.0):
+    return (rng.normal(size=(n, 54)).astype(np.float32), rng.uniform(-1, 1, (n, 4)).astype(np.float32),
+            rng.normal(size=n).astype(np.float32), rng.normal(size=(n, 54)).astype(np.float32),
+            np.zeros(n, np.float32), np.full(n, protected, np.float32))
+
+
+def test_ours_options_actor_delay_bc_and_init():
+    """The options that are ours, not the paper's: the DDPG-paper init of the
+    last layers, critic-only warm-up, behaviour cloning on protected rows."""
+    torch.manual_seed(1)
+    agent = DDPG(54, DDPGConfig(batch_size=8, actor_delay=2))
+    assert float(agent.actor.net[-1].weight.detach().abs().max()) <= 3e-3
+    assert float(agent.critic.net[-1].weight.detach().abs().max()) <= 3e-3
+    rng = np.random.default_rng(2)
+    w0 = agent.actor.net[0].weight.clone()
+    c0 = agent.critic.net[0].weight.clone()
+    agent.update(_batch(rng))
+    agent.update(_batch(rng))
+    assert torch.equal(agent.actor.net[0].weight, w0) and not torch.equal(agent.critic.net[0].weight, c0)
+    agent.update(_batch(rng))
+    assert not torch.equal(agent.actor.net[0].weight, w0)
+    # A large BC weight pulls the actor towards the protected rows' actions.
+    torch.manual_seed(1)
+    bc = DDPG(54, DDPGConfig(batch_size=8, bc_weight=100.0, lr_actor=1e-3))
+    batch = _batch(rng, 32, protected=1.0)
+    err = lambda: float(((bc.act(batch[0]) - batch[1]) ** 2).mean())  # noqa: E731
+    before = err()
+    for _ in range(100):
+        bc.update(batch)
+    assert err() < 0.5 * before
+    # Unprotected rows: the BC term is 0 (the no-RAG run is plain DDPG).
+    torch.manual_seed(1)
+    plain = DDPG(54, DDPGConfig(batch_size=8))
+    torch.manual_seed(1)
+    nobc = DDPG(54, DDPGConfig(batch_size=8, bc_weight=100.0))
+    b0 = _batch(rng, 8, protected=0.0)
+    plain.update(b0)
+    nobc.update(b0)
+    assert torch.equal(plain.actor.net[0].weight, nobc.actor.net[0].weight)
+
+
 def _rows(n, start=0, d=3):
     v = np.arange(start, start + n, dtype=np.float32)
     return (np.repeat(v[:, None], d, 1), np.repeat(v[:, None], 4, 1), v, v[:, None].repeat(d, 1), 0 * v)
@@ -100,8 +141,9 @@ def test_replay_buffer_protection_flags():
     assert b.add(*_rows(10, 500), protect=True) == 10 and b.protected.all()
     assert b.add(*_rows(3, 600), protect=False) == 0
     rng = np.random.default_rng(1)
-    s, a, r, s2, d = b.sample(rng, 5)
+    s, a, r, s2, d, f = b.sample(rng, 5)
     assert s.shape == (5, 3) and a.shape == (5, 4) and r.shape == (5,) and s2.shape == (5, 3)
+    assert f.dtype == np.float32 and np.all(f == 1)
 
 
 def test_replay_buffer_protected_cap():

@@ -28,6 +28,13 @@ def _parser() -> argparse.ArgumentParser:
     t.add_argument("--buffer-size", type=int, default=10_000)
     t.add_argument("--batch-size", type=int, default=300)
     t.add_argument("--max-protected-fraction", type=float, default=1.0)
+    t.add_argument("--reward-scale", type=float, default=1.0)
+    t.add_argument("--preact-penalty", type=float, default=0.0)
+    t.add_argument("--tau", type=float, default=1e-3)
+    t.add_argument("--lr-actor", type=float, default=1e-4)
+    t.add_argument("--lr-critic", type=float, default=1e-3)
+    t.add_argument("--actor-delay", type=int, default=0)
+    t.add_argument("--bc-weight", type=float, default=0.0)
     t.add_argument("--checkpoint", help="checkpoint file (written at the end and every --checkpoint-every episodes)")
     t.add_argument("--checkpoint-every", type=int, default=0)
     t.add_argument("--resume", action="store_true", help="continue from --checkpoint")
@@ -60,7 +67,10 @@ def main(argv=None) -> int:
                              episodes_per_leader=args.episodes_per_leader, rag=not args.no_rag, efs=not args.no_efs,
                              seed=args.seed)
             dc = DDPGConfig(buffer_size=args.buffer_size, batch_size=args.batch_size,
-                            max_protected_fraction=args.max_protected_fraction)
+                            max_protected_fraction=args.max_protected_fraction, reward_scale=args.reward_scale,
+                            preact_penalty=args.preact_penalty, tau=args.tau,
+                            actor_delay=args.actor_delay, bc_weight=args.bc_weight,
+                            lr_actor=args.lr_actor, lr_critic=args.lr_critic)
             trainer = Trainer(ctx, tc, dc)
         try:
             trainer.train(episodes=args.episodes, budget_seconds=args.budget_seconds, eval_every=args.eval_every,

@@ -37,6 +37,22 @@ class DDPGConfig:
     # Ours (not in the paper): the largest fraction of the buffer protected
     # RAG transitions may hold (1.0: Algorithm 1 as printed).
     max_protected_fraction: float = 1.0
+    # Ours: rewards are multiplied by this before Eq. 5 (Q of order
+    # reward / (1 - gamma) otherwise: ~500 for Eq. 14's ~10 per step).
+    reward_scale: float = 1.0
+    # Ours: weight of a penalty on the actor's squared pre-tanh outputs,
+    # keeping tanh out of saturation (where Eq. 6's gradient vanishes).
+    preact_penalty: float = 0.0
+    # The last layers start in U(-init, init) (original DDPG [133], §7: 3e-3)
+    # so that the first actions sit near 0, not at tanh's ends.
+    final_init: float = 3e-3
+    # Ours: critic-only updates before the actor's first update (the critic
+    # learns Q of the seeded experience before Eq. 6 follows its gradient).
+    actor_delay: int = 0
+    # Ours: weight of a behaviour-cloning term on protected (RAG) rows in the
+    # actor's loss, mean over the batch of f * |pi(s) - a|^2 (as in TD3+BC);
+    # 0: Algorithm 1 as printed.  Without RAG no row is protected and it is 0.
+    bc_weight: float = 0.0
 
     def to_dict(self) -> dict:
         d = asdict(self)
@@ -58,6 +74,13 @@ def obs_scale(obs_dim: int, r_coh: float = 18.0) -> np.ndarray:
     return s
 
 
+def _init_last(net: nn.Sequential, bound: float) -> None:
+    if bound > 0:
+        with torch.no_grad():
+            net[-1].weight.uniform_(-bound, bound)
+            net[-1].bias.uniform_(-bound, bound)
+
+
 def _mlp(sizes: Sequence[int]) -> nn.Sequential:
     layers = []
     for i in range(len(sizes) - 1):
@@ -70,9 +93,10 @@ class Actor(nn.Module):
 
     ACTIVATIONS = ("relu", "relu", "linear", "tanh")
 
-    def __init__(self, obs_dim: int, hidden: Sequence[int] = (128, 256, 64), obs_std=None):
+    def __init__(self, obs_dim: int, hidden: Sequence[int] = (128, 256, 64), obs_std=None, final_init: float = 0.0):
         super().__init__()
         self.net = _mlp([obs_dim, *hidden, 4])
+        _init_last(self.net, final_init)
         std = torch.as_tensor(obs_std if obs_std is not None else np.ones(obs_dim), dtype=torch.float32)
         self.register_buffer("obs_std", std)
 
@@ -80,22 +104,26 @@ class Actor(nn.Module):
         n = len(self.net)
         return ["relu"] * (n - 2) + ["linear", "tanh"] if n >= 2 else ["tanh"]
 
-    def forward(self, obs: torch.Tensor) -> torch.Tensor:
+    def preactivation(self, obs: torch.Tensor) -> torch.Tensor:
         x = obs / self.obs_std
         n = len(self.net)
         for i, layer in enumerate(self.net):
             x = layer(x)
             if i < n - 2:
                 x = torch.relu(x)
-        return torch.tanh(x)
+        return x
+
+    def forward(self, obs: torch.Tensor) -> torch.Tensor:
+        return torch.tanh(self.preactivation(obs))
 
 
 class Critic(nn.Module):
     """Q(s, a | phi): the actor's shape with [s, a] in and one value out."""
 
-    def __init__(self, obs_dim: int, hidden: Sequence[int] = (128, 256, 64), obs_std=None):
+    def __init__(self, obs_dim: int, hidden: Sequence[int] = (128, 256, 64), obs_std=None, final_init: float = 0.0):
         super().__init__()
         self.net = _mlp([obs_dim + 4, *hidden, 1])
+        _init_last(self.net, final_init)
         std = torch.as_tensor(obs_std if obs_std is not None else np.ones(obs_dim), dtype=torch.float32)
         self.register_buffer("obs_std", std)
 
@@ -182,9 +210,11 @@ class ReplayBuffer:
         return k
 
     def sample(self, rng: np.random.Generator, batch: int):
+        """(s, a, r, s', done, f) of `batch` rows drawn uniformly with replacement."""
         idx = rng.integers(0, self.count, size=batch) if self.count == self.size else \
             np.flatnonzero(self.stamp >= 0)[rng.integers(0, self.count, size=batch)]
-        return self.obs[idx], self.act[idx], self.rew[idx], self.next_obs[idx], self.done[idx]
+        return (self.obs[idx], self.act[idx], self.rew[idx], self.next_obs[idx], self.done[idx],
+                self.protected[idx].astype(np.float32))
 
     def state_dict(self) -> dict:
         return {k: getattr(self, k).copy() if isinstance(getattr(self, k), np.ndarray) else getattr(self, k)
@@ -202,8 +232,8 @@ class DDPG:
     def __init__(self, obs_dim: int, config: Optional[DDPGConfig] = None, obs_std=None):
         self.config = c = config or DDPGConfig()
         self.obs_dim = obs_dim
-        self.actor = Actor(obs_dim, c.hidden, obs_std)
-        self.critic = Critic(obs_dim, c.hidden, obs_std)
+        self.actor = Actor(obs_dim, c.hidden, obs_std, c.final_init)
+        self.critic = Critic(obs_dim, c.hidden, obs_std, c.final_init)
         self.actor_target = Actor(obs_dim, c.hidden, obs_std)
         self.critic_target = Critic(obs_dim, c.hidden, obs_std)
         self.actor_target.load_state_dict(self.actor.state_dict())     # Algorithm 1 line 2
@@ -223,7 +253,9 @@ class DDPG:
         """One critic step on Eq. 5's Bellman error, one actor step along
         Eq. 6's deterministic policy gradient, then the soft target update."""
         c = self.config
-        s, a, r, s2, d = (torch.from_numpy(np.ascontiguousarray(x)) for x in batch)
+        s, a, r, s2, d = (torch.from_numpy(np.ascontiguousarray(x)) for x in batch[:5])
+        f = torch.from_numpy(np.ascontiguousarray(batch[5])) if len(batch) > 5 else torch.zeros_like(r)
+        r = r * c.reward_scale
         with torch.no_grad():
             y = r + c.gamma * (1.0 - d) * self.critic_target(s2, self.actor_target(s2))
         q = self.critic(s, a)
@@ -232,17 +264,25 @@ class DDPG:
         critic_loss.backward()
         self.critic_opt.step()
 
-        actor_loss = -self.critic(s, self.actor(s)).mean()
-        self.actor_opt.zero_grad(set_to_none=True)
-        actor_loss.backward()
-        self.actor_opt.step()
+        actor_loss = torch.zeros(())
+        if self.updates >= c.actor_delay:
+            pre = self.actor.preactivation(s)
+            pi = torch.tanh(pre)
+            actor_loss = -self.critic(s, pi).mean()
+            if c.preact_penalty > 0:
+                actor_loss = actor_loss + c.preact_penalty * (pre ** 2).mean()
+            if c.bc_weight > 0:
+                actor_loss = actor_loss + c.bc_weight * (f * ((pi - a) ** 2).sum(dim=1)).mean()
+            self.actor_opt.zero_grad(set_to_none=True)
+            actor_loss.backward()
+            self.actor_opt.step()
 
         with torch.no_grad():  # phi' <- lambda phi + (1 - lambda) phi' (Algorithm 1 line 24)
             for net, tgt in ((self.critic, self.critic_target), (self.actor, self.actor_target)):
                 for p, pt in zip(net.parameters(), tgt.parameters()):
                     pt.mul_(1.0 - c.tau).add_(p, alpha=c.tau)
         self.updates += 1
-        return {"critic_loss": float(critic_loss), "actor_loss": float(actor_loss)}
+        return {"critic_loss": float(critic_loss.detach()), "actor_loss": float(actor_loss.detach())}
 
     def state_dict(self) -> dict:
         return {"actor": self.actor.state_dict(), "critic": self.critic.state_dict(),
