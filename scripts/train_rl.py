@@ -25,6 +25,12 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 
 
+def _shown(path: Path) -> str:
+    """A path relative to the repository when inside it."""
+    path = Path(path).resolve()
+    return str(path.relative_to(ROOT)) if ROOT in path.parents else str(path)
+
+
 def cpu_model() -> str:
     try:
         for line in open("/proc/cpuinfo"):
@@ -53,7 +59,7 @@ def reference_rewards(cfg: dict, eval_episodes: int) -> dict:
             t.close()
 
 
-def plot(results: dict, refs: dict, path: Path, title: str) -> None:
+def plot(results: dict, refs: dict, path: Path, title: str, extra: str = "") -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -64,6 +70,8 @@ def plot(results: dict, refs: dict, path: Path, title: str) -> None:
         ev = results[name]["evals"]
         t = [e["train_seconds"] for e in ev]
         label = "DDPG + RAG (Algorithm 1)" if name == "rag" else "DDPG, noise only"
+        if extra:
+            label += f" [{extra}]"
         axes[0].plot(t, [e["mean_reward"] for e in ev], "-o", ms=3, color=color, label=label)
         axes[1].plot(t, [e["mean_leader_distance"] for e in ev], "-o", ms=3, color=color, label=label)
     for key, style, label in (("rag", "--", "RAG actions (reference)"), ("untrained_actor", ":", "untrained actor")):
@@ -126,14 +134,14 @@ def main() -> int:
     cfg = dict(results["rag"]["train"])
     refs = reference_rewards(cfg, 1)
     title = (f"roaming, {args.worlds} worlds x {args.agents} followers, M={args.max_steps}, K={args.episodes_per_leader}, "
-             f"seed {args.seed}, {args.budget_seconds:.0f} s each ({'sequential' if args.sequential else 'side by side'})")
-    plot(results, refs, Path(args.png), title)
+             f"reward scale {args.reward_scale}, seed {args.seed}, {args.budget_seconds:.0f} s each ({'sequential' if args.sequential else 'side by side'})")
+    plot(results, refs, Path(args.png), title, args.train_args.strip())
     record = {
         "what": "scripts/train_rl.py: DDPG with RAG vs noise-only DDPG, same seeds and training-time budget",
         "command": " ".join([Path(sys.argv[0]).name, *sys.argv[1:]]),
         "cpu": cpu_model(), "cores": os.cpu_count(), "started_utc": started.isoformat(timespec="seconds"),
         "budget_seconds": args.budget_seconds, "references": refs,
-        "runs": {name: {"command": " ".join(runs[name][0][1:]), "model": os.path.relpath(runs[name][2], ROOT),
+        "runs": {name: {"command": " ".join(runs[name][0][1:]), "model": _shown(runs[name][2]),
                         **results[name]} for name in runs},
     }
     Path(args.json).parent.mkdir(parents=True, exist_ok=True)
