@@ -13,11 +13,20 @@ ctest --output-on-failure -j "$(nproc)"
 # rebuilds what changed) into a venv kept at build/venv, then runs pytest.
 venv="${SWARMCL_BUILD_DIR:-$root/build}/venv"
 [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
-"$venv/bin/python" -m pip install -q --disable-pip-version-check "$root[test,fit,mpi]"
+# The rl extra needs torch: PyTorch's CPU-only index where it answers (a
+# ~200 MB wheel), else PyPI's default Linux wheel (CUDA libraries included:
+# 5.4 GB, 147 s measured on the 2-core test machine, which cannot resolve
+# download.pytorch.org).  docs/rl-swarm.md, "Training", says why.
+torch_index=()
+if "$venv/bin/python" -c "import urllib.request as u; u.urlopen('https://download.pytorch.org/whl/cpu/', timeout=5)" \
+    >/dev/null 2>&1; then
+  torch_index=(--extra-index-url https://download.pytorch.org/whl/cpu)
+fi
+"$venv/bin/python" -m pip install -q --disable-pip-version-check "${torch_index[@]}" "$root[test,fit,mpi,rl]"
 cd "$root"
 # The fit tests run `mpirun -np 2` (Open MPI from bootstrap.sh) with python -m
-# swarmcl fit and with the swarmcl program.
-SWARMCL_REQUIRE_MPI=1 SWARMCL_CLI="${SWARMCL_BUILD_DIR:-$root/build}/swarmcl" \
+# swarmcl fit and with the swarmcl program; the rl tests need swarmcl[rl].
+SWARMCL_REQUIRE_MPI=1 SWARMCL_REQUIRE_RL=1 SWARMCL_CLI="${SWARMCL_BUILD_DIR:-$root/build}/swarmcl" \
   "$venv/bin/python" -m pytest -q -p no:cacheprovider tests/python
 
 # ---- Sanitizers (issue 16): the whole ctest suite once more, built with

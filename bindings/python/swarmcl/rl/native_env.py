@@ -1,0 +1,195 @@
+"""The leader-following environment of the C API (``swcl_rl_env_*``), as
+whole NumPy arrays: W worlds x N followers, slot = world * N + agent.
+
+Paper: drl-swarm-animation-rule-based-action-generator, §III (docs/rl-swarm.md).
+Every call moves whole arrays through the C API; nothing loops over agents."""
+
+from __future__ import annotations
+
+import operator
+import weakref
+from typing import Optional
+
+import numpy as np
+
+from .._core import Context
+from .._native import ffi, lib
+from ..errors import check
+
+__all__ = ["RlEnv", "SCENARIOS", "ACTION_DIM"]
+
+SCENARIOS = ("roaming", "quadrilateral", "stairway", "maze")
+ACTION_DIM = 4  # {v, omega.xyz} (Eq. 2)
+
+# Descriptor fields a caller may set by keyword (the C names of swcl_rl_env_desc).
+_FLOAT_FIELDS = ("dt", "du_max", "dq_max_deg", "r_sep", "r_ali", "r_coh", "u_max", "body_radius",
+                 "neighbor_radius", "rag_w_sep", "rag_w_ali", "rag_w_coh", "w_spd", "w_dir", "w_leader",
+                 "w_obs", "w_dist", "l_spd", "l_dir", "l_leader", "l_obs", "dist_target")
+
+
+def default_params() -> dict:
+    """The C library's defaults (Table 1 and docs/rl-swarm.md's choices)."""
+    d = lib.swcl_rl_env_desc_default()
+    out = {name: float(getattr(d, name)) for name in _FLOAT_FIELDS}
+    out.update(max_steps=int(d.max_steps), efs=bool(d.efs))
+    return out
+
+
+def _destroy(handle_id: int) -> None:
+    try:
+        lib.swcl_rl_env_destroy(ffi.new("swcl_rl_env*", [handle_id])[0])
+    except Exception:  # pragma: no cover - interpreter shutdown
+        pass
+
+
+class RlEnv:
+    """``swcl_rl_env``: W independent worlds of N followers and a leader.
+
+    ``scenario``: one of SCENARIOS; ``waypoints`` (K, 4) replaces its path,
+    ``obstacles`` (B, 6) boxes are added; any name of _FLOAT_FIELDS plus
+    ``max_steps`` and ``efs`` overrides the default descriptor."""
+
+    def __init__(self, context: Context, worlds: int, agents: int, scenario: str = "roaming",
+                 waypoints=None, obstacles=None, **params):
+        if not isinstance(context, Context):
+            raise TypeError(f"RlEnv: context must be a swarmcl.Context, got {type(context).__name__}")
+        desc = ffi.new("swcl_rl_env_desc*", lib.swcl_rl_env_desc_default())
+        for name, value in (("worlds", worlds), ("agents", agents)):
+            value = operator.index(value)
+            if not 0 <= value < 2**32:
+                raise ValueError(f"RlEnv: {name} must be in [0, 2^32), got {value}")
+            setattr(desc, name, value)
+        keep = [ffi.new("char[]", str(scenario).encode())]
+        desc.scenario = keep[0]
+        if waypoints is not None:
+            wp = np.ascontiguousarray(waypoints, dtype=np.float32).reshape(-1, 4)
+            keep.append(wp)
+            desc.waypoints = ffi.from_buffer("float[]", wp) if wp.size else ffi.NULL
+            desc.waypoint_count = wp.shape[0]
+        if obstacles is not None:
+            ob = np.ascontiguousarray(obstacles, dtype=np.float32).reshape(-1, 6)
+            keep.append(ob)
+            desc.obstacles = ffi.from_buffer("float[]", ob) if ob.size else ffi.NULL
+            desc.obstacle_count = ob.shape[0]
+        for name, value in params.items():
+            if name == "max_steps":
+                desc.max_steps = operator.index(value)
+            elif name == "efs":
+                desc.efs = 1 if value else 0
+            elif name in _FLOAT_FIELDS:
+                setattr(desc, name, float(value))
+            else:
+                raise TypeError(f"RlEnv: unknown parameter {name!r}")
+        out = ffi.new("swcl_rl_env*")
+        check(lib.swcl_rl_env_create(context._h, desc, out))
+        self._hp = out
+        self._h = out[0]
+        self._finalizer = weakref.finalize(self, _destroy, int(out[0].id))
+        self.context = context
+        self.scenario = str(scenario)
+        self.params = dict(default_params(), **{k: (bool(v) if k == "efs" else v) for k, v in params.items()})
+        w, n, d = ffi.new("uint32_t*"), ffi.new("uint32_t*"), ffi.new("uint32_t*")
+        check(lib.swcl_rl_env_get_info(self._h, w, n, d))
+        self.worlds, self.agents, self.obs_dim = int(w[0]), int(n[0]), int(d[0])
+
+    # ---- lifetime ------------------------------------------------------------
+
+    @property
+    def closed(self) -> bool:
+        return not self._finalizer.alive
+
+    def close(self) -> None:
+        self._finalizer()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    # ---- shapes --------------------------------------------------------------
+
+    @property
+    def slots(self) -> int:
+        """W * N, the number of followers over all worlds."""
+        return self.worlds * self.agents
+
+    def action_scale(self) -> np.ndarray:
+        """The largest useful |action| per component: Δu for v, and for ω the
+        chord of the Δq turn (|q'' - q| = 2 sin(Δq / 2)); larger values are
+        clamped by the kinematics (Eq. 2)."""
+        dq = np.deg2rad(self.params["dq_max_deg"])
+        w = 2.0 * np.sin(dq / 2.0)
+        return np.array([self.params["du_max"], w, w, w], dtype=np.float32)
+
+    def _actions_in(self, actions, what: str) -> np.ndarray:
+        a = np.asarray(actions)
+        if a.shape not in ((self.slots, ACTION_DIM), (self.slots * ACTION_DIM,)):
+            raise ValueError(f"{what}: actions must have shape ({self.slots}, {ACTION_DIM}) "
+                             f"(worlds * agents, 4), got {a.shape}")
+        a = np.ascontiguousarray(a, dtype=np.float32)
+        if not np.isfinite(a).all():
+            bad = int(np.flatnonzero((~np.isfinite(a.reshape(self.slots, ACTION_DIM))).any(axis=1))[0])
+            raise ValueError(f"{what}: actions must be finite (NaN or Inf at slot {bad}, "
+                             f"world {bad // self.agents}, agent {bad % self.agents})")
+        return a
+
+    # ---- calls ---------------------------------------------------------------
+
+    def reset(self, seed: int) -> np.ndarray:
+        """Every world to its start (same seed: the same bits); returns (W*N, D) float32."""
+        seed = operator.index(seed)
+        if not 0 <= seed < 2**64:
+            raise ValueError(f"RlEnv.reset: seed must be in [0, 2^64), got {seed}")
+        obs = np.empty((self.slots, self.obs_dim), dtype=np.float32)
+        check(lib.swcl_rl_env_reset(self._h, seed, ffi.from_buffer("float[]", obs), obs.size))
+        return obs
+
+    def reset_worlds(self, mask) -> np.ndarray:
+        """The worlds with mask[w] set, each to its next episode; returns the
+        observations of all worlds, (W*N, D)."""
+        m = np.ascontiguousarray(np.asarray(mask).astype(bool), dtype=np.uint8)
+        if m.shape != (self.worlds,):
+            raise ValueError(f"RlEnv.reset_worlds: mask must have shape ({self.worlds},), got {m.shape}")
+        obs = np.empty((self.slots, self.obs_dim), dtype=np.float32)
+        check(lib.swcl_rl_env_reset_worlds(self._h, ffi.from_buffer("uint8_t[]", m), m.size,
+                                           ffi.from_buffer("float[]", obs), obs.size))
+        return obs
+
+    def step(self, actions):
+        """One step of every world.  Returns (obs (W*N, D) float32, rewards
+        (W*N,) float32, terminated (W,) bool, truncated (W,) bool)."""
+        a = self._actions_in(actions, "RlEnv.step")
+        obs = np.empty((self.slots, self.obs_dim), dtype=np.float32)
+        rew = np.empty(self.slots, dtype=np.float32)
+        term = np.empty(self.worlds, dtype=np.uint8)
+        trunc = np.empty(self.worlds, dtype=np.uint8)
+        check(lib.swcl_rl_env_step(self._h, ffi.from_buffer("float[]", a), a.size,
+                                   ffi.from_buffer("float[]", obs), obs.size,
+                                   ffi.from_buffer("float[]", rew), rew.size,
+                                   ffi.from_buffer("uint8_t[]", term), ffi.from_buffer("uint8_t[]", trunc),
+                                   self.worlds))
+        return obs, rew, term.astype(bool), trunc.astype(bool)
+
+    def rag_actions(self) -> np.ndarray:
+        """The rule-based action generator's actions (Eq. 8-10), (W*N, 4)."""
+        out = np.empty((self.slots, ACTION_DIM), dtype=np.float32)
+        check(lib.swcl_rl_env_rag_actions(self._h, ffi.from_buffer("float[]", out), out.size))
+        return out
+
+    def set_leader_controls(self, controls) -> None:
+        """Joystick leaders: (W, 4) {Δu, Δq.xyz}, applied every step until changed."""
+        c = np.ascontiguousarray(controls, dtype=np.float32)
+        if c.shape not in ((self.worlds, 4), (self.worlds * 4,)):
+            raise ValueError(f"RlEnv.set_leader_controls: controls must have shape ({self.worlds}, 4), got {c.shape}")
+        check(lib.swcl_rl_env_set_leader_controls(self._h, ffi.from_buffer("float[]", c), c.size))
+
+    def read_state(self) -> dict:
+        """Positions / velocities (q.xyz, u) of followers (W*N, 4) and leaders (W, 4)."""
+        pos = np.empty((self.slots, 4), dtype=np.float32)
+        vel = np.empty((self.slots, 4), dtype=np.float32)
+        lpos = np.empty((self.worlds, 4), dtype=np.float32)
+        lvel = np.empty((self.worlds, 4), dtype=np.float32)
+        f = lambda a: ffi.from_buffer("float[]", a)  # noqa: E731
+        check(lib.swcl_rl_env_read_state(self._h, f(pos), pos.size, f(vel), vel.size, f(lpos), f(lvel), lpos.size))
+        return {"positions": pos, "velocities": vel, "leader_positions": lpos, "leader_velocities": lvel}
