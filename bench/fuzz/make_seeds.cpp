@@ -47,15 +47,15 @@ int main(int argc, char** argv) {
     const std::string examples = std::string(SWARMCL_SOURCE_DIR) + "/examples/scenarios/";
 
     // Tracks: the writer's CSV, and the other time formats by hand.
-    put(out / "tracks_csv/synthetic.csv", std::string(1, '\0') + tracks_to_csv(synthetic_tracks(2, 6, 0.01, 0.5f, 1)));
+    put(out / "tracks_csv/synthetic.csv", std::string(2, '\0') + tracks_to_csv(synthetic_tracks(2, 6, 0.01, 0.5f, 1)));
     put(out / "tracks_csv/datetime.csv",
-        std::string(1, '\3') + "id,time,x,y,z\na,2024-05-01 10:00:00.000,1,2,3\na,2024-05-01 10:00:00.010,1.1,2,3\n"
+        std::string("\3\0", 2) + "id,time,x,y,z\na,2024-05-01 10:00:00.000,1,2,3\na,2024-05-01 10:00:00.010,1.1,2,3\n"
                                "a,2024-05-01T10:00:00.020,1.2,2,3\na,2024-05-01 10:00:00.040,1.3,2.1,3\n");
     put(out / "tracks_csv/frames_semicolon.csv",
-        std::string(1, char(2 | 4 | (1 << 3) | (1 << 5))) + "id;time;x;y;z\n7;1;0;0;0\n7;2;0.1;0;0\n7;3;0.2;0;0\n7;5;0.3;0;0\n"
+        std::string{char(2 | 4 | (1 << 3) | (1 << 5)), char(1 | 4)} + "id;time;x;y;z\n7;1;0;0;0\n7;2;0.1;0;0\n7;3;0.2;0;0\n7;5;0.3;0;0\n"
                                                       "8;1;1;1;1\n8;2;1;1.1;1\n8;3;1;1.2;1\n");
     put(out / "tracks_csv/by_index.csv",
-        std::string(1, char(0x80 | 1)) + "a,b,c,d,e\n1,0.0,5,5,5\n1,0.1,5,5,6\n1,0.2,5,5,7\n");
+        std::string{char(0x80 | 1), char(2 | 8)} + "a,b,c,d,e\n1,0.0,5,5,5\n1,0.1,5,5,6\n1,0.2,5,5,7\n");
 
     // Dataset: checksum as written (mode 0) and rewritten by the target (mode 1).
     const std::string ds = dataset_to_bytes(synthetic_dataset({16, 4, 3}));
@@ -72,7 +72,7 @@ int main(int argc, char** argv) {
         s.initial.kind = InitialDistribution::Kind::Uniform;
         s.initial.points.clear();
         auto swarm = make_swarm(ctx, s);
-        for (int i = 0; i < 3; ++i) swarm->step();
+        swarm->step(3);
         const std::string bytes = swarm_checkpoint_bytes(*swarm);
         put(out / "checkpoint" / name, std::string(1, '\1') + bytes);
         put(out / "checkpoint" / (std::string(name) + "_nocrc"), std::string(1, '\0') + bytes);

@@ -62,8 +62,8 @@ mkdir -p "$logs"
 run_one() {
   local t="$1" corpus="$build/corpus/$1" art="$build/artifacts/$1/"
   mkdir -p "$corpus" "$art"
-  local extra=("$root/bench/fuzz/corpus/$t")
-  for d in ${seeds[$t]}; do extra+=("$root/$d"); done
+  local extra=()
+  for d in "bench/fuzz/corpus/$t" ${seeds[$t]}; do [ ! -d "$root/$d" ] || extra+=("$root/$d"); done
   local start end
   start=$(date +%s)
   nice -n 10 "$build/bench/fuzz/fuzz_$t" -max_total_time="$secs" -rss_limit_mb=2048 -timeout=30 \
