@@ -2,6 +2,7 @@
 // in an FNV-1a checksum of everything before it; when the first input byte is
 // odd the target rewrites that checksum to match, so mutations of the body
 // reach the field checks instead of all stopping at the checksum.
+#include <cstdlib>
 #include <cstring>
 
 #include "data/dataset.hpp"
@@ -23,5 +24,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         const uint64_t h = fnv1a(bytes.data(), bytes.size() - 8);
         for (int i = 0; i < 8; ++i) bytes[bytes.size() - 8 + i] = char(uint8_t(h >> (8 * i)));
     }
-    return swarmcl::fuzz::expect_error_or_value([&] { swarmcl::dataset_from_bytes(bytes); });
+    return swarmcl::fuzz::expect_error_or_value([&] {
+        const swarmcl::Dataset d = swarmcl::dataset_from_bytes(bytes);
+        // A file that loads is exactly what the writer makes of its dataset.
+        if (swarmcl::dataset_to_bytes(d) != bytes) std::abort();
+    });
 }
