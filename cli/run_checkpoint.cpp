@@ -70,9 +70,17 @@ RunCheckpoint read_run_checkpoint(const std::string& dir) {
     if (!in) fail(Status::Io, "'" + path + "' cannot be read (was the run started with --checkpoint-every?)");
     std::ostringstream text;
     text << in.rdbuf();
-    const nlohmann::json j = nlohmann::json::parse(text.str(), nullptr, false);
+    RunCheckpoint r = parse_run_checkpoint(text.str(), path);
+    r.out_dir = dir;  // where it is now (the folder may have moved)
+    return r;
+}
+
+RunCheckpoint parse_run_checkpoint(const std::string& text, const std::string& path) {
+    const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
     auto bad = [&](const std::string& why) { fail(Status::Parse, "'" + path + "': " + why); };
-    if (!j.is_object() || j.value("format", "") != "swarmcl run checkpoint") bad("not a swarmcl run checkpoint");
+    if (!j.is_object() || !j.contains("format") || !j["format"].is_string() ||
+        j["format"].get<std::string>() != "swarmcl run checkpoint")
+        bad("not a swarmcl run checkpoint");
     if (!j.contains("version") || !j["version"].is_number_unsigned() || j["version"] != kRunCheckpointVersion)
         bad("unknown version (this swarmcl reads version " + std::to_string(kRunCheckpointVersion) + ")");
     RunCheckpoint r;
@@ -88,7 +96,6 @@ RunCheckpoint read_run_checkpoint(const std::string& dir) {
     r.scenario_file = str("scenario_file");
     r.scenario_absolute = str("scenario_absolute");
     r.scenario_crc32 = u32("scenario_crc32");
-    r.out_dir = dir;  // where it is now (the folder may have moved)
     r.device = str("device");
     r.steps = u32("steps");
     r.every = u32("every");
@@ -114,14 +121,25 @@ uint32_t file_crc32(const std::string& path) {
 }
 
 std::vector<Frame> read_frames(const std::string& path, uint32_t& agents) {
-    std::vector<CheckpointSection> sections;
+    std::string bytes;
     try {
-        sections = parse_checkpoint(read_checkpoint_file(path));
+        bytes = read_checkpoint_file(path);
     } catch (const Error& e) {
         fail(e.status(), "'" + path + "': " + e.what());
     }
+    return frames_from_bytes(bytes, path, agents);
+}
+
+std::vector<Frame> frames_from_bytes(const std::string& bytes, const std::string& name, uint32_t& agents,
+                                     bool verify_checksum) {
+    std::vector<CheckpointSection> sections;
+    try {
+        sections = parse_checkpoint(bytes, verify_checksum);
+    } catch (const Error& e) {
+        fail(e.status(), "'" + name + "': " + e.what());
+    }
     const CheckpointSection& s = find_section(sections, "FRMS", kFramesSectionVersion);
-    ByteReader r(s.bytes, "frames '" + path + "'");
+    ByteReader r(s.bytes, "frames '" + name + "'");
     agents = r.u32();
     const uint64_t per_frame = 12 + uint64_t(agents) * 24;
     const uint64_t count = r.count(size_t(per_frame));

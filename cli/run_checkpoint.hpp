@@ -41,6 +41,12 @@ void write_run_checkpoint(const RunCheckpoint& run, const std::vector<Frame>& fr
 // Error(Io) / Error(Parse) naming the file and what is wrong.
 RunCheckpoint read_run_checkpoint(const std::string& dir);
 std::vector<Frame> read_frames(const std::string& path, uint32_t& agents);
+// The parses of those files' bytes (the fuzz target bench/fuzz/fuzz_run_checkpoint.cpp
+// calls them): `path`/`name` in messages; out_dir is left empty.  verify_checksum
+// false only for fuzzing (mutations then reach the FRMS section).
+RunCheckpoint parse_run_checkpoint(const std::string& text, const std::string& path);
+std::vector<Frame> frames_from_bytes(const std::string& bytes, const std::string& name, uint32_t& agents,
+                                     bool verify_checksum = true);
 // CRC-32 of a file's bytes (Error(Io) when it cannot be read).
 uint32_t file_crc32(const std::string& path);
 

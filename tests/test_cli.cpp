@@ -513,6 +513,11 @@ TEST_F(Cli, ResumeRefusesWhatIsNotACheckpoint) {
     r = cli("resume ck --quiet", dir.path());
     EXPECT_EQ(r.status, 1);
     EXPECT_NE(r.err.find("not a swarmcl run checkpoint"), std::string::npos) << r.err;
+    // A "format" that is not a string (fuzzing finding: nlohmann's type_error escaped).
+    write_text(dir / "ck/checkpoint.json", "{\"format\": 1}");
+    r = cli("resume ck --quiet", dir.path());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("not a swarmcl run checkpoint"), std::string::npos) << r.err;
 }
 
 TEST_F(Cli, DevicesListsAtLeastOne) {

@@ -121,6 +121,37 @@ TEST(Tracks, SmoothingIsACentredMovingAverage) {
     EXPECT_DOUBLE_EQ(t.p[4][0], 0.0);
 }
 
+// Fuzzing findings: finite positions near the largest double summed to Inf
+// in the moving average; a finite value times unit_scale overflowed.
+TEST(Tracks, HugeFinitePositionsStayFiniteOrAreRefused) {
+    Track t;
+    const double big = 1.7e308;
+    for (int k = 0; k < 7; ++k) {
+        t.t.push_back(k);
+        t.p.push_back({big, k % 2 ? -big : big, 1.0});
+    }
+    smooth_track(t, 3);
+    for (const auto& p : t.p) {
+        EXPECT_DOUBLE_EQ(p[0], big);  // the mean of equal values is that value
+        EXPECT_TRUE(std::isfinite(p[1]));
+        EXPECT_LE(std::fabs(p[1]), big);
+        EXPECT_DOUBLE_EQ(p[2], 1.0);
+    }
+    EXPECT_DOUBLE_EQ(t.p[0][1], big);  // ends keep their value
+    std::string m;
+    TrackLoadOptions o = seconds_options();
+    o.unit_scale = 1000.0;
+    EXPECT_EQ(status_of([&] { parse_tracks_csv("id,time,x,y,z\na,0,0,0,0\na,0.01,0,1e306,0\n", o); }, &m),
+              Status::Parse);
+    EXPECT_NE(m.find("line 3, column 4 (y)"), std::string::npos) << m;
+    const uint32_t counts[1] = {3};
+    const double times[3] = {0, 0.01, 0.02};
+    const float xyz[9] = {0, 0, 0, 3e38f, 0, 0, 0, 0, 0};
+    o.unit_scale = 1e300;
+    EXPECT_EQ(status_of([&] { tracks_from_arrays(counts, 1, times, xyz, o); }, &m), Status::InvalidArgument);
+    EXPECT_NE(m.find("unit_scale"), std::string::npos) << m;
+}
+
 TEST(Tracks, ErrorsNameLineAndColumn) {
     std::string m;
     const std::string head = "id,time,x,y,z\n";

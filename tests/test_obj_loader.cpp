@@ -64,6 +64,12 @@ TEST(ObjLoader, ErrorsNameTheLine) {
     EXPECT_NE(e.second.find("t.obj:4:"), std::string::npos) << e.second;
     e = error_of("v 0 0 0\nf -2 -1 -1\n");
     EXPECT_NE(e.second.find("t.obj:2:"), std::string::npos) << e.second;
+    // The most negative long (fuzzing finding: negating it was undefined).
+    e = error_of("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -9223372036854775808 1 2\n");
+    EXPECT_EQ(e.first, Status::Parse);
+    EXPECT_NE(e.second.find("t.obj:4: face index -9223372036854775808 reaches before the first vertex"),
+              std::string::npos)
+        << e.second;
     e = error_of("v 0 0 0\nv 1 inf 0\n");
     EXPECT_NE(e.second.find("t.obj:2:"), std::string::npos) << e.second;
     e = error_of("v 0 0\n");

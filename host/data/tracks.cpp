@@ -184,7 +184,23 @@ void smooth_track(Track& track, uint32_t h) {
         std::array<double, 3> s{0, 0, 0};
         for (int64_t j = k - w; j <= k + w; ++j)
             for (int a = 0; a < 3; ++a) s[a] += src[size_t(j)][a];
-        for (int a = 0; a < 3; ++a) track.p[size_t(k)][a] = s[a] / double(2 * w + 1);
+        for (int a = 0; a < 3; ++a) {
+            double mean = s[a] / double(2 * w + 1);
+            if (!std::isfinite(mean)) {
+                // The sum overflowed (finite positions near 1e308; fuzzing
+                // finding): sum the samples scaled by 2^-11 (exact), and keep
+                // the mean inside the window's range, where a mean lies.
+                double scaled = 0.0, lo = src[size_t(k)][a], hi = lo;
+                for (int64_t j = k - w; j <= k + w; ++j) {
+                    scaled += std::ldexp(src[size_t(j)][a], -11);
+                    lo = std::min(lo, src[size_t(j)][a]);
+                    hi = std::max(hi, src[size_t(j)][a]);
+                }
+                mean = std::ldexp(scaled / double(2 * w + 1), 11);
+                mean = std::isnan(mean) ? lo : std::clamp(mean, lo, hi);
+            }
+            track.p[size_t(k)][a] = mean;
+        }
     }
 }
 
@@ -241,6 +257,9 @@ TrackSet parse_tracks_csv(const std::string& text, const TrackLoadOptions& o) {
                 bad_cell(line_no, cols[a], header[cols[a]],
                          "expected a finite number, got \"" + cells[cols[a]].substr(0, 40) + "\"");
             p[a] = v * o.unit_scale;
+            if (!std::isfinite(p[a]))  // a finite number times unit_scale (fuzzing finding)
+                bad_cell(line_no, cols[a], header[cols[a]],
+                         "\"" + cells[cols[a]].substr(0, 40) + "\" times unit_scale is not a finite number");
         }
         auto [it, added] = index_of.emplace(id, raw.size());
         if (added) raw.push_back(RawTrack{id, {}, {}});
@@ -292,6 +311,8 @@ TrackSet tracks_from_arrays(const uint32_t* counts, size_t track_count, const do
                 if (!std::isfinite(xyz[3 * s + a]))
                     fail(Status::InvalidArgument, where + ": position is not finite (NaN or Inf)");
                 p[a] = double(xyz[3 * s + a]) * o.unit_scale;
+                if (!std::isfinite(p[a]))
+                    fail(Status::InvalidArgument, where + ": position times unit_scale is not finite");
             }
             raw[k].t.push_back(t[s]);
             raw[k].p.push_back(p);

@@ -63,7 +63,8 @@ void check_lines(const std::string& text, const std::string& name) {
                 if (head.empty() || *stop != '\0' || errno == ERANGE)
                     parse_error(name, line_no, "face index '" + tok + "' is not an integer");
                 if (idx == 0) parse_error(name, line_no, "face index 0 (OBJ indices start at 1)");
-                if (idx < 0 && size_t(-idx) > vertices)
+                // -(idx + 1) + 1: -idx overflows for LONG_MIN (fuzzing finding).
+                if (idx < 0 && size_t(-(idx + 1)) + 1 > vertices)
                     parse_error(name, line_no, "face index " + std::to_string(idx) + " reaches before the first vertex");
                 if (idx > 0) faces.push_back({line_no, idx});
                 ++corners;
