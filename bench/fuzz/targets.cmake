@@ -8,11 +8,13 @@ set(SWARMCL_FUZZ_TARGETS
   dataset        # the reference dataset's binary file
   checkpoint     # swarm checkpoints: container + section decode
   run_checkpoint # the CLI's checkpoint.json and frames file
+  policy_weights # trained actors (safetensors) of the policy model
 )
 # Seeds beyond bench/fuzz/corpus/<target>/: the project's example files
 # (folders relative to the source root).
 set(SWARMCL_FUZZ_SEEDS_obj examples/meshes)
 set(SWARMCL_FUZZ_SEEDS_scenario examples/scenarios examples/evaluation)
+set(SWARMCL_FUZZ_SEEDS_policy_weights models)
 
 # Every fuzz executable (libFuzzer or replay) of `target` built from `sources`.
 function(swarmcl_fuzz_executable exe target)
