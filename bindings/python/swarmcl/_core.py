@@ -9,7 +9,7 @@ from typing import Optional
 
 import numpy as np
 
-from ._native import constants, ffi, lib
+from ._native import constants, enum_members, ffi, lib
 from .descriptors import DeviceInfo, FieldModel, NoiseDesc, StepStats
 from .errors import check, error_for
 
@@ -520,14 +520,14 @@ def _export_formats(formats) -> int:
     bits = 0
     for f in formats:
         name = "SWCL_EXPORT_" + str(f).strip().upper()
-        if not hasattr(lib, name):
+        if name not in enum_members("swcl_export_format"):
             raise ValueError(f"unknown export format {f!r}; one of csv, npy, vtp")
         bits |= int(getattr(lib, name))
     return bits
 
 
 def _format_names(bits: int) -> tuple:
-    elements = ffi.typeof("swcl_export_format").relements
+    elements = enum_members("swcl_export_format")
     return tuple(k[len("SWCL_EXPORT_"):].lower() for k, v in sorted(elements.items(), key=lambda kv: kv[1])
                  if bits & v)
 

@@ -30,7 +30,7 @@ from pathlib import Path
 
 from cffi import FFI
 
-__all__ = ["ffi", "lib", "constants", "header_path", "library_path"]
+__all__ = ["ffi", "lib", "constants", "header_path", "library_path", "enum_members"]
 
 _PKG = __name__.rpartition(".")[0] or "swarmcl"
 
@@ -209,3 +209,10 @@ _loaded_major = int(lib.swcl_version()) // 10000
 if _loaded_major != constants.get("SWCL_VERSION_MAJOR", _loaded_major):
     raise ImportError(f"swarmcl: {library_path} is version {ffi.string(lib.swcl_version_string()).decode()}, "
                       f"the header {header_path} is {constants['SWCL_VERSION_MAJOR']}.x")
+
+
+def enum_members(ctype: str) -> dict:
+    """The enumerators of a C enum of the header, name -> value, without the
+    ``*_MAX_ENUM`` entry every enum ends with (it only widens the enum's range
+    to int32, docs/c-api.md; it is never a valid value)."""
+    return {k: v for k, v in ffi.typeof(ctype).relements.items() if not k.endswith("_MAX_ENUM")}

@@ -12,7 +12,7 @@ from typing import Optional, Tuple, Union
 
 import numpy as np
 
-from ._native import ffi, lib
+from ._native import enum_members, ffi, lib
 
 __all__ = [
     "NoiseType", "DeviceType", "Sphere", "Box", "Plane", "NoiseDesc", "FieldModel",
@@ -24,7 +24,7 @@ Bounds = Tuple[Vec3, Vec3]
 
 
 def _enum(name: str, ctype: str, prefix: str) -> type:
-    elements = ffi.typeof(ctype).relements  # name -> value, from the header
+    elements = enum_members(ctype)  # name -> value, from the header
     return enum.IntEnum(name, {k[len(prefix):]: v for k, v in sorted(elements.items(), key=lambda kv: kv[1])})
 
 
