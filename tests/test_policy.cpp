@@ -508,6 +508,11 @@ TEST(PolicyCapi, BadWeightsGiveAParseErrorAndTheSwarmStaysUsable) {
         EXPECT_EQ(widths[1], 256u);
         ASSERT_EQ(swcl_swarm_step(swarm, 1), SWCL_OK) << swcl_last_error();
     }
+    // A leader mode that is not one (any int32 is a value of the enum: no UB).
+    swcl_policy_model_desc lm = d;
+    lm.leader_mode = static_cast<swcl_policy_leader_mode>(7);
+    EXPECT_EQ(swcl_swarm_policy_set_model(swarm, &lm), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_TRUE(contains(swcl_last_error(), "leader_mode")) << swcl_last_error();
     // A missing file: an I/O error naming it.
     swcl_policy_model_desc m = d;
     m.weights_path = "/nonexistent/w.safetensors";

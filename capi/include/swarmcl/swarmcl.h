@@ -827,7 +827,8 @@ SWCL_API swcl_status swcl_rl_env_read_state(swcl_rl_env env, float* out_pos, siz
 typedef enum swcl_policy_leader_mode {
     SWCL_POLICY_LEADER_JOYSTICK = 0,    /* controls through swcl_swarm_policy_set_leader_controls */
     SWCL_POLICY_LEADER_NAVIGATION = 1,  /* through the waypoints, stops after the last */
-    SWCL_POLICY_LEADER_TOUR = 2         /* through the waypoints, over and over */
+    SWCL_POLICY_LEADER_TOUR = 2,        /* through the waypoints, over and over */
+    SWCL_POLICY_LEADER_MODE_MAX_ENUM = 0x7FFFFFFF  /* 32-bit range (see "Enums" above) */
 } swcl_policy_leader_mode;
 
 typedef struct swcl_policy_model_desc {
