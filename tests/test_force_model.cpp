@@ -329,7 +329,7 @@ TEST(ForceModel, WideKernelMatchesTheScalarOne) {
             return forces_by_id(*swarm, model, 5);
         };
         const auto scalar = forces("1"), wide = forces("16");
-        setenv("SWARMCL_NOISE_WIDTH", "", 1);
+        unsetenv("SWARMCL_NOISE_WIDTH");
         EXPECT_EQ(scalar, wide) << "cap " << cap;
     }
 }
@@ -782,7 +782,7 @@ TEST(ForceModel, MinDistanceMatchesItsReference) {
             std::vector<float> got(3 * size_t(n));
             swarm->read(Attribute::Position, got.data(), n);
             const auto stats = swarm->take_step_stats();
-            setenv("SWARMCL_NOISE_WIDTH", "", 1);
+            unsetenv("SWARMCL_NOISE_WIDTH");
             // The reference: r += u dt in float (as the kernel), then MDE.
             const float dt = swarm->config().dt;
             std::vector<double> moved(3 * size_t(n));

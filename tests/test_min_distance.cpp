@@ -48,7 +48,7 @@ Pass run_pass(const std::vector<float>& xyz, float cell, float d_min, const char
     const std::string saved = env ? env : "";
     if (*width) setenv("SWARMCL_NOISE_WIDTH", width, 1);
     MinDistance mde(*ctx, d_min, 99);
-    if (env) setenv("SWARMCL_NOISE_WIDTH", saved.c_str(), 1); else setenv("SWARMCL_NOISE_WIDTH", "", 1);
+    if (env) setenv("SWARMCL_NOISE_WIDTH", saved.c_str(), 1); else unsetenv("SWARMCL_NOISE_WIDTH");
     DeviceBuffer<cl_uint> moved(*ctx, 2, "moved");
     moved.fill(*ctx, 0u, 2);
     swarm.ensure_grid();

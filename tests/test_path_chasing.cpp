@@ -456,6 +456,6 @@ TEST(PathPhototaxis, WideKernelMatchesTheScalarOne) {
         return p;
     };
     const auto scalar = run("1"), wide = run("16");
-    setenv("SWARMCL_NOISE_WIDTH", "", 1);
+    unsetenv("SWARMCL_NOISE_WIDTH");
     EXPECT_EQ(scalar, wide);
 }

@@ -415,7 +415,7 @@ TEST(PathModel, WideKernelMatchesTheScalarOne) {
         return p;
     };
     const auto scalar = run("1"), wide = run("16");
-    setenv("SWARMCL_NOISE_WIDTH", "", 1);
+    unsetenv("SWARMCL_NOISE_WIDTH");
     EXPECT_EQ(scalar, wide);
 }
 

@@ -275,7 +275,7 @@ TEST(PolicyMlp, EveryLaneWidthGivesTheSameActions) {
         EXPECT_EQ(m.lanes(), uint32_t(std::atoi(w)));
         outs.push_back(m.infer(obs, 517));
     }
-    setenv("SWARMCL_POLICY_LANES", "", 1);
+    unsetenv("SWARMCL_POLICY_LANES");
     for (size_t i = 1; i < outs.size(); ++i)
         for (size_t k = 0; k < outs[0].size(); ++k) EXPECT_NEAR(outs[i][k], outs[0][k], 1e-6f) << i << " " << k;
 }
