@@ -316,8 +316,8 @@ TEST(ForceModel, WideKernelMatchesTheScalarOne) {
     const uint32_t n = 1003;  // not a multiple of 16: the last work-item is partial
     const auto pos = test::random_points(n, -2.0f, 2.0f, 21), vel = test::random_points(n, -0.5f, 0.5f, 22);
     for (uint32_t cap : {0u, 64u}) {
-        auto forces = [&](const char* width) {
-            setenv("SWARMCL_NOISE_WIDTH", width, 1);
+        auto forces = [&](uint32_t width) {
+            test::ScopedKernelWidth w(width);
             auto swarm = make_swarm(n, -3.0f, 3.0f, 0.5f, 3);
             swarm->write(Attribute::Position, pos.data(), n);
             swarm->write(Attribute::Velocity, vel.data(), n);
@@ -328,8 +328,7 @@ TEST(ForceModel, WideKernelMatchesTheScalarOne) {
             ForceModel model(*swarm, c);
             return forces_by_id(*swarm, model, 5);
         };
-        const auto scalar = forces("1"), wide = forces("16");
-        unsetenv("SWARMCL_NOISE_WIDTH");
+        const auto scalar = forces(1), wide = forces(16);
         EXPECT_EQ(scalar, wide) << "cap " << cap;
     }
 }
@@ -766,8 +765,8 @@ TEST(ForceModel, MinDistanceMatchesItsReference) {
     const float d_min = 0.08f;
     std::vector<std::vector<float>> by_width;
     for (uint32_t terms : {uint32_t(kForceRepulsion), 0u}) {
-        for (const char* width : {"1", "16"}) {
-            setenv("SWARMCL_NOISE_WIDTH", width, 1);
+        for (uint32_t width : {1u, 16u}) {
+            test::ScopedKernelWidth scoped_width(width);
             auto swarm = make_swarm(n, -3.0f, 3.0f, 0.5f, 3);
             swarm->write(Attribute::Position, pos.data(), n);
             swarm->write(Attribute::Velocity, vel.data(), n);
@@ -782,7 +781,6 @@ TEST(ForceModel, MinDistanceMatchesItsReference) {
             std::vector<float> got(3 * size_t(n));
             swarm->read(Attribute::Position, got.data(), n);
             const auto stats = swarm->take_step_stats();
-            unsetenv("SWARMCL_NOISE_WIDTH");
             // The reference: r += u dt in float (as the kernel), then MDE.
             const float dt = swarm->config().dt;
             std::vector<double> moved(3 * size_t(n));

@@ -37,18 +37,19 @@ std::vector<float> crowded_points(uint32_t n, uint32_t seed) {
     return xyz;
 }
 
-// One MDE pass with the kernel `width` selects ($SWARMCL_NOISE_WIDTH as
-// the library reads it; "" keeps the environment's choice).
-Pass run_pass(const std::vector<float>& xyz, float cell, float d_min, const char* width) {
+// One MDE pass with the kernel `width` selects (1, 8 or 16; 0 keeps the
+// library's own choice).
+Pass run_pass(const std::vector<float>& xyz, float cell, float d_min, uint32_t width) {
     auto ctx = shared_context();
     const uint32_t n = uint32_t(xyz.size() / 3);
     Swarm swarm(ctx, cube_config(n, -1.0f, 1.0f, cell));
     swarm.write(Attribute::Position, xyz.data(), n);
-    const char* env = std::getenv("SWARMCL_NOISE_WIDTH");
-    const std::string saved = env ? env : "";
-    if (*width) setenv("SWARMCL_NOISE_WIDTH", width, 1);
-    MinDistance mde(*ctx, d_min, 99);
-    if (env) setenv("SWARMCL_NOISE_WIDTH", saved.c_str(), 1); else unsetenv("SWARMCL_NOISE_WIDTH");
+    const auto make = [&] {
+        if (width == 0) return MinDistance(*ctx, d_min, 99);
+        test::ScopedKernelWidth w(width);
+        return MinDistance(*ctx, d_min, 99);
+    };
+    MinDistance mde = make();
     DeviceBuffer<cl_uint> moved(*ctx, 2, "moved");
     moved.fill(*ctx, 0u, 2);
     swarm.ensure_grid();
@@ -82,7 +83,7 @@ TEST(MinDistance, OnePassMatchesBruteForceReference) {
     const auto xyz = crowded_points(6000, 5);
     for (const auto& c : kCases) {
         SCOPED_TRACE("cell " + std::to_string(c.cell) + ", d_min " + std::to_string(c.d_min));
-        const Pass p = run_pass(xyz, c.cell, c.d_min, "");
+        const Pass p = run_pass(xyz, c.cell, c.d_min, 0);
         const uint32_t n = uint32_t(p.before.size());
         const float d2_min = c.d_min * c.d_min;
         uint32_t touched = 0, checked = 0;
@@ -126,11 +127,11 @@ TEST(MinDistance, WideKernelEqualsScalarKernelBitwise) {
         const auto xyz = crowded_points(n, 11 + n);
         for (const auto& c : kCases) {
             SCOPED_TRACE("n " + std::to_string(n) + ", cell " + std::to_string(c.cell));
-            const Pass scalar = run_pass(xyz, c.cell, c.d_min, "1");
+            const Pass scalar = run_pass(xyz, c.cell, c.d_min, 1);
             ASSERT_EQ(scalar.width, 1u);
-            for (const char* w : {"8", "16"}) {
+            for (uint32_t w : {8u, 16u}) {
                 const Pass wide = run_pass(xyz, c.cell, c.d_min, w);
-                ASSERT_EQ(wide.width, uint32_t(std::atoi(w)));
+                ASSERT_EQ(wide.width, w);
                 ASSERT_EQ(wide.wide, c.wide);
                 ASSERT_EQ(std::memcmp(wide.before.data(), scalar.before.data(), n * sizeof(cl_float4)), 0);
                 EXPECT_EQ(std::memcmp(wide.after.data(), scalar.after.data(), n * sizeof(cl_float4)), 0)
@@ -139,4 +140,17 @@ TEST(MinDistance, WideKernelEqualsScalarKernelBitwise) {
             }
         }
     }
+}
+
+// The process-wide width override (what these tests use instead of
+// $SWARMCL_NOISE_WIDTH) takes only the widths the kernels have.
+TEST(MinDistance, KernelWidthOverrideTakesOnlyKernelWidths) {
+    EXPECT_THROW(set_kernel_width_override(4), Error);
+    EXPECT_EQ(kernel_width_override(), 0u);
+    {
+        test::ScopedKernelWidth w(8);
+        EXPECT_EQ(kernel_width_override(), 8u);
+        EXPECT_EQ(preferred_noise_width(test::shared_context()->device()), 8u);
+    }
+    EXPECT_EQ(kernel_width_override(), 0u);
 }

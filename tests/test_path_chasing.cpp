@@ -428,8 +428,8 @@ TEST(PathScenario, TargetsAndLampAreReadAndChecked) {
 // baked noise): bitwise the one-agent kernel's run.
 TEST(PathPhototaxis, WideKernelMatchesTheScalarOne) {
     auto ctx = test::shared_context();
-    auto run = [&](const char* width) {
-        setenv("SWARMCL_NOISE_WIDTH", width, 1);
+    auto run = [&](uint32_t width) {
+        test::ScopedKernelWidth scoped_width(width);
         SwarmConfig sc = test::cube_config(700, -1, 1, 0.1f);
         sc.agent_count = 700;  // not a multiple of 16
         sc.seed = 8;
@@ -455,7 +455,6 @@ TEST(PathPhototaxis, WideKernelMatchesTheScalarOne) {
         swarm.read(Attribute::Position, p.data(), 700);
         return p;
     };
-    const auto scalar = run("1"), wide = run("16");
-    unsetenv("SWARMCL_NOISE_WIDTH");
+    const auto scalar = run(1), wide = run(16);
     EXPECT_EQ(scalar, wide);
 }

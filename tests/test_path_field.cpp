@@ -394,8 +394,8 @@ TEST(PathModel, BakedMeshNoiseMatchesProcedural) {
 // arithmetic as the one-agent kernel, so bitwise the same run.
 TEST(PathModel, WideKernelMatchesTheScalarOne) {
     auto ctx = test::shared_context();
-    auto run = [&](const char* width) {
-        setenv("SWARMCL_NOISE_WIDTH", width, 1);
+    auto run = [&](uint32_t width) {
+        test::ScopedKernelWidth scoped_width(width);
         SwarmConfig sc = test::cube_config(1000, -1, 1, 0.1f);
         sc.agent_count = 1000;  // not a multiple of 16: the last work-item is partial
         sc.seed = 8;
@@ -414,8 +414,7 @@ TEST(PathModel, WideKernelMatchesTheScalarOne) {
         swarm.read(Attribute::Position, p.data(), 1000);
         return p;
     };
-    const auto scalar = run("1"), wide = run("16");
-    unsetenv("SWARMCL_NOISE_WIDTH");
+    const auto scalar = run(1), wide = run(16);
     EXPECT_EQ(scalar, wide);
 }
 

@@ -269,13 +269,12 @@ TEST(PolicyMlp, EveryLaneWidthGivesTheSameActions) {
     auto swarm = small_swarm(4);
     const std::vector<float> obs = random_obs(517, 54, 25);
     std::vector<std::vector<float>> outs;
-    for (const char* w : {"1", "8", "16"}) {
-        setenv("SWARMCL_POLICY_LANES", w, 1);
+    for (uint32_t w : {1u, 8u, 16u}) {
+        test::ScopedKernelWidth scoped_width(w);
         PolicyModel m(*swarm, PolicyModelConfig{}, bytes);
-        EXPECT_EQ(m.lanes(), uint32_t(std::atoi(w)));
+        EXPECT_EQ(m.lanes(), w);
         outs.push_back(m.infer(obs, 517));
     }
-    unsetenv("SWARMCL_POLICY_LANES");
     for (size_t i = 1; i < outs.size(); ++i)
         for (size_t k = 0; k < outs[0].size(); ++k) EXPECT_NEAR(outs[i][k], outs[0][k], 1e-6f) << i << " " << k;
 }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "device/context.hpp"
+#include "fields/noise_field.hpp"
 #include "swarm/swarm.hpp"
 
 namespace swarmcl::test {
@@ -40,5 +41,18 @@ inline float dist2(const float* a, const float* b) {
     const float dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
     return dx * dx + dy * dy + dz * dz;
 }
+
+// Selects the explicit-width kernels' width (1, 8, 16) for its lifetime
+// without touching the environment (setenv races PoCL's threads' getenv).
+class ScopedKernelWidth {
+public:
+    explicit ScopedKernelWidth(uint32_t width) : saved_(kernel_width_override()) { set_kernel_width_override(width); }
+    ~ScopedKernelWidth() { set_kernel_width_override(saved_); }
+    ScopedKernelWidth(const ScopedKernelWidth&) = delete;
+    ScopedKernelWidth& operator=(const ScopedKernelWidth&) = delete;
+
+private:
+    uint32_t saved_;
+};
 
 }  // namespace swarmcl::test

@@ -1,6 +1,7 @@
 #include "fields/noise_field.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <string>
@@ -23,9 +24,20 @@ constexpr uint64_t kMaxBakedNodes = uint64_t(1) << 27;
 // work-items, GPUs run them one point per work-item.
 constexpr uint32_t kCpuNoiseWidth = 16;
 
+std::atomic<uint32_t> g_width_override{0};
+
 }  // namespace
 
+void set_kernel_width_override(uint32_t width) {
+    require(width == 0 || width == 1 || width == 8 || width == 16,
+            "kernel width override must be 0 (none), 1, 8 or 16 (got " + std::to_string(width) + ")");
+    g_width_override.store(width);
+}
+
+uint32_t kernel_width_override() { return g_width_override.load(); }
+
 uint32_t preferred_noise_width(const DeviceEntry& device) {
+    if (const uint32_t w = g_width_override.load()) return w;
     const char* env = std::getenv("SWARMCL_NOISE_WIDTH");
     if (env && *env) {
         const std::string v(env);

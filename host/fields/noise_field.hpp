@@ -19,6 +19,15 @@ namespace swarmcl {
 // (docs/noise.md).  Throws InvalidArgument for another value.
 uint32_t preferred_noise_width(const DeviceEntry& device);
 
+// A process-wide width for the explicit-width kernels (1, 8 or 16; 0 = none)
+// that wins over $SWARMCL_NOISE_WIDTH and the device default, and sets the
+// policy model's lanes too.  For tests and embedders that compare kernel
+// variants: changing the environment with setenv while PoCL's worker threads
+// read it with getenv is a data race (a SEGV seen under ASan).  Kernels
+// already built keep their width.  Throws InvalidArgument for another value.
+void set_kernel_width_override(uint32_t width);
+uint32_t kernel_width_override();
+
 enum class NoiseType : int { Curl = 0, Perlin = 1, White = 2, Gaussian = 3 };
 
 // A boundary of the curl potential (Eq. 2): an obstacle or a half space.

@@ -136,11 +136,13 @@ PolicyModel::PolicyModel(Swarm& swarm, PolicyModelConfig config, std::shared_ptr
     box_c_.upload(ctx, bc.data(), bc.size());
     box_h_.upload(ctx, bh.data(), bh.size());
 
-    // CPU devices: the noise kernels' lane width (16 with AVX-512, 8 else).
+    // CPU devices: the noise kernels' lane width (16 with AVX-512, 8 else);
+    // set_kernel_width_override, then $SWARMCL_POLICY_LANES, override it.
     const char* env = std::getenv("SWARMCL_POLICY_LANES");
     lanes_ = ctx.device().cpu_profile ? preferred_noise_width(ctx.device()) : 1;
     if (env && (std::string(env) == "1" || std::string(env) == "8" || std::string(env) == "16"))
         lanes_ = uint32_t(std::stoul(env));
+    if (const uint32_t w = kernel_width_override()) lanes_ = w;
     const std::string lanes_define = "-DPM_W=" + std::to_string(lanes_);
     // With lanes, the observations too come PM_W agents per work-item.
     observe_k_ = lanes_ > 1 ? ctx.kernel("policy.cl", "policy_observe_w", lanes_define)
