@@ -131,3 +131,40 @@ TEST_F(RlCApi, BadInputGivesAStatusAndAMessage) {
     EXPECT_EQ(swcl_rl_env_step(env, act.data(), 80, nullptr, 0, nullptr, 0, nullptr, nullptr, 0),
               SWCL_ERROR_INVALID_HANDLE);
 }
+
+// The layout: the stairway's path and steps as the scenario made them; a
+// joystick leader has no waypoints; too small an array is refused unwritten.
+TEST_F(RlCApi, LayoutGivesTheScenariosWaypointsAndBoxes) {
+    swcl_rl_env_desc d = swcl_rl_env_desc_default();
+    d.worlds = 1;
+    d.agents = 4;
+    d.scenario = "stairway";
+    swcl_rl_env env{};
+    ASSERT_EQ(swcl_rl_env_create(ctx, &d, &env), SWCL_OK) << swcl_last_error();
+    uint32_t nw = 0, nb = 0;
+    ASSERT_EQ(swcl_rl_env_get_layout(env, nullptr, 0, &nw, nullptr, 0, &nb), SWCL_OK) << swcl_last_error();
+    EXPECT_EQ(nw, 6u);
+    EXPECT_EQ(nb, 4u);
+    std::vector<float> wp(4 * nw, -1.0f), ob(6 * nb, -1.0f);
+    ASSERT_EQ(swcl_rl_env_get_layout(env, wp.data(), nw, nullptr, ob.data(), nb, nullptr), SWCL_OK);
+    EXPECT_EQ(wp[0], -20.0f);     // the first waypoint (-20, 0, 6)
+    EXPECT_EQ(wp[2], 6.0f);
+    EXPECT_EQ(wp[3], 0.5f);       // speeds start at 0.5 (§IV-B)
+    EXPECT_EQ(wp[4 * 5], 56.0f);  // the last (56, 0, 18)
+    // Step 3: x in [36, 48], z in [-4, 12]: centre (42, 0, 4), half (6, 15, 8).
+    const float step3[6] = {42, 0, 4, 6, 15, 8};
+    for (int k = 0; k < 6; ++k) EXPECT_EQ(ob[18 + k], step3[k]) << k;
+    std::vector<float> small(4 * 2, 7.0f);
+    EXPECT_EQ(swcl_rl_env_get_layout(env, small.data(), 2, nullptr, nullptr, 0, nullptr), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_TRUE(error_mentions("out_waypoints needs 6 rows")) << swcl_last_error();
+    for (float v : small) EXPECT_EQ(v, 7.0f);
+    EXPECT_EQ(swcl_rl_env_get_layout(swcl_rl_env{}, nullptr, 0, &nw, nullptr, 0, &nb), SWCL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(swcl_rl_env_destroy(env), SWCL_OK);
+
+    d.scenario = "roaming";
+    ASSERT_EQ(swcl_rl_env_create(ctx, &d, &env), SWCL_OK);
+    ASSERT_EQ(swcl_rl_env_get_layout(env, nullptr, 0, &nw, nullptr, 0, &nb), SWCL_OK);
+    EXPECT_EQ(nw, 0u);
+    EXPECT_EQ(nb, 0u);
+    EXPECT_EQ(swcl_rl_env_destroy(env), SWCL_OK);
+}

@@ -141,6 +141,30 @@ swcl_status swcl_rl_env_get_info(swcl_rl_env env, uint32_t* out_worlds, uint32_t
     });
 }
 
+swcl_status swcl_rl_env_get_layout(swcl_rl_env env, float* out_waypoints, size_t waypoint_capacity,
+                                   uint32_t* out_waypoint_count, float* out_obstacles, size_t obstacle_capacity,
+                                   uint32_t* out_obstacle_count) {
+    return with_env(__func__, env, [&](LeaderEnv& e) {
+        const RlEnvConfig& c = e.config();
+        const size_t nw = c.leader_mode == RlLeaderMode::Navigation ? c.waypoints.size() : 0, nb = c.obstacles.size();
+        require(!out_waypoints || waypoint_capacity >= nw,
+                "out_waypoints needs " + std::to_string(nw) + " rows of 4 (capacity " +
+                    std::to_string(waypoint_capacity) + ")");
+        require(!out_obstacles || obstacle_capacity >= nb,
+                "out_obstacles needs " + std::to_string(nb) + " rows of 6 (capacity " +
+                    std::to_string(obstacle_capacity) + ")");
+        for (size_t i = 0; out_waypoints && i < nw; ++i)
+            for (int k = 0; k < 4; ++k) out_waypoints[4 * i + k] = c.waypoints[i][k];
+        for (size_t i = 0; out_obstacles && i < nb; ++i)
+            for (int k = 0; k < 3; ++k) {
+                out_obstacles[6 * i + k] = c.obstacles[i].center[k];
+                out_obstacles[6 * i + 3 + k] = c.obstacles[i].half[k];
+            }
+        if (out_waypoint_count) *out_waypoint_count = uint32_t(nw);
+        if (out_obstacle_count) *out_obstacle_count = uint32_t(nb);
+    });
+}
+
 swcl_status swcl_rl_env_reset(swcl_rl_env env, uint64_t seed, float* out_obs, size_t obs_count) {
     return with_env(__func__, env, [&](LeaderEnv& e) {
         const size_t n = size_t(e.worlds()) * e.agents();

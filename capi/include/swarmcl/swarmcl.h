@@ -793,6 +793,16 @@ SWCL_API swcl_status swcl_rl_env_destroy(swcl_rl_env env);
 /* out_obs_dim: 54, or 51 without EFS. */
 SWCL_API swcl_status swcl_rl_env_get_info(swcl_rl_env env, uint32_t* out_worlds, uint32_t* out_agents,
                                           uint32_t* out_obs_dim);
+/* The layout every world shares, as the scenario and desc made it: the
+ * navigation leader's waypoints (x, y, z, target speed; none for a joystick
+ * leader) and the box obstacles (centre xyz, half extents xyz).  The counts
+ * go to out_*_count (may be NULL); an array may be NULL (only its count is
+ * wanted), else its capacity, in rows of 4 (6) floats, must hold them all:
+ * SWCL_ERROR_INVALID_ARGUMENT naming the rows needed otherwise, nothing
+ * written.  For drawing the scenario or meshing its obstacles. */
+SWCL_API swcl_status swcl_rl_env_get_layout(swcl_rl_env env, float* out_waypoints, size_t waypoint_capacity,
+                                            uint32_t* out_waypoint_count, float* out_obstacles,
+                                            size_t obstacle_capacity, uint32_t* out_obstacle_count);
 /* Every world to its start (same seed: the same bits); out_obs may be NULL. */
 SWCL_API swcl_status swcl_rl_env_reset(swcl_rl_env env, uint64_t seed, float* out_obs, size_t obs_count);
 /* Only the worlds with mask[w] != 0 (W entries), each to its next episode's

@@ -184,6 +184,18 @@ class RlEnv:
             raise ValueError(f"RlEnv.set_leader_controls: controls must have shape ({self.worlds}, 4), got {c.shape}")
         check(lib.swcl_rl_env_set_leader_controls(self._h, ffi.from_buffer("float[]", c), c.size))
 
+    def layout(self) -> dict:
+        """The layout every world shares: ``waypoints`` (K, 4) x, y, z, target
+        speed (K = 0 for a joystick leader) and ``obstacles`` (B, 6) box
+        centre xyz, half extents xyz."""
+        nw, nb = ffi.new("uint32_t*"), ffi.new("uint32_t*")
+        check(lib.swcl_rl_env_get_layout(self._h, ffi.NULL, 0, nw, ffi.NULL, 0, nb))
+        wp = np.zeros((nw[0], 4), np.float32)
+        ob = np.zeros((nb[0], 6), np.float32)
+        check(lib.swcl_rl_env_get_layout(self._h, ffi.from_buffer("float[]", wp), len(wp), ffi.NULL,
+                                         ffi.from_buffer("float[]", ob), len(ob), ffi.NULL))
+        return {"waypoints": wp, "obstacles": ob}
+
     def read_state(self) -> dict:
         """Positions / velocities (q.xyz, u) of followers (W*N, 4) and leaders (W, 4)."""
         pos = np.empty((self.slots, 4), dtype=np.float32)
