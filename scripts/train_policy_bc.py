@@ -40,16 +40,18 @@ def fptr(a):
     return ffi.cast("float*", a.ctypes.data)
 
 
-def rollout(ctx, scenario, worlds, agents, steps, every, noise, seed, rng):
+def rollout(ctx, scenario, worlds, agents, steps, every, noise, seed, rng, efs=True):
     d = ffi.new("swcl_rl_env_desc*", lib.swcl_rl_env_desc_default())
     d.worlds, d.agents = worlds, agents
+    d.efs = 1 if efs else 0
+    dim = 54 if efs else 51
     name = ffi.new("char[]", scenario.encode())
     d.scenario = name
     env = ffi.new("swcl_rl_env*")
     check(lib.swcl_rl_env_create(ctx[0], d, env))
     try:
         n = worlds * agents
-        obs = np.zeros((n, 54), np.float32)
+        obs = np.zeros((n, dim), np.float32)
         act = np.zeros((n, 4), np.float32)
         ctl = np.zeros((worlds, 4), np.float32)
         check(lib.swcl_rl_env_reset(env[0], seed, fptr(obs), obs.size))
@@ -131,15 +133,18 @@ def main():
     ap.add_argument("--batch", type=int, default=512)
     ap.add_argument("--lr", type=float, default=1e-3)
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--no-efs", action="store_true",
+                    help="observations without the embedded swarm features (51 floats; the ablation of Fig. 11)")
     args = ap.parse_args()
     rng = np.random.default_rng(args.seed)
     ctx = ffi.new("swcl_context*")
     cd = ffi.new("swcl_context_desc*", lib.swcl_context_desc_default())
     check(lib.swcl_context_create(cd, ctx))
     t0 = time.time()
-    data = [rollout(ctx, "roaming", args.worlds, args.agents, args.steps, args.every, args.noise, args.seed, rng),
+    efs = not args.no_efs
+    data = [rollout(ctx, "roaming", args.worlds, args.agents, args.steps, args.every, args.noise, args.seed, rng, efs),
             rollout(ctx, "quadrilateral", args.worlds // 2, args.agents, args.steps, args.every, args.noise,
-                    args.seed + 1, rng)]
+                    args.seed + 1, rng, efs)]
     X = np.concatenate([d[0] for d in data])
     Y = np.clip(np.concatenate([d[1] for d in data]) / ACTION_SCALE, -0.995, 0.995).astype(np.float32)
     print(f"{len(X)} samples in {time.time() - t0:.0f} s")
@@ -149,7 +154,7 @@ def main():
     perm = rng.permutation(len(Xn))
     hold = perm[: len(Xn) // 20]
     train = perm[len(Xn) // 20:]
-    net = Mlp([54] + WIDTHS, rng)
+    net = Mlp([X.shape[1]] + WIDTHS, rng)
     m = [np.zeros_like(p) for p in net.W + net.b]
     v = [np.zeros_like(p) for p in net.W + net.b]
     step = 0
@@ -185,12 +190,12 @@ def main():
         "swarmcl.format": "policy-mlp/1",
         "swarmcl.activations": ",".join(ACTS),
         "swarmcl.action_scale": ",".join(f"{s:g}" for s in ACTION_SCALE),
-        "swarmcl.efs": "1",
+        "swarmcl.efs": "1" if efs else "0",
         "swarmcl.env": json.dumps(env),
         "swarmcl.trained_by": (f"behaviour cloning of RAG (Eq. 8-10), scripts/train_policy_bc.py: "
                                f"{len(X)} samples ({args.worlds} roaming + {args.worlds // 2} quadrilateral worlds x "
                                f"{args.agents} agents x {args.steps} steps, noise {args.noise}), {args.epochs} epochs "
-                               f"Adam, seed {args.seed}; to be replaced by a DDPG-trained actor"),
+                               f"Adam, seed {args.seed}, EFS {'on' if efs else 'off'}"),
     }
     save_file(tensors, args.out, metadata=meta)
     print(f"wrote {args.out}")
