@@ -1,0 +1,468 @@
+#!/usr/bin/env python3
+"""The §IV evaluation of the DRL swarm paper (issue 15 item 8;
+drl-swarm-animation-rule-based-action-generator, §IV-B to §IV-D):
+
+* control accuracy (Table 2): 90° and 180° turns of a joystick leader to the
+  top, bottom, left and right, 200 followers, the average speed
+  differential to the leader, rule-based (RAG actions) against a learned
+  policy;
+* the three navigation scenarios (Table 3): quadrilateral, stairway, maze;
+* swarm quality (Table 4, Fig. 10): cohesion / repulsion occurrences and the
+  inter-agent distance mu / sigma (Eq. 20-21) over time;
+* scalability (Fig. 11): policies trained at 200 agents, with and without
+  EFS, run by the library's policy model at 200, 600, 1,000 and 100,000
+  agents, average reward per agent-step (Eq. 14-19).
+
+Writes docs/rl-evaluation.md (our tables beside the paper's), two PNGs under
+docs/images/ and bench/results/rl/evaluation.json.
+
+  PYTHONPATH=bindings/python SWARMCL_BUILD_DIR=$PWD/build python scripts/rl_evaluation.py
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime as dt
+import json
+import platform
+import time
+from pathlib import Path
+
+import numpy as np
+
+import swarmcl
+from swarmcl.rl import RlEnv
+from swarmcl.rl.evaluation import cohesion_repulsion, inter_agent_distance, speed_differential, swarm_rewards
+from swarmcl.rl.export import load_policy, policy_actions
+from swarmcl.rl.layout import boxes_to_obj
+
+ROOT = Path(__file__).resolve().parents[1]
+
+# The paper's numbers (Tables 2-4).
+PAPER_T2 = {("90", "top"): (0.1332, 0.0974), ("90", "bottom"): (0.1458, 0.0842), ("90", "left"): (0.1692, 0.0528),
+            ("90", "right"): (0.1260, 0.0644), ("180", "top"): (0.2432, 0.1337), ("180", "bottom"): (0.2016, 0.1287),
+            ("180", "left"): (0.3024, 0.1551), ("180", "right"): (0.2754, 0.1698)}
+PAPER_T3 = {"quadrilateral": (0.1136, 0.0934), "stairway": (0.3744, 0.1127), "maze": (0.3962, 0.1895)}
+PAPER_T4 = {("90", "top"): (103.0, 70.3, 61.7, 68.1), ("90", "bottom"): (99.7, 48.8, 54.7, 61.6),
+            ("90", "left"): (109.1, 74.2, 69.9, 76.7), ("90", "right"): (95.8, 49.0, 50.3, 53.4),
+            ("180", "top"): (150.6, 129.3, 78.9, 84.6), ("180", "bottom"): (146.1, 57.0, 97.6, 111.4),
+            ("180", "left"): (161.7, 85.5, 96.6, 101.6), ("180", "right"): (149.1, 46.3, 84.2, 82.7)}
+UP = np.array([0.0, 0.0, 1.0])
+
+
+def cpu_model() -> str:
+    try:
+        for line in open("/proc/cpuinfo"):
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "unknown"
+
+
+def turn_targets(q0: np.ndarray, direction: str) -> np.ndarray:
+    """The 90° heading of a turn from horizontal headings q0 (W, 3): left /
+    right about +z, top / bottom towards +z / -z."""
+    left = np.cross(UP, q0)
+    left /= np.linalg.norm(left, axis=1, keepdims=True)
+    return {"left": left, "right": -left, "top": np.tile(UP, (len(q0), 1)),
+            "bottom": np.tile(-UP, (len(q0), 1))}[direction]
+
+
+def actions(env: RlEnv, obs: np.ndarray, method: str, policy) -> np.ndarray:
+    return env.rag_actions() if method == "rule" else policy_actions(policy, obs)
+
+
+def world_metrics(pos: np.ndarray, speeds: np.ndarray, leader_pos: np.ndarray, leader_speed: float,
+                  r_coh: float) -> dict:
+    rep, coh = cohesion_repulsion(pos)
+    mu, sigma, _ = inter_agent_distance(pos, r_coh)
+    return {"speed_diff": speed_differential(speeds, leader_speed), "rep": rep, "coh": coh, "mu": mu, "sigma": sigma,
+            "lead": float(np.linalg.norm(pos - leader_pos[None, :], axis=1).mean())}
+
+
+def control_test(ctx, method, policy, angle, direction, args) -> dict:
+    """One row of Tables 2 and 4: `worlds` recordings (worlds with their own
+    starts) of `agents` followers; a straight warm-up, then the turn; the
+    metrics over the `record` steps from the turn's start."""
+    W, N = args.worlds, args.agents
+    env = RlEnv(ctx, W, N, scenario="roaming", max_steps=10**6, efs=method == "rule" or policy["efs"])
+    try:
+        obs = env.reset(args.seed)
+        r_coh = env.params["r_coh"]
+        series, rows = [], []
+        q0 = target = None
+        passed = np.zeros(W, bool)
+        for t in range(args.warmup + args.record):
+            st = env.read_state()
+            ql = st["leader_velocities"][:, :3].astype(np.float64)
+            if t == args.warmup:
+                q0 = ql.copy()
+                target = turn_targets(q0, direction)
+            if t >= args.warmup:
+                goal = target
+                if angle == "180":  # through the 90° heading, then to the reverse of the start
+                    passed |= np.einsum("wk,wk->w", ql, target) > np.cos(np.deg2rad(2.0))
+                    goal = np.where(passed[:, None], -q0, target)
+                ctl = np.zeros((W, 4), np.float32)
+                ctl[:, 1:] = goal - ql
+                env.set_leader_controls(ctl)
+            obs, _, _, _ = env.step(actions(env, obs, method, policy))
+            st = env.read_state()
+            pos, vel, lvel = st["positions"][:, :3], st["velocities"], st["leader_velocities"]
+            if t % args.series_every == 0 or t >= args.warmup:
+                lpos = st["leader_positions"][:, :3]
+                per_world = [world_metrics(pos[w * N:(w + 1) * N], vel[w * N:(w + 1) * N, 3], lpos[w], float(lvel[w, 3]),
+                                           r_coh) for w in range(W)]
+                if t % args.series_every == 0:
+                    series.append({"t": round((t + 1) * env.params["dt"], 3),
+                                   "mu": float(np.mean([m["mu"] for m in per_world])),
+                                   "sigma": float(np.mean([m["sigma"] for m in per_world]))})
+                if t >= args.warmup:
+                    rows.append(per_world)
+        final_angle = np.degrees(np.arccos(np.clip(np.einsum("wk,wk->w", st["leader_velocities"][:, :3], q0), -1, 1)))
+        return {"speed_diff": float(np.mean([[m["speed_diff"] for m in r] for r in rows])),
+                "speed_diff_per_world": np.mean([[m["speed_diff"] for m in r] for r in rows], axis=0).tolist(),
+                "repulsion": float(np.mean([[m["rep"] for m in r] for r in rows])),
+                "cohesion": float(np.mean([[m["coh"] for m in r] for r in rows])),
+                "leader_distance": float(np.mean([[m["lead"] for m in r] for r in rows])),
+                "leader_turned_deg": float(final_angle.mean()), "series": series}
+    finally:
+        env.close()
+
+
+def navigation_test(ctx, method, policy, scenario, args) -> dict:
+    """One row of Table 3: the navigation leader's whole path; metrics per
+    step over the worlds not yet finished."""
+    W, N = args.nav_worlds, args.agents
+    env = RlEnv(ctx, W, N, scenario=scenario, max_steps=args.nav_max_steps,
+                efs=method == "rule" or policy["efs"])
+    try:
+        obs = env.reset(args.seed)
+        layout = env.layout()
+        done = np.zeros(W, bool)
+        diffs, reps, cohs, lead = [], [], [], []
+        track, snapshots = [], []  # world 0, for the figure
+        steps = 0
+        while not done.all() and steps < args.nav_max_steps:
+            obs, _, term, trunc = env.step(actions(env, obs, method, policy))
+            steps += 1
+            st = env.read_state()
+            track.append(st["leader_positions"][0, :3].copy())
+            if steps % 200 == 0 and not done[0]:
+                snapshots.append(st["positions"][:N, :3].copy())
+            vel, lvel = st["velocities"], st["leader_velocities"]
+            for w in np.flatnonzero(~done):
+                sl = slice(w * N, (w + 1) * N)
+                diffs.append(speed_differential(vel[sl, 3], float(lvel[w, 3])))
+                lead.append(float(np.linalg.norm(st["positions"][sl, :3] - st["leader_positions"][w, :3], axis=1).mean()))
+                if steps % 10 == 0:
+                    rep, coh = cohesion_repulsion(st["positions"][sl, :3])
+                    reps.append(rep)
+                    cohs.append(coh)
+            done |= term | trunc
+        return {"speed_diff": float(np.mean(diffs)), "repulsion": float(np.mean(reps)), "cohesion": float(np.mean(cohs)),
+                "leader_distance": float(np.mean(lead)), "steps": steps, "finished": bool(done.all()),
+                "_figure": {"layout": layout, "track": np.array(track), "snapshots": snapshots}}
+    finally:
+        env.close()
+
+
+def leader_plan(steps: int, seed: int) -> np.ndarray:
+    """The joystick plan of the scalability runs: a new slow turn every 6 s
+    (as in scripts/train_policy_bc.py's roaming data), constant speed."""
+    rng = np.random.default_rng(seed)
+    plan = np.zeros((steps, 3), np.float32)
+    for t in range(0, steps, 60):
+        turn = rng.normal(0.0, 0.03, 3)
+        turn[2] *= 0.3
+        plan[t:t + 60] = turn
+    return plan
+
+
+def scalability_run(ctx, weights: Path, n: int, args) -> dict:
+    """A policy-model swarm of n agents behind a joystick leader; Eq. 14-19
+    rewards of up to `reward_rows` sampled followers every 10 steps after the
+    first 50, and their mean."""
+    steps = args.big_steps if n > 10_000 else args.scal_steps
+    radius = 15.0 * (n / 200.0) ** (1.0 / 3.0)  # a 200-agent swarm in a ball of 15 (~4 m spacing), same density
+    rng = np.random.default_rng(args.seed)
+    x = rng.normal(size=(n, 3))
+    x *= (radius * rng.uniform(size=(n, 1)) ** (1 / 3)) / np.linalg.norm(x, axis=1, keepdims=True)
+    x[:, 0] -= radius + 2.0
+    reach = radius + 0.75 * steps * 0.1 + 60.0
+    with swarmcl.Swarm(ctx, agent_count=n, seed=args.seed, domain=((-reach, -reach, -reach), (reach, reach, reach)),
+                       interaction_radius=6.17, dt=0.1) as s:
+        s.write_positions(x.astype(np.float32))
+        s.write_velocities(np.tile(np.float32([0.75, 0, 0]), (n, 1)))
+        s.set_policy_model(swarmcl.PolicyModel(weights=str(weights), leader_speed=0.75))
+        plan = leader_plan(steps, args.seed)
+        rows = None if n <= args.reward_rows else np.sort(rng.choice(n, args.reward_rows, replace=False))
+        rewards, t0 = [], time.perf_counter()
+        for t in range(steps):
+            s.set_policy_leader_controls(0.0, plan[t])
+            s.step(1)
+            if t >= 50 and (t + 1) % 10 == 0:
+                p, v = s.read_positions(), s.read_velocities()
+                lp, _, _ = s.policy_leader()
+                u = np.linalg.norm(v, axis=1)
+                to_l = lp[None, :] - p
+                q = np.where(u[:, None] > 0, v / np.maximum(u, 1e-30)[:, None],
+                             to_l / np.maximum(np.linalg.norm(to_l, axis=1, keepdims=True), 1e-30))
+                rewards.append(float(swarm_rewards(p, q, u, lp, rows=rows).mean()))
+        return {"agents": n, "steps": steps, "mean_reward": float(np.mean(rewards)), "rewards": rewards,
+                "sampled_rows": n if rows is None else len(rows), "seconds": time.perf_counter() - t0}
+
+
+def plot_series(control: dict, path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4))
+    for method, color in (("rule", "tab:orange"), ("policy", "tab:blue")):
+        for key, style in (("90 left", "-"), ("180 top", "--")):
+            ser = control[method][key]["series"]
+            t = [e["t"] for e in ser]
+            label = f"{'rule-based' if method == 'rule' else 'learned policy'}, {key.replace(' ', '° ')}"
+            axes[0].plot(t, [e["mu"] for e in ser], style, color=color, label=label)
+            axes[1].plot(t, [e["sigma"] for e in ser], style, color=color, label=label)
+    for ax, name in zip(axes, ("mean inter-agent distance μ (Eq. 20)", "standard deviation σ (Eq. 21)")):
+        ax.set_xlabel("time (s); the turn starts at 15 s")
+        ax.set_ylabel(name)
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=8)
+    fig.suptitle("Fig. 10 analogue: 200 followers, neighbours within R_coh = 18")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_scenarios(nav: dict, path: Path) -> None:
+    """Fig. 9 analogue: the leader's path, the obstacles and world 0's
+    followers every 20 s, rule-based against the learned policy."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.patches import Rectangle
+
+    names = list(PAPER_T3)
+    fig, axes = plt.subplots(2, len(names), figsize=(5 * len(names), 8))
+    for row, method in enumerate(("rule", "policy")):
+        for col, name in enumerate(names):
+            ax, fig_data = axes[row, col], nav[method][name]["_figure"]
+            a, b = (0, 2) if name == "stairway" else (0, 1)  # side view of the stairs, top view else
+            for box in fig_data["layout"]["obstacles"]:
+                ax.add_patch(Rectangle((box[a] - box[3 + a], box[b] - box[3 + b]), 2 * box[3 + a], 2 * box[3 + b],
+                                       color="0.75"))
+            wp = fig_data["layout"]["waypoints"]
+            ax.plot(wp[:, a], wp[:, b], "g--", lw=1, label="waypoints")
+            tr = fig_data["track"]
+            ax.plot(tr[:, a], tr[:, b], "k-", lw=1, label="leader")
+            for snap in fig_data["snapshots"]:
+                ax.plot(snap[:, a], snap[:, b], ".", ms=1.5, color="tab:orange" if method == "rule" else "tab:blue")
+            ax.set_aspect("equal")
+            ax.set_title(f"{name}, {'rule-based' if method == 'rule' else 'learned policy'}")
+            ax.set_xlabel("x")
+            ax.set_ylabel("z" if name == "stairway" else "y")
+    axes[0, 0].legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def plot_scalability(scal: dict, path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.5, 4))
+    xs = [r["agents"] for r in scal["efs"]]
+    for key, color in (("efs", "tab:blue"), ("no_efs", "tab:red")):
+        ax.plot(range(len(xs)), [r["mean_reward"] for r in scal[key]], "-o", color=color,
+                label="with EFS" if key == "efs" else "without EFS")
+    ax.set_xticks(range(len(xs)), [f"{x:,}" for x in xs])
+    ax.set_xlabel("agents (policies trained at 200)")
+    ax.set_ylabel("average reward per agent-step (Eq. 14)")
+    ax.grid(alpha=0.3)
+    ax.legend()
+    fig.suptitle("Fig. 11 analogue: average reward of policies trained at 200")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def write_markdown(res: dict, path: Path) -> None:
+    c, nav, sc = res["control"], res["navigation"], res["scalability"]
+    a = res["args"]
+    L = ["# Evaluation of the DRL swarm against the paper's §IV (issue 15 item 8)", "",
+         f"Written by `scripts/rl_evaluation.py` on {res['date']} ({res['cpu']}, {res['device']}); "
+         f"every number is in `bench/results/rl/evaluation.json`.  The learned policy is "
+         f"`{res['policy']}` ({res['policy_trained_by']}); the rule-based method feeds the RAG's actions "
+         "(Eq. 8-10) to the same environment.  Definitions and choices: docs/rl-swarm.md, \"Evaluation (§IV)\".", "",
+         f"## Control accuracy (Table 2): average speed differential |u_i − u_leader|", "",
+         f"{a['worlds']} recordings per test (worlds with their own starts: leader speed in [0.5, 1], "
+         f"heading, follower ball), {a['agents']} followers each; {a['warmup'] * 0.1:g} s straight, then the turn "
+         f"(4°/step: 2.25 s for 90°, 4.5 s for 180°), measured over the {a['record'] * 0.1:g} s from the turn's start.", "",
+         "| turn | direction | rule-based | learned policy | paper: rule-based | paper: proposed | mean distance to the leader (rule / policy) |",
+         "|---|---|---|---|---|---|---|"]
+    better = 0
+    for key, (pr, pp) in PAPER_T2.items():
+        k = " ".join(key)
+        r, p = c["rule"][k]["speed_diff"], c["policy"][k]["speed_diff"]
+        better += p < r
+        L.append(f"| {key[0]}° | {key[1]} | {r:.4f} | {p:.4f} | {pr} | {pp} | "
+                 f"{c['rule'][k]['leader_distance']:.1f} / {c['policy'][k]['leader_distance']:.1f} |")
+    L += ["", f"The learned policy has the smaller differential in {better} of 8 tests "
+          f"(the paper: 8 of 8).", "",
+          "## The navigation scenarios (Table 3)", "",
+          f"{a['nav_worlds']} worlds of {a['agents']} followers, the whole path (until the leader passes its last "
+          "waypoint); speed differential per step over the worlds not yet finished.", "",
+          "| scenario | rule-based | learned policy | paper: rule-based | paper: proposed | mean distance to the leader (rule / policy) | steps |",
+          "|---|---|---|---|---|---|---|"]
+    nbetter = 0
+    for name, (pr, pp) in PAPER_T3.items():
+        r, p = nav["rule"][name], nav["policy"][name]
+        nbetter += p["speed_diff"] < r["speed_diff"]
+        L.append(f"| {name} | {r['speed_diff']:.4f} | {p['speed_diff']:.4f} | {pr} | {pp} | "
+                 f"{r['leader_distance']:.1f} / {p['leader_distance']:.1f} | {r['steps']} / {p['steps']} |")
+    L += ["", f"The learned policy has the smaller differential in {nbetter} of 3 scenarios (the paper: 3 of 3).", "",
+          "![scenarios](images/rl_eval_scenarios.png)", "",
+          "The leader's path (black), the waypoints (green) and world 0's followers every 20 s; the stairway "
+          "from the side (x-z), the others from above (x-y).  Obstacle meshes: `examples/meshes/rl_stairway.obj`, "
+          "`examples/meshes/rl_maze.obj`.", "",
+          "## Swarm quality (Table 4): cohesion / repulsion occurrences", "",
+          "Agents per frame (of 200) whose repulsion vector (Eq. 8's separation term) is longer than their cohesion "
+          "vector (the attraction term), and the reverse; mean over the recorded frames and recordings.", "",
+          "| turn | direction | rule: repulsion | rule: cohesion | policy: repulsion | policy: cohesion | paper rule (rep / coh) | paper proposed (rep / coh) |",
+          "|---|---|---|---|---|---|---|---|"]
+    for key, (a1, a2, a3, a4) in PAPER_T4.items():
+        k = " ".join(key)
+        r, p = c["rule"][k], c["policy"][k]
+        L.append(f"| {key[0]}° | {key[1]} | {r['repulsion']:.1f} | {r['cohesion']:.1f} | {p['repulsion']:.1f} | "
+                 f"{p['cohesion']:.1f} | {a1} / {a2} | {a3} / {a4} |")
+    L += ["", "Navigation scenarios (every 10th frame): " + "; ".join(
+        f"{n}: rule {nav['rule'][n]['repulsion']:.1f} / {nav['rule'][n]['cohesion']:.1f}, "
+        f"policy {nav['policy'][n]['repulsion']:.1f} / {nav['policy'][n]['cohesion']:.1f}" for n in PAPER_T3), "",
+          "## Inter-agent distance over time (Eq. 20-21, Fig. 10)", "",
+          "![inter-agent distance](images/rl_eval_interagent.png)", "",
+          "## Scalability (Fig. 11)", "",
+          f"Two policies trained at 200 agents ({sc['trained_by']}), one with EFS and one without, run by the "
+          "library's policy model (`swcl_swarm_policy_set_model`, the neighbour grid) at each size: a ball of the "
+          "same density (radius 15 m for 200), a joystick leader turning every 6 s; the Eq. 14-19 reward of "
+          f"up to {a['reward_rows']:,} sampled followers every 10 steps after the first 50 "
+          f"({a['scal_steps']} steps; {a['big_steps']} at 100,000).", "",
+          "| agents | reward, EFS | reward, no EFS | EFS − no EFS | seconds (EFS / no EFS) |",
+          "|---|---|---|---|---|"]
+    for e, n in zip(sc["efs"], sc["no_efs"]):
+        L.append(f"| {e['agents']:,} | {e['mean_reward']:.3f} | {n['mean_reward']:.3f} | "
+                 f"{e['mean_reward'] - n['mean_reward']:+.3f} | {e['seconds']:.0f} / {n['seconds']:.0f} |")
+    efs_wins = sum(e["mean_reward"] > n["mean_reward"] for e, n in zip(sc["efs"], sc["no_efs"]))
+    L += ["", "![scalability](images/rl_eval_scalability.png)", "",
+          "## Summary: does the paper's ordering hold?", "",
+          f"* Control accuracy, the turns (Table 2): the learned policy has the smaller speed differential in "
+          f"{better} of 8 tests.",
+          f"* Control accuracy, the scenarios (Table 3): in {nbetter} of 3.",
+          f"* So the paper's ordering (the learned policy beats the rule-based one on control accuracy) "
+          f"{'holds' if better == 8 and nbetter == 3 else 'holds only in part'} here, for a learned policy that "
+          "imitates the rule-based generator (behaviour cloning), not the paper's DDPG actor (none of ours learns "
+          "yet: docs/rl-swarm.md, \"The learning demonstration\").",
+          f"* Scalability (Fig. 11): the EFS policy has the higher average reward at {efs_wins} of {len(sc['efs'])} "
+          "sizes; the gap narrows with size, as the reward's Eq. 19 term (w_dist − mean (d − 4)² over all "
+          "neighbours within R_coh) falls for every policy once a swarm fills the R_coh ball.", ""]
+    path.write_text("\n".join(L) + "\n")
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--policy", type=Path, default=ROOT / "models" / "policy_roaming.safetensors")
+    ap.add_argument("--policy-efs", type=Path, default=ROOT / "models" / "eval" / "policy_bc200_efs.safetensors")
+    ap.add_argument("--policy-no-efs", type=Path, default=ROOT / "models" / "eval" / "policy_bc200_noefs.safetensors")
+    ap.add_argument("--worlds", type=int, default=10)
+    ap.add_argument("--agents", type=int, default=200)
+    ap.add_argument("--warmup", type=int, default=150)
+    ap.add_argument("--record", type=int, default=100)
+    ap.add_argument("--series-every", type=int, default=5)
+    ap.add_argument("--nav-worlds", type=int, default=4)
+    ap.add_argument("--nav-max-steps", type=int, default=4000)
+    ap.add_argument("--sizes", type=int, nargs="+", default=[200, 600, 1000, 100_000])
+    ap.add_argument("--scal-steps", type=int, default=300)
+    ap.add_argument("--big-steps", type=int, default=120)
+    ap.add_argument("--reward-rows", type=int, default=2000)
+    ap.add_argument("--seed", type=int, default=11)
+    ap.add_argument("--parts", nargs="+", default=["control", "navigation", "scalability"])
+    ap.add_argument("--out-json", type=Path, default=ROOT / "bench" / "results" / "rl" / "evaluation.json")
+    ap.add_argument("--out-md", type=Path, default=ROOT / "docs" / "rl-evaluation.md")
+    ap.add_argument("--figures-dir", type=Path, default=ROOT / "docs" / "images")
+    ap.add_argument("--meshes-dir", type=Path, default=ROOT / "examples" / "meshes")
+    args = ap.parse_args()
+
+    policy = load_policy(args.policy)
+    policy["efs"] = policy["metadata"].get("swarmcl.efs", "1") == "1"
+    res = json.loads(args.out_json.read_text()) if args.out_json.is_file() else {}
+    res.update(date=dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d"), cpu=cpu_model(),
+               args={k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items()},
+               policy=str(args.policy.resolve().relative_to(ROOT)) if ROOT in args.policy.resolve().parents else str(args.policy),
+               policy_trained_by=policy["metadata"].get("swarmcl.trained_by", "?"))
+    with swarmcl.Context() as ctx:
+        dev = ctx.device
+        res["device"] = f"{dev.platform_name} {dev.device_name}, {dev.compute_units} compute units"
+        if "control" in args.parts:
+            res["control"] = {}
+            for method in ("rule", "policy"):
+                res["control"][method] = {}
+                for angle, direction in PAPER_T2:
+                    t0 = time.perf_counter()
+                    r = control_test(ctx, method, policy, angle, direction, args)
+                    res["control"][method][f"{angle} {direction}"] = r
+                    print(f"control {method:6s} {angle:>3s}° {direction:6s}: speed diff {r['speed_diff']:.4f}, "
+                          f"repulsion {r['repulsion']:.1f}, cohesion {r['cohesion']:.1f}, leader distance "
+                          f"{r['leader_distance']:.1f}, leader turned "
+                          f"{r['leader_turned_deg']:.0f}° ({time.perf_counter() - t0:.0f} s)", flush=True)
+        if "navigation" in args.parts:
+            res["navigation"] = {}
+            for method in ("rule", "policy"):
+                res["navigation"][method] = {}
+                for name in PAPER_T3:
+                    t0 = time.perf_counter()
+                    r = navigation_test(ctx, method, policy, name, args)
+                    res["navigation"][method][name] = r
+                    print(f"navigation {method:6s} {name:13s}: speed diff {r['speed_diff']:.4f}, leader distance "
+                          f"{r['leader_distance']:.1f}, {r['steps']} steps, finished {r['finished']} "
+                          f"({time.perf_counter() - t0:.0f} s)", flush=True)
+            plot_scenarios(res["navigation"], args.figures_dir / "rl_eval_scenarios.png")
+            for name in PAPER_T3:
+                lay = res["navigation"]["rule"][name]["_figure"]["layout"]
+                if len(lay["obstacles"]):
+                    out = args.meshes_dir / f"rl_{name}.obj"
+                    boxes_to_obj(lay["obstacles"], out, comment=f"swarmcl RL scenario '{name}': its box obstacles "
+                                 "(swcl_rl_env_get_layout), written by scripts/rl_evaluation.py")
+            for method in res["navigation"]:
+                for r in res["navigation"][method].values():
+                    r.pop("_figure")
+        if "scalability" in args.parts:
+            tb = load_policy(args.policy_efs)["metadata"].get("swarmcl.trained_by", "?")
+            res["scalability"] = {"trained_by": tb, "efs": [], "no_efs": []}
+            for key, path in (("efs", args.policy_efs), ("no_efs", args.policy_no_efs)):
+                for n in args.sizes:
+                    r = scalability_run(ctx, path, n, args)
+                    res["scalability"][key].append(r)
+                    print(f"scalability {key:6s} {n:>7d} agents: mean reward {r['mean_reward']:.3f} "
+                          f"({r['seconds']:.0f} s)", flush=True)
+    args.out_json.parent.mkdir(parents=True, exist_ok=True)
+    args.out_json.write_text(json.dumps(res, indent=1) + "\n")
+    if "control" in args.parts:
+        plot_series(res["control"], args.figures_dir / "rl_eval_interagent.png")
+    if "scalability" in args.parts:
+        plot_scalability(res["scalability"], args.figures_dir / "rl_eval_scalability.png")
+    if all(k in res for k in ("control", "navigation", "scalability")):
+        write_markdown(res, args.out_md)
+        print(f"wrote {args.out_md}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
