@@ -25,7 +25,6 @@ import copy
 import csv
 import json
 import os
-import platform
 import sys
 import tempfile
 import time
@@ -33,23 +32,13 @@ import time
 import numpy as np
 
 import swarmcl
+from machine_info import cpu_model  # scripts/machine_info.py
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DATA = os.path.join(ROOT, "..", "shared", "data", "anopheles-coluzzii-swarm.csv")
 TEMPLATES = os.path.join(ROOT, "examples", "evaluation")
 COLUMNS = {"id": "id", "time": "time", "x": "x", "y": "y", "z": "z"}
 NOISES = ("white", "gaussian", "perlin", "curl")
-
-
-def cpu_model() -> str:
-    try:
-        with open("/proc/cpuinfo", encoding="utf-8") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    return line.split(":", 1)[1].strip() + f" ({os.cpu_count()} cores)"
-    except OSError:
-        pass
-    return platform.machine()
 
 
 def load(name):

@@ -24,13 +24,13 @@ from __future__ import annotations
 import argparse
 import datetime as dt
 import json
-import platform
 import time
 from pathlib import Path
 
 import numpy as np
 
 import swarmcl
+from machine_info import cpu_model  # scripts/machine_info.py
 from swarmcl.rl import RlEnv
 from swarmcl.rl.evaluation import cohesion_repulsion, inter_agent_distance, speed_differential, swarm_rewards
 from swarmcl.rl.export import load_policy, policy_actions
@@ -48,16 +48,6 @@ PAPER_T4 = {("90", "top"): (103.0, 70.3, 61.7, 68.1), ("90", "bottom"): (99.7, 4
             ("180", "top"): (150.6, 129.3, 78.9, 84.6), ("180", "bottom"): (146.1, 57.0, 97.6, 111.4),
             ("180", "left"): (161.7, 85.5, 96.6, 101.6), ("180", "right"): (149.1, 46.3, 84.2, 82.7)}
 UP = np.array([0.0, 0.0, 1.0])
-
-
-def cpu_model() -> str:
-    try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown"
 
 
 def turn_targets(q0: np.ndarray, direction: str) -> np.ndarray:
