@@ -8,6 +8,15 @@ the same machine), then writes the reward curves (PNG), a JSON record under
 bench/results/rl/ and the actors (policy-mlp/1 safetensors).
 
   PYTHONPATH=bindings/python python scripts/train_rl.py --budget-seconds 600
+
+The budget is each run's wall time of training (evaluations excluded): on
+a machine with fewer free cores than runs, use --sequential (one run after
+the other, each with the cores alone).  The configuration that learns
+(docs/rl-swarm.md, "The learning demonstration"):
+
+  PYTHONPATH=bindings/python taskset -c 1 python scripts/train_rl.py --budget-seconds 600 \
+      --sequential --worlds 128 --agents 1 --reward-scale 0.1 --train-args '--buffer-size 200000 \
+      --noise 0.2 --tau 0.005 --twin-critics --target-noise 0.2 --policy-delay 2 --n-step 5 --leader-shaping 3'
 """
 
 from __future__ import annotations
@@ -17,9 +26,11 @@ import datetime as dt
 import json
 import os
 import platform
+import shlex
 import subprocess
 import sys
 import tempfile
+import textwrap
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -74,11 +85,11 @@ def swarm_check(cfg: dict, ckpts: dict, worlds: int, agents: int, eval_episodes:
     with swarmcl.Context() as ctx:
         t = Trainer(ctx, TrainConfig(**dict(cfg, worlds=worlds, agents=agents)), DDPGConfig())
         try:
-            out["rag"] = t.evaluate("rag", eval_episodes)
+            out["rag_actions"] = t.evaluate("rag", eval_episodes)
             out["untrained_actor"] = t.evaluate("greedy", eval_episodes)
             for name, path in ckpts.items():
                 t.agent.actor.load_state_dict(torch.load(path, map_location="cpu", weights_only=False)["agent"]["actor"])
-                out[name] = t.evaluate("greedy", eval_episodes)
+                out[f"actor_{name}"] = t.evaluate("greedy", eval_episodes)
         finally:
             t.close()
     return out
@@ -95,8 +106,6 @@ def plot(results: dict, refs: dict, path: Path, title: str, extra: str = "") -> 
         ev = results[name]["evals"]
         t = [e["train_seconds"] for e in ev]
         label = "DDPG + RAG (Algorithm 1)" if name == "rag" else "DDPG, noise only"
-        if extra:
-            label += f" [{extra}]"
         axes[0].plot(t, [e["mean_reward"] for e in ev], "-o", ms=3, color=color, label=label)
         axes[1].plot(t, [e["mean_leader_distance"] for e in ev], "-o", ms=3, color=color, label=label)
     for key, style, label in (("rag", "--", "RAG actions (reference)"), ("untrained_actor", ":", "untrained actor")):
@@ -108,7 +117,9 @@ def plot(results: dict, refs: dict, path: Path, title: str, extra: str = "") -> 
         ax.set_xlabel("training time [s] (evaluations excluded)")
         ax.grid(alpha=0.3)
     axes[0].legend(fontsize=8)
-    fig.suptitle(title, fontsize=9)
+    if extra:  # the options both runs share, wrapped under the title
+        title += "\n" + "\n".join(textwrap.wrap("both runs: " + extra, 150))
+    fig.suptitle(title, fontsize=8)
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110)
@@ -131,7 +142,13 @@ def main() -> int:
     p.add_argument("--swarm-check", type=int, nargs=2, metavar=("W", "N"), default=(4, 32),
                    help="also evaluate both trained actors (greedy) in W worlds x N followers")
     p.add_argument("--train-args", default="", help="more options for both runs of python -m swarmcl.rl train")
+    p.add_argument("--replot", metavar="JSON", help="only redraw --png from a record this script wrote")
     args = p.parse_args()
+    if args.replot:
+        rec = json.loads(Path(args.replot).read_text())
+        plot(rec["runs"], rec["references"], Path(args.png), rec["title"], rec.get("train_args", ""))
+        print(f"wrote {args.png}")
+        return 0
 
     common = ["--worlds", str(args.worlds), "--agents", str(args.agents), "--max-steps", str(args.max_steps),
               "--episodes-per-leader", str(args.episodes_per_leader), "--seed", str(args.seed),
@@ -168,9 +185,10 @@ def main() -> int:
     plot(results, refs, Path(args.png), title, args.train_args.strip())
     record = {
         "what": "scripts/train_rl.py: DDPG with RAG vs noise-only DDPG, same seeds and training-time budget",
-        "command": " ".join([Path(sys.argv[0]).name, *sys.argv[1:]]),
+        "command": shlex.join([Path(sys.argv[0]).name, *sys.argv[1:]]),
         "cpu": cpu_model(), "cores": os.cpu_count(), "started_utc": started.isoformat(timespec="seconds"),
-        "budget_seconds": args.budget_seconds, "references": refs, "swarm_check": swarm,
+        "budget_seconds": args.budget_seconds, "references": refs, "swarm_check": swarm, "title": title,
+        "train_args": args.train_args.strip(),
         "budget_measure": "wall time of the training episodes (evaluations excluded), per run; "
                           + ("the runs one after the other" if args.sequential else "the two runs side by side"),
         "runs": {name: {"command": " ".join(runs[name][0][1:]), "model": _shown(runs[name][2]),
