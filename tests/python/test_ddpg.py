@@ -20,7 +20,7 @@ pytest.importorskip("safetensors")
 
 from swarmcl.rl.ddpg import DDPG, Actor, Critic, DDPGConfig, ReplayBuffer, obs_scale  # noqa: E402
 from swarmcl.rl.export import load_policy, policy_actions  # noqa: E402
-from swarmcl.rl.train import TrainConfig, Trainer  # noqa: E402
+from swarmcl.rl.train import NStep, TrainConfig, Trainer  # noqa: E402
 
 from conftest import REPO  # noqa: E402
 
@@ -114,6 +114,175 @@ def test_ours_options_actor_delay_bc_and_init():
     assert torch.equal(plain.actor.net[0].weight, nobc.actor.net[0].weight)
 
 
+def test_td3_twin_critics_smoothing_and_delay():
+    """TD3 options (ours): a second critic of the same shape, the smaller
+    target of the two, clipped noise on the target action, the actor and the
+    targets updated every policy_delay-th update only."""
+    torch.manual_seed(4)
+    agent = DDPG(54, DDPGConfig(batch_size=8, twin_critics=True, policy_delay=2), obs_std=obs_scale(54))
+    assert [tuple(l.weight.shape) for l in agent.critic2.net] == [(128, 58), (256, 128), (64, 256), (1, 64)]
+    assert not torch.equal(agent.critic.net[0].weight, agent.critic2.net[0].weight)   # independent inits
+    rng = np.random.default_rng(5)
+    s, a, r, s2, d, _ = _batch(rng)
+    r_t, s2_t, d_t, k_t = (torch.from_numpy(x) for x in (r, s2, d, np.ones(8, np.float32)))
+    with torch.no_grad():
+        a2 = agent.actor_target(s2_t)
+        q1, q2 = agent.critic_target(s2_t, a2), agent.critic2_target(s2_t, a2)
+        agent.critic2_target.net[-1].bias += 5.0      # the second target now the larger one
+        q2 = q2 + 5.0
+    y = agent.target(r_t, s2_t, d_t, k_t)
+    torch.testing.assert_close(y, r_t + 0.98 * torch.minimum(q1, q2))
+    assert torch.all(torch.minimum(q1, q2) == q1)
+    with torch.no_grad():
+        agent.critic2_target.net[-1].bias -= 10.0     # ... and now the smaller one
+    torch.testing.assert_close(agent.target(r_t, s2_t, d_t, k_t), r_t + 0.98 * (q2 - 10.0))
+    # Policy delay 2: update 0 moves the actor and the targets, update 1 only the critics.
+    w0, t0, ct0 = (agent.actor.net[0].weight.clone(), agent.actor_target.net[0].weight.clone(),
+                   agent.critic2_target.net[0].weight.clone())
+    agent.update(_batch(rng))
+    w1, t1, ct1 = (agent.actor.net[0].weight.clone(), agent.actor_target.net[0].weight.clone(),
+                   agent.critic2_target.net[0].weight.clone())
+    assert not torch.equal(w0, w1) and not torch.equal(t0, t1) and not torch.equal(ct0, ct1)
+    c2 = agent.critic2.net[0].weight.clone()
+    agent.update(_batch(rng))
+    assert torch.equal(agent.actor.net[0].weight, w1) and torch.equal(agent.actor_target.net[0].weight, t1)
+    assert torch.equal(agent.critic2_target.net[0].weight, ct1)
+    assert not torch.equal(agent.critic2.net[0].weight, c2)          # both critics learn every update
+    # Target smoothing: the noise is clipped, so y stays within the clip's reach.
+    sm = DDPG(54, DDPGConfig(target_noise=10.0, target_noise_clip=0.0))
+    torch.testing.assert_close(sm.target(r_t, s2_t, d_t, k_t),
+                               r_t + 0.98 * sm.critic_target(s2_t, sm.actor_target(s2_t)).detach())
+    sm = DDPG(54, DDPGConfig(target_noise=0.5))
+    assert not torch.equal(sm.target(r_t, s2_t, d_t, k_t), sm.target(r_t, s2_t, d_t, k_t))
+    # n-step rows bootstrap with gamma^k; a terminated row with none.
+    k3 = torch.full((8,), 3.0)
+    base = sm.config
+    plain = DDPG(54, DDPGConfig())
+    q = plain.critic_target(s2_t, plain.actor_target(s2_t)).detach()
+    torch.testing.assert_close(plain.target(r_t, s2_t, d_t, k3), r_t + 0.98 ** 3 * q)
+    torch.testing.assert_close(plain.target(r_t, s2_t, torch.ones(8), k3), r_t)
+    assert base.n_step == 1 and not DDPGConfig().twin_critics and DDPGConfig().policy_delay == 1
+    with pytest.raises(ValueError, match="n_step"):
+        DDPGConfig(n_step=0)
+    with pytest.raises(ValueError, match="policy_delay"):
+        DDPGConfig(policy_delay=0)
+
+
+def test_grad_clip_bounds_the_step():
+    """grad_clip (ours): with clip 1e-6 and plain SGD-sized steps from Adam
+    the change is the same (Adam normalises), so check the clipped gradient
+    itself: after backward + clip the total norm is at most the clip."""
+    torch.manual_seed(6)
+    agent = DDPG(54, DDPGConfig(grad_clip=1e-3))
+    seen = []
+    orig = torch.optim.Adam.step
+
+    def spy(opt, *a, **k):
+        seen.append(float(torch.sqrt(sum((p.grad ** 2).sum() for g in opt.param_groups for p in g["params"]
+                                         if p.grad is not None))))
+        return orig(opt, *a, **k)
+
+    torch.optim.Adam.step = spy
+    try:
+        rng = np.random.default_rng(7)
+        b = _batch(rng)
+        agent.update((b[0] * 30, b[1], b[2] * 100, b[3], b[4], b[5]))
+        free = DDPG(54, DDPGConfig())
+        seen_free = len(seen)
+        free.update((b[0] * 30, b[1], b[2] * 100, b[3], b[4], b[5]))
+    finally:
+        torch.optim.Adam.step = orig
+    assert len(seen) == 4 and all(n <= 1e-3 * (1 + 1e-4) for n in seen[:seen_free])
+    assert max(seen[seen_free:]) > 1e-2    # the same batch unclipped: far larger
+
+
+def test_n_step_returns_arithmetic():
+    """NStep (ours): R = r_t + g r_t+1 + g^2 r_t+2, s' = s_t+3, k = 3; a
+    terminated world stops its sums (done = 1); flush bootstraps the last
+    steps' partial sums from the episode's last state."""
+    g, n = 0.5, 3
+    ns = NStep(n, g)
+    obs = [np.full((4, 2), float(t), np.float32) for t in range(6)]
+    act = np.zeros((4, 4), np.float32)
+    rew = [np.array([1, 2, 3, 4], np.float32) * (t + 1) for t in range(5)]
+    mask = np.ones(4, bool)
+    zero = np.zeros(4, np.float32)
+    assert ns.push(obs[0], act, rew[0], zero, mask, obs[1]) == []
+    assert ns.push(obs[1], act, rew[1], zero, mask, obs[2]) == []
+    done = np.array([0, 0, 1, 1], np.float32)         # slots 2, 3 (their world) terminate at step 2
+    (o, a, R, s2, d, k), = ns.push(obs[2], act, rew[2], done, mask, obs[3])
+    base = np.array([1, 2, 3, 4], np.float64)
+    np.testing.assert_allclose(R, base * (1 + g * 2 + g * g * 3))
+    np.testing.assert_array_equal(o, obs[0]) and np.testing.assert_array_equal(s2, obs[3])
+    np.testing.assert_array_equal(k, [3, 3, 3, 3]) and np.testing.assert_array_equal(d, [0, 0, 1, 1])
+    alive = np.array([True, True, False, False])
+    (o, a, R, s2, d, k), = ns.push(obs[3], act, rew[3], zero, alive, obs[4])
+    # Step 1's sums: slots 0, 1 run on; slots 2, 3 stopped at their termination (2 rewards, done).
+    np.testing.assert_allclose(R, [2 + g * 3 + g * g * 4, 4 + g * 6 + g * g * 8, 6 + g * 9, 8 + g * 12])
+    np.testing.assert_array_equal(k, [3, 3, 2, 2]) and np.testing.assert_array_equal(d, [0, 0, 1, 1])
+    rows = ns.flush(obs[4])                            # steps 2 (2 rewards) and 3 (1 reward, alive only)
+    assert len(rows) == 2 and ns.pending == []
+    np.testing.assert_allclose(rows[0][2], [3 + g * 4, 6 + g * 8, 9, 12])
+    np.testing.assert_array_equal(rows[0][5], [2, 2, 1, 1])
+    assert rows[1][0].shape == (2, 2) and np.allclose(rows[1][2], [4, 8]) and np.all(rows[1][5] == 1)
+    np.testing.assert_array_equal(rows[1][3], obs[4][:2])
+
+
+def test_n_step_and_shaping_reach_the_buffer(ctx):
+    """In the trainer: n-step rows carry k; every row of a non-terminating
+    episode has k = n except the last n - 1 steps (k = n-1 ... 1); the
+    shaping adds beta (d - gamma d') to a 1-step row's reward."""
+    tc, dc = tiny(rag=False, max_steps=6, leader_shaping=2.0)
+    plain_tc, _ = tiny(rag=False, max_steps=6)
+    dc.n_step = 3
+    t = Trainer(ctx, tc, dc)
+    try:
+        t.train_episode()
+        ks = t.buffer.steps[t.buffer.stamp >= 0]
+        assert sorted(np.unique(ks, return_counts=True)[1].tolist()) == [8, 8, 32] and set(ks) == {1, 2, 3}
+    finally:
+        t.close()
+    # A batch larger than the episode's 48 rows: no update, so both runs take the same actions.
+    a = Trainer(ctx, tc, DDPGConfig(buffer_size=100, batch_size=64))
+    b = Trainer(ctx, plain_tc, DDPGConfig(buffer_size=100, batch_size=64))
+    try:
+        a.train_episode()
+        b.train_episode()
+        live = b.buffer.stamp >= 0
+        np.testing.assert_array_equal(a.buffer.obs, b.buffer.obs)    # the same actions and states
+        shaped = b.buffer.rew + 2.0 * (b.buffer.obs[:, 7] - 0.98 * b.buffer.next_obs[:, 7])
+        np.testing.assert_allclose(a.buffer.rew[live], shaped[live], rtol=1e-5, atol=1e-5)
+        assert not np.allclose(a.buffer.rew[live], b.buffer.rew[live])
+    finally:
+        a.close()
+        b.close()
+    # reward_floor clips the env reward from below before learning.
+    floor = float(np.median(b.buffer.rew[live]))
+    fc, _ = tiny(rag=False, max_steps=6, reward_floor=floor)
+    f = Trainer(ctx, fc, DDPGConfig(buffer_size=100, batch_size=64))
+    try:
+        f.train_episode()
+        np.testing.assert_array_equal(f.buffer.rew[live], np.maximum(b.buffer.rew[live], np.float32(floor)))
+        assert (f.buffer.rew[live] == np.float32(floor)).sum() >= live.sum() // 2
+    finally:
+        f.close()
+
+
+def test_replay_buffer_partial_selection_equals_full_sort():
+    """_oldest's partial selection picks the same slots in the same order as
+    the full stable sort it replaced."""
+    rng = np.random.default_rng(8)
+    b = ReplayBuffer(50, 3, max_protected_fraction=0.6)
+    for i in range(40):
+        b.add(*_rows(int(rng.integers(1, 9)), 1000 * i), protect=bool(rng.integers(0, 2)))
+        if i % 13 == 12:
+            b.clear_protection()
+        for n in (1, 3, 7, 60):
+            for sel in (np.flatnonzero(~b.protected & (b.stamp >= 0)), np.flatnonzero(b.protected)):
+                ref = sel[np.argsort(b.stamp[sel], kind="stable")][:n]
+                np.testing.assert_array_equal(b._oldest(sel, n), ref)
+
+
 def _rows(n, start=0, d=3):
     v = np.arange(start, start + n, dtype=np.float32)
     return (np.repeat(v[:, None], d, 1), np.repeat(v[:, None], 4, 1), v, v[:, None].repeat(d, 1), 0 * v)
@@ -141,9 +310,9 @@ def test_replay_buffer_protection_flags():
     assert b.add(*_rows(10, 500), protect=True) == 10 and b.protected.all()
     assert b.add(*_rows(3, 600), protect=False) == 0
     rng = np.random.default_rng(1)
-    s, a, r, s2, d, f = b.sample(rng, 5)
+    s, a, r, s2, d, f, k = b.sample(rng, 5)
     assert s.shape == (5, 3) and a.shape == (5, 4) and r.shape == (5,) and s2.shape == (5, 3)
-    assert f.dtype == np.float32 and np.all(f == 1)
+    assert f.dtype == np.float32 and np.all(f == 1) and np.all(k == 1)   # one reward per row unless n-step
 
 
 def test_replay_buffer_protected_cap():
@@ -220,6 +389,26 @@ def test_resumed_training_equals_uninterrupted(ctx, tmp_path):
     finally:
         whole.close()
         resumed.close()
+    # The same with the TD3 options and n-step returns: their state (second
+    # critic, its target, the rows' k) is in the checkpoint too.
+    tc, dc = tiny(rag=True, leader_shaping=1.0)
+    dc = DDPGConfig(buffer_size=100, batch_size=16, twin_critics=True, target_noise=0.2, policy_delay=2, n_step=3)
+    whole = Trainer(ctx, tc, dc)
+    whole.train(episodes=4)
+    part = Trainer(ctx, tc, dc)
+    part.train(episodes=3, checkpoint=ckpt)
+    part.close()
+    resumed = Trainer.load(ctx, ckpt)
+    resumed.train(episodes=4)
+    try:
+        _same_state(whole, resumed)
+        for k in ("critic2", "critic2_target"):
+            for name, v in getattr(whole.agent, k).state_dict().items():
+                assert torch.equal(v, getattr(resumed.agent, k).state_dict()[name]), f"{k}.{name}"
+        assert np.array_equal(whole.buffer.steps, resumed.buffer.steps) and set(whole.buffer.steps) == {1, 2, 3}
+    finally:
+        whole.close()
+        resumed.close()
     (tmp_path / "junk.ckpt").write_bytes(b"not a checkpoint")
     with pytest.raises(Exception):
         Trainer.load(ctx, str(tmp_path / "junk.ckpt"))
@@ -265,13 +454,48 @@ def test_cli_trains_resumes_and_exports(tmp_path):
     base = [sys.executable, "-m", "swarmcl.rl", "train", "--worlds", "2", "--agents", "3", "--max-steps", "8",
             "--episodes-per-leader", "2", "--buffer-size", "64", "--batch-size", "8", "--checkpoint", str(ckpt),
             "--quiet"]
-    subprocess.run(base + ["--episodes", "2"], env=env, check=True, timeout=120)
+    subprocess.run(base + ["--episodes", "2", "--env", "w_leader=9", "--twin-critics", "--n-step", "2",
+                           "--policy-delay", "2", "--target-noise", "0.1", "--leader-shaping", "1"],
+                   env=env, check=True, timeout=120)
     r = subprocess.run(base + ["--resume", "--episodes", "3", "--export", str(model), "--json", str(out)],
                        env=env, capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stderr
     rec = json.loads(out.read_text())
     assert len(rec["episodes"]) == 3 and [e["rag"] for e in rec["episodes"]] == [True, False, True]
+    assert rec["train"]["env"] == {"w_leader": 9.0} and rec["train"]["leader_shaping"] == 1.0
+    assert (rec["ddpg"]["twin_critics"], rec["ddpg"]["n_step"], rec["ddpg"]["policy_delay"]) == (True, 2, 2)
     assert load_policy(model)["metadata"]["swarmcl.format"] == "policy-mlp/1"
     r = subprocess.run(base[:4] + ["--resume", "--checkpoint", str(tmp_path / "missing.ckpt"), "--episodes", "1"],
                        env=env, capture_output=True, text=True, timeout=120)
     assert r.returncode == 2 and "--resume needs an existing --checkpoint" in r.stderr
+    r = subprocess.run(base[:4] + ["--episodes", "1", "--env", "w_leader"], env=env, capture_output=True, text=True,
+                       timeout=120)
+    assert r.returncode != 0 and "--env expects KEY=VALUE" in r.stderr
+
+
+def test_kept_ddpg_actor_follows_a_touring_leader_in_the_library(ctx):
+    """models/policy_roaming_ddpg.safetensors (docs/rl-swarm.md, "The learning
+    demonstration") run by the library's policy model on 100 followers: they
+    stay with a leader touring ~100 m (the untrained or collapsed actors of
+    the first attempts end 12-30 away)."""
+    import swarmcl
+
+    path = REPO / "models/policy_roaming_ddpg.safetensors"
+    assert load_policy(path)["metadata"]["swarmcl.trained_by"].startswith("ddpg+rag")
+    n = 100
+    with swarmcl.Swarm(ctx, agent_count=n, domain=((-60, -60, -30), (60, 60, 30)), interaction_radius=18.5,
+                       dt=0.1, seed=3) as s:
+        rng = np.random.default_rng(3)
+        s.write_positions(rng.normal(0, 4, (n, 3)).astype(np.float32) + np.float32([-8, 0, 0]))
+        s.write_velocities(np.tile(np.float32([0.5, 0, 0]), (n, 1)))
+        s.set_policy_model(swarmcl.PolicyModel(weights=str(path), leader_mode="tour", leader_speed=0.6,
+                                               waypoints=[(25, 0, 0, 0.8), (25, 25, 3, 1.0), (0, 25, 0, 0.8),
+                                                          (0, 0, 0, 0.7)]))
+        far = []
+        for _ in range(20):
+            s.step(25)
+            p = s.read_positions()
+            lp, _, _ = s.policy_leader()
+            assert np.isfinite(p).all()
+            far.append(float(np.linalg.norm(p - lp, axis=1).mean()))
+    assert max(far) < 12.0 and np.mean(far) < 10.0, far   # measured: mean 8.7, max 10.1

@@ -35,6 +35,21 @@ def _parser() -> argparse.ArgumentParser:
     t.add_argument("--lr-critic", type=float, default=1e-3)
     t.add_argument("--actor-delay", type=int, default=0)
     t.add_argument("--bc-weight", type=float, default=0.0)
+    t.add_argument("--noise", type=float, default=0.05, help="exploration noise std (Table 1: 0.05)")
+    t.add_argument("--gamma", type=float, default=0.98, help="discount factor (Table 1: 0.98)")
+    t.add_argument("--twin-critics", action="store_true", help="TD3's clipped double Q (ours)")
+    t.add_argument("--target-noise", type=float, default=0.0, help="TD3's target policy smoothing std (ours)")
+    t.add_argument("--target-noise-clip", type=float, default=0.5)
+    t.add_argument("--policy-delay", type=int, default=1, help="actor and targets every d-th update (TD3: 2)")
+    t.add_argument("--n-step", type=int, default=1, help="n-step returns (ours; 1 = Eq. 5)")
+    t.add_argument("--grad-clip", type=float, default=0.0, help="gradient norm clip per network (ours; 0 = off)")
+    t.add_argument("--updates-per-step", type=int, default=1, help="DDPG updates per env step (Algorithm 1: 1)")
+    t.add_argument("--leader-shaping", type=float, default=0.0,
+                   help="potential-based shaping -beta * leader distance of the training reward (ours; 0 = off)")
+    t.add_argument("--reward-floor", type=float, default=None,
+                   help="clip each step's env reward from below at this for learning (ours; default off)")
+    t.add_argument("--env", action="append", default=[], metavar="KEY=VALUE",
+                   help="an RlEnv parameter (e.g. w_leader=20, l_leader=0.05); repeatable")
     t.add_argument("--checkpoint", help="checkpoint file (written at the end and every --checkpoint-every episodes)")
     t.add_argument("--checkpoint-every", type=int, default=0)
     t.add_argument("--resume", action="store_true", help="continue from --checkpoint")
@@ -44,6 +59,20 @@ def _parser() -> argparse.ArgumentParser:
     t.add_argument("--device", help="OpenCL device (index or name part)")
     t.add_argument("--quiet", action="store_true")
     return p
+
+
+def _env_params(items) -> dict:
+    """--env KEY=VALUE pairs as RlEnv keywords (numbers; RlEnv names a bad key)."""
+    out = {}
+    for item in items:
+        key, sep, value = item.partition("=")
+        if not sep or not key:
+            raise SystemExit(f"swarmcl.rl: --env expects KEY=VALUE, got {item!r}")
+        try:
+            out[key] = int(value) if key == "max_steps" else float(value)
+        except ValueError:
+            raise SystemExit(f"swarmcl.rl: --env {key}: not a number: {value!r}") from None
+    return out
 
 
 def main(argv=None) -> int:
@@ -65,12 +94,16 @@ def main(argv=None) -> int:
         else:
             tc = TrainConfig(worlds=args.worlds, agents=args.agents, scenario=args.scenario, max_steps=args.max_steps,
                              episodes_per_leader=args.episodes_per_leader, rag=not args.no_rag, efs=not args.no_efs,
-                             seed=args.seed)
+                             seed=args.seed, updates_per_step=args.updates_per_step,
+                             leader_shaping=args.leader_shaping, reward_floor=args.reward_floor, env=_env_params(args.env))
             dc = DDPGConfig(buffer_size=args.buffer_size, batch_size=args.batch_size,
                             max_protected_fraction=args.max_protected_fraction, reward_scale=args.reward_scale,
                             preact_penalty=args.preact_penalty, tau=args.tau,
                             actor_delay=args.actor_delay, bc_weight=args.bc_weight,
-                            lr_actor=args.lr_actor, lr_critic=args.lr_critic)
+                            lr_actor=args.lr_actor, lr_critic=args.lr_critic, noise=args.noise, gamma=args.gamma,
+                            twin_critics=args.twin_critics, target_noise=args.target_noise,
+                            target_noise_clip=args.target_noise_clip, policy_delay=args.policy_delay,
+                            n_step=args.n_step, grad_clip=args.grad_clip)
             trainer = Trainer(ctx, tc, dc)
         try:
             trainer.train(episodes=args.episodes, budget_seconds=args.budget_seconds, eval_every=args.eval_every,

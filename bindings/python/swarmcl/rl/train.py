@@ -52,11 +52,60 @@ class TrainConfig:
     leader_turn: float = 0.07
     leader_du: float = 0.002
     updates_per_step: int = 1
+    # Ours (0: off, the paper's reward): potential-based shaping of the
+    # training reward (Ng, Harada & Russell 1999), Phi(s) = -leader_shaping
+    # * s_lead^d (observation 7, the distance to the leader): r + gamma
+    # (1 - done) Phi(s') - Phi(s).  It leaves the optimal policy unchanged
+    # and pays each step's approach to the leader at once instead of through
+    # Eq. 17's slow exp(-lambda d).  Evaluations report the env's reward.
+    leader_shaping: float = 0.0
+    # Ours (None: off): each step's env reward is clipped from below at this
+    # for learning (before the shaping).  Eq. 19's -(d - d*)^2 is unbounded:
+    # a follower 30 away from its neighbours gets ~ -600, which swamps every
+    # other term in the critic's targets (reward clipping as in DQN).
+    reward_floor: Optional[float] = None
     eval_seed: int = 987654321     # evaluation episodes: fixed start and leader plan
     env: dict = field(default_factory=dict)  # extra RlEnv parameters
 
     def to_dict(self) -> dict:
         return asdict(self)
+
+
+class NStep:
+    """n-step returns over synchronous steps of all W*N slots (ours; off by
+    default).  The transition of step t is stored when step t + n - 1 is
+    done: R = sum_{i<k} gamma^i r_{t+i}, s' = s_{t+k}, k = n, fewer when
+    the world terminated first (done = 1, the sum stops there) or the
+    episode ended (flush: k = steps left, bootstrapped from the last state).
+    The update's target is R + gamma^k (1 - done) Q'(s', pi'(s'))."""
+
+    def __init__(self, n: int, gamma: float):
+        self.n, self.gamma = int(n), float(gamma)
+        self.pending: list = []   # [obs, act, mask, R (float64), discount, k, done], oldest first
+
+    def push(self, obs, act, rew, done, mask, next_obs) -> list:
+        """Adds step t's rewards to every pending sum; returns the rows
+        (obs, act, R, s', done, k) of the step that now has n rewards."""
+        for p in self.pending:
+            live = p[6] == 0          # slots whose world had not terminated
+            p[3] += np.where(live, p[4] * rew, 0.0)
+            p[6] = np.where(live, done, p[6])
+            p[5] += live
+            p[4] = np.where(live, p[4] * self.gamma, p[4])
+        self.pending.append([obs, act, mask, rew.astype(np.float64), np.full(rew.shape, self.gamma), np.ones(rew.shape),
+                             done.astype(np.float32)])
+        return [self._row(self.pending.pop(0), next_obs)] if len(self.pending) == self.n else []
+
+    def flush(self, next_obs) -> list:
+        rows = [self._row(p, next_obs) for p in self.pending]
+        self.pending = []
+        return rows
+
+    @staticmethod
+    def _row(p, next_obs) -> tuple:
+        obs, act, mask, R, _, k, done = p
+        return (obs[mask], act[mask], R[mask].astype(np.float32), next_obs[mask], done[mask],
+                k[mask].astype(np.float32))
 
 
 def _u64(*parts: int) -> int:
@@ -109,6 +158,8 @@ class Trainer:
         alive = np.ones(c.worlds, bool)
         total, count, dist_sum, dist_n, steps = 0.0, 0, 0.0, 0, 0
         noise = self.agent.config.noise
+        n = self.agent.config.n_step
+        nstep = NStep(n, self.agent.config.gamma) if learn and n > 1 else None
         for t in range(c.max_steps):
             if plan is not None and t % c.leader_turn_every == 0:
                 env.set_leader_controls(plan[t // c.leader_turn_every])
@@ -125,7 +176,15 @@ class Trainer:
             mask = np.repeat(alive, N)
             if learn:
                 done = np.repeat(term, N).astype(np.float32)
-                self.buffer.add(obs[mask], a_net[mask], rew[mask], obs2[mask], done[mask], protect)
+                r_learn = rew if c.reward_floor is None else np.maximum(rew, np.float32(c.reward_floor))
+                if c.leader_shaping:
+                    g = self.agent.config.gamma
+                    r_learn = (r_learn + c.leader_shaping * (obs[:, 7] - g * (1.0 - done) * obs2[:, 7])).astype(np.float32)
+                if nstep is None:   # Algorithm 1 line 18 as printed
+                    self.buffer.add(obs[mask], a_net[mask], r_learn[mask], obs2[mask], done[mask], protect)
+                else:
+                    for row in nstep.push(obs, a_net, r_learn, done, mask, obs2):
+                        self.buffer.add(*row[:5], protect, steps=row[5])
                 d = self.agent.config
                 if len(self.buffer) >= d.batch_size:
                     for _ in range(c.updates_per_step):
@@ -144,6 +203,9 @@ class Trainer:
             obs = obs2
             if not alive.any():
                 break
+        if nstep is not None:   # the episode's last n - 1 steps: partial returns, bootstrapped from its end
+            for row in nstep.flush(obs):
+                self.buffer.add(*row[:5], protect, steps=row[5])
         out = {"mean_reward": total / max(count, 1), "steps": steps}
         if track_distance:
             out["mean_leader_distance"] = dist_sum / max(dist_n, 1)
