@@ -4,8 +4,8 @@ drl-swarm-animation-rule-based-action-generator, §IV-B to §IV-D):
 
 * control accuracy (Table 2): 90° and 180° turns of a joystick leader to the
   top, bottom, left and right, 200 followers, the average speed
-  differential to the leader, rule-based (RAG actions) against a learned
-  policy;
+  differential to the leader, rule-based (RAG actions) against the learned
+  policies (the shipped behaviour-cloning actor and the DDPG actor);
 * the three navigation scenarios (Table 3): quadrilateral, stairway, maze;
 * swarm quality (Table 4, Fig. 10): cohesion / repulsion occurrences and the
   inter-agent distance mu / sigma (Eq. 20-21) over time;
@@ -13,8 +13,9 @@ drl-swarm-animation-rule-based-action-generator, §IV-B to §IV-D):
   EFS, run by the library's policy model at 200, 600, 1,000 and 100,000
   agents, average reward per agent-step (Eq. 14-19).
 
-Writes docs/rl-evaluation.md (our tables beside the paper's), two PNGs under
-docs/images/ and bench/results/rl/evaluation.json.
+Writes docs/rl-evaluation.md (our tables beside the paper's), three PNGs
+under docs/images/, the scenario meshes under examples/meshes/ and
+bench/results/rl/evaluation.json.
 
   PYTHONPATH=bindings/python SWARMCL_BUILD_DIR=$PWD/build python scripts/rl_evaluation.py
 """
@@ -48,6 +49,7 @@ PAPER_T4 = {("90", "top"): (103.0, 70.3, 61.7, 68.1), ("90", "bottom"): (99.7, 4
             ("180", "top"): (150.6, 129.3, 78.9, 84.6), ("180", "bottom"): (146.1, 57.0, 97.6, 111.4),
             ("180", "left"): (161.7, 85.5, 96.6, 101.6), ("180", "right"): (149.1, 46.3, 84.2, 82.7)}
 UP = np.array([0.0, 0.0, 1.0])
+COLORS = ("tab:orange", "tab:blue", "tab:green", "tab:purple")
 
 
 def turn_targets(q0: np.ndarray, direction: str) -> np.ndarray:
@@ -59,8 +61,13 @@ def turn_targets(q0: np.ndarray, direction: str) -> np.ndarray:
             "bottom": np.tile(-UP, (len(q0), 1))}[direction]
 
 
-def actions(env: RlEnv, obs: np.ndarray, method: str, policy) -> np.ndarray:
-    return env.rag_actions() if method == "rule" else policy_actions(policy, obs)
+def actions(env: RlEnv, obs: np.ndarray, policy) -> np.ndarray:
+    """The RAG's actions (rule-based, policy None) or the policy's."""
+    return env.rag_actions() if policy is None else policy_actions(policy, obs)
+
+
+def label(method: str) -> str:
+    return "rule-based" if method == "rule" else f"`{method}`"
 
 
 def world_metrics(pos: np.ndarray, speeds: np.ndarray, leader_pos: np.ndarray, leader_speed: float,
@@ -71,12 +78,12 @@ def world_metrics(pos: np.ndarray, speeds: np.ndarray, leader_pos: np.ndarray, l
             "lead": float(np.linalg.norm(pos - leader_pos[None, :], axis=1).mean())}
 
 
-def control_test(ctx, method, policy, angle, direction, args) -> dict:
+def control_test(ctx, policy, angle, direction, args) -> dict:
     """One row of Tables 2 and 4: `worlds` recordings (worlds with their own
     starts) of `agents` followers; a straight warm-up, then the turn; the
     metrics over the `record` steps from the turn's start."""
     W, N = args.worlds, args.agents
-    env = RlEnv(ctx, W, N, scenario="roaming", max_steps=10**6, efs=method == "rule" or policy["efs"])
+    env = RlEnv(ctx, W, N, scenario="roaming", max_steps=10**6, efs=policy is None or policy["efs"])
     try:
         obs = env.reset(args.seed)
         r_coh = env.params["r_coh"]
@@ -97,7 +104,7 @@ def control_test(ctx, method, policy, angle, direction, args) -> dict:
                 ctl = np.zeros((W, 4), np.float32)
                 ctl[:, 1:] = goal - ql
                 env.set_leader_controls(ctl)
-            obs, _, _, _ = env.step(actions(env, obs, method, policy))
+            obs, _, _, _ = env.step(actions(env, obs, policy))
             st = env.read_state()
             pos, vel, lvel = st["positions"][:, :3], st["velocities"], st["leader_velocities"]
             if t % args.series_every == 0 or t >= args.warmup:
@@ -121,12 +128,12 @@ def control_test(ctx, method, policy, angle, direction, args) -> dict:
         env.close()
 
 
-def navigation_test(ctx, method, policy, scenario, args) -> dict:
+def navigation_test(ctx, policy, scenario, args) -> dict:
     """One row of Table 3: the navigation leader's whole path; metrics per
     step over the worlds not yet finished."""
     W, N = args.nav_worlds, args.agents
     env = RlEnv(ctx, W, N, scenario=scenario, max_steps=args.nav_max_steps,
-                efs=method == "rule" or policy["efs"])
+                efs=policy is None or policy["efs"])
     try:
         obs = env.reset(args.seed)
         layout = env.layout()
@@ -135,7 +142,7 @@ def navigation_test(ctx, method, policy, scenario, args) -> dict:
         track, snapshots = [], []  # world 0, for the figure
         steps = 0
         while not done.all() and steps < args.nav_max_steps:
-            obs, _, term, trunc = env.step(actions(env, obs, method, policy))
+            obs, _, term, trunc = env.step(actions(env, obs, policy))
             steps += 1
             st = env.read_state()
             track.append(st["leader_positions"][0, :3].copy())
@@ -211,13 +218,13 @@ def plot_series(control: dict, path: Path) -> None:
     import matplotlib.pyplot as plt
 
     fig, axes = plt.subplots(1, 2, figsize=(11, 4))
-    for method, color in (("rule", "tab:orange"), ("policy", "tab:blue")):
+    for method, color in zip(control, COLORS):
         for key, style in (("90 left", "-"), ("180 top", "--")):
             ser = control[method][key]["series"]
             t = [e["t"] for e in ser]
-            label = f"{'rule-based' if method == 'rule' else 'learned policy'}, {key.replace(' ', '° ')}"
-            axes[0].plot(t, [e["mu"] for e in ser], style, color=color, label=label)
-            axes[1].plot(t, [e["sigma"] for e in ser], style, color=color, label=label)
+            name = f"{label(method).strip('`')}, {key.replace(' ', '° ')}"
+            axes[0].plot(t, [e["mu"] for e in ser], style, color=color, label=name)
+            axes[1].plot(t, [e["sigma"] for e in ser], style, color=color, label=name)
     for ax, name in zip(axes, ("mean inter-agent distance μ (Eq. 20)", "standard deviation σ (Eq. 21)")):
         ax.set_xlabel("time (s); the turn starts at 15 s")
         ax.set_ylabel(name)
@@ -239,8 +246,8 @@ def plot_scenarios(nav: dict, path: Path) -> None:
     from matplotlib.patches import Rectangle
 
     names = list(PAPER_T3)
-    fig, axes = plt.subplots(2, len(names), figsize=(5 * len(names), 8))
-    for row, method in enumerate(("rule", "policy")):
+    fig, axes = plt.subplots(len(nav), len(names), figsize=(5 * len(names), 4 * len(nav)), squeeze=False)
+    for row, (method, color) in enumerate(zip(nav, COLORS)):
         for col, name in enumerate(names):
             ax, fig_data = axes[row, col], nav[method][name]["_figure"]
             a, b = (0, 2) if name == "stairway" else (0, 1)  # side view of the stairs, top view else
@@ -252,9 +259,9 @@ def plot_scenarios(nav: dict, path: Path) -> None:
             tr = fig_data["track"]
             ax.plot(tr[:, a], tr[:, b], "k-", lw=1, label="leader")
             for snap in fig_data["snapshots"]:
-                ax.plot(snap[:, a], snap[:, b], ".", ms=1.5, color="tab:orange" if method == "rule" else "tab:blue")
+                ax.plot(snap[:, a], snap[:, b], ".", ms=1.5, color=color)
             ax.set_aspect("equal")
-            ax.set_title(f"{name}, {'rule-based' if method == 'rule' else 'learned policy'}")
+            ax.set_title(f"{name}, {label(method).strip('`')}")
             ax.set_xlabel("x")
             ax.set_ylabel("z" if name == "stairway" else "y")
     axes[0, 0].legend(fontsize=8)
@@ -288,55 +295,62 @@ def plot_scalability(scal: dict, path: Path) -> None:
 def write_markdown(res: dict, path: Path) -> None:
     c, nav, sc = res["control"], res["navigation"], res["scalability"]
     a = res["args"]
+    learned = [m for m in c if m != "rule"]
     L = ["# Evaluation of the DRL swarm against the paper's §IV (issue 15 item 8)", "",
          f"Written by `scripts/rl_evaluation.py` on {res['date']} ({res['cpu']}, {res['device']}); "
-         f"every number is in `bench/results/rl/evaluation.json`.  The learned policy is "
-         f"`{res['policy']}` ({res['policy_trained_by']}); the rule-based method feeds the RAG's actions "
-         "(Eq. 8-10) to the same environment.  Definitions and choices: docs/rl-swarm.md, \"Evaluation (§IV)\".", "",
-         f"## Control accuracy (Table 2): average speed differential |u_i − u_leader|", "",
-         f"{a['worlds']} recordings per test (worlds with their own starts: leader speed in [0.5, 1], "
-         f"heading, follower ball), {a['agents']} followers each; {a['warmup'] * 0.1:g} s straight, then the turn "
-         f"(4°/step: 2.25 s for 90°, 4.5 s for 180°), measured over the {a['record'] * 0.1:g} s from the turn's start.", "",
-         "| turn | direction | rule-based | learned policy | paper: rule-based | paper: proposed | mean distance to the leader (rule / policy) |",
-         "|---|---|---|---|---|---|---|"]
-    better = 0
+         "every number is in `bench/results/rl/evaluation.json`.  Rule-based: the RAG's actions (Eq. 8-10) fed "
+         "to the environment.  Learned policies (files in `models/`):", ""]
+    L += [f"* {label(m)}: {res['policies'][m]}" for m in learned]
+    L += ["", "Definitions and choices: docs/rl-swarm.md, \"Evaluation (§IV)\".", "",
+          "## Control accuracy (Table 2): average speed differential |u_i − u_leader|", "",
+          f"{a['worlds']} recordings per test (worlds with their own starts: leader speed in [0.5, 1], "
+          f"heading, follower ball), {a['agents']} followers each; {a['warmup'] * 0.1:g} s straight, then the turn "
+          f"(4°/step: 2.25 s for 90°, 4.5 s for 180°), measured over the {a['record'] * 0.1:g} s from the turn's "
+          "start; then the mean distance to the leader in the same frames.", "",
+          "| turn | direction | " + " | ".join(label(m) for m in c) + " | paper: rule-based | paper: proposed | "
+          "distance to the leader (" + " / ".join(label(m) for m in c) + ") |",
+          "|---|---|" + "---|" * (len(c) + 3)]
+    better = {m: 0 for m in learned}
     for key, (pr, pp) in PAPER_T2.items():
         k = " ".join(key)
-        r, p = c["rule"][k]["speed_diff"], c["policy"][k]["speed_diff"]
-        better += p < r
-        L.append(f"| {key[0]}° | {key[1]} | {r:.4f} | {p:.4f} | {pr} | {pp} | "
-                 f"{c['rule'][k]['leader_distance']:.1f} / {c['policy'][k]['leader_distance']:.1f} |")
-    L += ["", f"The learned policy has the smaller differential in {better} of 8 tests "
-          f"(the paper: 8 of 8).", "",
+        for m in learned:
+            better[m] += c[m][k]["speed_diff"] < c["rule"][k]["speed_diff"]
+        L.append(f"| {key[0]}° | {key[1]} | " + " | ".join(f"{c[m][k]['speed_diff']:.4f}" for m in c) +
+                 f" | {pr} | {pp} | " + " / ".join(f"{c[m][k]['leader_distance']:.1f}" for m in c) + " |")
+    L += ["", "Tests in which a learned policy has the smaller differential than the rule-based one (the paper: "
+          "8 of 8): " + ", ".join(f"{label(m)} {better[m]} of 8" for m in learned) + ".", "",
           "## The navigation scenarios (Table 3)", "",
           f"{a['nav_worlds']} worlds of {a['agents']} followers, the whole path (until the leader passes its last "
           "waypoint); speed differential per step over the worlds not yet finished.", "",
-          "| scenario | rule-based | learned policy | paper: rule-based | paper: proposed | mean distance to the leader (rule / policy) | steps |",
-          "|---|---|---|---|---|---|---|"]
-    nbetter = 0
+          "| scenario | " + " | ".join(label(m) for m in nav) + " | paper: rule-based | paper: proposed | "
+          "distance to the leader (" + " / ".join(label(m) for m in nav) + ") | steps |",
+          "|---|" + "---|" * (len(nav) + 4)]
+    nbetter = {m: 0 for m in learned}
     for name, (pr, pp) in PAPER_T3.items():
-        r, p = nav["rule"][name], nav["policy"][name]
-        nbetter += p["speed_diff"] < r["speed_diff"]
-        L.append(f"| {name} | {r['speed_diff']:.4f} | {p['speed_diff']:.4f} | {pr} | {pp} | "
-                 f"{r['leader_distance']:.1f} / {p['leader_distance']:.1f} | {r['steps']} / {p['steps']} |")
-    L += ["", f"The learned policy has the smaller differential in {nbetter} of 3 scenarios (the paper: 3 of 3).", "",
+        for m in learned:
+            nbetter[m] += nav[m][name]["speed_diff"] < nav["rule"][name]["speed_diff"]
+        L.append(f"| {name} | " + " | ".join(f"{nav[m][name]['speed_diff']:.4f}" for m in nav) + f" | {pr} | {pp} | " +
+                 " / ".join(f"{nav[m][name]['leader_distance']:.1f}" for m in nav) + f" | {nav['rule'][name]['steps']} |")
+    L += ["", "Scenarios in which a learned policy has the smaller differential (the paper: 3 of 3): " +
+          ", ".join(f"{label(m)} {nbetter[m]} of 3" for m in learned) + ".", "",
           "![scenarios](images/rl_eval_scenarios.png)", "",
           "The leader's path (black), the waypoints (green) and world 0's followers every 20 s; the stairway "
           "from the side (x-z), the others from above (x-y).  Obstacle meshes: `examples/meshes/rl_stairway.obj`, "
           "`examples/meshes/rl_maze.obj`.", "",
           "## Swarm quality (Table 4): cohesion / repulsion occurrences", "",
-          "Agents per frame (of 200) whose repulsion vector (Eq. 8's separation term) is longer than their cohesion "
-          "vector (the attraction term), and the reverse; mean over the recorded frames and recordings.", "",
-          "| turn | direction | rule: repulsion | rule: cohesion | policy: repulsion | policy: cohesion | paper rule (rep / coh) | paper proposed (rep / coh) |",
-          "|---|---|---|---|---|---|---|---|"]
+          f"Agents per frame (of {a['agents']}) whose repulsion vector (Eq. 8's separation term) is longer than their cohesion "
+          "vector (the attraction term), and the reverse, as repulsion / cohesion; mean over the recorded frames "
+          "and recordings.", "",
+          "| turn | direction | " + " | ".join(label(m) for m in c) + " | paper: rule-based | paper: proposed |",
+          "|---|---|" + "---|" * (len(c) + 2)]
     for key, (a1, a2, a3, a4) in PAPER_T4.items():
         k = " ".join(key)
-        r, p = c["rule"][k], c["policy"][k]
-        L.append(f"| {key[0]}° | {key[1]} | {r['repulsion']:.1f} | {r['cohesion']:.1f} | {p['repulsion']:.1f} | "
-                 f"{p['cohesion']:.1f} | {a1} / {a2} | {a3} / {a4} |")
-    L += ["", "Navigation scenarios (every 10th frame): " + "; ".join(
-        f"{n}: rule {nav['rule'][n]['repulsion']:.1f} / {nav['rule'][n]['cohesion']:.1f}, "
-        f"policy {nav['policy'][n]['repulsion']:.1f} / {nav['policy'][n]['cohesion']:.1f}" for n in PAPER_T3), "",
+        L.append(f"| {key[0]}° | {key[1]} | " +
+                 " | ".join(f"{c[m][k]['repulsion']:.1f} / {c[m][k]['cohesion']:.1f}" for m in c) +
+                 f" | {a1} / {a2} | {a3} / {a4} |")
+    L += ["", "Navigation scenarios (every 10th frame, repulsion / cohesion): " + "; ".join(
+        f"{n}: " + ", ".join(f"{label(m)} {nav[m][n]['repulsion']:.1f} / {nav[m][n]['cohesion']:.1f}" for m in nav)
+        for n in PAPER_T3) + ".", "",
           "## Inter-agent distance over time (Eq. 20-21, Fig. 10)", "",
           "![inter-agent distance](images/rl_eval_interagent.png)", "",
           "## Scalability (Fig. 11)", "",
@@ -353,14 +367,13 @@ def write_markdown(res: dict, path: Path) -> None:
     efs_wins = sum(e["mean_reward"] > n["mean_reward"] for e, n in zip(sc["efs"], sc["no_efs"]))
     L += ["", "![scalability](images/rl_eval_scalability.png)", "",
           "## Summary: does the paper's ordering hold?", "",
-          f"* Control accuracy, the turns (Table 2): the learned policy has the smaller speed differential in "
-          f"{better} of 8 tests.",
-          f"* Control accuracy, the scenarios (Table 3): in {nbetter} of 3.",
-          f"* So the paper's ordering (the learned policy beats the rule-based one on control accuracy) "
-          f"{'holds' if better == 8 and nbetter == 3 else 'holds only in part'} here, for a learned policy that "
-          "imitates the rule-based generator (behaviour cloning), not the paper's DDPG actor (none of ours learns "
-          "yet: docs/rl-swarm.md, \"The learning demonstration\").",
-          f"* Scalability (Fig. 11): the EFS policy has the higher average reward at {efs_wins} of {len(sc['efs'])} "
+          "The paper's ordering: the learned policy beats the rule-based one on control accuracy (8 of 8 turns, "
+          "3 of 3 scenarios)."]
+    for m in learned:
+        holds = better[m] == 8 and nbetter[m] == 3
+        L.append(f"* {label(m)}: smaller differential in {better[m]} of 8 turns and {nbetter[m]} of 3 scenarios: "
+                 f"the ordering {'holds' if holds else 'does not hold in full'}.")
+    L += [f"* Scalability (Fig. 11): the EFS policy has the higher average reward at {efs_wins} of {len(sc['efs'])} "
           "sizes; the gap narrows with size, as the reward's Eq. 19 term (w_dist − mean (d − 4)² over all "
           "neighbours within R_coh) falls for every policy once a swarm fills the R_coh ball.", ""]
     path.write_text("\n".join(L) + "\n")
@@ -368,7 +381,10 @@ def write_markdown(res: dict, path: Path) -> None:
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--policy", type=Path, default=ROOT / "models" / "policy_roaming.safetensors")
+    ap.add_argument("--policies", type=Path, nargs="+",
+                    default=[ROOT / "models" / "policy_roaming.safetensors",
+                             ROOT / "models" / "policy_roaming_ddpg.safetensors"],
+                    help="learned policies compared with the rule-based one (each named by its file's stem)")
     ap.add_argument("--policy-efs", type=Path, default=ROOT / "models" / "eval" / "policy_bc200_efs.safetensors")
     ap.add_argument("--policy-no-efs", type=Path, default=ROOT / "models" / "eval" / "policy_bc200_noefs.safetensors")
     ap.add_argument("--worlds", type=int, default=10)
@@ -390,37 +406,40 @@ def main() -> int:
     ap.add_argument("--meshes-dir", type=Path, default=ROOT / "examples" / "meshes")
     args = ap.parse_args()
 
-    policy = load_policy(args.policy)
-    policy["efs"] = policy["metadata"].get("swarmcl.efs", "1") == "1"
+    methods = {"rule": None}
+    for path in args.policies:
+        pol = load_policy(path)
+        pol["efs"] = pol["metadata"].get("swarmcl.efs", "1") == "1"
+        methods[path.stem] = pol
     res = json.loads(args.out_json.read_text()) if args.out_json.is_file() else {}
     res.update(date=dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d"), cpu=cpu_model(),
-               args={k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items()},
-               policy=str(args.policy.resolve().relative_to(ROOT)) if ROOT in args.policy.resolve().parents else str(args.policy),
-               policy_trained_by=policy["metadata"].get("swarmcl.trained_by", "?"))
+               args={k: ([str(x) for x in v] if isinstance(v, list) and v and isinstance(v[0], Path)
+                     else str(v) if isinstance(v, Path) else v) for k, v in vars(args).items()},
+               policies={m: p["metadata"].get("swarmcl.trained_by", "?") for m, p in methods.items() if p})
     with swarmcl.Context() as ctx:
         dev = ctx.device
         res["device"] = f"{dev.platform_name} {dev.device_name}, {dev.compute_units} compute units"
         if "control" in args.parts:
             res["control"] = {}
-            for method in ("rule", "policy"):
+            for method, policy in methods.items():
                 res["control"][method] = {}
                 for angle, direction in PAPER_T2:
                     t0 = time.perf_counter()
-                    r = control_test(ctx, method, policy, angle, direction, args)
+                    r = control_test(ctx, policy, angle, direction, args)
                     res["control"][method][f"{angle} {direction}"] = r
-                    print(f"control {method:6s} {angle:>3s}° {direction:6s}: speed diff {r['speed_diff']:.4f}, "
+                    print(f"control {method:20s} {angle:>3s}° {direction:6s}: speed diff {r['speed_diff']:.4f}, "
                           f"repulsion {r['repulsion']:.1f}, cohesion {r['cohesion']:.1f}, leader distance "
                           f"{r['leader_distance']:.1f}, leader turned "
                           f"{r['leader_turned_deg']:.0f}° ({time.perf_counter() - t0:.0f} s)", flush=True)
         if "navigation" in args.parts:
             res["navigation"] = {}
-            for method in ("rule", "policy"):
+            for method, policy in methods.items():
                 res["navigation"][method] = {}
                 for name in PAPER_T3:
                     t0 = time.perf_counter()
-                    r = navigation_test(ctx, method, policy, name, args)
+                    r = navigation_test(ctx, policy, name, args)
                     res["navigation"][method][name] = r
-                    print(f"navigation {method:6s} {name:13s}: speed diff {r['speed_diff']:.4f}, leader distance "
+                    print(f"navigation {method:20s} {name:13s}: speed diff {r['speed_diff']:.4f}, leader distance "
                           f"{r['leader_distance']:.1f}, {r['steps']} steps, finished {r['finished']} "
                           f"({time.perf_counter() - t0:.0f} s)", flush=True)
             plot_scenarios(res["navigation"], args.figures_dir / "rl_eval_scenarios.png")

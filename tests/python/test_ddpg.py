@@ -480,7 +480,7 @@ def test_kept_ddpg_actor_follows_a_touring_leader_in_the_library(ctx):
     the first attempts end 12-30 away)."""
     import swarmcl
 
-    path = REPO / "models/policy_roaming_ddpg.safetensors"
+    path = swarmcl.DDPG_POLICY  # models/policy_roaming_ddpg.safetensors, installed with the package
     assert load_policy(path)["metadata"]["swarmcl.trained_by"].startswith("ddpg+rag")
     n = 100
     with swarmcl.Swarm(ctx, agent_count=n, domain=((-60, -60, -30), (60, 60, 30)), interaction_radius=18.5,

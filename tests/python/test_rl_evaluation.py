@@ -117,14 +117,15 @@ def test_the_evaluation_script_runs_every_part_small(tmp_path):
     run = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
     assert run.returncode == 0, run.stderr[-3000:]
     res = json.loads(out.read_text())
-    for method in ("rule", "policy"):
+    assert list(res["control"]) == ["rule", "policy_roaming", "policy_roaming_ddpg"]  # the default policies
+    for method in res["control"]:
         assert len(res["control"][method]) == 8 and len(res["navigation"][method]) == 3
         for r in res["control"][method].values():
             assert np.isfinite(r["speed_diff"]) and r["speed_diff"] >= 0
         assert res["control"][method]["180 left"]["leader_turned_deg"] == pytest.approx(180, abs=1)
     assert [r["agents"] for r in res["scalability"]["no_efs"]] == [30, 60]
     md = (tmp_path / "ev.md").read_text()
-    assert "| 90° | top |" in md and "| 60 |" in md
+    assert "| 90° | top |" in md and "| 60 |" in md and "`policy_roaming_ddpg`" in md
     for name in ("rl_eval_interagent.png", "rl_eval_scenarios.png", "rl_eval_scalability.png", "rl_maze.obj",
                  "rl_stairway.obj"):
         assert (tmp_path / name).stat().st_size > 0, name

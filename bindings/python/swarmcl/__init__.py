@@ -20,7 +20,7 @@ from .evaluation import METRICS, Metrics, distances, entropy_weights, evaluate, 
 from .fitting import Parameter, fit, load_ranges
 from .synthesis import mix_time_aligned, real_frames
 from .force import SHAPES, ForceModel, Keyframe
-from .policy import SHIPPED_POLICY, PolicyModel
+from .policy import DDPG_POLICY, SHIPPED_POLICY, PolicyModel
 from .path import (BoxObstacle, CylinderObstacle, Goal, MeshObstacle, ObjObstacle, PathGroup, PathInfo,
                    PathModel, SphereObstacle)
 from .path import Lamp, PathTarget
@@ -34,7 +34,7 @@ __all__ = [
     "NoiseDesc", "NoiseType", "FieldModel", "Sphere", "Box", "Plane", "DeviceInfo", "DeviceType",
     "StepStats",
     "Dataset", "EnergyModel", "EnergyWeights", "Stimulus", "StimulusKind", "TimeFormat", "write_mixed_csv",
-    "ForceModel", "Keyframe", "SHAPES", "PolicyModel", "SHIPPED_POLICY", "mix_time_aligned", "real_frames",
+    "ForceModel", "Keyframe", "SHAPES", "PolicyModel", "SHIPPED_POLICY", "DDPG_POLICY", "mix_time_aligned", "real_frames",
     "METRICS", "Metrics", "distances", "score", "entropy_weights", "evaluate", "plot_pdfs",
     "fit", "load_ranges", "Parameter",
     "PathModel", "PathGroup", "PathInfo", "PathTarget", "Lamp", "Goal", "MeshObstacle", "ObjObstacle", "BoxObstacle",

@@ -20,25 +20,29 @@ import numpy as np
 
 from ._native import ffi, lib
 
-__all__ = ["PolicyModel", "SHIPPED_POLICY"]
+__all__ = ["PolicyModel", "SHIPPED_POLICY", "DDPG_POLICY"]
 
 _DEFAULT = lib.swcl_policy_model_desc_default()
 _MODES = {"joystick": lib.SWCL_POLICY_LEADER_JOYSTICK, "navigation": lib.SWCL_POLICY_LEADER_NAVIGATION,
           "tour": lib.SWCL_POLICY_LEADER_TOUR}
 
 
-def _shipped() -> str:
-    """models/policy_roaming.safetensors: in the package, else the checkout."""
+def _shipped(name: str = "policy_roaming.safetensors") -> str:
+    """models/<name>: in the package, else the checkout."""
     here = Path(__file__).resolve().parent
-    for p in (here / "models" / "policy_roaming.safetensors", here.parents[2] / "models" / "policy_roaming.safetensors"):
+    for p in (here / "models" / name, here.parents[2] / "models" / name):
         if p.is_file():
             return str(p)
-    return str(here / "models" / "policy_roaming.safetensors")
+    return str(here / "models" / name)
 
 
 #: The policy that ships with swarmcl (behaviour cloning of the rule-based
 #: action generator; docs/rl-swarm.md).
 SHIPPED_POLICY = _shipped()
+#: The DDPG-trained actor of the learning demonstration (DDPG + RAG, 32 worlds
+#: x 4 followers; follows its leader more closely than the shipped policy,
+#: docs/rl-swarm.md "The learning demonstration").
+DDPG_POLICY = _shipped("policy_roaming_ddpg.safetensors")
 
 
 def _f(name: str):
