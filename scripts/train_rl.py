@@ -25,13 +25,14 @@ import argparse
 import datetime as dt
 import json
 import os
-import platform
 import shlex
 import subprocess
 import sys
 import tempfile
 import textwrap
 from pathlib import Path
+
+from machine_info import cpu_model  # scripts/machine_info.py
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -40,16 +41,6 @@ def _shown(path: Path) -> str:
     """A path relative to the repository when inside it."""
     path = Path(path).resolve()
     return str(path.relative_to(ROOT)) if ROOT in path.parents else str(path)
-
-
-def cpu_model() -> str:
-    try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown"
 
 
 def reference_rewards(cfg: dict, eval_episodes: int) -> dict:
