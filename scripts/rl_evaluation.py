@@ -292,6 +292,12 @@ def plot_scalability(scal: dict, path: Path) -> None:
     plt.close(fig)
 
 
+def wins(table: dict, keys: list, learned: list) -> dict:
+    """For each learned policy, in how many of `keys` its speed differential
+    is below the rule-based one's."""
+    return {m: sum(table[m][k]["speed_diff"] < table["rule"][k]["speed_diff"] for k in keys) for m in learned}
+
+
 def write_markdown(res: dict, path: Path) -> None:
     c, nav, sc = res["control"], res["navigation"], res["scalability"]
     a = res["args"]
@@ -310,11 +316,9 @@ def write_markdown(res: dict, path: Path) -> None:
           "| turn | direction | " + " | ".join(label(m) for m in c) + " | paper: rule-based | paper: proposed | "
           "distance to the leader (" + " / ".join(label(m) for m in c) + ") |",
           "|---|---|" + "---|" * (len(c) + 3)]
-    better = {m: 0 for m in learned}
+    better = wins(c, [" ".join(key) for key in PAPER_T2], learned)
     for key, (pr, pp) in PAPER_T2.items():
         k = " ".join(key)
-        for m in learned:
-            better[m] += c[m][k]["speed_diff"] < c["rule"][k]["speed_diff"]
         L.append(f"| {key[0]}° | {key[1]} | " + " | ".join(f"{c[m][k]['speed_diff']:.4f}" for m in c) +
                  f" | {pr} | {pp} | " + " / ".join(f"{c[m][k]['leader_distance']:.1f}" for m in c) + " |")
     L += ["", "Tests in which a learned policy has the smaller differential than the rule-based one (the paper: "
@@ -325,10 +329,8 @@ def write_markdown(res: dict, path: Path) -> None:
           "| scenario | " + " | ".join(label(m) for m in nav) + " | paper: rule-based | paper: proposed | "
           "distance to the leader (" + " / ".join(label(m) for m in nav) + ") | steps |",
           "|---|" + "---|" * (len(nav) + 4)]
-    nbetter = {m: 0 for m in learned}
+    nbetter = wins(nav, list(PAPER_T3), learned)
     for name, (pr, pp) in PAPER_T3.items():
-        for m in learned:
-            nbetter[m] += nav[m][name]["speed_diff"] < nav["rule"][name]["speed_diff"]
         L.append(f"| {name} | " + " | ".join(f"{nav[m][name]['speed_diff']:.4f}" for m in nav) + f" | {pr} | {pp} | " +
                  " / ".join(f"{nav[m][name]['leader_distance']:.1f}" for m in nav) + f" | {nav['rule'][name]['steps']} |")
     L += ["", "Scenarios in which a learned policy has the smaller differential (the paper: 3 of 3): " +

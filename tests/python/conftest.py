@@ -29,3 +29,32 @@ def raw_swarm_alive(handle_id: int) -> int:
     ffi, lib = swarmcl.ffi, swarmcl.lib
     n = ffi.new("uint32_t*")
     return lib.swcl_swarm_agent_count(ffi.new("swcl_swarm*", [handle_id])[0], n)
+
+
+#: The touring leader of the policy-model tests (~100 m round a square).
+TOUR = [(25, 0, 0, 0.8), (25, 25, 3, 1.0), (0, 25, 0, 0.8), (0, 0, 0, 0.7)]
+
+
+def follower_swarm(ctx, n=100, seed=3):
+    """n agents in a ball 8 m behind the origin, heading +x at 0.5 m/s."""
+    s = swarmcl.Swarm(ctx, agent_count=n, domain=((-60, -60, -30), (60, 60, 30)), interaction_radius=18.5,
+                      dt=0.1, seed=seed)
+    rng = np.random.default_rng(seed)
+    s.write_positions(rng.normal(0, 4, (n, 3)).astype(np.float32) + np.float32([-8, 0, 0]))
+    s.write_velocities(np.tile(np.float32([0.5, 0, 0]), (n, 1)))
+    return s
+
+
+def follow_tour(s, weights=None, rounds=20, steps=25) -> list:
+    """Moves swarm s with a policy (default: the shipped one) after the TOUR
+    leader; the followers' mean distance to the leader after each round."""
+    kw = {} if weights is None else {"weights": str(weights)}
+    s.set_policy_model(swarmcl.PolicyModel(leader_mode="tour", leader_speed=0.6, waypoints=TOUR, **kw))
+    far = []
+    for _ in range(rounds):
+        s.step(steps)
+        p = s.read_positions()
+        lp, _, _ = s.policy_leader()
+        assert np.isfinite(p).all()
+        far.append(float(np.linalg.norm(p - lp, axis=1).mean()))
+    return far

@@ -22,7 +22,7 @@ from swarmcl.rl.ddpg import DDPG, Actor, Critic, DDPGConfig, ReplayBuffer, obs_s
 from swarmcl.rl.export import load_policy, policy_actions  # noqa: E402
 from swarmcl.rl.train import NStep, TrainConfig, Trainer  # noqa: E402
 
-from conftest import REPO  # noqa: E402
+from conftest import REPO, follow_tour, follower_swarm  # noqa: E402
 
 
 @pytest.fixture(autouse=True)
@@ -482,20 +482,6 @@ def test_kept_ddpg_actor_follows_a_touring_leader_in_the_library(ctx):
 
     path = swarmcl.DDPG_POLICY  # models/policy_roaming_ddpg.safetensors, installed with the package
     assert load_policy(path)["metadata"]["swarmcl.trained_by"].startswith("ddpg+rag")
-    n = 100
-    with swarmcl.Swarm(ctx, agent_count=n, domain=((-60, -60, -30), (60, 60, 30)), interaction_radius=18.5,
-                       dt=0.1, seed=3) as s:
-        rng = np.random.default_rng(3)
-        s.write_positions(rng.normal(0, 4, (n, 3)).astype(np.float32) + np.float32([-8, 0, 0]))
-        s.write_velocities(np.tile(np.float32([0.5, 0, 0]), (n, 1)))
-        s.set_policy_model(swarmcl.PolicyModel(weights=str(path), leader_mode="tour", leader_speed=0.6,
-                                               waypoints=[(25, 0, 0, 0.8), (25, 25, 3, 1.0), (0, 25, 0, 0.8),
-                                                          (0, 0, 0, 0.7)]))
-        far = []
-        for _ in range(20):
-            s.step(25)
-            p = s.read_positions()
-            lp, _, _ = s.policy_leader()
-            assert np.isfinite(p).all()
-            far.append(float(np.linalg.norm(p - lp, axis=1).mean()))
+    with follower_swarm(ctx) as s:
+        far = follow_tour(s, path)
     assert max(far) < 12.0 and np.mean(far) < 10.0, far   # measured: mean 8.7, max 10.1

@@ -9,32 +9,17 @@ import numpy as np
 import pytest
 
 import swarmcl
+from conftest import follow_tour, follower_swarm
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
 
 
-def _swarm(ctx, n=100, seed=3):
-    s = swarmcl.Swarm(ctx, agent_count=n, domain=((-60, -60, -30), (60, 60, 30)), interaction_radius=18.5,
-                      dt=0.1, seed=seed)
-    rng = np.random.default_rng(seed)
-    s.write_positions(rng.normal(0, 4, (n, 3)).astype(np.float32) + np.float32([-8, 0, 0]))
-    s.write_velocities(np.tile(np.float32([0.5, 0, 0]), (n, 1)))
-    return s
-
-
 def test_shipped_policy_follows_a_touring_leader(ctx):
     assert pathlib.Path(swarmcl.SHIPPED_POLICY).is_file()
-    with _swarm(ctx) as s:
-        s.set_policy_model(swarmcl.PolicyModel(leader_mode="tour", leader_speed=0.6,
-                                               waypoints=[(25, 0, 0, 0.8), (25, 25, 3, 1.0), (0, 25, 0, 0.8),
-                                                          (0, 0, 0, 0.7)]))
-        far = []
-        for _ in range(20):
-            s.step(25)
-            p = s.read_positions()
-            lp, q, u = s.policy_leader()
-            assert np.isfinite(p).all()
-            far.append(float(np.linalg.norm(p - lp, axis=1).mean()))
+    with follower_swarm(ctx) as s:
+        far = follow_tour(s)
+        p = s.read_positions()
+        lp, _, _ = s.policy_leader()
         # The leader has gone round most of the tour (~100 m); the followers stay with it.
         assert max(far) < 20.0, far
         obs, act = s.policy_observe()
@@ -44,7 +29,7 @@ def test_shipped_policy_follows_a_touring_leader(ctx):
 
 def test_bad_weights_raise_and_the_swarm_stays_usable(ctx, tmp_path):
     good = pathlib.Path(swarmcl.SHIPPED_POLICY).read_bytes()
-    with _swarm(ctx, 30) as s:
+    with follower_swarm(ctx, 30) as s:
         s.set_policy_model(swarmcl.PolicyModel(weights=good))
         for bad, what in [(good[: len(good) // 3], "truncated"), (good[:4], "truncated"),
                           (b"\x05\x00\x00\x00\x00\x00\x00\x00{oops", "not valid JSON"),
@@ -62,7 +47,7 @@ def test_bad_weights_raise_and_the_swarm_stays_usable(ctx, tmp_path):
 
 
 def test_joystick_controls_turn_the_leader(ctx):
-    with _swarm(ctx, 20) as s:
+    with follower_swarm(ctx, 20) as s:
         s.set_policy_model()
         s.set_policy_leader_controls(0.0, (0.0, 0.1, 0.0))
         s.step(30)
