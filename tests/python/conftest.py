@@ -45,16 +45,20 @@ def follower_swarm(ctx, n=100, seed=3):
     return s
 
 
-def follow_tour(s, weights=None, rounds=20, steps=25) -> list:
+def follow_tour(s, weights=None, rounds=20, steps=25):
     """Moves swarm s with a policy (default: the shipped one) after the TOUR
-    leader; the followers' mean distance to the leader after each round."""
+    leader.  After each round: the followers' mean distance to the leader
+    and their mean nearest-neighbour distance (two lists)."""
     kw = {} if weights is None else {"weights": str(weights)}
     s.set_policy_model(swarmcl.PolicyModel(leader_mode="tour", leader_speed=0.6, waypoints=TOUR, **kw))
-    far = []
+    far, nearest = [], []
     for _ in range(rounds):
         s.step(steps)
         p = s.read_positions()
         lp, _, _ = s.policy_leader()
         assert np.isfinite(p).all()
         far.append(float(np.linalg.norm(p - lp, axis=1).mean()))
-    return far
+        d = np.linalg.norm(p[:, None, :].astype(np.float64) - p[None, :, :], axis=2)
+        np.fill_diagonal(d, np.inf)
+        nearest.append(float(d.min(axis=1).mean()))
+    return far, nearest

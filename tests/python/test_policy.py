@@ -17,7 +17,7 @@ REPO = pathlib.Path(__file__).resolve().parents[2]
 def test_shipped_policy_follows_a_touring_leader(ctx):
     assert pathlib.Path(swarmcl.SHIPPED_POLICY).is_file()
     with follower_swarm(ctx) as s:
-        far = follow_tour(s)
+        far, _ = follow_tour(s)
         p = s.read_positions()
         lp, _, _ = s.policy_leader()
         # The leader has gone round most of the tour (~100 m); the followers stay with it.
