@@ -270,7 +270,8 @@ TEST_F(FieldModelTest, CoincidentAgentsSeparateDeterministically) {
 }
 
 // One step of the model against a plain C++ reference:
-// v = noise(p0) + s0 (g - p0)/|g - p0| outside the goal sphere; p1 = p0 + v dt.
+// v = noise(p0) + s0 (g - p0)/|g - p0| outside the goal sphere, scaled down
+// to max_speed when faster (max_speed > 0); p1 = p0 + v dt.
 class FieldModelReference : public FieldModelTest {
 protected:
     // noise_at(positions, step) -> noise velocities (packed xyz, agent-id order)
@@ -296,8 +297,13 @@ protected:
                     l2 += to[a] * to[a];
                 }
                 const float l = std::sqrt(l2);
-                for (int a = 0; a < 3; ++a) {
+                for (int a = 0; a < 3; ++a)
                     v[3 * i + a] = vn[3 * i + a] + (m.has_goal && l > m.goal_radius ? m.goal_speed * to[a] / l : 0.0f);
+                // max_speed > 0: a faster agent is slowed to it.
+                const float speed = std::sqrt(v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
+                const float k = m.max_speed > 0.0f && speed > m.max_speed ? m.max_speed / speed : 1.0f;
+                for (int a = 0; a < 3; ++a) {
+                    v[3 * i + a] *= k;
                     p1[3 * i + a] = p0[3 * i + a] + v[3 * i + a] * dt;
                 }
             }
@@ -332,6 +338,51 @@ TEST_F(FieldModelReference, WhiteNoiseAndGoalOneStep) {
         }
         return v;
     });
+}
+
+// max_speed (a parameter added through the field model's table, issue 24):
+// the pull (1.5 m/s) plus the noise, capped at 0.6 m/s for the agents
+// outside the goal sphere, untouched for the slower ones inside.
+TEST_F(FieldModelReference, MaxSpeedCapsTheVelocityOneStep) {
+    swcl_field_model_desc m = swcl_field_model_desc_default();
+    m.noise.type = SWCL_NOISE_WHITE;
+    m.noise.gain = 0.4f;
+    m.noise.seed = 78;
+    m.has_goal = 1;
+    m.goal[0] = 0.3f; m.goal[1] = -0.2f; m.goal[2] = 0.1f;
+    m.goal_radius = 0.25f;
+    m.goal_speed = 1.5f;
+    m.max_speed = 0.6f;
+    check_steps(m, [&](const std::vector<float>& p, uint32_t step, float) {
+        std::vector<float> v(p.size());
+        for (size_t i = 0; i < p.size() / 3; ++i) {
+            const auto r = swarmcl::philox_for(m.noise.seed, uint32_t(i), step, 0);
+            for (int a = 0; a < 3; ++a) v[3 * i + a] = m.noise.gain * (2.0f * swarmcl::uniform01(r[a]) - 1.0f);
+        }
+        return v;
+    });
+}
+
+TEST_F(FieldModelTest, MaxSpeedBoundsEveryAgentsSpeed) {
+    swcl_swarm s = make_swarm(swarm_desc(-2, 2, 300, 5, 1.0f / 30));
+    swcl_field_model_desc m = swcl_field_model_desc_default();
+    m.noise.gain = 0.5f;
+    m.has_goal = 1;
+    m.goal_speed = 2.0f;
+    m.max_speed = 0.7f;
+    set_model(s, m);
+    step(s, 20);
+    const auto v = read(s, SWCL_ATTRIBUTE_VELOCITY);
+    double fastest = 0;
+    for (size_t i = 0; i < v.size() / 3; ++i)
+        fastest = std::max(fastest, std::sqrt(double(v[3 * i]) * v[3 * i] + double(v[3 * i + 1]) * v[3 * i + 1] +
+                                              double(v[3 * i + 2]) * v[3 * i + 2]));
+    EXPECT_LE(fastest, 0.7 * (1 + 1e-6));
+    EXPECT_GT(fastest, 0.69) << "the pull alone is 2 m/s: the cap should bind";
+    m.max_speed = -0.1f;
+    EXPECT_EQ(swcl_swarm_field_set_model(s, &m), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("max_speed = -0.1 is outside [0, inf) (m/s)"), std::string::npos)
+        << swcl_last_error();
 }
 
 TEST_F(FieldModelReference, TimeVaryingCurlNoiseAndGoalOneStep) {

@@ -218,8 +218,8 @@ std::string NoiseField::defines() const {
     return d + wd;
 }
 
-cl::Kernel NoiseField::kernel(const std::string& file, const char* name) const {
-    return ctx_.kernel(file, name, defines());
+cl::Kernel NoiseField::kernel(const std::string& file, const char* name, const std::string& extra_defines) const {
+    return ctx_.kernel(file, name, defines() + extra_defines);
 }
 
 BakeGrid bake_grid(const NoiseConfig& c) {

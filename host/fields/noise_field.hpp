@@ -30,6 +30,8 @@ uint32_t kernel_width_override();
 
 enum class NoiseType : int { Curl = 0, Perlin = 1, White = 2, Gaussian = 3 };
 
+class ParamTable;
+
 // A boundary of the curl potential (Eq. 2): an obstacle or a half space.
 struct Boundary {
     enum class Kind { Sphere, Box, Plane } kind = Kind::Sphere;
@@ -57,6 +59,10 @@ struct NoiseConfig {
 
     bool has_region() const;
 };
+
+// NoiseConfig's parameters (fields/noise_params.cpp), included by every
+// model's table under "noise.".
+const ParamTable& noise_param_table();
 
 // The nodes a field is baked on: NoiseConfig::bake_resolution per axis over
 // its region, as the kernels take them (min corner; node spacing, w = 1;
@@ -91,8 +97,9 @@ public:
     // NOISE_WALLS, NOISE_OBSTACLES.  The kernel arguments stay the same.
     // On CPU devices also -DNOISE_WIDTH=W (width()).
     std::string defines() const;
-    // A kernel from `file` built for this field (Context::kernel with defines()).
-    cl::Kernel kernel(const std::string& file, const char* name) const;
+    // A kernel from `file` built for this field (Context::kernel with
+    // defines() and `extra_defines`, e.g. a model's parameter slots).
+    cl::Kernel kernel(const std::string& file, const char* name, const std::string& extra_defines = "") const;
 
     // Points per work-item of the explicit-width kernels (noise_sample_w,
     // field_model_advance_w: launch ceil(n / width()) work-items), or 1 when

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "params/param_block.hpp"
 #include "swarm/swarm.hpp"
 
 namespace swarmcl {
@@ -13,31 +14,24 @@ namespace swarmcl {
 FieldModel::FieldModel(Swarm& swarm, FieldModelConfig config)
     : config_(std::move(config)) {
     const auto& c = config_;
-    if (c.has_goal) {
-        for (int a = 0; a < 3; ++a) require(std::isfinite(c.goal[a]), "field model goal must be finite");
-        require(std::isfinite(c.goal_radius) && c.goal_radius >= 0.0f, "field model goal_radius must be >= 0");
-        require(std::isfinite(c.goal_speed) && c.goal_speed >= 0.0f, "field model goal_speed (s0) must be >= 0");
-        require(std::isfinite(c.goal_falloff) && c.goal_falloff >= 0.0f, "field model goal_falloff must be >= 0");
-    }
-    require(std::isfinite(c.min_distance) && c.min_distance >= 0.0f,
-            "field model min_distance must be a finite number >= 0 (0: off)");
+    const ParamTable& table = field_param_table();
+    table.validate(&config_);
     Context& ctx = swarm.context();
     noise_ = std::make_unique<NoiseField>(ctx, c.noise, &swarm.config().domain_min, &swarm.config().domain_max);
     // Built for this noise configuration (NoiseField::defines).
     // On CPU devices the explicit-width variant (NoiseField::width() agents per
     // work-item).
     width_ = noise_->width();
-    advance_ = noise_->kernel("field_model.cl", width_ > 1 ? "field_model_advance_w" : "field_model_advance");
+    advance_ = noise_->kernel("field_model.cl", width_ > 1 ? "field_model_advance_w" : "field_model_advance",
+                              table.device_defines("FIELD"));
+    params_ = upload_param_block(ctx, table, &c);
 }
 
 void FieldModel::advance(Swarm& swarm, uint64_t step) {
     const uint32_t n = swarm.agent_count();
     cl_uint i = swarm.set_step_args(advance_, step);
     i = noise_->set_args(advance_, i);
-    const auto& c = config_;
-    advance_.setArg(i++, cl_float4{{c.goal[0], c.goal[1], c.goal[2], c.has_goal ? c.goal_radius : -1.0f}});
-    advance_.setArg(i++, c.goal_speed);
-    advance_.setArg(i++, c.goal_falloff);
+    advance_.setArg(i++, params_.get());
     check_arg_count(advance_, i);
     launch(swarm.context(), advance_, (size_t(n) + width_ - 1) / width_);
     swarm.positions_changed();

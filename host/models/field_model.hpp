@@ -19,7 +19,13 @@ struct FieldModelConfig {
     float goal_speed = 1.5f;    // s0, m/s (Table 1, two blocks and chasing; aggregation has 2.5)
     float goal_falloff = 0.0f;  // m over which the pull ramps up to s0; 0: at once
     float min_distance = 0.0f;  // MDE threshold, m; 0: no enforcement
+    // m/s: each agent's velocity (noise + pull) is scaled down to this
+    // speed when faster; 0: no limit (the paper's).
+    float max_speed = 0.0f;
 };
+
+// Its parameters, declared once (models/field_params.cpp).
+const ParamTable& field_param_table();
 
 class FieldModel : public Behavior {
 public:
@@ -39,6 +45,7 @@ private:
     FieldModelConfig config_;
     std::unique_ptr<NoiseField> noise_;
     cl::Kernel advance_;
+    DeviceBuffer<cl_float> params_;  // field_param_table()'s device block
     uint32_t width_ = 1;  // agents per work-item of advance_ (NoiseField::width)
 };
 

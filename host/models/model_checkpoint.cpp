@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "models/energy_model.hpp"
+#include "params/param_table.hpp"
 #include "swarm/swarm.hpp"
 
 namespace swarmcl {
@@ -164,6 +165,82 @@ void fields(A& a, PolicyModelConfig& c) {
     a(c.reach_radius), a(c.leader_position), a(c.leader_heading), a(c.leader_speed), a(c.obstacles);
 }
 
+// MODL v2: a model with a parameter table (params/param_table.hpp) writes
+// its table's rows by key (so a parameter added later reads back from an
+// older file as its default), then only its structured fields here.
+template <class Config>
+constexpr bool kHasTable = false;
+template <>
+constexpr bool kHasTable<FieldModelConfig> = true;
+inline const ParamTable& table_of(const FieldModelConfig&) { return field_param_table(); }
+template <class A>
+void structured_fields(A& a, FieldModelConfig& c) {
+    a(c.noise.boundaries);
+}
+
+namespace {
+
+// The rows of `t` in `config`: u32 count, then per row its key (string),
+// its type (u8, ParamType) and its components.
+void write_table_params(ByteWriter& w, const ParamTable& t, void* config) {
+    w.u32(uint32_t(t.params().size()));
+    for (const Param& p : t.params()) {
+        w.string(p.key);
+        w.u8(uint8_t(p.type));
+        for (int a = 0; a < p.components(); ++a) {
+            switch (p.type) {
+                case ParamType::Float:
+                case ParamType::Vec3: w.f32(float(p.get(config, a))); break;
+                case ParamType::UInt32:
+                case ParamType::UInt3: w.u32(uint32_t(p.get(config, a))); break;
+                case ParamType::UInt64: w.u64(*static_cast<uint64_t*>(p.field(config))); break;
+                case ParamType::Bool: w.boolean(p.get(config, a) != 0.0); break;
+                case ParamType::Enum: w.i32(int32_t(p.get(config, a))); break;
+            }
+        }
+    }
+}
+
+// Rows the file does not hold keep the config's defaults; an unknown key, a
+// type other than the table's, a key twice or an enumeration out of range
+// is a bad file.
+void read_table_params(ByteReader& r, const ParamTable& t, void* config) {
+    const uint32_t n = r.u32();
+    std::vector<std::string> seen;
+    for (uint32_t i = 0; i < n; ++i) {
+        const std::string key = r.string();
+        const Param* p = t.find(key);
+        if (!p) r.bad("the " + t.model() + " model has no parameter '" + key + "'");
+        for (const std::string& k : seen)
+            if (k == key) r.bad("parameter '" + key + "' is given twice");
+        seen.push_back(key);
+        const uint8_t type = r.u8();
+        if (type != uint8_t(p->type))
+            r.bad("parameter '" + key + "' has type " + std::to_string(type) + ", the table's is " +
+                  param_type_name(p->type));
+        for (int a = 0; a < p->components(); ++a) {
+            switch (p->type) {
+                case ParamType::Float:
+                case ParamType::Vec3: p->set(config, r.f32(), a); break;
+                case ParamType::UInt32:
+                case ParamType::UInt3: p->set(config, r.u32(), a); break;
+                case ParamType::UInt64: *static_cast<uint64_t*>(p->field(config)) = r.u64(); break;
+                case ParamType::Bool: p->set(config, r.boolean() ? 1.0 : 0.0, a); break;
+                case ParamType::Enum: {
+                    const int32_t v = r.i32();
+                    if (v < 0 || size_t(v) >= p->enum_names.size())
+                        r.bad("parameter '" + key + "' has value " + std::to_string(v) + " (at most " +
+                              std::to_string(p->enum_names.size() - 1) + ")");
+                    p->set(config, v, a);
+                    break;
+                }
+            }
+        }
+    }
+}
+
+}  // namespace
+
 namespace {
 
 // Meshes are used as they are by the models (no make_mesh on load): every
@@ -182,18 +259,24 @@ template <class Config>
 void write_named(ByteWriter& out, const Config& c) {
     out.string(ModelTraits<Config>::name);
     Save s{out};
-    s(c);
+    if constexpr (kHasTable<Config>) {
+        Config& m = const_cast<Config&>(c);
+        write_table_params(out, table_of(m), &m);
+        structured_fields(s, m);
+    } else {
+        s(c);
+    }
 }
 
 // Reads the descriptor of the alternative whose name is `name` (I: its
 // index in ModelSpec, tried in order).
 template <size_t I = 0>
-CheckpointModel read_alternative(const std::string& name, ByteReader& in) {
+CheckpointModel read_alternative(const std::string& name, ByteReader& in, uint32_t version) {
     if constexpr (I == std::variant_size_v<ModelSpec>) {
         in.bad("unknown model '" + name + "'");
     } else {
         using Config = std::variant_alternative_t<I, ModelSpec>;
-        if (name != ModelTraits<Config>::name) return read_alternative<I + 1>(name, in);
+        if (name != ModelTraits<Config>::name) return read_alternative<I + 1>(name, in, version);
         CheckpointModel m;
         Load l{in};
         if constexpr (std::is_same_v<Config, Ballistic>) {
@@ -215,7 +298,16 @@ CheckpointModel read_alternative(const std::string& name, ByteReader& in) {
             m.spec = std::move(p);
         } else {
             Config c;
-            l(c);
+            if constexpr (kHasTable<Config>) {
+                if (version >= 2) {
+                    read_table_params(in, table_of(c), &c);
+                    structured_fields(l, c);
+                } else {
+                    l(c);  // version 1: every field in fields() order
+                }
+            } else {
+                l(c);
+            }
             m.spec = std::move(c);
         }
         return m;
@@ -241,9 +333,9 @@ void write_model_descriptor(ByteWriter& out, const PolicyModelConfig& c, const s
 }
 void write_ballistic_descriptor(ByteWriter& out) { out.string(ModelTraits<Ballistic>::name); }
 
-CheckpointModel read_model_descriptor(ByteReader& in) {
+CheckpointModel read_model_descriptor(ByteReader& in, uint32_t version) {
     const std::string name = in.string();
-    CheckpointModel m = read_alternative(name, in);
+    CheckpointModel m = read_alternative(name, in, version);
     in.expect_end();
     // Meshes anywhere in the descriptor.
     if (auto* p = std::get_if<PathModelConfig>(&m.spec))
@@ -266,7 +358,9 @@ std::shared_ptr<Behavior> behavior_from_checkpoint(Swarm& swarm, const Checkpoin
 // of the x86-64 Linux ABI (the one CI builds); other platforms skip the check.
 #if defined(__x86_64__) && defined(__GLIBCXX__)
 static_assert(sizeof(NoiseConfig) == 112, "NoiseConfig changed: update fields(NoiseConfig) and the checkpoint format");
-static_assert(sizeof(FieldModelConfig) == 144, "FieldModelConfig changed: update its checkpoint fields()");
+// FieldModelConfig has a parameter table: MODL v2 writes its rows by key
+// (tests/test_params.cpp checks every row round-trips); fields() keeps the
+// version 1 layout for reading older files.
 static_assert(sizeof(PathModelConfig) == 328 && sizeof(PathTarget) == 20 && sizeof(PathLamp) == 36, "PathModelConfig changed: update its checkpoint fields()");
 static_assert(sizeof(ForceModelConfig) == 328, "ForceModelConfig changed: update its checkpoint fields()");
 static_assert(sizeof(PolicyModelConfig) == 128 && sizeof(RlObstacleBox) == 24, "PolicyModelConfig changed: update its checkpoint fields()");

@@ -17,7 +17,9 @@
 namespace swarmcl {
 
 // Version of the MODL section this code writes (and the newest it reads).
-constexpr uint32_t kModelSectionVersion = 1;
+// 2: a model with a parameter table writes its rows by key, then its
+// structured fields; 1 (still read): every field in fields() order.
+constexpr uint32_t kModelSectionVersion = 2;
 
 // A decoded model section: the spec, and for the energy model its dataset
 // (the spec's source fields are not used).
@@ -39,7 +41,7 @@ void write_ballistic_descriptor(ByteWriter& out);
 // an absurd count or a mesh index out of range.  The values are validated
 // again by the model's constructor (InvalidArgument there becomes Parse in
 // the loader).
-CheckpointModel read_model_descriptor(ByteReader& in);
+CheckpointModel read_model_descriptor(ByteReader& in, uint32_t version = kModelSectionVersion);
 
 // The model's Behavior (nullptr: ballistic), built as make_behavior does.
 std::shared_ptr<Behavior> behavior_from_checkpoint(Swarm& swarm, const CheckpointModel& model);

@@ -115,7 +115,7 @@ SwarmCheckpoint decode_swarm_checkpoint(const std::string& bytes, bool verify_ch
     {
         const CheckpointSection& s = find_section(sections, "MODL", kModelSectionVersion);
         ByteReader r(s.bytes, "section MODL (model)");
-        cp.model = read_model_descriptor(r);
+        cp.model = read_model_descriptor(r, s.version);
     }
     cp.model_state = find_section(sections, "MDST", kStateSectionVersion).bytes;
     return cp;

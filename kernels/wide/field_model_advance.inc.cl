@@ -5,10 +5,17 @@
 #include "wide/width.inc.cl"
 
 __kernel void SWCL_KERNEL(field_model_advance)(__global float4* pos, __global float4* vel, __global const uint* ids,
-                                               uint n, float dt, float t, uint step, NOISE_PARAMS, float4 goal,
-                                               float goal_speed, float goal_falloff) {
+                                               uint n, float dt, float t, uint step, NOISE_PARAMS,
+                                               __global const float* params) {
     const uint base = get_global_id(0) * SWCL_BW;
     if (base >= n) return;
+    // The model's parameter block (models/field_params.cpp lays it out; the
+    // host defines FIELD_<KEY> as each parameter's slot).  goal.w: the goal
+    // radius, negative when there is no goal.
+    const float4 goal = (float4)(params[FIELD_GOAL_CENTER], params[FIELD_GOAL_CENTER + 1],
+                                 params[FIELD_GOAL_CENTER + 2],
+                                 params[FIELD_HAS_GOAL] != 0.0f ? params[FIELD_GOAL_RADIUS] : -1.0f);
+    const float goal_speed = params[FIELD_GOAL_SPEED], goal_falloff = params[FIELD_GOAL_FALLOFF];
     __global float* pp = (__global float*)pos;  // NOISE_AT: see lib/noise_field.cl
     swcl_bf px, py, pz;
     SWCL_BFN(noise_load_xyz)(pp, base, n, &px, &py, &pz);
@@ -19,7 +26,6 @@ __kernel void SWCL_KERNEL(field_model_advance)(__global float4* pos, __global fl
 #endif
     swcl_bf vx, vy, vz;
     NOISE_VELOCITY_B(px, py, pz, t, agent, step, &vx, &vy, &vz);
-    // goal.w: goal radius, negative when there is no goal.
     if (goal.w >= 0.0f) {
         const swcl_bf gx = goal.x - px, gy = goal.y - py, gz = goal.z - pz;
         const swcl_bf dist = sqrt(gx * gx + gy * gy + gz * gz);
@@ -30,6 +36,13 @@ __kernel void SWCL_KERNEL(field_model_advance)(__global float4* pos, __global fl
                                                  : (swcl_bf)(1.0f);
         const swcl_bf k = select((swcl_bf)(0.0f), goal_speed * ramp / dist, (dist > goal.w) & (dist > 0.0f));
         vx += k * gx; vy += k * gy; vz += k * gz;
+    }
+    // max_speed > 0: a faster agent is slowed to it (0: no limit, the paper's).
+    const float max_speed = params[FIELD_MAX_SPEED];
+    if (max_speed > 0.0f) {
+        const swcl_bf speed = sqrt(vx * vx + vy * vy + vz * vz);
+        const swcl_bf k = select((swcl_bf)(1.0f), max_speed / speed, speed > max_speed);
+        vx *= k; vy *= k; vz *= k;
     }
     SWCL_BFN(noise_store)((__global float*)vel, base, n, vx, vy, vz);
     SWCL_BFN(noise_store)(pp, base, n, px + vx * dt, py + vy * dt, pz + vz * dt);

@@ -18,6 +18,7 @@ from .energy import (Dataset, EnergyModel, EnergyWeights, Stimulus, StimulusKind
                      write_mixed_csv)
 from .evaluation import METRICS, Metrics, distances, entropy_weights, evaluate, plot_pdfs, score
 from .fitting import Parameter, fit, load_ranges
+from .params import model_parameters
 from .synthesis import mix_time_aligned, real_frames
 from .force import SHAPES, ForceModel, Keyframe
 from .policy import DDPG_POLICY, SHIPPED_POLICY, PolicyModel
@@ -36,7 +37,7 @@ __all__ = [
     "Dataset", "EnergyModel", "EnergyWeights", "Stimulus", "StimulusKind", "TimeFormat", "write_mixed_csv",
     "ForceModel", "Keyframe", "SHAPES", "PolicyModel", "SHIPPED_POLICY", "DDPG_POLICY", "mix_time_aligned", "real_frames",
     "METRICS", "Metrics", "distances", "score", "entropy_weights", "evaluate", "plot_pdfs",
-    "fit", "load_ranges", "Parameter",
+    "fit", "load_ranges", "Parameter", "model_parameters",
     "PathModel", "PathGroup", "PathInfo", "PathTarget", "Lamp", "Goal", "MeshObstacle", "ObjObstacle", "BoxObstacle",
     "SphereObstacle", "CylinderObstacle",
     "SwarmclError", "InvalidArgumentError", "InvalidHandleError", "NoDeviceError", "BuildError",

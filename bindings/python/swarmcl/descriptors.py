@@ -7,12 +7,13 @@ time, so Python and C always agree; nothing is duplicated here.
 from __future__ import annotations
 
 import enum
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, make_dataclass
 from typing import Optional, Tuple, Union
 
 import numpy as np
 
 from ._native import enum_members, ffi, lib
+from .params import copy_scalars_to_c, parameter_doc, scalar_fields
 
 __all__ = [
     "NoiseType", "DeviceType", "Sphere", "Box", "Plane", "NoiseDesc", "FieldModel",
@@ -236,36 +237,36 @@ class NoiseDesc:
 
 # ---- the field model -----------------------------------------------------------------
 
-@dataclass
-class FieldModel:
-    """swcl_field_model_desc (docs/field-model.md): the noise, an optional goal
-    (None or (x, y, z)) with its pull, and minimum distance enforcement.
-    Defaults are swcl_field_model_desc_default()'s."""
-    noise: NoiseDesc = _model_default("noise")
-    goal: Optional[Vec3] = _model_default("goal")
-    goal_radius: float = _model_default("goal_radius")
-    goal_speed: float = _model_default("goal_speed")
-    goal_falloff: float = _model_default("goal_falloff")
-    min_distance: float = _model_default("min_distance")
+def _field_model_to_c(self):
+    """A new ``swcl_field_model_desc*`` and the objects it points into."""
+    keep: list = []
+    p = ffi.new("swcl_field_model_desc*", lib.swcl_field_model_desc_default())
+    noise = self.noise if self.noise is not None else NoiseDesc()
+    if not isinstance(noise, NoiseDesc):
+        raise TypeError(f"FieldModel.noise must be a NoiseDesc, got {type(noise).__name__}")
+    noise._to_c(p.noise, keep)
+    if self.goal is None:
+        p.has_goal = 0
+    else:
+        p.has_goal = 1
+        p.goal = _vec3(self.goal, "FieldModel.goal")
+    copy_scalars_to_c(self, p, "field", _FIELD_STRUCTURED)
+    return p, keep
 
-    def to_c(self):
-        """A new ``swcl_field_model_desc*`` and the objects it points into."""
-        keep: list = []
-        p = ffi.new("swcl_field_model_desc*", lib.swcl_field_model_desc_default())
-        noise = self.noise if self.noise is not None else NoiseDesc()
-        if not isinstance(noise, NoiseDesc):
-            raise TypeError(f"FieldModel.noise must be a NoiseDesc, got {type(noise).__name__}")
-        noise._to_c(p.noise, keep)
-        if self.goal is None:
-            p.has_goal = 0
-        else:
-            p.has_goal = 1
-            p.goal = _vec3(self.goal, "FieldModel.goal")
-        p.goal_radius = self.goal_radius
-        p.goal_speed = self.goal_speed
-        p.goal_falloff = self.goal_falloff
-        p.min_distance = self.min_distance
-        return p, keep
+
+# The field model's fields: the noise and the goal by hand (a NoiseDesc; None
+# or (x, y, z) for has_goal + goal), every other parameter from the library's
+# table (swcl_model_parameters("field")).
+_FIELD_STRUCTURED = ("has_goal", "goal")
+FieldModel = make_dataclass(
+    "FieldModel",
+    [("noise", NoiseDesc, _model_default("noise")), ("goal", Optional[Vec3], _model_default("goal"))]
+    + scalar_fields("field", _FIELD_STRUCTURED),
+    namespace={"to_c": _field_model_to_c, "__module__": __name__})
+FieldModel.__doc__ = (
+    "swcl_field_model_desc (docs/field-model.md): the noise, an optional goal\n"
+    "(None or (x, y, z)) with its pull, and minimum distance enforcement.\n"
+    "Defaults are the library's (swcl_model_parameters('field')):\n" + parameter_doc("field", _FIELD_STRUCTURED))
 
 
 # ---- results ------------------------------------------------------------------------

@@ -32,6 +32,7 @@ import numpy as np
 from ._core import Context, Scenario, devices
 from .errors import SwarmclError
 from .evaluation import METRICS, Metrics, distances, entropy_weights, score
+from .params import model_parameters
 
 __all__ = ["Parameter", "load_ranges", "PopulationEvaluator", "fit", "compare", "main"]
 
@@ -55,12 +56,18 @@ class Parameter:
         return int(round(v)) if self.integer else v
 
 
-def _walk(doc, path: str):
-    """(container, key) of a dotted path ("model.goals.0.radius")."""
+def _walk(doc, path: str, create: bool = False):
+    """(container, key) of a dotted path ("model.goals.0.radius"); with
+    ``create``, missing objects on the way are made (a table parameter the
+    scenario leaves at its default)."""
     parts = path.split(".")
     node = doc
     for i, part in enumerate(parts[:-1]):
+        if create and isinstance(node, dict) and part not in node:
+            node[part] = {}
         node = _child(node, part, ".".join(parts[: i + 1]))
+    if create and isinstance(node, dict):
+        return node, parts[-1]
     last = parts[-1]
     if isinstance(node, list):
         if not last.isdigit() or int(last) >= len(node):
@@ -81,10 +88,38 @@ def _child(node, part: str, where: str):
     raise ValueError(f"ranges: {where!r}: the scenario has no field {part!r} there")
 
 
+def _table_row(scenario: dict, path: str):
+    """(model, row) of a "model.<key>" path in the model's parameter table
+    (swcl_model_parameters); (None, None) for other paths and for models
+    without a table; (model, None) for a key the table does not hold."""
+    model_obj = scenario.get("model") if isinstance(scenario, dict) else None
+    if not path.startswith("model.") or not isinstance(model_obj, dict):
+        return None, None
+    model = model_obj.get("type", "field")
+    try:
+        rows = model_parameters(model)
+    except ValueError:
+        return None, None
+    key = path[len("model."):]
+    return model, next((r for r in rows if r["key"] == key and r["scenario"]), None)
+
+
+def _check_against_table(path: str, model: str, row: dict, low: float, high: float) -> None:
+    if row["type"] not in ("float", "uint32", "uint64"):
+        raise ValueError(f"ranges: {path!r} is a {row['type']} parameter of the {model} model, not a number")
+    lo, hi, excl = row.get("min"), row.get("max"), row.get("min_exclusive", False)
+    if (lo is not None and (low < lo or (excl and low <= lo))) or (hi is not None and high > hi):
+        raise ValueError(f"ranges: {path!r}: [{low:g}, {high:g}] leaves the parameter's valid range "
+                         f"{row['range']} ({row['doc']})")
+
+
 def load_ranges(ranges, scenario: dict) -> List[Parameter]:
     """Parameters from a ranges file (path) or dict ``{path: [low, high]}``,
-    checked against the scenario: each path must name a number (not a
-    boolean) and each range be finite with low < high."""
+    checked against the scenario and the model's parameter table: each path
+    must name a number (not a boolean) in the scenario or a numeric
+    parameter of the model's table (then it may be left out of the
+    scenario), each range be finite with low < high and inside the
+    parameter's valid range; an unknown key lists the model's parameters."""
     if isinstance(ranges, (str, os.PathLike)):
         with open(ranges, encoding="utf-8") as f:
             try:
@@ -95,8 +130,18 @@ def load_ranges(ranges, scenario: dict) -> List[Parameter]:
         raise ValueError("ranges: expected an object {\"scenario.path\": [low, high], ...} with at least one entry")
     params = []
     for path, bounds in ranges.items():
-        node, key = _walk(scenario, path)
-        current = node[key]
+        model, row = _table_row(scenario, path)
+        try:
+            node, key = _walk(scenario, path)
+            current = node[key]
+        except ValueError:
+            if row is None:
+                if model is not None:
+                    known = ", ".join("model." + r["key"] for r in model_parameters(model) if r["scenario"])
+                    raise ValueError(f"ranges: {path!r} is neither in the scenario nor a parameter of the {model} "
+                                     f"model; its parameters: {known}") from None
+                raise
+            current = row["default"]  # left at its default in the scenario
         if isinstance(current, bool) or not isinstance(current, (int, float)):
             raise ValueError(f"ranges: {path!r} is {type(current).__name__}, not a number")
         if (not isinstance(bounds, (list, tuple)) or len(bounds) != 2
@@ -105,14 +150,17 @@ def load_ranges(ranges, scenario: dict) -> List[Parameter]:
         low, high = float(bounds[0]), float(bounds[1])
         if not (math.isfinite(low) and math.isfinite(high) and low < high):
             raise ValueError(f"ranges: {path!r}: expected finite low < high, got {bounds!r}")
-        params.append(Parameter(path, low, high, isinstance(current, int)))
+        if row is not None:
+            _check_against_table(path, model, row, low, high)
+        integer = row["type"] in ("uint32", "uint64") if row is not None else isinstance(current, int)
+        params.append(Parameter(path, low, high, integer))
     return params
 
 
 def _with_values(scenario: dict, params: Sequence[Parameter], u) -> dict:
     doc = copy.deepcopy(scenario)
     for p, x in zip(params, u):
-        node, key = _walk(doc, p.path)
+        node, key = _walk(doc, p.path, create=True)
         node[key] = p.value(x)
     return doc
 

@@ -97,6 +97,19 @@ SWCL_API const char* swcl_status_string(swcl_status status);
  * Empty string after a success.  Valid until the next call on this thread. */
 SWCL_API const char* swcl_last_error(void);
 
+/* ---- model parameters ---------------------------------------------------- */
+
+/* A model's parameters as the library declares them (one table per model,
+ * docs/scenarios.md): JSON text, an array of rows {"key" (in a scenario's
+ * "model" object), "c_field" (the descriptor's field), "type" (float, uint32,
+ * uint64, bool, vec3, uint3, enum), "default", "min", "max" (null: none),
+ * "min_exclusive", "values" (enum names), "range", "unit", "doc", "ref" (the
+ * paper's section/equation), "device", "scenario"}.  `model`: "field",
+ * "noise", ... (swcl_scenario_info.model's names); NULL: an object of every
+ * model's array.  The text is the library's own, valid while it is loaded;
+ * an unknown model is SWCL_ERROR_INVALID_ARGUMENT naming the known ones. */
+SWCL_API swcl_status swcl_model_parameters(const char* model, const char** out_json);
+
 /* ---- handles ------------------------------------------------------------- */
 
 typedef struct swcl_context { uint64_t id; } swcl_context;
@@ -404,6 +417,8 @@ typedef struct swcl_field_model_desc {
     float goal_falloff;            /* m over which the pull grows from 0 at the goal
                                       sphere to s0 (default 0: at once, as the paper) */
     float min_distance;            /* MDE threshold, m; 0: off (default 0) */
+    float max_speed;               /* m/s: a faster agent's velocity is scaled down
+                                      to this speed; 0: no limit (default) */
 } swcl_field_model_desc;
 
 SWCL_API swcl_field_model_desc swcl_field_model_desc_default(void);

@@ -1,0 +1,121 @@
+"""The parameter tables (issue 24): every C descriptor field of a model is a
+row of its table with the same default (the descriptor structs stay the
+stable ABI; the table is what the library reads scenarios, ranges and device
+blocks from), the Python model classes are built from the rows, and fit
+ranges are checked against them."""
+
+import numpy as np
+import pytest
+
+import swarmcl
+from swarmcl.fitting import load_ranges
+
+ffi, lib = swarmcl.ffi, swarmcl.lib
+
+# model -> (its C descriptor, its defaults function, the fields that are
+# structured data rather than parameters: pointers and their counts).
+DESCRIPTORS = {
+    "field": ("swcl_field_model_desc", lib.swcl_field_model_desc_default,
+              {"noise.boundaries", "noise.boundary_count"}),
+    "noise": ("swcl_noise_desc", lib.swcl_noise_desc_default, {"boundaries", "boundary_count"}),
+}
+
+
+def c_fields(ctype, prefix=""):
+    """(dotted name, cffi type) of every field of a C struct, nested structs
+    walked into; struct_size left out."""
+    out = []
+    for name, f in ffi.typeof(ctype).fields:
+        if name == "struct_size":
+            continue
+        if f.type.kind == "struct":
+            out += c_fields(f.type, prefix + name + ".")
+        else:
+            out.append((prefix + name, f.type))
+    return out
+
+
+def c_value(desc, dotted):
+    v = desc
+    for part in dotted.split("."):
+        v = getattr(v, part)
+    return v
+
+
+def as_table_value(row, v, ctype):
+    if ctype.kind == "array":
+        return [as_table_value(row, v[i], ctype.item) for i in range(ctype.length)]
+    if row["type"] == "enum":
+        return row["values"][int(v)]
+    if row["type"] == "bool":
+        return bool(v)
+    if row["type"] == "float" or row["type"] == "vec3":
+        return float(np.float32(v))
+    return int(v)
+
+
+@pytest.mark.parametrize("model", sorted(DESCRIPTORS))
+def test_every_descriptor_field_is_a_row_with_the_same_default(model):
+    ctype, default_fn, structured = DESCRIPTORS[model]
+    rows = {r["c_field"]: r for r in swarmcl.model_parameters(model)}
+    desc = default_fn()
+    fields = dict(c_fields(ctype))
+    missing = [n for n in fields if n not in rows and n not in structured]
+    assert not missing, f"{ctype} fields without a row in the {model} table: {missing}"
+    extra = [n for n in rows if n not in fields]
+    assert not extra, f"{model} table rows without a {ctype} field: {extra}"
+    for name, row in rows.items():
+        have = as_table_value(row, c_value(desc, name), fields[name])
+        want = row["default"]
+        if row["type"] in ("float", "vec3"):
+            want = [float(np.float32(x)) for x in want] if isinstance(want, list) else float(np.float32(want))
+        assert have == want, f"{ctype}.{name}: C default {have!r}, table default {want!r}"
+
+
+def test_every_model_table_is_exported_with_its_rows():
+    tables = swarmcl.model_parameters()
+    assert "field" in tables
+    for model, rows in tables.items():
+        for r in rows:
+            assert {"key", "c_field", "type", "default", "range", "unit", "doc", "ref"} <= set(r), (model, r)
+    with pytest.raises(ValueError, match="known: "):
+        swarmcl.model_parameters("boids")
+
+
+def test_field_model_class_is_built_from_the_table():
+    rows = {r["c_field"]: r for r in swarmcl.model_parameters("field")}
+    m = swarmcl.FieldModel()
+    for name in ("goal_radius", "goal_speed", "goal_falloff", "min_distance"):
+        assert getattr(m, name) == float(np.float32(rows[name]["default"])), name
+        assert rows[name]["doc"] in swarmcl.FieldModel.__doc__
+    assert m.goal is None and isinstance(m.noise, swarmcl.NoiseDesc)
+    p, _ = swarmcl.FieldModel(goal=(1, 2, 3), goal_speed=2.0, min_distance=0.02).to_c()
+    assert p.has_goal == 1 and list(p.goal) == [1, 2, 3]
+    assert p.goal_speed == 2.0 and p.min_distance == pytest.approx(0.02)
+    with pytest.raises(TypeError, match="FieldModel.goal_speed must be a float"):
+        swarmcl.FieldModel(goal_speed="fast").to_c()
+
+
+def test_a_bad_value_from_python_names_the_parameter_and_range(ctx):
+    s = swarmcl.Swarm(ctx, agent_count=10, seed=1)
+    with pytest.raises(swarmcl.InvalidArgumentError, match=r"goal_radius = -1 is outside \[0, inf\)"):
+        s.set_field_model(swarmcl.FieldModel(goal=(0, 0, 0), goal_radius=-1.0))
+
+
+FIELD_SCENARIO = {"agents": {"count": 10}, "model": {"type": "field", "goal": {"center": [0, 0, 0]}}}
+
+
+def test_fit_ranges_are_checked_against_the_table():
+    # A table parameter the scenario leaves at its default can be fitted.
+    params = load_ranges({"model.goal.speed": [0.5, 2.0], "model.noise.seed": [0, 10]}, FIELD_SCENARIO)
+    assert [p.path for p in params] == ["model.goal.speed", "model.noise.seed"]
+    assert params[0].integer is False and params[1].integer is True
+    with pytest.raises(ValueError, match=r"neither in the scenario nor a parameter of the field model; "
+                                         r"its parameters: .*model\.goal\.speed"):
+        load_ranges({"model.goal.sped": [0.5, 2.0]}, FIELD_SCENARIO)
+    with pytest.raises(ValueError, match=r"leaves the parameter's valid range \[0, inf\)"):
+        load_ranges({"model.goal.speed": [-1.0, 2.0]}, FIELD_SCENARIO)
+    with pytest.raises(ValueError, match=r"leaves the parameter's valid range \(0, inf\)"):
+        load_ranges({"model.noise.scale": [0.0, 2.0]}, FIELD_SCENARIO)
+    with pytest.raises(ValueError, match="is a bool parameter"):
+        load_ranges({"model.noise.baked": [0, 1]}, FIELD_SCENARIO)

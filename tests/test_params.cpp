@@ -1,0 +1,249 @@
+// The parameter tables (host/params/, issue 24): reading a scenario's model
+// object from a table (values, ranges, unknown keys, required keys), the
+// range checks of a config, the device block's layout, the exported JSON
+// (swcl_model_parameters) and the generated tables of docs/scenarios.md.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "core/error.hpp"
+#include "models/field_model.hpp"
+#include "models/model_checkpoint.hpp"
+#include "params/param_table.hpp"
+#include "scenario/scenario.hpp"
+#include "swarmcl/swarmcl.h"
+
+namespace {
+
+using namespace swarmcl;
+using json = nlohmann::json;
+
+std::string read_error(const ParamTable& t, const std::string& text, void* config) {
+    try {
+        t.read_json(json::parse(text), "model", config, {"type"});
+    } catch (const Error& e) {
+        EXPECT_EQ(e.status(), Status::Parse) << e.what();
+        return e.what();
+    }
+    ADD_FAILURE() << "read: " << text;
+    return {};
+}
+
+TEST(ParamTable, ReadsEveryKindOfValue) {
+    FieldModelConfig c;
+    field_param_table().read_json(json::parse(R"({"type": "field", "goal": {"center": [1, 2, 3], "radius": 0.5,
+        "speed": 2, "falloff": 1}, "min_distance": 0.01, "noise": {"type": "perlin", "scale": 0.7, "seed": 18446744073709551615,
+        "domain_walls": true, "bake_resolution": [8, 9, 10]}})"),
+                                  "model", &c, {"type"});
+    EXPECT_EQ(c.goal, (std::array<float, 3>{1, 2, 3}));
+    EXPECT_EQ(c.goal_radius, 0.5f);
+    EXPECT_EQ(c.goal_speed, 2.0f);
+    EXPECT_EQ(c.goal_falloff, 1.0f);
+    EXPECT_EQ(c.min_distance, 0.01f);
+    EXPECT_EQ(c.noise.type, NoiseType::Perlin);
+    EXPECT_EQ(c.noise.scale, 0.7f);
+    EXPECT_EQ(c.noise.seed, 18446744073709551615ull);  // no trip through a double
+    EXPECT_TRUE(c.noise.domain_walls);
+    EXPECT_EQ(c.noise.bake_resolution, (std::array<uint32_t, 3>{8, 9, 10}));
+    FieldModelConfig d;
+    field_param_table().read_json(json::parse(R"({"noise": {"bake_resolution": 5}})"), "model", &d, {});
+    EXPECT_EQ(d.noise.bake_resolution, (std::array<uint32_t, 3>{5, 5, 5}));
+    EXPECT_EQ(d.noise.scale, FieldModelConfig().noise.scale);  // untouched keys keep their defaults
+}
+
+TEST(ParamTable, BadValuesNameTheKeyAndTheRange) {
+    FieldModelConfig c;
+    const ParamTable& t = field_param_table();
+    EXPECT_EQ(read_error(t, R"({"min_distance": -0.1})", &c), "model.min_distance: expected a number >= 0");
+    EXPECT_EQ(read_error(t, R"({"noise": {"scale": 0}})", &c), "model.noise.scale: expected a number > 0");
+    EXPECT_EQ(read_error(t, R"({"noise": {"scale": 1e-320}})", &c), "model.noise.scale: expected a number > 0");
+    EXPECT_EQ(read_error(t, R"({"noise": {"scale": "big"}})", &c), "model.noise.scale: expected a number > 0");
+    EXPECT_EQ(read_error(t, R"({"noise": {"type": "pink"}})", &c),
+              "model.noise.type: expected one of \"curl\", \"perlin\", \"white\", \"gaussian\"");
+    EXPECT_EQ(read_error(t, R"({"noise": {"baked": 1}})", &c), "model.noise.baked: expected true or false");
+    EXPECT_EQ(read_error(t, R"({"noise": {"seed": -1}})", &c),
+              "model.noise.seed: expected an integer in [0, 18446744073709551615]");
+    EXPECT_EQ(read_error(t, R"({"noise": {"bake_resolution": 1}})", &c),
+              "model.noise.bake_resolution: expected an integer in [2, 4096] or 3 of them");
+    EXPECT_EQ(read_error(t, R"({"noise": {"bake_resolution": [8, 8, 1e9]}})", &c),
+              "model.noise.bake_resolution: expected an integer in [2, 4096] or 3 of them");
+    EXPECT_EQ(read_error(t, R"({"goal": {"center": [1e39, 0, 0]}})", &c),
+              "model.goal.center: expected an array of 3 finite numbers");
+    EXPECT_EQ(read_error(t, R"({"goal": {"radius": 1}})", &c), "model.goal.center: missing");
+    EXPECT_EQ(read_error(t, R"({"goal": 3})", &c), "model.goal: expected an object");
+    // An unknown key lists the model's parameters.
+    const std::string unknown = read_error(t, R"({"goal": {"center": [0, 0, 0], "sped": 1}})", &c);
+    EXPECT_EQ(unknown.rfind("model.goal.sped: unknown key; the field model's parameters: ", 0), 0u) << unknown;
+    EXPECT_NE(unknown.find("goal.speed"), std::string::npos) << unknown;
+    EXPECT_NE(unknown.find("noise.scale"), std::string::npos) << unknown;
+    EXPECT_EQ(unknown.find("has_goal"), std::string::npos) << "implied, not a key: " << unknown;
+    EXPECT_EQ(read_error(t, R"({"has_goal": true})", &c).rfind("model.has_goal: unknown key", 0), 0u);
+}
+
+TEST(ParamTable, ValidateNamesTheFieldItsValueAndRange) {
+    FieldModelConfig c;
+    field_param_table().validate(&c);  // the defaults are valid
+    c.goal_radius = -1.0f;
+    try {
+        field_param_table().validate(&c);
+        FAIL() << "validated";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.status(), Status::InvalidArgument);
+        EXPECT_STREQ(e.what(), "field model goal_radius = -1 is outside [0, inf) (m)");
+    }
+    c = FieldModelConfig();
+    c.goal[1] = NAN;
+    EXPECT_THROW(field_param_table().validate(&c), Error);
+    c = FieldModelConfig();
+    c.noise.type = NoiseType(7);
+    try {
+        field_param_table().validate(&c);
+        FAIL() << "validated";
+    } catch (const Error& e) {
+        EXPECT_STREQ(e.what(), "field model noise.type = 7 is outside curl | perlin | white | gaussian");
+    }
+}
+
+TEST(ParamTable, DeviceBlockIsLaidOutFromTheTable) {
+    const ParamTable& t = field_param_table();
+    FieldModelConfig c;
+    c.has_goal = true;
+    c.goal = {1, 2, 3};
+    c.goal_radius = 0.25f;
+    c.goal_speed = 2.5f;
+    c.goal_falloff = 0.5f;
+    ASSERT_EQ(t.device_floats(), 8u);  // has_goal, centre (3), radius, speed, falloff, max_speed
+    std::vector<float> block(t.device_floats(), -99.0f);
+    t.write_device_block(&c, block.data());
+    const auto slot = [&](const char* key) { return t.find(key)->device; };
+    EXPECT_EQ(block[size_t(slot("has_goal"))], 1.0f);
+    EXPECT_EQ(block[size_t(slot("goal.center")) + 2], 3.0f);
+    EXPECT_EQ(block[size_t(slot("goal.radius"))], 0.25f);
+    EXPECT_EQ(block[size_t(slot("goal.speed"))], 2.5f);
+    EXPECT_EQ(block[size_t(slot("goal.falloff"))], 0.5f);
+    EXPECT_EQ(t.find("min_distance")->device, -1);  // host only
+    const std::string defines = t.device_defines("FIELD");
+    EXPECT_NE(defines.find("-DFIELD_GOAL_SPEED=" + std::to_string(slot("goal.speed"))), std::string::npos) << defines;
+    EXPECT_NE(defines.find("-DFIELD_FLOATS=8"), std::string::npos) << defines;
+}
+
+TEST(ParamTable, DefaultsComeFromTheConfig) {
+    const ParamTable& t = field_param_table();
+    const FieldModelConfig c;
+    EXPECT_EQ(float(t.find("goal.speed")->def[0]), c.goal_speed);
+    EXPECT_EQ(float(t.find("noise.scale")->def[0]), c.noise.scale);
+    EXPECT_EQ(uint32_t(t.find("noise.bake_resolution")->def[2]), c.noise.bake_resolution[2]);
+}
+
+TEST(ParamTable, EveryRowIsDocumented) {
+    for (const ParamTable* t : model_param_tables())
+        for (const Param& p : t->params()) {
+            EXPECT_FALSE(p.doc.empty()) << t->model() << " " << p.key;
+            EXPECT_FALSE(p.ref.empty()) << t->model() << " " << p.key;
+            EXPECT_FALSE(p.c_field.empty()) << t->model() << " " << p.key;
+            if (p.type == ParamType::Enum) EXPECT_FALSE(p.enum_names.empty()) << p.key;
+            EXPECT_TRUE(p.type == ParamType::UInt64 || p.valid(p.def[0])) << t->model() << " default of " << p.key;
+        }
+}
+
+TEST(ParamTable, ExportedThroughTheCApi) {
+    const char* text = nullptr;
+    ASSERT_EQ(swcl_model_parameters("field", &text), SWCL_OK) << swcl_last_error();
+    const json rows = json::parse(text);
+    ASSERT_TRUE(rows.is_array());
+    ASSERT_EQ(rows.size(), field_param_table().params().size());
+    bool saw = false;
+    for (const json& r : rows)
+        if (r["key"] == "goal.speed") {
+            saw = true;
+            EXPECT_EQ(r["c_field"], "goal_speed");
+            EXPECT_EQ(r["default"].get<double>(), double(FieldModelConfig().goal_speed));
+            EXPECT_EQ(r["min"].get<double>(), 0.0);
+            EXPECT_TRUE(r["max"].is_null());
+            EXPECT_EQ(r["unit"], "m/s");
+            EXPECT_TRUE(r["device"].get<bool>());
+        }
+    EXPECT_TRUE(saw);
+    const char* all = nullptr;
+    ASSERT_EQ(swcl_model_parameters(nullptr, &all), SWCL_OK);
+    EXPECT_TRUE(json::parse(all).contains("field"));
+    ASSERT_EQ(swcl_model_parameters("noise", &text), SWCL_OK);
+    EXPECT_EQ(json::parse(text)[0]["key"], "type");
+    EXPECT_EQ(swcl_model_parameters("boids", &text), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("known: "), std::string::npos) << swcl_last_error();
+    EXPECT_EQ(swcl_model_parameters("field", nullptr), SWCL_ERROR_INVALID_ARGUMENT);
+}
+
+// A valid value of row `p` (component a) other than its default.
+double other_value(const Param& p, int a) {
+    const double d = p.def[a];
+    switch (p.type) {
+        case ParamType::Bool: return 1.0 - d;
+        case ParamType::Enum: return double((int(d) + 1) % int(p.enum_names.size()));
+        case ParamType::UInt32:
+        case ParamType::UInt64:
+        case ParamType::UInt3: return p.valid(d + 1) ? d + 1 : d - 1;
+        default:
+            for (double v : {d + 0.5, d * 2 + 0.25, d * 0.5, p.lo + 0.125})
+                if (v != d && p.valid(v)) return v;
+    }
+    ADD_FAILURE() << "no other valid value for " << p.key;
+    return d;
+}
+
+// Every row of the table survives a checkpoint's model section (MODL): the
+// checkpoint holds each parameter the table declares.
+template <class Config>
+void expect_every_row_round_trips(const ParamTable& t) {
+    Config c;
+    for (const Param& p : t.params())
+        for (int a = 0; a < p.components(); ++a) p.set(&c, other_value(p, a), a);
+    ByteWriter w;
+    write_model_descriptor(w, c);
+    ByteReader r(w.data(), "test");
+    CheckpointModel m = read_model_descriptor(r);
+    Config& back = std::get<Config>(m.spec);
+    for (const Param& p : t.params())
+        for (int a = 0; a < p.components(); ++a) {
+            EXPECT_NE(p.get(&c, a), p.def[a]) << t.model() << " " << p.key << ": the test did not change it";
+            EXPECT_EQ(p.get(&back, a), p.get(&c, a)) << t.model() << " " << p.key << "[" << a << "]";
+        }
+}
+
+TEST(ParamTable, EveryParameterIsInTheCheckpoint) {
+    expect_every_row_round_trips<FieldModelConfig>(field_param_table());
+}
+
+// docs/scenarios.md holds each table between markers; the test fails when
+// they drift.  SWARMCL_WRITE_PARAM_DOCS=1 rewrites them instead.
+TEST(ParamDocs, ScenariosMdHoldsTheGeneratedTables) {
+    const std::string path = std::string(SWARMCL_SOURCE_DIR) + "/docs/scenarios.md";
+    std::ifstream in(path);
+    ASSERT_TRUE(in) << path;
+    std::stringstream ss;
+    ss << in.rdbuf();
+    std::string doc = ss.str();
+    const char* write = std::getenv("SWARMCL_WRITE_PARAM_DOCS");
+    std::vector<const ParamTable*> tables = model_param_tables();
+    for (const ParamTable* t : tables) {
+        const std::string begin = "<!-- parameters:" + t->model() + " (generated from the table; tests/test_params.cpp) -->\n";
+        const std::string end = "<!-- end parameters:" + t->model() + " -->";
+        const size_t b = doc.find(begin), e = doc.find(end);
+        ASSERT_NE(b, std::string::npos) << "docs/scenarios.md has no " << begin;
+        ASSERT_NE(e, std::string::npos) << "docs/scenarios.md has no " << end;
+        const std::string have = doc.substr(b + begin.size(), e - b - begin.size());
+        const std::string want = t->to_markdown();
+        if (write && std::string(write) == "1") doc.replace(b + begin.size(), have.size(), want);
+        else EXPECT_EQ(have, want) << t->model() << "'s table in docs/scenarios.md drifted: rerun with SWARMCL_WRITE_PARAM_DOCS=1";
+    }
+    if (write && std::string(write) == "1") std::ofstream(path) << doc;
+}
+
+}  // namespace
