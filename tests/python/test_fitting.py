@@ -56,7 +56,8 @@ def test_ranges_are_checked_against_the_scenario():
     params = swarmcl.load_ranges({"model.noise.gain": [0, 1], "agents.count": [4, 20]}, SCENARIO)
     assert [p.integer for p in params] == [False, True]
     assert params[1].value(0.45) == 11  # 4 + 0.45 * 16 = 11.2, rounded
-    for bad, msg in (({"model.noise.nope": [0, 1]}, "no field 'nope'"), ({"model.noise.type": [0, 1]}, "not a number"),
+    for bad, msg in (({"model.noise.nope": [0, 1]}, "neither in the scenario nor a parameter of the field model"),
+                     ({"agents.nope": [0, 1]}, "no field 'nope'"), ({"model.noise.type": [0, 1]}, "not a number"),
                      ({"model.noise.gain": [1, 0]}, "low < high"), ({"model.noise.gain": [0]}, r"\[low, high\]"),
                      ({"model.noise.domain_walls": [0, 1]}, "not a number"), ({}, "at least one")):
         with pytest.raises(ValueError, match=msg):
@@ -165,7 +166,11 @@ def test_compare_iterates_entropy_weights_over_models(ctx, real):
 def test_refused_and_blown_up_individuals_score_low_never_nan(ctx, real):
     # A negative MDE distance is refused by the scenario reader; frames that
     # blew up (NaN) make non-finite metrics: both score -1e6.
-    params = swarmcl.load_ranges({"model.noise.gain": [0.05, 1.0], "model.min_distance": [-1.0, -0.5]}, SCENARIO)
+    # load_ranges refuses such a range up front (the field model's table:
+    # min_distance >= 0); built by hand, the evaluator still scores it low.
+    with pytest.raises(ValueError, match=r"leaves the parameter's valid range \[0, inf\)"):
+        swarmcl.load_ranges({"model.noise.gain": [0.05, 1.0], "model.min_distance": [-1.0, -0.5]}, SCENARIO)
+    params = [swarmcl.Parameter("model.noise.gain", 0.05, 1.0), swarmcl.Parameter("model.min_distance", -1.0, -0.5)]
     ev = swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, steps=40)
     scores = ev([[0.5, 0.5], [0.2, 0.9]])
     assert scores == [swarmcl.fitting.REFUSED_SCORE] * 2 and ev.refused == 2

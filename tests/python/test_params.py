@@ -25,7 +25,7 @@ def c_fields(ctype, prefix=""):
     """(dotted name, cffi type) of every field of a C struct, nested structs
     walked into; struct_size left out."""
     out = []
-    for name, f in ffi.typeof(ctype).fields:
+    for name, f in (ffi.typeof(ctype) if isinstance(ctype, str) else ctype).fields:
         if name == "struct_size":
             continue
         if f.type.kind == "struct":
@@ -117,5 +117,7 @@ def test_fit_ranges_are_checked_against_the_table():
         load_ranges({"model.goal.speed": [-1.0, 2.0]}, FIELD_SCENARIO)
     with pytest.raises(ValueError, match=r"leaves the parameter's valid range \(0, inf\)"):
         load_ranges({"model.noise.scale": [0.0, 2.0]}, FIELD_SCENARIO)
-    with pytest.raises(ValueError, match="is a bool parameter"):
+    with pytest.raises(ValueError, match="is a bool parameter of the field model, not a number"):
         load_ranges({"model.noise.baked": [0, 1]}, FIELD_SCENARIO)
+    with pytest.raises(ValueError, match="is a uint3 parameter of the field model, not a number"):
+        load_ranges({"model.noise.bake_resolution": [8, 16]}, FIELD_SCENARIO)

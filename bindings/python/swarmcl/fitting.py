@@ -105,8 +105,6 @@ def _table_row(scenario: dict, path: str):
 
 
 def _check_against_table(path: str, model: str, row: dict, low: float, high: float) -> None:
-    if row["type"] not in ("float", "uint32", "uint64"):
-        raise ValueError(f"ranges: {path!r} is a {row['type']} parameter of the {model} model, not a number")
     lo, hi, excl = row.get("min"), row.get("max"), row.get("min_exclusive", False)
     if (lo is not None and (low < lo or (excl and low <= lo))) or (hi is not None and high > hi):
         raise ValueError(f"ranges: {path!r}: [{low:g}, {high:g}] leaves the parameter's valid range "
@@ -142,6 +140,8 @@ def load_ranges(ranges, scenario: dict) -> List[Parameter]:
                                      f"model; its parameters: {known}") from None
                 raise
             current = row["default"]  # left at its default in the scenario
+        if row is not None and row["type"] not in ("float", "uint32", "uint64"):
+            raise ValueError(f"ranges: {path!r} is a {row['type']} parameter of the {model} model, not a number")
         if isinstance(current, bool) or not isinstance(current, (int, float)):
             raise ValueError(f"ranges: {path!r} is {type(current).__name__}, not a number")
         if (not isinstance(bounds, (list, tuple)) or len(bounds) != 2
