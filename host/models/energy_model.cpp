@@ -1,6 +1,6 @@
 #include "models/energy_model.hpp"
 
-#include "models/model_checkpoint.hpp"
+#include "models/model_descriptor.hpp"
 
 #include <algorithm>
 #include <cmath>

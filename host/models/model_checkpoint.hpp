@@ -12,6 +12,7 @@
 #include <memory>
 
 #include "io/checkpoint.hpp"
+#include "models/model_descriptor.hpp"
 #include "models/model_spec.hpp"
 
 namespace swarmcl {
@@ -28,14 +29,8 @@ struct CheckpointModel {
     std::shared_ptr<const Dataset> dataset;
 };
 
-// The MODL section of each model (called by the models' save_checkpoint).
-void write_model_descriptor(ByteWriter& out, const FieldModelConfig& config);
-void write_model_descriptor(ByteWriter& out, const PathModelConfig& config);
-void write_model_descriptor(ByteWriter& out, const ForceModelConfig& config);
-void write_model_descriptor(ByteWriter& out, const EnergyModelConfig& config, const Dataset& dataset);
-// The policy model: its config and the weights file's bytes.
-void write_model_descriptor(ByteWriter& out, const PolicyModelConfig& config, const std::string& weights);
-void write_ballistic_descriptor(ByteWriter& out);
+// The MODL section of each model (called by the models' save_checkpoint):
+// model_descriptor.hpp.
 
 // Error(Parse) for an unknown model name, a bad enum value, a short section,
 // an absurd count or a mesh index out of range.  The values are validated

@@ -6,7 +6,7 @@
 
 #include "core/error.hpp"
 #include "fields/noise_field.hpp"
-#include "models/model_checkpoint.hpp"
+#include "models/model_descriptor.hpp"
 #include "swarm/swarm.hpp"
 
 namespace swarmcl {
