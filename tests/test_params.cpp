@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 
@@ -16,6 +17,7 @@
 #include "core/error.hpp"
 #include "models/field_model.hpp"
 #include "models/model_checkpoint.hpp"
+#include "models/swarm_checkpoint.hpp"
 #include "params/param_table.hpp"
 #include "scenario/scenario.hpp"
 #include "swarmcl/swarmcl.h"
@@ -219,6 +221,29 @@ void expect_every_row_round_trips(const ParamTable& t) {
 
 TEST(ParamTable, EveryParameterIsInTheCheckpoint) {
     expect_every_row_round_trips<FieldModelConfig>(field_param_table());
+}
+
+// A checkpoint written before MODL v2 (the fuzz corpus' field model seed,
+// made from examples/scenarios/aggregation.json) still loads: its fields in
+// the version 1 layout, a parameter added since (max_speed) at its default.
+TEST(ParamTable, AVersion1FieldCheckpointStillLoads) {
+    std::ifstream in(std::string(SWARMCL_SOURCE_DIR) + "/bench/fuzz/corpus/checkpoint/aggregation", std::ios::binary);
+    ASSERT_TRUE(in);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const auto sections = parse_checkpoint(bytes);
+    bool v1 = false;
+    for (const auto& sec : sections) v1 = v1 || (sec.tag == section_tag("MODL") && sec.version == 1);
+    ASSERT_TRUE(v1) << "the seed is no longer a version 1 file";
+    const SwarmCheckpoint cp = decode_swarm_checkpoint(bytes);
+    const auto& c = std::get<FieldModelConfig>(cp.model.spec);
+    EXPECT_EQ(c.noise.gain, 0.25f);
+    EXPECT_EQ(c.noise.seed, 7u);
+    EXPECT_TRUE(c.noise.domain_walls);
+    EXPECT_TRUE(c.has_goal);
+    EXPECT_EQ(c.goal, (std::array<float, 3>{0, 0, 2}));
+    EXPECT_EQ(c.goal_falloff, 1.0f);
+    EXPECT_EQ(c.min_distance, 0.03f);
+    EXPECT_EQ(c.max_speed, 0.0f);
 }
 
 // docs/scenarios.md holds each table between markers; the test fails when
