@@ -67,9 +67,9 @@ class SwarmParallelEnv(ParallelEnv):
 
     def reset(self, seed: Optional[int] = None, options: Optional[dict] = None):
         """The world to its start (seed: the same bits every time; None: one
-        drawn from the env's generator).  Returns (observations, infos)."""
-        if options:
-            raise ValueError(f"SwarmParallelEnv.reset: no options are supported, got {sorted(options)}")
+        drawn from the env's generator).  ``options`` are accepted and
+        ignored (PettingZoo's parallel_api_test passes some; this env has
+        none).  Returns (observations, infos)."""
         if seed is not None:
             self._rng = np.random.default_rng(seed)
         obs = self.env.reset(int(seed) if seed is not None else _seed_from(self._rng))
