@@ -69,3 +69,34 @@ def test_parallel_env_is_the_c_environment_and_state_is_the_worlds(ctx):
             env.step({f"follower_{i}": np.zeros(4, np.float32) for i in range(3)})   # still usable
         finally:
             env.close()
+
+
+def test_stable_baselines3_trains_on_the_registered_env(ctx):
+    """A few hundred steps of SB3's PPO on gymnasium.make(ENV_ID, agents=4):
+    no adapter, the policy's weights move, episodes are counted, actions come
+    back inside the action space."""
+    if os.environ.get("SWARMCL_REQUIRE_RL") == "1":
+        import stable_baselines3  # noqa: F401 - in the rl extra
+    else:
+        pytest.importorskip("stable_baselines3")
+    import gymnasium
+    import torch
+    from stable_baselines3 import PPO
+
+    from swarmcl.rl import ENV_ID
+
+    env = gymnasium.make(ENV_ID, agents=4, context=ctx, max_steps=50)
+    try:
+        model = PPO("MlpPolicy", env, n_steps=64, batch_size=64, n_epochs=2, seed=0, device="cpu", verbose=0)
+        before = [p.detach().clone() for p in model.policy.parameters()]
+        model.learn(total_timesteps=256)
+        assert model.num_timesteps >= 256
+        moved = sum(not torch.equal(a, b) for a, b in zip(before, model.policy.parameters()))
+        assert moved >= len(before) // 2, f"{moved} of {len(before)} tensors changed"
+        lengths = [e["l"] for e in model.ep_info_buffer]
+        assert len(lengths) >= 4 and set(lengths) == {50}        # M = 50: episodes truncated at 50 steps
+        obs, _ = env.reset(seed=3)
+        act, _ = model.predict(obs, deterministic=True)
+        assert act.shape == (4, 4) and env.action_space.contains(act.astype(np.float32))
+    finally:
+        env.close()
