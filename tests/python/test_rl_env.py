@@ -402,3 +402,36 @@ def test_world_env_refuses_bad_actions_and_stays_usable(ctx):
         with pytest.raises(ValueError, match=r"shape \(4,\)"):
             single.step(np.zeros((1, 4), np.float32))
         single.step(np.zeros(4, np.float32))
+
+
+def test_unit_actions_are_the_env_actions_scaled(ctx):
+    """unit_actions=True: the action space is [-1, 1] per component (no
+    check_env advice to normalise it), and an action a moves the world as
+    a * action_scale in env units does."""
+    from gymnasium.utils.env_checker import check_env
+
+    rng = np.random.default_rng(12)
+    with SwarmWorldEnv(3, ctx, unit_actions=True, max_steps=20) as env, SwarmWorldEnv(3, ctx) as ref:
+        assert (env.action_space.low == -1).all() and (env.action_space.high == 1).all()
+        scale = ref.env.action_scale()
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            check_env(env, skip_render_check=True)
+        assert not [w for w in caught if "normalized" in str(w.message)]
+        env.reset(seed=4)
+        ref.reset(seed=4)
+        for _ in range(5):
+            a = rng.uniform(-1, 1, (3, 4)).astype(np.float32)
+            o, r, _, _, _ = env.step(a)
+            o2, r2, _, _, _ = ref.step(a * scale)
+            assert _bits(o) == _bits(o2) and r == r2
+    with SwarmVectorEnv(2, 2, context=ctx, unit_actions=True) as venv, SwarmVectorEnv(2, 2, context=ctx) as vref:
+        assert venv.single_action_space.high.tolist() == [1, 1, 1, 1]
+        venv.reset(seed=5)
+        vref.reset(seed=5)
+        a = rng.uniform(-1, 1, (4, 4)).astype(np.float32)
+        assert _bits(venv.step(a)[0]) == _bits(vref.step(a * vref.env.action_scale())[0])
+        bad = a.copy()
+        bad[1, 0] = np.nan
+        with pytest.raises(ValueError, match="finite.*slot 1"):
+            venv.step(bad)

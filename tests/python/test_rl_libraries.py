@@ -85,7 +85,7 @@ def test_stable_baselines3_trains_on_the_registered_env(ctx):
 
     from swarmcl.rl import ENV_ID
 
-    env = gymnasium.make(ENV_ID, agents=4, context=ctx, max_steps=50)
+    env = gymnasium.make(ENV_ID, agents=4, context=ctx, max_steps=50, unit_actions=True)
     try:
         model = PPO("MlpPolicy", env, n_steps=64, batch_size=64, n_epochs=2, seed=0, device="cpu", verbose=0)
         before = [p.detach().clone() for p in model.policy.parameters()]

@@ -50,9 +50,12 @@ def register_envs() -> None:
                      vector_entry_point="swarmcl.rl.env:SwarmVectorEnv")
 
 
-def _spaces(env: RlEnv):
+def _spaces(env: RlEnv, unit_actions: bool = False):
+    """(observation, action) spaces of one follower: actions in env units,
+    +-action_scale(), or in [-1, 1] with unit_actions (times action_scale()
+    inside step)."""
     obs = gym.spaces.Box(-np.inf, np.inf, shape=(env.obs_dim,), dtype=np.float32)
-    s = env.action_scale()
+    s = np.ones(ACTION_DIM, np.float32) if unit_actions else env.action_scale()
     act = gym.spaces.Box(-s, s, shape=(ACTION_DIM,), dtype=np.float32)
     return obs, act
 
@@ -128,14 +131,15 @@ class SwarmVectorEnv(VectorEnv):
     ``gymnasium.make_vec`` passes) = worlds * agents with ``agents``
     (default 1) followers per world.  ``context``: a swarmcl.Context (one is
     created and owned when None); ``episode_statistics``: infos["episode"]
-    as RecordEpisodeStatistics gives it; other keywords go to RlEnv
-    (scenario, max_steps, efs, ...)."""
+    as RecordEpisodeStatistics gives it; ``unit_actions``: the action space
+    is [-1, 1]^4 per follower (times the action scale inside step) instead
+    of env units; other keywords go to RlEnv (scenario, max_steps, efs, ...)."""
 
     metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP, "render_modes": []}
 
     def __init__(self, worlds: Optional[int] = None, agents: Optional[int] = None,
                  context: Optional[Context] = None, *, num_envs: Optional[int] = None,
-                 episode_statistics: bool = True, **env_kwargs):
+                 episode_statistics: bool = True, unit_actions: bool = False, **env_kwargs):
         agents = 1 if agents is None else operator.index(agents)
         if num_envs is not None:
             num_envs = operator.index(num_envs)
@@ -158,7 +162,8 @@ class SwarmVectorEnv(VectorEnv):
         self.context = ctx
         self.worlds, self.agents = self.env.worlds, self.env.agents
         self.num_envs = self.env.slots
-        self.single_observation_space, self.single_action_space = _spaces(self.env)
+        self.single_observation_space, self.single_action_space = _spaces(self.env, unit_actions)
+        self._scale = self.env.action_scale() if unit_actions else None
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)
         self.action_space = batch_space(self.single_action_space, self.num_envs)
         self.render_mode = None
@@ -207,6 +212,8 @@ class SwarmVectorEnv(VectorEnv):
         end of an episode, "episode" / "_episode")."""
         if not self._was_reset:
             raise RuntimeError("SwarmVectorEnv.step: call reset() first")
+        if self._scale is not None:
+            actions = self.env._actions_in(actions, "SwarmVectorEnv.step").reshape(-1, ACTION_DIM) * self._scale
         obs, rew, term, trunc = self.env.step(actions)  # checks shape and finiteness first
         if self._pending.any():
             obs = self.env.reset_worlds(self._pending)
@@ -249,12 +256,14 @@ class SwarmWorldEnv(gym.Env):
     terminated / truncated the world's.  What ``gymnasium.make(ENV_ID,
     agents=N)`` gives and what single-agent libraries (Stable-Baselines3)
     take as they are; to train one policy shared by the followers, use
-    SwarmVectorEnv.  No autoreset: after an episode ends call reset."""
+    SwarmVectorEnv.  No autoreset: after an episode ends call reset.
+    ``unit_actions``: actions in [-1, 1] (times the action scale inside
+    step), as most libraries expect; default env units."""
 
     metadata = {"render_modes": []}
 
     def __init__(self, agents: int = 1, context: Optional[Context] = None, *, episode_statistics: bool = True,
-                 **env_kwargs):
+                 unit_actions: bool = False, **env_kwargs):
         self._own_context = context is None
         ctx = Context() if context is None else context
         try:
@@ -265,7 +274,8 @@ class SwarmWorldEnv(gym.Env):
             raise
         self.context = ctx
         self.agents = self.env.agents
-        obs, act = _spaces(self.env)
+        obs, act = _spaces(self.env, unit_actions)
+        self._scale = self.env.action_scale() if unit_actions else None
         n = self.agents
         self.observation_space = gym.spaces.Box(-np.inf, np.inf, shape=(n,) + obs.shape, dtype=np.float32)
         self.action_space = gym.spaces.Box(np.tile(act.low, (n, 1)), np.tile(act.high, (n, 1)), dtype=np.float32)
@@ -296,7 +306,8 @@ class SwarmWorldEnv(gym.Env):
         if not np.isfinite(a).all():
             bad = int(np.flatnonzero((~np.isfinite(a.reshape(-1, ACTION_DIM))).any(axis=1))[0])
             raise ValueError(f"{what}: actions must be finite (NaN or Inf at follower {bad})")
-        obs, rew, term, trunc = self.env.step(a.reshape(self.agents, ACTION_DIM))
+        a = a.reshape(self.agents, ACTION_DIM)
+        obs, rew, term, trunc = self.env.step(a if self._scale is None else a * self._scale)
         reward = float(rew.mean())
         terminated, truncated = bool(term[0]), bool(trunc[0])
         info = {"rewards": rew}
