@@ -435,3 +435,37 @@ def test_unit_actions_are_the_env_actions_scaled(ctx):
         bad[1, 0] = np.nan
         with pytest.raises(ValueError, match="finite.*slot 1"):
             venv.step(bad)
+
+
+def test_world_env_renders_rgb_arrays(ctx):
+    """render_mode="rgb_array": a top view centred on the leader (red), the
+    followers white where their positions fall; check_env's render check
+    passes; None without a render mode."""
+    from gymnasium.utils.env_checker import check_env
+
+    with SwarmWorldEnv(5, ctx, render_mode="rgb_array", render_size=200, render_extent=50.0, scenario="maze") as env:
+        check_env(env)
+        env.reset(seed=2)
+        img = env.render()
+        assert img.shape == (200, 200, 3) and img.dtype == np.uint8
+        assert img[100, 100].tolist() == [230, 40, 40]             # the leader at the centre
+        st = env.env.read_state()
+        d = (st["positions"][:, :2] - st["leader_positions"][0, :2]) * 4.0   # 200 px / 50 m
+        for dx, dy in d:
+            c, r = int(np.floor(100 + dx)), int(np.floor(100 - dy))
+            if 0 <= r < 200 and 0 <= c < 200 and abs(dx) > 3 and abs(dy) > 3:   # not under the leader's square
+                assert img[r, c].tolist() == [235, 235, 235]
+        wall = (img == [110, 110, 110]).all(axis=2)                # the maze's long walls y = +-23 (+-1), x >= -10
+        assert wall[100 - 24 * 4 + 1:100 - 22 * 4, 100:].all() and not wall[100 - 24 * 4 + 1:100 - 22 * 4, :99].any()
+        assert env.metadata["render_fps"] == 10
+    with SwarmWorldEnv(2, ctx) as plain:
+        plain.reset(seed=1)
+        assert plain.render() is None
+    with pytest.raises(ValueError, match="render_mode"):
+        SwarmWorldEnv(2, ctx, render_mode="human")
+    env = gymnasium.make(ENV_ID, agents=3, context=ctx, render_mode="rgb_array")
+    try:
+        env.reset(seed=1)
+        assert env.render().shape == (256, 256, 3)
+    finally:
+        env.close()

@@ -260,10 +260,16 @@ class SwarmWorldEnv(gym.Env):
     ``unit_actions``: actions in [-1, 1] (times the action scale inside
     step), as most libraries expect; default env units."""
 
-    metadata = {"render_modes": []}
+    metadata = {"render_modes": ["rgb_array"], "render_fps": 10}
 
     def __init__(self, agents: int = 1, context: Optional[Context] = None, *, episode_statistics: bool = True,
-                 unit_actions: bool = False, **env_kwargs):
+                 unit_actions: bool = False, render_mode: Optional[str] = None, render_size: int = 256,
+                 render_extent: float = 40.0, **env_kwargs):
+        if render_mode not in (None, "rgb_array"):
+            raise ValueError(f"{type(self).__name__}: render_mode must be None or 'rgb_array', got {render_mode!r}")
+        if operator.index(render_size) < 16 or not float(render_extent) > 0:
+            raise ValueError(f"{type(self).__name__}: render_size must be >= 16 and render_extent > 0, got "
+                             f"{render_size}, {render_extent}")
         self._own_context = context is None
         ctx = Context() if context is None else context
         try:
@@ -279,7 +285,9 @@ class SwarmWorldEnv(gym.Env):
         n = self.agents
         self.observation_space = gym.spaces.Box(-np.inf, np.inf, shape=(n,) + obs.shape, dtype=np.float32)
         self.action_space = gym.spaces.Box(np.tile(act.low, (n, 1)), np.tile(act.high, (n, 1)), dtype=np.float32)
-        self.render_mode = None
+        self.render_mode = render_mode
+        self.render_size, self.render_extent = int(render_size), float(render_extent)
+        self.metadata = dict(self.metadata, render_fps=round(1.0 / self.env.params["dt"]))
         self._statistics = episode_statistics
         self._return, self._length, self._start = 0.0, 0, time.perf_counter()
         self._was_reset = False
@@ -317,6 +325,37 @@ class SwarmWorldEnv(gym.Env):
             info["episode"] = {"r": self._return, "l": self._length,
                                "t": round(time.perf_counter() - self._start, 6)}
         return self._obs(obs), reward, terminated, truncated, info
+
+    def render(self):
+        """render_mode "rgb_array": the world seen from above (x right, y up),
+        (render_size, render_size, 3) uint8, centred on the leader and
+        render_extent metres across: box obstacles' footprints grey, the
+        followers white 3 x 3 squares, the leader a red 5 x 5 square.
+        None when render_mode is None (Gymnasium's convention)."""
+        if self.render_mode is None:
+            return None
+        if not self._was_reset:
+            raise RuntimeError(f"{type(self).__name__}.render: call reset() first")
+        n = self.render_size
+        img = np.zeros((n, n, 3), np.uint8)
+        img[:] = (24, 28, 40)
+        st = self.env.read_state()
+        centre = st["leader_positions"][0, :2].astype(np.float64)
+        px = n / self.render_extent
+
+        def pixel(xy):
+            d = (np.asarray(xy, np.float64).reshape(-1, 2) - centre) * px
+            return np.floor(n / 2 + d[:, 0]).astype(int), np.floor(n / 2 - d[:, 1]).astype(int)
+
+        for box in self.env.layout()["obstacles"]:
+            (c0, c1), (r1, r0) = pixel([box[:2] - box[3:5], box[:2] + box[3:5]])
+            img[max(r0, 0):max(min(r1 + 1, n), 0), max(c0, 0):max(min(c1 + 1, n), 0)] = (110, 110, 110)
+        for xy, half, colour in ((st["positions"][:, :2], 1, (235, 235, 235)),
+                                 (st["leader_positions"][:, :2], 2, (230, 40, 40))):
+            cols, rows = pixel(xy)
+            for c, r in zip(cols, rows):
+                img[max(r - half, 0):max(min(r + half + 1, n), 0), max(c - half, 0):max(min(c + half + 1, n), 0)] = colour
+        return img
 
     def close(self) -> None:
         if not self.env.closed:
