@@ -354,7 +354,8 @@ class SwarmWorldEnv(gym.Env):
                                  (st["leader_positions"][:, :2], 2, (230, 40, 40))):
             cols, rows = pixel(xy)
             for c, r in zip(cols, rows):
-                img[max(r - half, 0):max(min(r + half + 1, n), 0), max(c - half, 0):max(min(c + half + 1, n), 0)] = colour
+                r0, r1, c0, c1 = (max(v, 0) for v in (r - half, min(r + half + 1, n), c - half, min(c + half + 1, n)))
+                img[r0:r1, c0:c1] = colour
         return img
 
     def close(self) -> None:
