@@ -70,6 +70,35 @@ TEST_F(RlCApi, RuleBasedBaselineLoopWithWholeArrays) {
     EXPECT_EQ(swcl_rl_env_destroy(env), SWCL_OK);
 }
 
+TEST_F(RlCApi, ResetWithASeedPerWorld) {
+    // World w of reset_seeds(seeds) gets the bits world w gets from
+    // reset(seeds[w]); a wrong count is refused and changes nothing.
+    swcl_rl_env_desc d = swcl_rl_env_desc_default();
+    d.worlds = 3;
+    d.agents = 5;
+    swcl_rl_env env{};
+    ASSERT_EQ(swcl_rl_env_create(ctx, &d, &env), SWCL_OK) << swcl_last_error();
+    const size_t per = 5 * 54, all = 3 * per;
+    std::vector<float> mixed(all), a(all), b(all), again(all);
+    const uint64_t seeds[3] = {7, 9, 7};
+    ASSERT_EQ(swcl_rl_env_reset_seeds(env, seeds, 3, mixed.data(), all), SWCL_OK) << swcl_last_error();
+    ASSERT_EQ(swcl_rl_env_reset(env, 7, a.data(), all), SWCL_OK);
+    ASSERT_EQ(swcl_rl_env_reset(env, 9, b.data(), all), SWCL_OK);
+    EXPECT_EQ(0, std::memcmp(mixed.data(), a.data(), per * sizeof(float)));                  // world 0: seed 7
+    EXPECT_EQ(0, std::memcmp(mixed.data() + per, b.data() + per, per * sizeof(float)));      // world 1: seed 9
+    EXPECT_EQ(0, std::memcmp(mixed.data() + 2 * per, a.data() + 2 * per, per * sizeof(float)));  // world 2: seed 7
+    EXPECT_NE(0, std::memcmp(mixed.data() + per, a.data() + per, per * sizeof(float)));
+    EXPECT_EQ(swcl_rl_env_reset_seeds(env, seeds, 2, again.data(), all), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_TRUE(error_mentions("worlds = 3 entries (2 given)")) << swcl_last_error();
+    EXPECT_EQ(swcl_rl_env_reset_seeds(env, nullptr, 3, nullptr, 0), SWCL_ERROR_INVALID_ARGUMENT);
+    std::vector<float> act(4 * 15, 0.0f), o1(all), o2(all);
+    ASSERT_EQ(swcl_rl_env_step(env, act.data(), act.size(), o1.data(), all, nullptr, 0, nullptr, nullptr, 0), SWCL_OK);
+    ASSERT_EQ(swcl_rl_env_reset(env, 9, nullptr, 0), SWCL_OK);  // the refused calls left the seed-9 state
+    ASSERT_EQ(swcl_rl_env_step(env, act.data(), act.size(), o2.data(), all, nullptr, 0, nullptr, nullptr, 0), SWCL_OK);
+    EXPECT_EQ(0, std::memcmp(o1.data(), o2.data(), all * sizeof(float)));
+    EXPECT_EQ(swcl_rl_env_destroy(env), SWCL_OK);
+}
+
 TEST_F(RlCApi, BadInputGivesAStatusAndAMessage) {
     swcl_rl_env_desc d = swcl_rl_env_desc_default();
     swcl_rl_env env{};

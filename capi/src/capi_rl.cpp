@@ -174,6 +174,19 @@ swcl_status swcl_rl_env_reset(swcl_rl_env env, uint64_t seed, float* out_obs, si
     });
 }
 
+swcl_status swcl_rl_env_reset_seeds(swcl_rl_env env, const uint64_t* seeds, size_t seed_count, float* out_obs,
+                                    size_t obs_count) {
+    return with_env(__func__, env, [&](LeaderEnv& e) {
+        const size_t n = size_t(e.worlds()) * e.agents();
+        check_count(out_obs, obs_count, n * e.obs_dim(), "out_obs");
+        require(seeds != nullptr && seed_count == e.worlds(), "seeds needs worlds = " + std::to_string(e.worlds()) +
+                                                                 " entries (" + std::to_string(seed_count) +
+                                                                 " given)");
+        e.reset(std::vector<uint64_t>(seeds, seeds + seed_count));
+        if (out_obs) e.read_observations(out_obs, obs_count);
+    });
+}
+
 swcl_status swcl_rl_env_reset_worlds(swcl_rl_env env, const uint8_t* mask, size_t mask_count, float* out_obs,
                                      size_t obs_count) {
     return with_env(__func__, env, [&](LeaderEnv& e) {

@@ -100,7 +100,7 @@ LeaderEnv::LeaderEnv(Context& ctx, RlEnvConfig config) : ctx_(ctx), c_(std::move
 }
 
 // World w's start of its episode episode_[w]: every number from
-// philox(seed, agent, episode, world), so a seed gives the same bits.
+// philox(seed of w, agent, episode, world), so a seed gives the same bits.
 void LeaderEnv::reset_world(uint32_t w, std::vector<cl_float4>& pos, std::vector<cl_float4>& vel) {
     const uint32_t N = c_.agents, e = episode_[w];
     float lp[3] = {0, 0, 0}, q[3] = {1, 0, 0}, u;
@@ -114,7 +114,7 @@ void LeaderEnv::reset_world(uint32_t w, std::vector<cl_float4>& pos, std::vector
         }
         u = a[3];
     } else {
-        const auto r = philox_for(seed_, N, e, w);
+        const auto r = philox_for(seeds_[w], N, e, w);
         const float th = 6.2831853f * uniform01(r[0]);
         q[0] = std::cos(th);
         q[1] = std::sin(th);
@@ -124,7 +124,7 @@ void LeaderEnv::reset_world(uint32_t w, std::vector<cl_float4>& pos, std::vector
     lvel_h_[w] = f4(q[0], q[1], q[2], u);
     const float c[3] = {lp[0] - c_.spawn_back * q[0], lp[1] - c_.spawn_back * q[1], lp[2] - c_.spawn_back * q[2]};
     for (uint32_t k = 0; k < N; ++k) {
-        const auto r = philox_for(seed_, k, e, w);
+        const auto r = philox_for(seeds_[w], k, e, w);
         const float z = 2 * uniform01(r[0]) - 1, ph = 6.2831853f * uniform01(r[1]);
         const float rad = c_.spawn_radius * std::cbrt(uniform01(r[2]));
         const float s = std::sqrt(std::max(0.0f, 1 - z * z));
@@ -137,8 +137,12 @@ void LeaderEnv::reset_world(uint32_t w, std::vector<cl_float4>& pos, std::vector
     done_host_[w] = 0;
 }
 
-void LeaderEnv::reset(uint64_t seed) {
-    seed_ = seed;
+void LeaderEnv::reset(uint64_t seed) { reset(std::vector<uint64_t>(c_.worlds, seed)); }
+
+void LeaderEnv::reset(const std::vector<uint64_t>& seeds) {
+    require(seeds.size() == c_.worlds, "rl env: seeds need worlds = " + std::to_string(c_.worlds) + " entries (" +
+                                           std::to_string(seeds.size()) + " given)");
+    seeds_ = seeds;
     std::fill(episode_.begin(), episode_.end(), 0u);
     was_reset_ = true;
     lpos_h_.assign(c_.worlds, f4(0, 0, 0, 0));

@@ -73,6 +73,9 @@ public:
     // Every world to its start state (philox(seed, world, episode 0)); the
     // observations of the new state are computed.
     void reset(uint64_t seed);
+    // The same with a seed per world (worlds() entries): world w gets the
+    // bits it gets from reset(seeds[w]).
+    void reset(const std::vector<uint64_t>& seeds);
     // Only the worlds with mask[w] != 0, each to its next episode's start.
     void reset_worlds(const uint8_t* mask, size_t count);
     // One step: the leader, then the followers by actions (W*N*4 floats,
@@ -103,7 +106,7 @@ private:
 
     Context& ctx_;
     RlEnvConfig c_;
-    uint64_t seed_ = 0;
+    std::vector<uint64_t> seeds_;  // per world (reset(seed): all the same)
     bool was_reset_ = false;
     std::vector<uint32_t> episode_, steps_;
     std::vector<uint8_t> truncated_;

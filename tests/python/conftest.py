@@ -3,7 +3,9 @@
 The tests import the installed package (pip install .); from a source tree,
 PYTHONPATH=bindings/python with a C build in build/ (or SWARMCL_LIBRARY) works too."""
 
+import json
 import pathlib
+import struct
 
 import numpy as np
 import pytest
@@ -62,3 +64,22 @@ def follow_tour(s, weights=None, rounds=20, steps=25):
         np.fill_diagonal(d, np.inf)
         nearest.append(float(d.min(axis=1).mean()))
     return far, nearest
+
+
+def do_nothing_policy(path, obs_dim=54):
+    """Writes a policy-mlp/1 file whose actions are all 0 (one linear layer,
+    zero weights and bias): each follower keeps its speed and heading.  The
+    baseline a following test must beat.  Returns path."""
+    tensors = {"layers.0.weight": np.zeros((4, obs_dim), np.float32), "layers.0.bias": np.zeros(4, np.float32)}
+    header, blobs, at = {}, [], 0
+    for name, t in tensors.items():
+        b = t.tobytes()
+        header[name] = {"dtype": "F32", "shape": list(t.shape), "data_offsets": [at, at + len(b)]}
+        blobs.append(b)
+        at += len(b)
+    header["__metadata__"] = {"swarmcl.format": "policy-mlp/1", "swarmcl.activations": "linear",
+                              "swarmcl.action_scale": "1,1,1,1", "swarmcl.efs": "1" if obs_dim == 54 else "0"}
+    h = json.dumps(header).encode()
+    h += b" " * (-len(h) % 8)
+    pathlib.Path(path).write_bytes(struct.pack("<Q", len(h)) + h + b"".join(blobs))
+    return path

@@ -9,22 +9,31 @@ import numpy as np
 import pytest
 
 import swarmcl
-from conftest import follow_tour, follower_swarm
+from conftest import do_nothing_policy, follow_tour, follower_swarm
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
 
 
-def test_shipped_policy_follows_a_touring_leader(ctx):
+def test_shipped_policy_follows_a_touring_leader(ctx, tmp_path):
+    """The leader goes round most of the tour (~100 m) in 500 steps; the
+    shipped policy's followers stay nearer to it than followers that do
+    nothing (keep their start heading and speed), by a bound set between the
+    two.  Measured (PoCL CPU): mean distance to the leader over the tour
+    10.75 (max 18.1) for the shipped policy, 15.9 (max 22.3) doing nothing;
+    the old check, max < 20, was about what doing nothing gets."""
     assert pathlib.Path(swarmcl.SHIPPED_POLICY).is_file()
     with follower_swarm(ctx) as s:
         far, _ = follow_tour(s)
         p = s.read_positions()
         lp, _, _ = s.policy_leader()
-        # The leader has gone round most of the tour (~100 m); the followers stay with it.
-        assert max(far) < 20.0, far
         obs, act = s.policy_observe()
         assert obs.shape == (100, 54) and act.shape == (100, 4)
         np.testing.assert_allclose(obs[:, 4:7], lp - p, atol=1e-3)
+    with follower_swarm(ctx) as s:
+        idle, _ = follow_tour(s, do_nothing_policy(tmp_path / "zero.safetensors"))
+    assert np.mean(idle) > 13.0, idle           # the bound means something: doing nothing fails it
+    assert np.mean(far) < 13.0, far             # ... and the shipped policy passes it
+    assert np.mean(far) < np.mean(idle) - 3.0, (far, idle)
 
 
 def test_bad_weights_raise_and_the_swarm_stays_usable(ctx, tmp_path):

@@ -15,7 +15,7 @@ else:
 
 from gymnasium.vector import AutoresetMode  # noqa: E402
 
-from swarmcl.rl import RlEnv, SwarmSingleEnv, SwarmVectorEnv  # noqa: E402
+from swarmcl.rl import ENV_ID, RlEnv, SwarmSingleEnv, SwarmVectorEnv, SwarmWorldEnv  # noqa: E402
 
 
 def _actions(rng, n):
@@ -208,5 +208,264 @@ def test_single_env_passes_gymnasium_env_checker(ctx):
                     "observation space maximum value is infinity")
         other = [str(w.message) for w in caught if not any(e in str(w.message) for e in expected)]
         assert not other, other
+    finally:
+        env.close()
+
+
+# ---- issue 28: what RL users expect --------------------------------------
+
+
+def test_registered_make_and_make_vec(ctx):
+    """Importing swarmcl.rl registers ENV_ID: gymnasium.make gives one world
+    of N followers, gymnasium.make_vec W * N followers (num_envs = W * N)."""
+    assert ENV_ID == "swarmcl/LeaderFollow-v0" and ENV_ID in gymnasium.registry
+    env = gymnasium.make(ENV_ID, agents=3, context=ctx, max_steps=20)
+    try:
+        assert isinstance(env.unwrapped, SwarmWorldEnv) and env.unwrapped.agents == 3
+        assert env.observation_space.shape == (3, 54) and env.action_space.shape == (3, 4)
+        obs, _ = env.reset(seed=5)
+        assert obs.shape == (3, 54)
+        _, r, te, tr, info = env.step(env.action_space.sample())
+        assert isinstance(r, float) and r == pytest.approx(float(info["rewards"].mean()))
+    finally:
+        env.close()
+    venv = gymnasium.make_vec(ENV_ID, num_envs=6, agents=3, context=ctx, max_steps=20)
+    try:
+        assert isinstance(venv, SwarmVectorEnv) and (venv.num_envs, venv.worlds, venv.agents) == (6, 2, 3)
+        obs, _ = venv.reset(seed=5)
+        assert obs.shape == (6, 54)
+        with RlEnv(ctx, 2, 3, max_steps=20) as raw:   # the same bits as the C environment
+            assert _bits(obs) == _bits(raw.reset(5))
+    finally:
+        venv.close()
+    with gymnasium.make_vec(ENV_ID, num_envs=4, context=ctx) as v1:   # agents default 1: 4 worlds
+        assert (v1.num_envs, v1.worlds, v1.agents) == (4, 4, 1)
+    with pytest.raises(ValueError, match="multiple of agents = 3"):
+        gymnasium.make_vec(ENV_ID, num_envs=7, agents=3, context=ctx)
+    # A fresh interpreter that never imported swarmcl.rl: Gymnasium's module prefix imports it.
+    import subprocess
+    import sys
+
+    code = ("import gymnasium as g; e = g.make('swarmcl.rl:" + ENV_ID + "', agents=2, max_steps=3); "
+            "e.reset(seed=1); print(e.unwrapped.agents, [e.step(e.action_space.sample())[3] for _ in range(3)])")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr[-2000:]
+    assert run.stdout.split() == ["2", "[False,", "False,", "True]"]
+    with pytest.raises(ValueError, match="worlds \\* agents = 3 \\* 2"):
+        SwarmVectorEnv(3, 2, context=ctx, num_envs=8)
+
+
+def _run_stats(env, seed, acts, stagger=None):
+    env.reset(seed=seed)
+    out = []
+    for t, a in enumerate(acts):
+        o, r, te, tr, info = env.step(a)
+        out.append((r.copy(), te | tr, info))
+        if t == 0 and stagger is not None:   # worlds out of step (raw reset): they end on different steps
+            env.unwrapped.env.reset_worlds(stagger)
+    return out
+
+
+def test_vector_infos_carry_episode_statistics_as_the_wrapper_gives_them(ctx):
+    """infos["episode"] / ["_episode"] at each world's episode end: the same
+    returns and lengths as gymnasium's RecordEpisodeStatistics around an env
+    without them, per world, with the autoreset step not counted."""
+    from gymnasium.wrappers.vector import RecordEpisodeStatistics
+
+    rng = np.random.default_rng(3)
+    acts = [_actions(rng, 6) for _ in range(11)]
+    stagger = np.array([True, False])     # world 0 restarts after step 0: world 1 ends first
+    with SwarmVectorEnv(2, 3, context=ctx, max_steps=4) as env, \
+            SwarmVectorEnv(2, 3, context=ctx, max_steps=4, episode_statistics=False) as plain:
+        ours = _run_stats(env, 8, acts, stagger)
+        wrapped = RecordEpisodeStatistics(plain)
+        theirs = _run_stats(wrapped, 8, acts, stagger)
+        for t, ((r, done, info), (r2, done2, info2)) in enumerate(zip(ours, theirs)):
+            assert _bits(r) == _bits(r2) and (done == done2).all()
+            assert ("episode" in info) == done.any() == ("episode" in info2), t
+            if done.any():
+                np.testing.assert_array_equal(info["_episode"], info2["_episode"])
+                np.testing.assert_allclose(info["episode"]["r"], info2["episode"]["r"], rtol=1e-12)
+                np.testing.assert_array_equal(info["episode"]["l"], info2["episode"]["l"])
+                assert (info["episode"]["t"][done] >= 0).all() and (info["episode"]["t"][~done] == 0).all()
+        assert [t for t, (_, d, _) in enumerate(ours) if d.any()] == [3, 4, 8, 9]   # worlds 1, 0, 1, 0
+        # World 1's first episode: max_steps = 4 steps, its return the sum of its rewards.
+        assert ours[3][2]["episode"]["l"].tolist() == [0, 0, 0, 4, 4, 4]
+        np.testing.assert_allclose(ours[3][2]["episode"]["r"][3:],
+                                   sum(r.astype(np.float64) for r, _, _ in ours[:4])[3:], rtol=1e-12)
+        # Its second: steps 5-8 (step 4 was the autoreset step, reward 0, not counted).
+        assert ours[8][2]["episode"]["l"].tolist() == [0, 0, 0, 4, 4, 4]
+        np.testing.assert_allclose(ours[8][2]["episode"]["r"][3:],
+                                   sum(r.astype(np.float64) for r, _, _ in ours[5:9])[3:], rtol=1e-12)
+    with SwarmVectorEnv(1, 2, context=ctx, max_steps=2) as env:
+        with pytest.raises(ValueError, match="already exist"):   # wrapping twice: turn ours off first
+            _run_stats(RecordEpisodeStatistics(env), 1, [np.zeros((2, 4), np.float32)] * 2)
+
+
+def test_world_env_episode_statistics_match_the_wrapper(ctx):
+    from gymnasium.wrappers import RecordEpisodeStatistics
+
+    rng = np.random.default_rng(4)
+    acts = [_actions(rng, 3) for _ in range(5)]
+    with SwarmWorldEnv(3, ctx, max_steps=5) as env, SwarmWorldEnv(3, ctx, max_steps=5, episode_statistics=False) as p:
+        w = RecordEpisodeStatistics(p)
+        env.reset(seed=2)
+        w.reset(seed=2)
+        for t, a in enumerate(acts):
+            _, r, te, tr, info = env.step(a)
+            _, r2, te2, tr2, info2 = w.step(a)
+            assert r == r2 and (te, tr) == (te2, tr2) and ("episode" in info) == (t == 4) == ("episode" in info2)
+        assert info["episode"]["r"] == pytest.approx(info2["episode"]["r"], rel=1e-12)
+        assert info["episode"]["l"] == info2["episode"]["l"] == 5
+
+
+def test_reset_with_a_seed_per_world(ctx):
+    """reset(seed=[s_0, ..., s_W-1]): world w starts as reset(seed=s_w)
+    starts it; a list of the wrong length is a ValueError naming W, and the
+    env stays usable."""
+    rng = np.random.default_rng(6)
+    acts = [_actions(rng, 12) for _ in range(4)]
+    with SwarmVectorEnv(3, 4, context=ctx) as env, SwarmVectorEnv(3, 4, context=ctx) as ref:
+        mixed, _ = env.reset(seed=[7, 9, 7])
+        a, _ = ref.reset(seed=7)
+        b, _ = ref.reset(seed=9)
+        assert _bits(mixed[:4]) == _bits(a[:4]) and _bits(mixed[4:8]) == _bits(b[4:8])
+        assert _bits(mixed[8:]) == _bits(a[8:]) and _bits(mixed[4:8]) != _bits(a[4:8])
+        same, _ = env.reset(seed=np.array([7, 7, 7]))        # a list of one seed = that seed
+        assert _bits(same) == _bits(a)
+        drawn, _ = env.reset(seed=[None, 9, None])            # None entries: drawn from the env's generator
+        assert _bits(drawn[4:8]) == _bits(b[4:8]) and _bits(drawn[:4]) != _bits(a[:4])
+        for bad, err, what in (([1, 2], ValueError, "3 expected, got 2"), (list(range(12)), ValueError, "got 12"),
+                               ([1, -2, 3], ValueError, r"\[0, 2\^64\)"), ("123", TypeError, "per-world seeds")):
+            with pytest.raises(err, match=what):
+                env.reset(seed=bad)
+        env.reset(seed=[7, 9, 7])
+        ref.reset(seed=[7, 9, 7])
+        for act in acts:   # the refused resets changed nothing
+            o, r, _, _, _ = env.step(act)
+            o2, r2, _, _, _ = ref.step(act)
+            assert _bits(o) == _bits(o2) and _bits(r) == _bits(r2)
+
+
+def test_world_env_with_several_followers_passes_gymnasium_env_checker(ctx):
+    """check_env on one world of 6 followers: neighbours, EFS and every
+    neighbour reward are exercised (the 1 x 1 env has none)."""
+    from gymnasium.utils.env_checker import check_env
+
+    with SwarmWorldEnv(6, ctx, max_steps=20) as env:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            check_env(env, skip_render_check=True)
+        expected = ("symmetric and normalized", "observation space minimum value is -infinity",
+                    "observation space maximum value is infinity")
+        other = [str(w.message) for w in caught if not any(e in str(w.message) for e in expected)]
+        assert not other, other
+        obs, _ = env.reset(seed=1)
+        assert (obs[:, [51, 53]] != 0).all()          # EFS: every follower has neighbours (same start heading)
+        obs, _, _, _, info = env.step(_actions(np.random.default_rng(1), 6))
+        assert (obs[:, 51:54] != 0).all()             # ... and, once they turn, heading differences
+        assert len(set(info["rewards"].tolist())) > 1  # the followers' own rewards
+
+
+def test_world_env_refuses_bad_actions_and_stays_usable(ctx):
+    rng = np.random.default_rng(9)
+    good = [_actions(rng, 4) for _ in range(3)]
+    with SwarmWorldEnv(4, ctx) as env, SwarmWorldEnv(4, ctx) as ref:
+        with pytest.raises(RuntimeError, match="reset"):
+            env.step(good[0])
+        env.reset(seed=3)
+        ref.reset(seed=3)
+        for bad, err, what in ((np.zeros((3, 4), np.float32), ValueError, r"shape \(4, 4\).*got \(3, 4\)"),
+                               (np.zeros(16, np.float32), ValueError, r"shape \(4, 4\).*got \(16,\)"),
+                               (np.zeros((4, 4), bool), TypeError, r"float32 expected\), got dtype bool"),
+                               (np.zeros((4, 4), complex), TypeError, "got dtype complex"),
+                               ([["a"] * 4] * 4, TypeError, "float32 expected"),
+                               ([[0.0] * 4, [0.0] * 3], ValueError, r"shape \(4, 4\)")):
+            with pytest.raises(err, match=what):
+                env.step(bad)
+        nan = good[0].copy()
+        nan[2, 3] = np.nan
+        with pytest.raises(ValueError, match="finite.*follower 2"):
+            env.step(nan)
+        for a in good:   # nothing moved
+            o, r, _, _, i = env.step(a)
+            o2, r2, _, _, i2 = ref.step(a)
+            assert _bits(o) == _bits(o2) and r == r2
+        assert _bits(env.step(good[0].astype(np.float64))[0]) == _bits(ref.step(good[0])[0])  # float64 is cast
+    with SwarmVectorEnv(1, 2, context=ctx) as venv:
+        venv.reset(seed=1)
+        with pytest.raises(TypeError, match=r"float32 expected\), got dtype <U1"):
+            venv.step(np.full((2, 4), "x"))
+        venv.step(np.zeros((2, 4), np.float32))
+    with SwarmSingleEnv(context=ctx) as single:
+        single.reset(seed=1)
+        with pytest.raises(ValueError, match=r"shape \(4,\)"):
+            single.step(np.zeros((1, 4), np.float32))
+        single.step(np.zeros(4, np.float32))
+
+
+def test_unit_actions_are_the_env_actions_scaled(ctx):
+    """unit_actions=True: the action space is [-1, 1] per component (no
+    check_env advice to normalise it), and an action a moves the world as
+    a * action_scale in env units does."""
+    from gymnasium.utils.env_checker import check_env
+
+    rng = np.random.default_rng(12)
+    with SwarmWorldEnv(3, ctx, unit_actions=True, max_steps=20) as env, SwarmWorldEnv(3, ctx) as ref:
+        assert (env.action_space.low == -1).all() and (env.action_space.high == 1).all()
+        scale = ref.env.action_scale()
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            check_env(env, skip_render_check=True)
+        assert not [w for w in caught if "normalized" in str(w.message)]
+        env.reset(seed=4)
+        ref.reset(seed=4)
+        for _ in range(5):
+            a = rng.uniform(-1, 1, (3, 4)).astype(np.float32)
+            o, r, _, _, _ = env.step(a)
+            o2, r2, _, _, _ = ref.step(a * scale)
+            assert _bits(o) == _bits(o2) and r == r2
+    with SwarmVectorEnv(2, 2, context=ctx, unit_actions=True) as venv, SwarmVectorEnv(2, 2, context=ctx) as vref:
+        assert venv.single_action_space.high.tolist() == [1, 1, 1, 1]
+        venv.reset(seed=5)
+        vref.reset(seed=5)
+        a = rng.uniform(-1, 1, (4, 4)).astype(np.float32)
+        assert _bits(venv.step(a)[0]) == _bits(vref.step(a * vref.env.action_scale())[0])
+        bad = a.copy()
+        bad[1, 0] = np.nan
+        with pytest.raises(ValueError, match="finite.*slot 1"):
+            venv.step(bad)
+
+
+def test_world_env_renders_rgb_arrays(ctx):
+    """render_mode="rgb_array": a top view centred on the leader (red), the
+    followers white where their positions fall; check_env's render check
+    passes; None without a render mode."""
+    from gymnasium.utils.env_checker import check_env
+
+    with SwarmWorldEnv(5, ctx, render_mode="rgb_array", render_size=200, render_extent=50.0, scenario="maze") as env:
+        check_env(env)
+        env.reset(seed=2)
+        img = env.render()
+        assert img.shape == (200, 200, 3) and img.dtype == np.uint8
+        assert img[100, 100].tolist() == [230, 40, 40]             # the leader at the centre
+        st = env.env.read_state()
+        d = (st["positions"][:, :2] - st["leader_positions"][0, :2]) * 4.0   # 200 px / 50 m
+        for dx, dy in d:
+            c, r = int(np.floor(100 + dx)), int(np.floor(100 - dy))
+            if 0 <= r < 200 and 0 <= c < 200 and abs(dx) > 3 and abs(dy) > 3:   # not under the leader's square
+                assert img[r, c].tolist() == [235, 235, 235]
+        wall = (img == [110, 110, 110]).all(axis=2)                # the maze's long walls y = +-23 (+-1), x >= -10
+        assert wall[100 - 24 * 4 + 1:100 - 22 * 4, 100:].all() and not wall[100 - 24 * 4 + 1:100 - 22 * 4, :99].any()
+        assert env.metadata["render_fps"] == 10
+    with SwarmWorldEnv(2, ctx) as plain:
+        plain.reset(seed=1)
+        assert plain.render() is None
+    with pytest.raises(ValueError, match="render_mode"):
+        SwarmWorldEnv(2, ctx, render_mode="human")
+    env = gymnasium.make(ENV_ID, agents=3, context=ctx, render_mode="rgb_array")
+    try:
+        env.reset(seed=1)
+        assert env.render().shape == (256, 256, 3)
     finally:
         env.close()

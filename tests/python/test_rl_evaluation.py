@@ -129,3 +129,46 @@ def test_the_evaluation_script_runs_every_part_small(tmp_path):
     for name in ("rl_eval_interagent.png", "rl_eval_scenarios.png", "rl_eval_scalability.png", "rl_maze.obj",
                  "rl_stairway.obj"):
         assert (tmp_path / name).stat().st_size > 0, name
+
+
+def _rl_evaluation_script():
+    """scripts/rl_evaluation.py as a module (it imports scripts/machine_info.py beside it)."""
+    import importlib.util
+    import sys
+
+    from conftest import REPO
+
+    sys.path.insert(0, str(REPO / "scripts"))
+    try:
+        spec = importlib.util.spec_from_file_location("rl_evaluation", REPO / "scripts" / "rl_evaluation.py")
+        mod = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(mod)
+    finally:
+        sys.path.remove(str(REPO / "scripts"))
+    return mod
+
+
+def _rows(sizes, rewards):
+    return [{"agents": n, "mean_reward": r} for n, r in zip(sizes, rewards)]
+
+
+def test_scalability_sentence_comes_from_the_numbers():
+    """The Fig. 11 summary says narrows / widens / neither as the numbers do,
+    not a fixed sentence (issue 28)."""
+    summary = _rl_evaluation_script().scalability_summary
+    sizes = [200, 600, 1000, 100_000]
+    # The committed results: the gap falls 14.3 -> 0.43 and both rewards fall.
+    narrow = summary(_rows(sizes, [-6.5, -26.4, -40.7, -88.0]), _rows(sizes, [-20.8, -36.7, -42.6, -88.5]))
+    assert "4 of 4 sizes" in narrow and "the gap narrows at every larger size" in narrow
+    assert "widens" not in narrow and "both policies' rewards fall" in narrow
+    assert "+14.300 at 200" in narrow and "+0.500 at 100,000" in narrow
+    # A gap that widens with size: the same function must say so.
+    wide = summary(_rows(sizes, [-6.0, -5.0, -4.0, -3.0]), _rows(sizes, [-7.0, -8.0, -10.0, -20.0]))
+    assert "the gap widens at every larger size" in wide and "narrows" not in wide
+    assert "4 of 4 sizes" in wide and "both policies" not in wide   # EFS rises, no EFS falls
+    # Neither, with a sign change and a loss for EFS at one size.
+    mixed = summary(_rows(sizes[:3], [-6.0, -9.0, -4.0]), _rows(sizes[:3], [-7.0, -8.0, -10.0]))
+    assert "2 of 3 sizes" in mixed and "neither narrows nor widens steadily" in mixed and "changes sign" in mixed
+    assert "no trend" in summary(_rows([200], [-1.0]), _rows([200], [-2.0]))
+    with pytest.raises(ValueError, match="same sizes"):
+        summary(_rows(sizes, [0, 0, 0, 0]), _rows(sizes[:3], [0, 0, 0]))

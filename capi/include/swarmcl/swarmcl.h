@@ -820,6 +820,10 @@ SWCL_API swcl_status swcl_rl_env_get_layout(swcl_rl_env env, float* out_waypoint
                                             size_t obstacle_capacity, uint32_t* out_obstacle_count);
 /* Every world to its start (same seed: the same bits); out_obs may be NULL. */
 SWCL_API swcl_status swcl_rl_env_reset(swcl_rl_env env, uint64_t seed, float* out_obs, size_t obs_count);
+/* Every world to its start with its own seed: world w gets the bits it gets
+ * from swcl_rl_env_reset(seeds[w]) (seed_count = W entries); out_obs may be NULL. */
+SWCL_API swcl_status swcl_rl_env_reset_seeds(swcl_rl_env env, const uint64_t* seeds, size_t seed_count,
+                                             float* out_obs, size_t obs_count);
 /* Only the worlds with mask[w] != 0 (W entries), each to its next episode's
  * start; out_obs (all worlds) may be NULL. */
 SWCL_API swcl_status swcl_rl_env_reset_worlds(swcl_rl_env env, const uint8_t* mask, size_t mask_count,

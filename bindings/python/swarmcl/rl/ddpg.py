@@ -1,8 +1,11 @@
 """DDPG with a rule-based action generator (paper §III-C, Algorithm 1; §IV-A, Fig. 6).
 
-Networks (Fig. 6): the actor 54 -> 128 (relu) -> 256 (relu) -> 64 (linear)
--> 4 (tanh), times the env's action scale; the critic the same shape with
-the action concatenated to the observation at its input and one output.
+Networks (Fig. 6, with two departures of ours, docs/rl-swarm.md "Training",
+"Networks"): the actor 54 -> 128 (relu) -> 256 (relu) -> 64 (linear) -> 4
+(tanh), times the env's action scale; the critic the same shape with the
+action concatenated to the observation at its input and one output.  The
+paper's text ends the actor at the linear 64-neuron layer and names no
+tanh: the 64 -> 4 (64 -> 1) output layer and the tanh are ours.
 Target copies of both, updated softly with rate tau (Algorithm 1 line 24).
 
 The replay buffer holds (s, a, r, s', done, f) with f the protection flag of
@@ -111,7 +114,8 @@ def _mlp(sizes: Sequence[int]) -> nn.Sequential:
 
 
 class Actor(nn.Module):
-    """pi(s | theta): relu, relu, linear, then tanh on the 4 outputs (Fig. 6)."""
+    """pi(s | theta): relu, relu, linear, then tanh on the 4 outputs (Fig. 6's
+    layers plus our 64 -> 4 tanh output layer: docs/rl-swarm.md, "Networks")."""
 
     ACTIVATIONS = ("relu", "relu", "linear", "tanh")
 

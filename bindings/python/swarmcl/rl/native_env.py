@@ -16,7 +16,7 @@ from .._core import Context
 from .._native import ffi, lib
 from ..errors import check
 
-__all__ = ["RlEnv", "SCENARIOS", "ACTION_DIM"]
+__all__ = ["RlEnv", "SCENARIOS", "ACTION_DIM", "checked_actions"]
 
 SCENARIOS = ("roaming", "quadrilateral", "stairway", "maze")
 ACTION_DIM = 4  # {v, omega.xyz} (Eq. 2)
@@ -25,6 +25,23 @@ ACTION_DIM = 4  # {v, omega.xyz} (Eq. 2)
 _FLOAT_FIELDS = ("dt", "du_max", "dq_max_deg", "r_sep", "r_ali", "r_coh", "u_max", "body_radius",
                  "neighbor_radius", "rag_w_sep", "rag_w_ali", "rag_w_coh", "w_spd", "w_dir", "w_leader",
                  "w_obs", "w_dist", "l_spd", "l_dir", "l_leader", "l_obs", "dist_target")
+
+
+def checked_actions(actions, shapes, what: str, meaning: str = "") -> np.ndarray:
+    """actions as a contiguous float32 array, or a clear error: a real
+    numeric dtype (float or integer; not bool, complex, strings or objects)
+    and one of ``shapes`` (the first is the one named).  Finiteness is the
+    caller's check (it knows the slots)."""
+    expected = f"{shapes[0]}" + (f" {meaning}" if meaning else "")
+    try:
+        a = np.asarray(actions)
+    except (ValueError, TypeError) as e:  # ragged nested lists
+        raise ValueError(f"{what}: actions must be an array of shape {expected}, got {e}") from None
+    if a.dtype.kind not in "fiu":
+        raise TypeError(f"{what}: actions must be real numbers (float32 expected), got dtype {a.dtype}")
+    if a.shape not in tuple(shapes):
+        raise ValueError(f"{what}: actions must have shape {expected}, got {a.shape}")
+    return np.ascontiguousarray(a, dtype=np.float32)
 
 
 def default_params() -> dict:
@@ -123,11 +140,8 @@ class RlEnv:
         return np.array([self.params["du_max"], w, w, w], dtype=np.float32)
 
     def _actions_in(self, actions, what: str) -> np.ndarray:
-        a = np.asarray(actions)
-        if a.shape not in ((self.slots, ACTION_DIM), (self.slots * ACTION_DIM,)):
-            raise ValueError(f"{what}: actions must have shape ({self.slots}, {ACTION_DIM}) "
-                             f"(worlds * agents, 4), got {a.shape}")
-        a = np.ascontiguousarray(a, dtype=np.float32)
+        a = checked_actions(actions, ((self.slots, ACTION_DIM), (self.slots * ACTION_DIM,)), what,
+                            "(worlds * agents, 4)")
         if not np.isfinite(a).all():
             bad = int(np.flatnonzero((~np.isfinite(a.reshape(self.slots, ACTION_DIM))).any(axis=1))[0])
             raise ValueError(f"{what}: actions must be finite (NaN or Inf at slot {bad}, "
@@ -143,6 +157,21 @@ class RlEnv:
             raise ValueError(f"RlEnv.reset: seed must be in [0, 2^64), got {seed}")
         obs = np.empty((self.slots, self.obs_dim), dtype=np.float32)
         check(lib.swcl_rl_env_reset(self._h, seed, ffi.from_buffer("float[]", obs), obs.size))
+        return obs
+
+    def reset_seeds(self, seeds) -> np.ndarray:
+        """Every world to its start with its own seed (W integers in [0, 2^64)):
+        world w starts as ``reset(seeds[w])`` starts it; returns (W*N, D)."""
+        seeds = [operator.index(s) for s in seeds]
+        if len(seeds) != self.worlds:
+            raise ValueError(f"RlEnv.reset_seeds: one seed per world: {self.worlds} expected, got {len(seeds)}")
+        bad = [s for s in seeds if not 0 <= s < 2**64]
+        if bad:
+            raise ValueError(f"RlEnv.reset_seeds: seeds must be in [0, 2^64), got {bad[0]}")
+        arr = np.array(seeds, dtype=np.uint64)
+        obs = np.empty((self.slots, self.obs_dim), dtype=np.float32)
+        check(lib.swcl_rl_env_reset_seeds(self._h, ffi.from_buffer("uint64_t[]", arr), arr.size,
+                                          ffi.from_buffer("float[]", obs), obs.size))
         return obs
 
     def reset_worlds(self, mask) -> np.ndarray:
