@@ -376,6 +376,51 @@ TEST(PolicyObserve, GridObservationsEqualTheAllPairsReference) {
     }
 }
 
+// The scalar kernel (GPU profile) and its explicit-width twins come from one
+// body (kernels/wide/policy_observe.inc.cl): every width gives bitwise the
+// scalar kernel's observations, with and without EFS, agents at rest, a box
+// obstacle, and a swarm whose size is not a multiple of the lanes.
+TEST(PolicyObserve, EveryWidthGivesTheScalarKernelsBits) {
+    for (const bool efs : {true, false}) {
+        SCOPED_TRACE(efs ? "EFS" : "no EFS");
+        const uint32_t n = 203;
+        Placed s = placed_swarm(n, 33);
+        const MlpFile f = efs ? paper_mlp(34) : random_mlp({32, 4}, "relu,tanh", 34, false);
+        const auto bytes = std::make_shared<const std::string>(f.bytes());
+        std::vector<std::vector<float>> outs;
+        for (uint32_t w : {1u, 8u, 16u}) {
+            test::ScopedKernelWidth scoped_width(w);
+            PolicyModel m(*s.swarm, observed_config(), bytes);
+            ASSERT_EQ(m.lanes(), w);
+            std::vector<float> obs;
+            m.observe(*s.swarm, &obs, nullptr);
+            ASSERT_EQ(obs.size(), size_t(n) * (efs ? 54 : 51));
+            outs.push_back(std::move(obs));
+        }
+        // Not a swarm that sees nothing: rays (entries 9-50) that hit an agent
+        // (2735 measured) or the obstacle (576; negative); r_coh = 18: none.
+        const size_t d = efs ? 54 : 51;
+        size_t agent_rays = 0, obstacle_rays = 0;
+        for (size_t a = 0; a < n; ++a)
+            for (size_t k = 9; k < 51; ++k) {
+                agent_rays += outs[0][a * d + k] > 0.0f && outs[0][a * d + k] < 18.0f;
+                obstacle_rays += outs[0][a * d + k] < 0.0f;
+            }
+        EXPECT_GT(agent_rays, 1000u);
+        EXPECT_GT(obstacle_rays, 200u);
+        for (size_t i = 1; i < outs.size(); ++i) {
+            size_t differ = 0, first = outs[0].size();
+            for (size_t k = 0; k < outs[0].size(); ++k)
+                if (std::memcmp(&outs[i][k], &outs[0][k], sizeof(float)) != 0) {
+                    ++differ;
+                    first = std::min(first, k);
+                }
+            EXPECT_EQ(differ, 0u) << "width " << (i == 1 ? 8 : 16) << ": first difference at agent " << first / d
+                                  << " entry " << first % d;
+        }
+    }
+}
+
 // ---- a step: the leader, then Eq. 2 with the observed actions ---------------------
 
 TEST(PolicyStep, AppliesTheActionsWithEquationTwo) {
