@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <random>
 
 #include "core/error.hpp"
@@ -500,6 +501,84 @@ TEST(PolicyModelConfig, BadParametersAreNamed) {
     PolicyModelConfig c;
     c.leader_speed = std::nanf("");
     EXPECT_TRUE(contains(error(c), "finite"));
+}
+
+// The parameters the policy model shares with the RL environment go through
+// one validation (rl/leader_follow_params.hpp): a bad value of each is
+// refused by both, with the same message naming it after each one's prefix.
+TEST(LeaderFollowParams, BadSharedValuesAreRefusedByBothWithOneMessage) {
+    auto swarm = small_swarm(4);
+    const auto bytes = std::make_shared<const std::string>(paper_mlp(62).bytes());
+    auto ctx = shared_context();
+    // Each case sets the same field of both configurations (a generic lambda).
+    struct Case {
+        const char* needle;
+        std::function<void(PolicyModelConfig&)> policy;
+        std::function<void(RlEnvConfig&)> env;
+    };
+#define SHARED_CASE(needle, stmt) \
+    Case { needle, [](PolicyModelConfig& c) { stmt; }, [](RlEnvConfig& c) { stmt; } }
+    const std::vector<Case> cases = {
+        SHARED_CASE("r_sep = 0", c.r_sep = 0.0f),
+        SHARED_CASE("r_ali = 0.5 is not above r_sep = 1", c.r_ali = 0.5f),
+        SHARED_CASE("r_ali = 9 is not below r_coh = 8", c.r_coh = 8.0f),
+        SHARED_CASE("r_coh = inf", c.r_coh = INFINITY),
+        SHARED_CASE("neighbor_radius = -1", c.neighbor_radius = -1.0f),
+        SHARED_CASE("body_radius = 0", c.body_radius = 0.0f),
+        SHARED_CASE("du_max = -0.1", c.du_max = -0.1f),
+        SHARED_CASE("dq_max_deg = nan", c.dq_max_deg = NAN),
+        SHARED_CASE("u_max = 0", c.u_max = 0.0f),
+        SHARED_CASE("leader_du_max = -1", c.leader_du_max = -1.0f),
+        SHARED_CASE("leader_dq_max_deg = -4", c.leader_dq_max_deg = -4.0f),
+        SHARED_CASE("reach_radius = 0", c.reach_radius = 0.0f),
+        SHARED_CASE("obstacle 1 (half extents 1, 0, 1)", (c.obstacles = {{{{0, 0, 0}}, {{1, 1, 1}}}, {{{5, 0, 0}}, {{1, 0, 1}}}})),
+        SHARED_CASE("obstacle 0", (c.obstacles = {{{{NAN, 0, 0}}, {{1, 1, 1}}}})),
+    };
+#undef SHARED_CASE
+    auto message = [](auto&& make) {
+        try {
+            make();
+        } catch (const Error& e) {
+            EXPECT_EQ(e.status(), Status::InvalidArgument);
+            return std::string(e.what());
+        }
+        return std::string("accepted");
+    };
+    for (const Case& k : cases) {
+        PolicyModelConfig pc;
+        RlEnvConfig ec;
+        ec.worlds = 1;
+        ec.agents = 4;
+        k.policy(pc);
+        k.env(ec);
+        const std::string pm = message([&] { PolicyModel m(*swarm, pc, bytes); });
+        const std::string em = message([&] { LeaderEnv env(*ctx, ec); });
+        EXPECT_TRUE(contains(pm, std::string("policy model: ") + k.needle)) << pm;
+        EXPECT_TRUE(contains(em, std::string("rl env: ") + k.needle)) << em;
+        EXPECT_EQ(pm.substr(pm.find(": ")), em.substr(em.find(": "))) << k.needle;
+    }
+    // Waypoints: the policy model's navigation and tour, the environment's navigation.
+    PolicyModelConfig pc;
+    pc.leader_mode = PolicyLeaderMode::Tour;
+    pc.waypoints = {{{0, 0, 0, 1}}, {{5, 0, 0, 4}}};  // speed 4 > u_max 3
+    RlEnvConfig ec;
+    ec.leader_mode = RlLeaderMode::Navigation;
+    ec.waypoints = pc.waypoints;
+    const std::string pm = message([&] { PolicyModel m(*swarm, pc, bytes); });
+    const std::string em = message([&] { LeaderEnv env(*ctx, ec); });
+    EXPECT_TRUE(contains(pm, "policy model: waypoint 1 (5, 0, 0, speed 4) must be finite with 0 <= speed <= u_max = 3"))
+        << pm;
+    EXPECT_TRUE(contains(em, "rl env: waypoint 1 (5, 0, 0, speed 4)")) << em;
+    pc.waypoints.resize(1);
+    ec.waypoints.resize(1);
+    EXPECT_TRUE(contains(message([&] { PolicyModel m(*swarm, pc, bytes); }), "at least 2 waypoints (1 given)"));
+    EXPECT_TRUE(contains(message([&] { LeaderEnv env(*ctx, ec); }), "at least 2 waypoints (1 given)"));
+    // The defaults of both pass.
+    EXPECT_EQ(message([&] { PolicyModel m(*swarm, PolicyModelConfig{}, bytes); }), "accepted");
+    RlEnvConfig ok;
+    ok.worlds = 1;
+    ok.agents = 4;
+    EXPECT_EQ(message([&] { LeaderEnv env(*ctx, ok); }), "accepted");
 }
 
 // ---- through the C API: bad weights leave the swarm usable ------------------------
