@@ -79,14 +79,12 @@ __kernel void SWCL_KERNEL(policy_observe)(__global const float4* pos, __global c
             const swcl_bf dist = sqrt(dd);                                                                     \
             if (follower) {                                                                                    \
                 const swcl_bi m = cand & (dist <= r_nbr);                                                      \
-                if (SWCL_BANY(m)) {                                                                            \
-                    const swcl_bf ex = (swcl_bf)((cq).x) - qx, ey = (swcl_bf)((cq).y) - qy,                    \
-                                  ez = (swcl_bf)((cq).z) - qz;                                                 \
-                    SWCL_BCOUNT_IF(nn, m);                                                                     \
-                    su = select(su, su + (swcl_bf)((cq).w), m);                                                \
-                    sq = select(sq, sq + sqrt(ex * ex + ey * ey + ez * ez), m);                                \
-                    sd = select(sd, sd + dist, m);                                                             \
-                }                                                                                              \
+                const swcl_bf ex = (swcl_bf)((cq).x) - qx, ey = (swcl_bf)((cq).y) - qy,                        \
+                              ez = (swcl_bf)((cq).z) - qz;                                                     \
+                SWCL_BCOUNT_IF(nn, m);                                                                         \
+                su = select(su, su + (swcl_bf)((cq).w), m);                                                    \
+                sq = select(sq, sq + sqrt(ex * ex + ey * ey + ez * ez), m);                                    \
+                sd = select(sd, sd + dist, m);                                                                 \
             }                                                                                                  \
             const swcl_bi mr = cand & (dist <= reach);                                                         \
             const swcl_bi inside = mr & (dd <= b2);                                                            \
@@ -106,8 +104,7 @@ __kernel void SWCL_KERNEL(policy_observe)(__global const float4* pos, __global c
                                            rl_ray_table[3 * k + 2] * lu;                                       \
                         const swcl_bf perp2 = dd - tt * tt;                                                    \
                         const swcl_bi hit = mrow & (tt > 0.0f) & (perp2 < b2);                                 \
-                        if (SWCL_BANY(hit))                                                                    \
-                            ray[k] = select(ray[k], fmin(ray[k], tt - sqrt(fmax(b2 - perp2, 0.0f))), hit);     \
+                        ray[k] = select(ray[k], fmin(ray[k], tt - sqrt(fmax(b2 - perp2, 0.0f))), hit);         \
                     }                                                                                          \
                 }                                                                                              \
             }                                                                                                  \
