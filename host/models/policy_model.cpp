@@ -32,10 +32,6 @@ float activate(float x, PolicyActivation a) {
     return x;
 }
 
-}  // namespace
-
-namespace {
-
 // The fields shared with the RL environment (rl/leader_follow_params.hpp).
 LeaderFollowParams leader_follow_params(const PolicyModelConfig& c) {
     LeaderFollowParams p;
@@ -60,8 +56,8 @@ void validate(const PolicyModelConfig& c) {
     require(finite_all(start, sizeof start / sizeof *start),
             "policy model: leader_speed, leader_position and leader_heading must be finite");
     require(c.leader_speed >= 0 && c.leader_speed <= c.u_max,
-            "policy model: leader_speed = " + std::to_string(c.leader_speed) + " must lie in [0, u_max = " +
-                std::to_string(c.u_max) + "]");
+            "policy model: leader_speed = " + param_text(c.leader_speed) + " must lie in [0, u_max = " +
+                param_text(c.u_max) + "]");
     const float h = std::sqrt(c.leader_heading[0] * c.leader_heading[0] + c.leader_heading[1] * c.leader_heading[1] +
                               c.leader_heading[2] * c.leader_heading[2]);
     require(h > 1e-6f, "policy model: leader_heading must not be zero");

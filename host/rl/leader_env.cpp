@@ -44,14 +44,14 @@ void validate(const RlEnvConfig& c) {
         {"reward.l_spd", c.reward.l_spd}, {"reward.l_dir", c.reward.l_dir}, {"reward.l_leader", c.reward.l_leader},
         {"reward.l_obs", c.reward.l_obs}, {"reward.dist_target", c.reward.dist_target}};
     for (const auto& [name, v] : own)
-        require(std::isfinite(v), std::string("rl env: ") + name + " = " + std::to_string(v) +
+        require(std::isfinite(v), std::string("rl env: ") + name + " = " + param_text(v) +
                                       ": every parameter must be finite");
-    require(c.dt > 0, "rl env: dt = " + std::to_string(c.dt) + " must be > 0");
-    require(c.spawn_radius >= 0, "rl env: spawn_radius = " + std::to_string(c.spawn_radius) + " must be >= 0");
+    require(c.dt > 0, "rl env: dt = " + param_text(c.dt) + " must be > 0");
+    require(c.spawn_radius >= 0, "rl env: spawn_radius = " + param_text(c.spawn_radius) + " must be >= 0");
     require(0 <= c.leader_u0_min && c.leader_u0_min <= c.leader_u0_max && c.leader_u0_max <= c.u_max,
             "rl env: the leader's start speeds need 0 <= leader_u0_min <= leader_u0_max <= u_max (" +
-                std::to_string(c.leader_u0_min) + ", " + std::to_string(c.leader_u0_max) + ", " +
-                std::to_string(c.u_max) + ")");
+                param_text(c.leader_u0_min) + ", " + param_text(c.leader_u0_max) + ", " +
+                param_text(c.u_max) + ")");
     require(c.max_steps >= 1, "rl env: max_steps must be >= 1");
 }
 

@@ -9,19 +9,21 @@
 namespace swarmcl {
 namespace {
 
-std::string num(float v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
-}
-
 bool finite_all(const float* v, size_t n) {
     for (size_t i = 0; i < n; ++i)
         if (!std::isfinite(v[i])) return false;
     return true;
 }
 
+std::string num(float v) { return param_text(v); }
+
 }  // namespace
+
+std::string param_text(float v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+}
 
 void validate_leader_follow(const char* who, const LeaderFollowParams& p) {
     const std::string w = std::string(who) + ": ";

@@ -8,6 +8,7 @@
 // model's leader start, the environment's rewards, spawn and counts).
 #pragma once
 #include <array>
+#include <string>
 #include <vector>
 
 #include "rl/leader_env.hpp"
@@ -33,5 +34,9 @@ struct LeaderFollowParams {
 // reach_radius > 0; at least 2 waypoints where the leader needs them, each
 // finite with 0 <= speed <= u_max; obstacles finite with half extents > 0.
 void validate_leader_follow(const char* who, const LeaderFollowParams& p);
+
+// A value as these messages print it ("0.1", "-4", "nan", "inf"), for the
+// callers' own checks.
+std::string param_text(float v);
 
 }  // namespace swarmcl
