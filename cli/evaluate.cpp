@@ -20,10 +20,6 @@
 namespace swarmcl_cli {
 namespace {
 
-const char* const kMetricNames[SWCL_METRIC_COUNT] = {"speed", "acceleration", "angular_velocity",
-                                                     "angular_acceleration", "jerk", "nearest_distance",
-                                                     "velocity_difference"};
-
 struct EvaluateArgs {
     std::string scenario, tracks, out, device;
     std::vector<std::string> columns = {"id", "time", "x", "y", "z"};
@@ -203,10 +199,11 @@ int cmd_evaluate(int argc, char** argv) {
     out["frames"] = frame_count;
     out["pdf"] = {{"bins", a.pdf.bins}, {"half_width", a.pdf.half_width}};
     out["weights"] = {{"w", w.w}, {"p1", w.p1}, {"p2", w.p2}};
+    // The names are the library's metric table (swcl_metric_name).
     for (int k = 0; k < SWCL_METRIC_COUNT; ++k)
-        out["metrics"][kMetricNames[k]] = {{"distance", e[k]},
-                                           {"real", side_json(real.handle, swcl_metric(k), a.pdf)},
-                                           {"sim", side_json(sim.handle, swcl_metric(k), a.pdf)}};
+        out["metrics"][swcl_metric_name(swcl_metric(k))] = {{"distance", e[k]},
+                                                            {"real", side_json(real.handle, swcl_metric(k), a.pdf)},
+                                                            {"sim", side_json(sim.handle, swcl_metric(k), a.pdf)}};
     out["score"] = score;
     out["seconds"] = seconds();
     const std::string path = a.out.empty() ? std::string(info.output_dir) + "/evaluation.json" : a.out;
@@ -215,7 +212,8 @@ int cmd_evaluate(int argc, char** argv) {
         std::printf("%s against %s: %zu frames of %zu agents every %u steps (%.4g s)\n", info.name, a.tracks.c_str(),
                     frame_count, n, every, sample_dt);
         std::printf("%-22s %10s\n", "metric", "E_phi");
-        for (int k = 0; k < SWCL_METRIC_COUNT; ++k) std::printf("%-22s %10.4f\n", kMetricNames[k], e[k]);
+        for (int k = 0; k < SWCL_METRIC_COUNT; ++k)
+            std::printf("%-22s %10.4f\n", swcl_metric_name(swcl_metric(k)), e[k]);
         std::printf("score E = %.4f (equal weights; Eq. 1)   written to %s\n", score, path.c_str());
     }
     if (a.plot) {

@@ -14,21 +14,19 @@
 // no barriers, results independent of the launch's work-group size.
 //
 // Build defines (from the host, one source of truth): FB_SHIFT, FB_LOW_KEY,
-// FB_SIDE, FB_COUNT (fine_bins), METRICS_BLOCK, HIST_ATOMIC.
+// FB_SIDE, FB_COUNT (fine_bins), METRICS_BLOCK, HIST_ATOMIC, and each
+// metric's index M_<kernel> with M_COUNT (eval/metric_table.hpp).
 #include "lib/grid_common.cl"
 
 #ifndef SWCL_INLINE
 #define SWCL_INLINE __attribute__((always_inline)) inline
 #endif
 
-#define M_SPEED 0
-#define M_ACCEL 1
-#define M_OMEGA 2
-#define M_ALPHA 3
-#define M_JERK 4
-#define M_DIST 5
-#define M_ETA 6
-#define M_COUNT 7
+// The metrics' indices, M_SPEED ... M_ETA and M_COUNT: build defines from
+// the host's metric table (host/eval/metric_table.hpp), one row per metric.
+#if !defined(M_COUNT) || !defined(M_SPEED) || !defined(M_DIST)
+#error "metrics.cl needs the metric table's defines (metric_kernel_defines())"
+#endif
 
 // fine_bins::bin_of (eval/metric_accumulator.cpp), bit for bit.
 SWCL_INLINE uint fine_bin(float x) {

@@ -11,6 +11,12 @@
 // q = vel.xyz / u; an agent at rest (u = 0) heads towards the leader (ours:
 // the swarm has no other place to keep a heading).
 #pragma OPENCL FP_CONTRACT OFF
+// -DPM_W (1, 8 or 16; the host's) is the lane width of the MLP and of the
+// observations' per-width body: SWCL_W (lib/lanes.cl) is PM_W.
+#if defined(PM_W) && PM_W > 1 && !defined(NOISE_WIDTH)
+#define NOISE_WIDTH PM_W
+#endif
+#include "lib/lanes.cl"
 #include "lib/grid_common.cl"
 #include "lib/rl_common.cl"
 
@@ -23,51 +29,16 @@ SWCL_INLINE float4 policy_qu(float4 v, float3 p, float3 lp) {
     return l > 0.0f ? (float4)(to / l, 0.0f) : (float4)(1.0f, 0.0f, 0.0f, 0.0f);
 }
 
-// Observations by slot (obs_dim floats per agent), rl_observe's values with
-// the neighbour grid in place of the per-world loop: every agent within
-// `search` (>= r_coh + body and >= r_nbr) is visited, in cell order, then
-// the leader.  lst[0] = leader position, lst[1] = leader (q, u).
-__kernel void policy_observe(__global const float4* pos, __global const float4* vel, uint n, GRID_PARAMS,
-                             __global const float4* lst, float search, float r_coh, float r_nbr, float body,
-                             __global const float4* box_c, __global const float4* box_h, uint nbox, int efs,
-                             uint obs_dim, __global float* obs) {
-    const uint s = get_global_id(0);
-    if (s >= n) return;
-    const Grid g = GRID_MAKE();
-    const float4 p4 = pos[s];
-    const float3 p = p4.xyz;
-    const float3 lp = lst[0].xyz;
-    const float4 lv = lst[1];
-    const float4 qu = policy_qu(vel[s], p, lp);
-    const float3 q = qu.xyz;
-    const float u = qu.w;
-    __global float* o = obs + (size_t)s * obs_dim;
-    rl_obs_local(o, p, q, u, lp, lv.w);
-    float3 fr, fu;
-    rl_frame(q, &fr, &fu);
-    RlObsAcc acc;
-    rl_obs_begin(&acc);
-    // The search box's rows trimmed to the ball of radius `search`
-    // (grid_row_x_range), and candidates beyond it skipped before anything
-    // else: rl_obs_target ignores them anyway (beyond r_nbr and r_coh + body).
-    const float s2 = search * search * 1.0001f;
-    int4 lo, hi;
-    grid_search_box(&g, p4, search, &lo, &hi);
-    for (int z = lo.z; z <= hi.z; ++z)
-        for (int y = lo.y; y <= hi.y; ++y) {
-            int x0, x1;
-            if (!grid_row_x_range(&g, p4, search, y, z, &x0, &x1)) continue;
-            const uint2 rg = grid_row_range(&g, x0, x1, y, z);
-            for (uint j = rg.x; j < rg.y; ++j) {
-                const float3 pj = pos[j].xyz;
-                const float3 dj = pj - p;
-                if (j == s || dot(dj, dj) > s2) continue;  // s2 widened: rounding never drops one
-                rl_obs_target(&acc, dj, 1, policy_qu(vel[j], pj, lp), q, u, fr, fu, r_nbr, r_coh, body, 0.0f, 1);
-            }
-        }
-    rl_obs_target(&acc, lp - p, 0, (float4)(0.0f), q, u, fr, fu, r_nbr, r_coh, body, 0.0f, 1);
-    rl_obs_finish(&acc, o, p, q, fr, fu, r_coh, box_c, box_h, nbox, efs);
+// ---- observations (Eq. 11-13) by slot, one body per width -----------------------
+// The rows of the search box a walk visits, [*x0, *x1] of row (y, z) (false:
+// none).  Width 1 (one agent at p): its own box's row trimmed to the ball of
+// radius r (grid_row_x_range); the candidates it drops are beyond r.
+SWCL_INLINE bool po_rows_s(const Grid* g, float4 p, float r, int y, int z, int* x0, int* x1) {
+    return grid_row_x_range(g, p, r, y, z, x0, x1);
 }
+#define SWCL_BW 1
+#include "wide/policy_observe.inc.cl"
+#undef SWCL_BW
 
 // ---- the MLP (§IV-A, Fig. 6), batched over agents ---------------------------
 // PM_W agents per work-item (1, 8 or 16 lanes: on CPU devices the lanes are
@@ -165,146 +136,16 @@ __kernel void policy_mlp(__global const float* obs, uint n, uint obs_dim, uint f
 }
 
 // ---- observations, PM_W agents per work-item (CPU devices) --------------------
-// policy_observe's values for the PM_W consecutive slots of tile t (agents
-// of neighbouring cells: the grid keeps the state in cell order), each
-// candidate visited once for all lanes: the loop over the union of the lanes'
-// search boxes has the same bounds in every lane, so the per-candidate work
-// is vector arithmetic (the per-agent loop of policy_observe is not
-// vectorised across work-items: its bounds differ).  The EFS sums add in the
-// union's order, so they may differ from policy_observe's in the last bits;
-// the rays are the same minima.
+// policy_observe_w: the same body in PM_W lanes (wide/policy_observe.inc.cl).
 #if PM_W > 1
-#if PM_W == 16
-typedef int16 pm_i;
-#define PM_CVT_I convert_int16
-#else
-typedef int8 pm_i;
-#define PM_CVT_I convert_int8
-#endif
-
-__kernel void policy_observe_w(__global const float4* pos, __global const float4* vel, uint n, GRID_PARAMS,
-                               __global const float4* lst, float search, float r_coh, float r_nbr, float body,
-                               __global const float4* box_c, __global const float4* box_h, uint nbox, int efs,
-                               uint obs_dim, __global float* obs) {
-    const uint t = get_global_id(0);
-    const uint s0 = t * PM_W;
-    if (s0 >= n) return;
-    const Grid g = GRID_MAKE();
-    const float3 lp = lst[0].xyz;
-    const float4 lv = lst[1];
-    float lx[PM_W], ly[PM_W], lz[PM_W], lqx[PM_W], lqy[PM_W], lqz[PM_W], lu_[PM_W];
-    float lrx[PM_W], lry[PM_W], lrz[PM_W], lux[PM_W], luy[PM_W], luz[PM_W];
-    int lslot[PM_W];
-    float4 bmin = (float4)(INFINITY), bmax = (float4)(-INFINITY);
-    for (uint l = 0; l < PM_W; ++l) {
-        const uint s = min(s0 + l, n - 1u);
-        const float4 p4 = pos[s];
-        const float4 qu = policy_qu(vel[s], p4.xyz, lp);
-        float3 fr, fu;
-        rl_frame(qu.xyz, &fr, &fu);
-        lx[l] = p4.x; ly[l] = p4.y; lz[l] = p4.z;
-        lqx[l] = qu.x; lqy[l] = qu.y; lqz[l] = qu.z; lu_[l] = qu.w;
-        lrx[l] = fr.x; lry[l] = fr.y; lrz[l] = fr.z;
-        lux[l] = fu.x; luy[l] = fu.y; luz[l] = fu.z;
-        lslot[l] = (int)s;
-        bmin = fmin(bmin, (float4)(p4.xyz, 0.0f));
-        bmax = fmax(bmax, (float4)(p4.xyz, 0.0f));
-    }
-    const pm_f px = PM_LOAD(0, lx), py = PM_LOAD(0, ly), pz = PM_LOAD(0, lz);
-    const pm_f qx = PM_LOAD(0, lqx), qy = PM_LOAD(0, lqy), qz = PM_LOAD(0, lqz), uu = PM_LOAD(0, lu_);
-    const pm_f rx = PM_LOAD(0, lrx), ry = PM_LOAD(0, lry), rz = PM_LOAD(0, lrz);
-    const pm_f ux = PM_LOAD(0, lux), uy = PM_LOAD(0, luy), uz = PM_LOAD(0, luz);
-    const pm_i slot = PM_LOAD(0, lslot);
-    pm_f ray[RL_RAYS];
-    for (int k = 0; k < RL_RAYS; ++k) ray[k] = (pm_f)(INFINITY);
-    pm_f su = (pm_f)(0.0f), sq = (pm_f)(0.0f), sd = (pm_f)(0.0f);
-    pm_i nn = (pm_i)(0);
-    const float b2 = body * body, s2 = search * search * 1.0001f, reach = r_coh + body;
-    // One candidate at (cx, cy, cz) with (q, u) cq for every lane; follower
-    // 0: the leader (rays only).  self: lanes that are this candidate.
-#define PM_VISIT(cx, cy, cz, cq, follower, self)                                                              \
-    {                                                                                                          \
-        const pm_f dx = (pm_f)(cx) - px, dy = (pm_f)(cy) - py, dz = (pm_f)(cz) - pz;                           \
-        const pm_f dd = dx * dx + dy * dy + dz * dz;                                                           \
-        const pm_i cand = (dd <= (pm_f)(s2)) & ~(self);                                                        \
-        if (any(cand)) {                                                                                       \
-            const pm_f dist = sqrt(dd);                                                                        \
-            if (follower) {                                                                                    \
-                const pm_i m = cand & (dist <= (pm_f)(r_nbr));                                                 \
-                const pm_f ex = (pm_f)((cq).x) - qx, ey = (pm_f)((cq).y) - qy, ez = (pm_f)((cq).z) - qz;       \
-                nn -= m;                                                                                       \
-                su += select((pm_f)(0.0f), (pm_f)((cq).w), m);                                                 \
-                sq += select((pm_f)(0.0f), sqrt(ex * ex + ey * ey + ez * ez), m);                              \
-                sd += select((pm_f)(0.0f), dist, m);                                                           \
-            }                                                                                                  \
-            const pm_i mr = cand & (dist <= (pm_f)(reach));                                                    \
-            const pm_i inside = mr & (dd <= (pm_f)(b2));                                                       \
-            if (any(inside))                                                                                   \
-                for (int k = 0; k < RL_RAYS; ++k) ray[k] = select(ray[k], (pm_f)(0.0f), inside);               \
-            const pm_i hitable = mr & ~inside;                                                                     \
-            if (any(hitable)) {                                                                                    \
-                const pm_f lf = dx * qx + dy * qy + dz * qz, lr = dx * rx + dy * ry + dz * rz,                 \
-                           lu = dx * ux + dy * uy + dz * uz;                                                   \
-                const pm_f h = sqrt(lf * lf + lr * lr), need = (dd - (pm_f)(b2)) - (pm_f)(1e-5f) * dd;        \
-                for (int e = 0; e < RL_RAYS / 7; ++e) {                                                        \
-                    const pm_f bound = (pm_f)(rl_row_cos[e]) * h + (pm_f)(rl_row_sin[e]) * lu;                 \
-                    const pm_i mrow = hitable & (bound > (pm_f)(0.0f)) & (bound * bound >= need);                  \
-                    if (!any(mrow)) continue;                                                                  \
-                    for (int k = 7 * e; k < 7 * e + 7; ++k) {                                                  \
-                        const pm_f tt = (pm_f)(rl_ray_table[3 * k]) * lf + (pm_f)(rl_ray_table[3 * k + 1]) * lr + \
-                                        (pm_f)(rl_ray_table[3 * k + 2]) * lu;                                  \
-                        const pm_f perp2 = dd - tt * tt;                                                       \
-                        const pm_i hit = mrow & (tt > (pm_f)(0.0f)) & (perp2 < (pm_f)(b2));                    \
-                        ray[k] = select(ray[k], fmin(ray[k], tt - sqrt(fmax((pm_f)(b2) - perp2, (pm_f)(0.0f)))), hit); \
-                    }                                                                                          \
-                }                                                                                              \
-            }                                                                                                  \
-        }                                                                                                      \
-    }
-    int4 lo, hi;
-    grid_search_box(&g, bmin, search, &lo, &hi);
-    int4 lo2, hi2;
-    grid_search_box(&g, bmax, search, &lo2, &hi2);
-    lo = min(lo, lo2);
-    hi = max(hi, hi2);
-    for (int z = lo.z; z <= hi.z; ++z)
-        for (int y = lo.y; y <= hi.y; ++y) {
-            const uint2 rg = grid_row_range(&g, lo.x, hi.x, y, z);
-            for (uint j = rg.x; j < rg.y; ++j) {
-                const float4 pj = pos[j];
-                const float4 cq = policy_qu(vel[j], pj.xyz, lp);
-                const pm_i self = slot == (pm_i)((int)j);
-                PM_VISIT(pj.x, pj.y, pj.z, cq, 1, self)
-            }
-        }
-    PM_VISIT(lp.x, lp.y, lp.z, lv, 0, (pm_i)(0))
-#undef PM_VISIT
-    // Each lane's observation: the accumulator of lib/rl_common.cl filled
-    // from the vectors, then the shared rl_obs_local / rl_obs_finish.
-    float tmp[PM_W];
-    for (uint l = 0; l < PM_W && s0 + l < n; ++l) {
-        RlObsAcc acc;
-        for (int k = 0; k < RL_RAYS; ++k) {
-            PM_STORE(ray[k], 0, tmp);
-            acc.ray[k] = tmp[l];
-        }
-        PM_STORE(su, 0, tmp);
-        acc.sum_u = tmp[l];
-        PM_STORE(sq, 0, tmp);
-        acc.sum_q = tmp[l];
-        PM_STORE(sd, 0, tmp);
-        acc.sum_d = tmp[l];
-        acc.sum_du = acc.sum_dist = 0.0f;
-        int itmp[PM_W];
-        PM_STORE(nn, 0, itmp);
-        acc.nn = (uint)itmp[l];
-        const float3 p = (float3)(lx[l], ly[l], lz[l]), q = (float3)(lqx[l], lqy[l], lqz[l]);
-        __global float* o = obs + (size_t)(s0 + l) * obs_dim;
-        rl_obs_local(o, p, q, lu_[l], lp, lv.w);
-        rl_obs_finish(&acc, o, p, q, (float3)(lrx[l], lry[l], lrz[l]), (float3)(lux[l], luy[l], luz[l]), r_coh,
-                      box_c, box_h, nbox, efs);
-    }
+// Width W: the union of the lanes' boxes, each row as it is (the bounds the
+// same in every lane; per-lane trimming would not vectorise).
+SWCL_INLINE bool po_rows_w(const Grid* g, float4 p, float r, int y, int z, int* x0, int* x1) {
+    return true;
 }
+#define SWCL_BW SWCL_W
+#include "wide/policy_observe.inc.cl"
+#undef SWCL_BW
 #endif
 
 // ---- Eq. 2: the actions applied (rl_agents_step on the swarm's layout) -------

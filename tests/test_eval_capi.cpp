@@ -3,11 +3,16 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <fstream>
+#include <regex>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "data/tracks.hpp"
+#include "eval/metric_table.hpp"
 #include "eval/metrics.hpp"
 #include "eval/pdf_distance.hpp"
 #include "swarmcl/swarmcl.h"
@@ -40,6 +45,39 @@ swcl_dataset_desc desc_for(double frame_time) {
 }
 
 }  // namespace
+
+// swcl_metric (a stable ABI) is the metric table (eval/metric_table.hpp):
+// swarmcl.h's enumerators, read from the header as a binding reads them, are
+// SWCL_METRIC_<NAME> = the row's index for every row and nothing else;
+// swcl_metric_name gives the rows' names; the kernel defines name every row.
+TEST(EvalCapi, TheHeadersMetricEnumIsTheMetricTable) {
+    std::ifstream in(std::string(SWARMCL_SOURCE_DIR) + "/capi/include/swarmcl/swarmcl.h");
+    ASSERT_TRUE(in.good());
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const std::string h = ss.str();
+    const std::regex enumerator(R"(\b(SWCL_METRIC_\w+)\s*=\s*(\w+))");
+    std::vector<std::pair<std::string, std::string>> found;
+    for (auto it = std::sregex_iterator(h.begin(), h.end(), enumerator); it != std::sregex_iterator(); ++it)
+        found.emplace_back((*it)[1], (*it)[2]);
+    std::vector<std::pair<std::string, std::string>> want;
+    for (size_t k = 0; k < swarmcl::kMetricCount; ++k) {
+        std::string upper = swarmcl::kMetrics[k].name;
+        for (char& c : upper) c = char(std::toupper(static_cast<unsigned char>(c)));
+        want.emplace_back("SWCL_METRIC_" + upper, std::to_string(k));
+        EXPECT_STREQ(swcl_metric_name(swcl_metric(k)), swarmcl::kMetrics[k].name);
+        EXPECT_STREQ(swarmcl::metric_name(swarmcl::Metric(k)), swarmcl::kMetrics[k].name);
+        EXPECT_NE(swarmcl::metric_kernel_defines().find(" -DM_" + std::string(swarmcl::kMetrics[k].kernel) + "=" +
+                                                        std::to_string(k)),
+                  std::string::npos);
+    }
+    want.emplace_back("SWCL_METRIC_COUNT", std::to_string(swarmcl::kMetricCount));
+    want.emplace_back("SWCL_METRIC_MAX_ENUM", "0x7FFFFFFF");
+    EXPECT_EQ(found, want);
+    EXPECT_EQ(swcl_metric_name(SWCL_METRIC_COUNT), nullptr);
+    EXPECT_EQ(swcl_metric_name(swcl_metric(-1)), nullptr);
+    EXPECT_STREQ(swarmcl::metric_name(swarmcl::Metric(99)), "unknown");
+}
 
 TEST(EvalCapi, FramesGiveTheSameSamplesAsTheHostMetrics) {
     const size_t frames = 20, agents = 10;

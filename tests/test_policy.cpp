@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <random>
 
 #include "core/error.hpp"
@@ -376,6 +377,51 @@ TEST(PolicyObserve, GridObservationsEqualTheAllPairsReference) {
     }
 }
 
+// The scalar kernel (GPU profile) and its explicit-width twins come from one
+// body (kernels/wide/policy_observe.inc.cl): every width gives bitwise the
+// scalar kernel's observations, with and without EFS, agents at rest, a box
+// obstacle, and a swarm whose size is not a multiple of the lanes.
+TEST(PolicyObserve, EveryWidthGivesTheScalarKernelsBits) {
+    for (const bool efs : {true, false}) {
+        SCOPED_TRACE(efs ? "EFS" : "no EFS");
+        const uint32_t n = 203;
+        Placed s = placed_swarm(n, 33);
+        const MlpFile f = efs ? paper_mlp(34) : random_mlp({32, 4}, "relu,tanh", 34, false);
+        const auto bytes = std::make_shared<const std::string>(f.bytes());
+        std::vector<std::vector<float>> outs;
+        for (uint32_t w : {1u, 8u, 16u}) {
+            test::ScopedKernelWidth scoped_width(w);
+            PolicyModel m(*s.swarm, observed_config(), bytes);
+            ASSERT_EQ(m.lanes(), w);
+            std::vector<float> obs;
+            m.observe(*s.swarm, &obs, nullptr);
+            ASSERT_EQ(obs.size(), size_t(n) * (efs ? 54 : 51));
+            outs.push_back(std::move(obs));
+        }
+        // Not a swarm that sees nothing: rays (entries 9-50) that hit an agent
+        // (2735 measured) or the obstacle (576; negative); r_coh = 18: none.
+        const size_t d = efs ? 54 : 51;
+        size_t agent_rays = 0, obstacle_rays = 0;
+        for (size_t a = 0; a < n; ++a)
+            for (size_t k = 9; k < 51; ++k) {
+                agent_rays += outs[0][a * d + k] > 0.0f && outs[0][a * d + k] < 18.0f;
+                obstacle_rays += outs[0][a * d + k] < 0.0f;
+            }
+        EXPECT_GT(agent_rays, 1000u);
+        EXPECT_GT(obstacle_rays, 200u);
+        for (size_t i = 1; i < outs.size(); ++i) {
+            size_t differ = 0, first = outs[0].size();
+            for (size_t k = 0; k < outs[0].size(); ++k)
+                if (std::memcmp(&outs[i][k], &outs[0][k], sizeof(float)) != 0) {
+                    ++differ;
+                    first = std::min(first, k);
+                }
+            EXPECT_EQ(differ, 0u) << "width " << (i == 1 ? 8 : 16) << ": first difference at agent " << first / d
+                                  << " entry " << first % d;
+        }
+    }
+}
+
 // ---- a step: the leader, then Eq. 2 with the observed actions ---------------------
 
 TEST(PolicyStep, AppliesTheActionsWithEquationTwo) {
@@ -455,6 +501,84 @@ TEST(PolicyModelConfig, BadParametersAreNamed) {
     PolicyModelConfig c;
     c.leader_speed = std::nanf("");
     EXPECT_TRUE(contains(error(c), "finite"));
+}
+
+// The parameters the policy model shares with the RL environment go through
+// one validation (rl/leader_follow_params.hpp): a bad value of each is
+// refused by both, with the same message naming it after each one's prefix.
+TEST(LeaderFollowParams, BadSharedValuesAreRefusedByBothWithOneMessage) {
+    auto swarm = small_swarm(4);
+    const auto bytes = std::make_shared<const std::string>(paper_mlp(62).bytes());
+    auto ctx = shared_context();
+    // Each case sets the same field of both configurations (a generic lambda).
+    struct Case {
+        const char* needle;
+        std::function<void(PolicyModelConfig&)> policy;
+        std::function<void(RlEnvConfig&)> env;
+    };
+#define SHARED_CASE(needle, stmt) \
+    Case { needle, [](PolicyModelConfig& c) { stmt; }, [](RlEnvConfig& c) { stmt; } }
+    const std::vector<Case> cases = {
+        SHARED_CASE("r_sep = 0", c.r_sep = 0.0f),
+        SHARED_CASE("r_ali = 0.5 is not above r_sep = 1", c.r_ali = 0.5f),
+        SHARED_CASE("r_ali = 9 is not below r_coh = 8", c.r_coh = 8.0f),
+        SHARED_CASE("r_coh = inf", c.r_coh = INFINITY),
+        SHARED_CASE("neighbor_radius = -1", c.neighbor_radius = -1.0f),
+        SHARED_CASE("body_radius = 0", c.body_radius = 0.0f),
+        SHARED_CASE("du_max = -0.1", c.du_max = -0.1f),
+        SHARED_CASE("dq_max_deg = nan", c.dq_max_deg = NAN),
+        SHARED_CASE("u_max = 0", c.u_max = 0.0f),
+        SHARED_CASE("leader_du_max = -1", c.leader_du_max = -1.0f),
+        SHARED_CASE("leader_dq_max_deg = -4", c.leader_dq_max_deg = -4.0f),
+        SHARED_CASE("reach_radius = 0", c.reach_radius = 0.0f),
+        SHARED_CASE("obstacle 1 (half extents 1, 0, 1)", (c.obstacles = {{{{0, 0, 0}}, {{1, 1, 1}}}, {{{5, 0, 0}}, {{1, 0, 1}}}})),
+        SHARED_CASE("obstacle 0", (c.obstacles = {{{{NAN, 0, 0}}, {{1, 1, 1}}}})),
+    };
+#undef SHARED_CASE
+    auto message = [](auto&& make) {
+        try {
+            make();
+        } catch (const Error& e) {
+            EXPECT_EQ(e.status(), Status::InvalidArgument);
+            return std::string(e.what());
+        }
+        return std::string("accepted");
+    };
+    for (const Case& k : cases) {
+        PolicyModelConfig pc;
+        RlEnvConfig ec;
+        ec.worlds = 1;
+        ec.agents = 4;
+        k.policy(pc);
+        k.env(ec);
+        const std::string pm = message([&] { PolicyModel m(*swarm, pc, bytes); });
+        const std::string em = message([&] { LeaderEnv env(*ctx, ec); });
+        EXPECT_TRUE(contains(pm, std::string("policy model: ") + k.needle)) << pm;
+        EXPECT_TRUE(contains(em, std::string("rl env: ") + k.needle)) << em;
+        EXPECT_EQ(pm.substr(pm.find(": ")), em.substr(em.find(": "))) << k.needle;
+    }
+    // Waypoints: the policy model's navigation and tour, the environment's navigation.
+    PolicyModelConfig pc;
+    pc.leader_mode = PolicyLeaderMode::Tour;
+    pc.waypoints = {{{0, 0, 0, 1}}, {{5, 0, 0, 4}}};  // speed 4 > u_max 3
+    RlEnvConfig ec;
+    ec.leader_mode = RlLeaderMode::Navigation;
+    ec.waypoints = pc.waypoints;
+    const std::string pm = message([&] { PolicyModel m(*swarm, pc, bytes); });
+    const std::string em = message([&] { LeaderEnv env(*ctx, ec); });
+    EXPECT_TRUE(contains(pm, "policy model: waypoint 1 (5, 0, 0, speed 4) must be finite with 0 <= speed <= u_max = 3"))
+        << pm;
+    EXPECT_TRUE(contains(em, "rl env: waypoint 1 (5, 0, 0, speed 4)")) << em;
+    pc.waypoints.resize(1);
+    ec.waypoints.resize(1);
+    EXPECT_TRUE(contains(message([&] { PolicyModel m(*swarm, pc, bytes); }), "at least 2 waypoints (1 given)"));
+    EXPECT_TRUE(contains(message([&] { LeaderEnv env(*ctx, ec); }), "at least 2 waypoints (1 given)"));
+    // The defaults of both pass.
+    EXPECT_EQ(message([&] { PolicyModel m(*swarm, PolicyModelConfig{}, bytes); }), "accepted");
+    RlEnvConfig ok;
+    ok.worlds = 1;
+    ok.agents = 4;
+    EXPECT_EQ(message([&] { LeaderEnv env(*ctx, ok); }), "accepted");
 }
 
 // ---- through the C API: bad weights leave the swarm usable ------------------------

@@ -85,11 +85,17 @@ PdfOptions pdf_options_from(const swcl_pdf_options* o) {
     return p;
 }
 
+// swcl_metric is the metric table's order (eval/metric_table.hpp; every
+// enumerator is checked against the table's names by tests/test_eval_capi.cpp).
 static_assert(SWCL_METRIC_COUNT == int(kMetricCount), "swcl_metric and swarmcl::Metric disagree");
 
 }  // namespace
 
 extern "C" {
+
+const char* swcl_metric_name(swcl_metric metric) {
+    return int(metric) >= 0 && int(metric) < SWCL_METRIC_COUNT ? metric_info(Metric(uint32_t(metric))).name : nullptr;
+}
 
 swcl_status swcl_metrics_from_csv(const char* path, const swcl_dataset_desc* tracks, double window_from,
                                   double window_to, swcl_metrics* out) {

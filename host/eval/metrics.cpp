@@ -150,13 +150,6 @@ void frame_neighbour_metrics(const TrackSet& tracks, double frame_time, MetricSa
 
 }  // namespace
 
-const char* metric_name(Metric m) {
-    static const char* const names[kMetricCount] = {"speed", "acceleration", "angular_velocity",
-                                                    "angular_acceleration", "jerk", "nearest_distance",
-                                                    "velocity_difference"};
-    return size_t(m) < kMetricCount ? names[size_t(m)] : "unknown";
-}
-
 MetricSamples track_metrics(const TrackSet& tracks) {
     require(tracks.frame_time > 0.0 && std::isfinite(tracks.frame_time), "metrics: the tracks' frame time must be > 0");
     MetricSamples out;

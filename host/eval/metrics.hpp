@@ -10,22 +10,12 @@
 #include <vector>
 
 #include "data/tracks.hpp"
+#include "eval/metric_table.hpp"
 
 namespace swarmcl {
 
-enum class Metric : uint32_t {
-    Speed = 0,                // v = |v_k|
-    Acceleration = 1,         // a = |v_{k+1} - v_k| / Δt
-    AngularVelocity = 2,      // ω = arccos(v̂_k · v̂_{k+1}) / Δt
-    AngularAcceleration = 3,  // α = (ω_{k+1} - ω_k) / Δt  (signed)
-    Jerk = 4,                 // μ = |Δv_{k+1} - Δv_k| / Δt²
-    NearestDistance = 5,      // d = min_k |p_k - p_m| over insects in the same frame
-    VelocityDifference = 6,   // η = | |v_nei| - |v| | / d
-};
-constexpr size_t kMetricCount = 7;
-
-// A short lower-case name of each metric ("speed", ..., "velocity_difference").
-const char* metric_name(Metric m);
+// Metric, kMetricCount and metric_name(): the metric table
+// (eval/metric_table.hpp).
 
 // Samples of every metric, in a fixed order (segment by segment, sample by
 // sample; d and η frame by frame), so every reduction over them is

@@ -18,7 +18,8 @@ std::string metric_defines(uint32_t block, bool atomic) {
     using namespace fine_bins;
     return "-DFB_SHIFT=" + std::to_string(kShift) + "u -DFB_LOW_KEY=" + std::to_string(kLowKey) +
            "u -DFB_SIDE=" + std::to_string(kSide) + "u -DFB_COUNT=" + std::to_string(fine_bins::kCount) +
-           "u -DMETRICS_BLOCK=" + std::to_string(block) + "u -DHIST_ATOMIC=" + (atomic ? "1" : "0");
+           "u -DMETRICS_BLOCK=" + std::to_string(block) + "u -DHIST_ATOMIC=" + (atomic ? "1" : "0") +
+           metric_kernel_defines();
 }
 
 }  // namespace

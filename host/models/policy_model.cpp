@@ -7,6 +7,7 @@
 #include "core/error.hpp"
 #include "fields/noise_field.hpp"
 #include "models/model_descriptor.hpp"
+#include "rl/leader_follow_params.hpp"
 #include "swarm/swarm.hpp"
 
 namespace swarmcl {
@@ -31,36 +32,35 @@ float activate(float x, PolicyActivation a) {
     return x;
 }
 
+// The fields shared with the RL environment (rl/leader_follow_params.hpp).
+LeaderFollowParams leader_follow_params(const PolicyModelConfig& c) {
+    LeaderFollowParams p;
+    p.r_sep = c.r_sep, p.r_ali = c.r_ali, p.r_coh = c.r_coh;
+    p.neighbor_radius = c.neighbor_radius, p.body_radius = c.body_radius;
+    p.du_max = c.du_max, p.dq_max_deg = c.dq_max_deg, p.u_max = c.u_max;
+    p.leader_du_max = c.leader_du_max, p.leader_dq_max_deg = c.leader_dq_max_deg, p.reach_radius = c.reach_radius;
+    p.needs_waypoints = c.leader_mode != PolicyLeaderMode::Joystick;
+    p.waypoints = &c.waypoints;
+    p.obstacles = &c.obstacles;
+    return p;
+}
+
 }  // namespace
 
 void validate(const PolicyModelConfig& c) {
-    const float scalars[] = {c.r_sep, c.r_ali, c.r_coh, c.neighbor_radius, c.body_radius, c.du_max, c.dq_max_deg,
-                             c.u_max, c.leader_du_max, c.leader_dq_max_deg, c.reach_radius, c.leader_speed,
-                             c.leader_position[0], c.leader_position[1], c.leader_position[2],
-                             c.leader_heading[0], c.leader_heading[1], c.leader_heading[2]};
-    require(finite_all(scalars, sizeof scalars / sizeof *scalars), "policy model: every parameter must be finite");
-    require(0 < c.r_sep && c.r_sep < c.r_ali && c.r_ali < c.r_coh,
-            "policy model: radii need 0 < r_sep < r_ali < r_coh (Table 1: 1, 9, 18)");
-    require(c.neighbor_radius >= 0 && c.body_radius > 0, "policy model: neighbor_radius >= 0 and body_radius > 0");
-    require(c.du_max >= 0 && c.dq_max_deg >= 0 && c.u_max > 0, "policy model: du_max, dq_max_deg >= 0, u_max > 0");
-    require(c.leader_du_max >= 0 && c.leader_dq_max_deg >= 0 && c.reach_radius > 0,
-            "policy model: leader_du_max, leader_dq_max_deg >= 0 and reach_radius > 0");
-    require(c.leader_speed >= 0 && c.leader_speed <= c.u_max, "policy model: leader_speed must lie in [0, u_max]");
+    require(uint32_t(c.leader_mode) <= 2, "policy model: unknown leader mode");
+    validate_leader_follow("policy model", leader_follow_params(c));
+    // The leader's start (the environment draws its own).
+    const float start[] = {c.leader_speed, c.leader_position[0], c.leader_position[1], c.leader_position[2],
+                           c.leader_heading[0], c.leader_heading[1], c.leader_heading[2]};
+    require(finite_all(start, sizeof start / sizeof *start),
+            "policy model: leader_speed, leader_position and leader_heading must be finite");
+    require(c.leader_speed >= 0 && c.leader_speed <= c.u_max,
+            "policy model: leader_speed = " + param_text(c.leader_speed) + " must lie in [0, u_max = " +
+                param_text(c.u_max) + "]");
     const float h = std::sqrt(c.leader_heading[0] * c.leader_heading[0] + c.leader_heading[1] * c.leader_heading[1] +
                               c.leader_heading[2] * c.leader_heading[2]);
     require(h > 1e-6f, "policy model: leader_heading must not be zero");
-    require(uint32_t(c.leader_mode) <= 2, "policy model: unknown leader mode");
-    if (c.leader_mode != PolicyLeaderMode::Joystick) {
-        require(c.waypoints.size() >= 2, "policy model: navigation needs at least 2 waypoints (" +
-                                             std::to_string(c.waypoints.size()) + " given)");
-        for (size_t k = 0; k < c.waypoints.size(); ++k)
-            require(finite_all(c.waypoints[k].data(), 4) && c.waypoints[k][3] >= 0 && c.waypoints[k][3] <= c.u_max,
-                    "policy model: waypoint " + std::to_string(k) + " must be finite with 0 <= speed <= u_max");
-    }
-    for (size_t b = 0; b < c.obstacles.size(); ++b)
-        require(finite_all(c.obstacles[b].center.data(), 3) && finite_all(c.obstacles[b].half.data(), 3) &&
-                    c.obstacles[b].half[0] > 0 && c.obstacles[b].half[1] > 0 && c.obstacles[b].half[2] > 0,
-                "policy model: obstacle " + std::to_string(b) + " must be finite with half extents > 0");
 }
 
 std::array<float, 4> policy_forward(const PolicyWeights& w, const float* obs) {

@@ -42,8 +42,9 @@ struct PolicyModelConfig {
     std::vector<RlObstacleBox> obstacles;
 };
 
-// Error(InvalidArgument) naming the field; `weights` checked against it
-// (the file's observation size is the model's).
+// Error(InvalidArgument) naming the field: the parameters shared with the
+// RL environment through validate_leader_follow (rl/leader_follow_params.hpp),
+// then the leader's start and mode.
 void validate(const PolicyModelConfig& config);
 
 // The model as a scenario or the C API describes it: the weights file's

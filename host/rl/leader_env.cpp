@@ -5,6 +5,7 @@
 
 #include "core/error.hpp"
 #include "core/philox.hpp"
+#include "rl/leader_follow_params.hpp"
 
 namespace swarmcl {
 
@@ -24,32 +25,34 @@ void validate(const RlEnvConfig& c) {
     require(uint64_t(c.worlds) * c.agents <= kRlMaxAgents,
             "rl env: worlds * agents = " + std::to_string(uint64_t(c.worlds) * c.agents) + " exceeds " +
                 std::to_string(kRlMaxAgents));
-    const float scalars[] = {c.dt, c.du_max, c.dq_max_deg, c.r_sep, c.r_ali, c.r_coh, c.u_max, c.body_radius,
-                             c.neighbor_radius, c.rag_w_sep, c.rag_w_ali, c.rag_w_coh, c.leader_du_max,
-                             c.leader_dq_max_deg, c.reach_radius, c.leader_u0_min, c.leader_u0_max,
-                             c.spawn_radius, c.spawn_back, c.reward.w_spd, c.reward.w_dir, c.reward.w_leader,
-                             c.reward.w_obs, c.reward.w_dist, c.reward.l_spd, c.reward.l_dir, c.reward.l_leader,
-                             c.reward.l_obs, c.reward.dist_target};
-    require(finite_all(scalars, sizeof scalars / sizeof *scalars), "rl env: every parameter must be finite");
-    require(c.dt > 0 && c.du_max >= 0 && c.dq_max_deg >= 0 && c.u_max > 0 && c.body_radius > 0,
-            "rl env: dt, u_max, body_radius must be > 0 and du_max, dq_max >= 0");
-    require(0 < c.r_sep && c.r_sep < c.r_ali && c.r_ali < c.r_coh, "rl env: radii need 0 < r_sep < r_ali < r_coh");
-    require(c.neighbor_radius >= 0 && c.spawn_radius >= 0 && c.reach_radius > 0 && c.leader_du_max >= 0 &&
-                c.leader_dq_max_deg >= 0 && 0 <= c.leader_u0_min && c.leader_u0_min <= c.leader_u0_max &&
-                c.leader_u0_max <= c.u_max,
-            "rl env: leader/spawn parameters out of range (radii >= 0, 0 <= u0_min <= u0_max <= u_max)");
+    // The parameters shared with the policy model: one validation.
+    LeaderFollowParams p;
+    p.r_sep = c.r_sep, p.r_ali = c.r_ali, p.r_coh = c.r_coh;
+    p.neighbor_radius = c.neighbor_radius, p.body_radius = c.body_radius;
+    p.du_max = c.du_max, p.dq_max_deg = c.dq_max_deg, p.u_max = c.u_max;
+    p.leader_du_max = c.leader_du_max, p.leader_dq_max_deg = c.leader_dq_max_deg, p.reach_radius = c.reach_radius;
+    p.needs_waypoints = c.leader_mode == RlLeaderMode::Navigation;
+    p.waypoints = &c.waypoints;
+    p.obstacles = &c.obstacles;
+    validate_leader_follow("rl env", p);
+    // The environment's own: time step, RAG weights, rewards, spawn.
+    const std::pair<const char*, float> own[] = {
+        {"dt", c.dt}, {"rag_w_sep", c.rag_w_sep}, {"rag_w_ali", c.rag_w_ali}, {"rag_w_coh", c.rag_w_coh},
+        {"leader_u0_min", c.leader_u0_min}, {"leader_u0_max", c.leader_u0_max}, {"spawn_radius", c.spawn_radius},
+        {"spawn_back", c.spawn_back}, {"reward.w_spd", c.reward.w_spd}, {"reward.w_dir", c.reward.w_dir},
+        {"reward.w_leader", c.reward.w_leader}, {"reward.w_obs", c.reward.w_obs}, {"reward.w_dist", c.reward.w_dist},
+        {"reward.l_spd", c.reward.l_spd}, {"reward.l_dir", c.reward.l_dir}, {"reward.l_leader", c.reward.l_leader},
+        {"reward.l_obs", c.reward.l_obs}, {"reward.dist_target", c.reward.dist_target}};
+    for (const auto& [name, v] : own)
+        require(std::isfinite(v), std::string("rl env: ") + name + " = " + param_text(v) +
+                                      ": every parameter must be finite");
+    require(c.dt > 0, "rl env: dt = " + param_text(c.dt) + " must be > 0");
+    require(c.spawn_radius >= 0, "rl env: spawn_radius = " + param_text(c.spawn_radius) + " must be >= 0");
+    require(0 <= c.leader_u0_min && c.leader_u0_min <= c.leader_u0_max && c.leader_u0_max <= c.u_max,
+            "rl env: the leader's start speeds need 0 <= leader_u0_min <= leader_u0_max <= u_max (" +
+                param_text(c.leader_u0_min) + ", " + param_text(c.leader_u0_max) + ", " +
+                param_text(c.u_max) + ")");
     require(c.max_steps >= 1, "rl env: max_steps must be >= 1");
-    if (c.leader_mode == RlLeaderMode::Navigation) {
-        require(c.waypoints.size() >= 2, "rl env: navigation needs at least 2 waypoints (" +
-                                             std::to_string(c.waypoints.size()) + " given)");
-        for (size_t k = 0; k < c.waypoints.size(); ++k)
-            require(finite_all(c.waypoints[k].data(), 4) && c.waypoints[k][3] >= 0 && c.waypoints[k][3] <= c.u_max,
-                    "rl env: waypoint " + std::to_string(k) + " must be finite with 0 <= speed <= u_max");
-    }
-    for (size_t b = 0; b < c.obstacles.size(); ++b)
-        require(finite_all(c.obstacles[b].center.data(), 3) && finite_all(c.obstacles[b].half.data(), 3) &&
-                    c.obstacles[b].half[0] > 0 && c.obstacles[b].half[1] > 0 && c.obstacles[b].half[2] > 0,
-                "rl env: obstacle " + std::to_string(b) + " must be finite with half extents > 0");
 }
 
 cl_float4 f4(float x, float y, float z, float w) { return cl_float4{{x, y, z, w}}; }

@@ -12,6 +12,7 @@
 #undef SWCL_BCOUNT_IF
 #undef SWCL_BLANE_IDS
 #undef SWCL_BVLOAD
+#undef SWCL_BVSTORE
 #undef SWCL_KERNEL
 #undef SWCL_BFN
 #undef SWCL_BLANE
@@ -31,6 +32,7 @@
 #define SWCL_BCOUNT_IF(c, m) ((c) += (uint)(m))
 #define SWCL_BLANE_IDS 0u
 #define SWCL_BVLOAD(p) (*(p))
+#define SWCL_BVSTORE(v, p) (*(p) = (v))
 #define SWCL_KERNEL(name) name
 #define SWCL_BFN(name) name##_s
 #define SWCL_BLANE(v, k) (v)
@@ -49,6 +51,7 @@
 #define SWCL_BCOUNT_IF(c, m) ((c) -= swcl_as_uw(m))  /* true is -1 */
 #define SWCL_BLANE_IDS ((swcl_uw)(SWCL_LANES(SWCL_LANE_I)))
 #define SWCL_BVLOAD(p) swcl_vload_fw(0, (p))
+#define SWCL_BVSTORE(v, p) swcl_vstore_fw((v), 0, (p))
 #define SWCL_KERNEL(name) name##_w
 #define SWCL_BFN(name) name##_w
 #define SWCL_BLANE(v, k) SWCL_LANE(v, k)

@@ -27,9 +27,10 @@ from .errors import check
 
 __all__ = ["METRICS", "Metrics", "distances", "score", "entropy_weights", "evaluate", "plot_pdfs"]
 
-#: The metric names, in the order of the C enum swcl_metric (and of every array here).
-METRICS: Tuple[str, ...] = ("speed", "acceleration", "angular_velocity", "angular_acceleration", "jerk",
-                            "nearest_distance", "velocity_difference")
+#: The metric names, in the order of the C enum swcl_metric (and of every array here): the
+#: library's metric table (swcl_metric_name; host/eval/metric_table.hpp), not written again here.
+METRICS: Tuple[str, ...] = tuple(ffi.string(lib.swcl_metric_name(k)).decode()
+                                 for k in range(lib.SWCL_METRIC_COUNT))
 
 
 def _metric_index(metric) -> int:

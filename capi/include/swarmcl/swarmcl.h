@@ -915,6 +915,11 @@ typedef enum swcl_metric {
     SWCL_METRIC_COUNT = 7,
     SWCL_METRIC_MAX_ENUM = 0x7FFFFFFF  /* 32-bit range (see "Enums" above) */
 } swcl_metric;
+/* The metric's short lower-case name ("speed", "acceleration",
+ * "angular_velocity", ..., "velocity_difference"; JSON keys, the CLI's table
+ * and Python's swarmcl.METRICS use it), a static string; NULL for a value
+ * that is not a swcl_metric. */
+SWCL_API const char* swcl_metric_name(swcl_metric metric);
 
 /* Metrics of tracks from a CSV file (columns, time format, unit and gap
  * splitting from `tracks`, as for swcl_dataset_from_csv; NULL: defaults),
