@@ -67,6 +67,8 @@ int main(int argc, char** argv) {
     program.formatter(format);
     program.set_version_flag("--version", version_text(), "print the version of swarmcl and of the library, and exit");
     program.require_subcommand(1);
+    // An option given twice takes its last value, as before CLI11 (the commands inherit it).
+    program.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
     program.footer("'swarmcl COMMAND --help' lists a command's options (docs/scenarios.md, docs/evaluation.md).");
 
     std::vector<Command> commands = {add_run(program),     add_resume(program), add_evaluate(program),

@@ -419,10 +419,11 @@ TEST_F(Cli, BadArgumentsSayWhatIsWrong) {
         EXPECT_TRUE(r.out.empty()) << r.out;
     }
     EXPECT_EQ(list_dir(dir.path()), (std::set<std::string>{"tiny.json"}));
-    // Options take "--flag=value" as well.
-    const Result r = cli("run tiny.json --steps=2 --every=2 --format=npy --out=eq --quiet", dir.path());
+    // Options take "--flag=value" as well; one given twice takes its last value.
+    const Result r = cli("run tiny.json --steps=2 --every=2 --format=csv --format=npy --out=eq --quiet --steps 4", dir.path());
     EXPECT_EQ(r.status, 0) << r.err;
     EXPECT_EQ(list_dir(dir / "eq"), (std::set<std::string>{"tiny_positions.npy", "tiny_velocities.npy", "run.json"}));
+    EXPECT_EQ(nlohmann::json::parse(read_bytes(dir / "eq/run.json"))["steps"], 4);
 }
 
 TEST_F(Cli, InterruptRemovesUnfinishedOutputs) {
