@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <swarmcl/swarmcl.h>
 
@@ -42,6 +43,13 @@ inline void check(swcl_status status, const char* what) {
         throw Failure{std::string(what) + ": " + swcl_status_string(status) + ": " + swcl_last_error()};
 }
 
+// A C call's swcl_last_error() without the function name it begins with
+// ("swcl_export_formats_parse: unknown ..." -> "unknown ...").
+inline std::string without_function_name(const std::string& error) {
+    const size_t colon = error.find(": ");
+    return error.rfind("swcl_", 0) == 0 && colon != std::string::npos ? error.substr(colon + 2) : error;
+}
+
 inline std::string read_file(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     std::ostringstream s;
@@ -56,6 +64,19 @@ inline uint32_t parse_count(const char* flag, const char* text, uint32_t min) {
     if (!*text || *end || errno || v < min || v > 0xFFFFFFFFul || text[0] == '-')
         throw Usage{std::string(flag) + ": expected an integer >= " + std::to_string(min) + ", got '" + text + "'"};
     return uint32_t(v);
+}
+
+// The names of a mask's export formats as the library's table gives them
+// (swcl_export_format_name), lowest bit first; Failure for a bit no format has.
+inline std::vector<std::string> export_format_names(uint32_t mask) {
+    std::vector<std::string> names;
+    for (uint32_t bit = 1; bit != 0; bit <<= 1) {
+        if (!(mask & bit)) continue;
+        const char* name = swcl_export_format_name(bit);
+        if (!name) throw Failure{"export formats: no format has the bit " + std::to_string(bit)};
+        names.emplace_back(name);
+    }
+    return names;
 }
 
 // Writes text to path through a temporary file and a rename (host/io/atomic_file).

@@ -1,21 +1,23 @@
 // `swarmcl evaluate`: runs a scenario and scores it against real tracks with
 // the seven-metric evaluation of the noise paper (§3; docs/evaluation.md).
-#include "evaluate.hpp"
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <sstream>
+#include <memory>
+#include <optional>
 #include <string>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #include <vector>
 
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <swarmcl/swarmcl.h>
 
+#include "cli_options.hpp"
 #include "cli_support.hpp"
+#include "commands.hpp"
 
 namespace swarmcl_cli {
 namespace {
@@ -24,60 +26,48 @@ struct EvaluateArgs {
     std::string scenario, tracks, out, device;
     std::vector<std::string> columns = {"id", "time", "x", "y", "z"};
     double unit_scale = 1.0, window_from = 0.0, window_to = 1.0;
-    long every = -1, steps = -1, warmup = 0;
+    std::optional<uint32_t> every, steps;
+    uint32_t warmup = 0;
     swcl_pdf_options pdf = swcl_pdf_options_default();
     bool quiet = false, plot = false;
 };
 
-double parse_number(const char* flag, const std::string& text) {
-    char* end = nullptr;
-    const double v = std::strtod(text.c_str(), &end);
-    if (text.empty() || *end || !std::isfinite(v)) throw Usage{std::string(flag) + ": expected a number, got '" + text + "'"};
-    return v;
-}
-
-std::vector<std::string> split_commas(const std::string& text) {
-    std::vector<std::string> out;
-    std::stringstream in(text);
-    std::string part;
-    while (std::getline(in, part, ',')) out.push_back(part);
-    return out;
-}
-
-EvaluateArgs parse_args(int argc, char** argv) {
-    EvaluateArgs a;
-    for (int i = 0; i < argc; ++i) {
-        const std::string arg = argv[i];
-        auto value = [&](const char* flag) -> std::string {
-            if (i + 1 >= argc) throw Usage{std::string(flag) + ": missing value"};
-            return argv[++i];
-        };
-        if (arg == "--tracks") a.tracks = value("--tracks");
-        else if (arg == "--columns") {
-            a.columns = split_commas(value("--columns"));
-            if (a.columns.size() != 5) throw Usage{"--columns: expected five names: id,time,x,y,z"};
-        } else if (arg == "--unit-scale") a.unit_scale = parse_number("--unit-scale", value("--unit-scale"));
-        else if (arg == "--window") {
-            const auto w = split_commas(value("--window"));
-            if (w.size() != 2) throw Usage{"--window: expected FROM,TO (fractions of the recording, e.g. 0.5,1)"};
-            a.window_from = parse_number("--window", w[0]);
-            a.window_to = parse_number("--window", w[1]);
-        } else if (arg == "--every") a.every = parse_count("--every", value("--every").c_str(), 1);
-        else if (arg == "--steps") a.steps = parse_count("--steps", value("--steps").c_str(), 1);
-        else if (arg == "--warmup") a.warmup = parse_count("--warmup", value("--warmup").c_str(), 0);
-        else if (arg == "--bins") a.pdf.bins = parse_count("--bins", value("--bins").c_str(), 1);
-        else if (arg == "--half-width") a.pdf.half_width = parse_number("--half-width", value("--half-width"));
-        else if (arg == "--out") a.out = value("--out");
-        else if (arg == "--device") a.device = value("--device");
-        else if (arg == "--quiet") a.quiet = true;
-        else if (arg == "--plot") a.plot = true;
-        else if (!arg.empty() && arg[0] == '-') throw Usage{"unknown option '" + arg + "'"};
-        else if (a.scenario.empty()) a.scenario = arg;
-        else throw Usage{"unexpected argument '" + arg + "'"};
-    }
-    if (a.scenario.empty()) throw Usage{"evaluate: no scenario file"};
-    if (a.tracks.empty()) throw Usage{"evaluate: no --tracks file"};
-    return a;
+// The options, on the command's CLI11 app; `a` is filled as they are parsed.
+void add_options(CLI::App& app, EvaluateArgs& a) {
+    app.add_option("SCENARIO.json", a.scenario, "the scenario to run (docs/scenarios.md)")->required()->type_name("");
+    app.add_option("--tracks", a.tracks, "the real tracks, a CSV of id,time,x,y,z rows")
+        ->type_name("FILE.csv")
+        ->required();
+    app.add_option_function<std::string>(
+           "--columns",
+           [&a](const std::string& text) {
+               a.columns = split_commas(text);
+               if (a.columns.size() != 5) throw Usage{"--columns: expected five names: id,time,x,y,z"};
+           },
+           "the tracks' columns (default id,time,x,y,z)")
+        ->type_name("ID,T,X,Y,Z");
+    add_number(app, "--unit-scale", a.unit_scale, "the tracks' length unit in metres (default 1)");
+    app.add_option_function<std::string>(
+           "--window",
+           [&a](const std::string& text) {
+               const auto w = split_commas(text);
+               if (w.size() != 2) throw Usage{"--window: expected FROM,TO (fractions of the recording, e.g. 0.5,1)"};
+               a.window_from = parse_number("--window", w[0]);
+               a.window_to = parse_number("--window", w[1]);
+           },
+           "fractions of the recording compared (default 0,1)")
+        ->type_name("FROM,TO");
+    add_count(app, "--warmup", a.warmup, 0, "steps before the first sample (default 0)");
+    add_count(app, "--steps", a.steps, 1, "steps sampled after it (default: the scenario's)");
+    add_count(app, "--every", a.every, 1,
+              "steps between samples (default: the tracks' frame time / dt)");
+    add_count(app, "--bins", a.pdf.bins, 1, "bins of each metric's PDF (default 50)");
+    add_number(app, "--half-width", a.pdf.half_width, "the PDFs' half width in sigma (default 4)");
+    app.add_option("--out", a.out, "the result (default: the scenario's output.dir/evaluation.json)")
+        ->type_name("FILE.json");
+    app.add_flag("--plot", a.plot, "draw the PDFs beside the JSON (FILE.png, in Python)");
+    add_device(app, a.device);
+    app.add_flag("--quiet", a.quiet, "print nothing but errors");
 }
 
 nlohmann::json side_json(swcl_metrics m, swcl_metric k, const swcl_pdf_options& pdf) {
@@ -111,10 +101,7 @@ std::string plot_beside(const std::string& json_path) {
     return (dot == std::string::npos ? json_path : json_path.substr(0, dot)) + ".png";
 }
 
-}  // namespace
-
-int cmd_evaluate(int argc, char** argv) {
-    const EvaluateArgs a = parse_args(argc, argv);
+int evaluate(const EvaluateArgs& a) {
 
     // The real side: tracks in the time window.
     swcl_dataset_desc td = swcl_dataset_desc_default();
@@ -135,11 +122,11 @@ int cmd_evaluate(int argc, char** argv) {
     swcl_scenario_info info;
     info.struct_size = sizeof(info);
     check(swcl_scenario_get_info(scenario.handle, &info), "reading the scenario");
-    const uint32_t steps = a.steps > 0 ? uint32_t(a.steps) : info.steps;
+    const uint32_t steps = a.steps ? *a.steps : info.steps;
     // By default the samples are as far apart as the real frames, so both
     // sides' derivatives are taken over the same clock.
     const uint32_t every =
-        a.every > 0 ? uint32_t(a.every) : uint32_t(std::max(1.0, std::round(frame_time / double(info.dt))));
+        a.every ? *a.every : uint32_t(std::max(1.0, std::round(frame_time / double(info.dt))));
     const double sample_dt = double(every) * info.dt;
     if (info.agents < 2) throw Failure{"evaluate: the scenario needs at least two agents (nearest distances)"};
 
@@ -154,7 +141,7 @@ int cmd_evaluate(int argc, char** argv) {
     const bool show = !a.quiet && isatty(STDERR_FILENO);
     const auto start = std::chrono::steady_clock::now();
     auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-    const uint32_t total = uint32_t(a.warmup) + steps;
+    const uint32_t total = a.warmup + steps;
     uint32_t done = 0;
     auto sample = [&] {
         frames.resize(frames.size() + 3 * n);
@@ -162,7 +149,7 @@ int cmd_evaluate(int argc, char** argv) {
               "reading positions");
     };
     for (; done < a.warmup;) {
-        const uint32_t k = std::min<uint32_t>(every, uint32_t(a.warmup) - done);
+        const uint32_t k = std::min<uint32_t>(every, a.warmup - done);
         check(swcl_swarm_step(swarm.handle, k), "stepping");
         done += k;
         progress(show, done, total, seconds());
@@ -221,6 +208,19 @@ int cmd_evaluate(int argc, char** argv) {
         if (!a.quiet) std::printf("plot: %s\n", png.c_str());
     }
     return 0;
+}
+
+}  // namespace
+
+Command add_evaluate(CLI::App& program) {
+    CLI::App* app = program.add_subcommand(
+        "evaluate", "Run a scenario and score it against real tracks (the seven metrics of the noise paper, §3)");
+    auto args = std::make_shared<EvaluateArgs>();
+    add_options(*app, *args);
+    app->footer("Writes the seven metrics' distances and PDFs and the score E to a JSON file;\n"
+                "--plot runs $SWARMCL_PYTHON (python3) -m swarmcl.evaluation plot on it (pip install\n"
+                "'swarmcl[plot]').  docs/evaluation.md explains the metrics.");
+    return {app, [args] { return evaluate(*args); }};
 }
 
 }  // namespace swarmcl_cli

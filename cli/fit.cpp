@@ -2,31 +2,82 @@
 // the GA come from cma and DEAP, the ranks from mpi4py), so this command
 // hands its arguments to `python -m swarmcl fit`, in place: under
 // `mpirun -np R swarmcl fit ...` each rank becomes that Python process.
-#include "fit.hpp"
-
+// Its options are the Python program's (bindings/python/swarmcl/fitting.py),
+// declared there once: `swarmcl fit --help` prints this command's help and
+// then theirs.
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <memory>
+#include <spawn.h>
 #include <string>
+#include <sys/wait.h>
 #include <unistd.h>
 #include <vector>
 
+#include <CLI/CLI.hpp>
+
 #include "cli_support.hpp"
+#include "commands.hpp"
 
 namespace swarmcl_cli {
+namespace {
 
-int cmd_fit(int argc, char** argv) {
+std::string python_program() {
     const char* env = std::getenv("SWARMCL_PYTHON");
-    const std::string python = env && *env ? env : "python3";
-    std::vector<std::string> args = {python, "-m", "swarmcl", "fit"};
-    for (int i = 0; i < argc; ++i) args.emplace_back(argv[i]);
+    return env && *env ? env : "python3";
+}
+
+std::vector<char*> raw_args(std::vector<std::string>& args) {
     std::vector<char*> raw;
     for (auto& a : args) raw.push_back(a.data());
     raw.push_back(nullptr);
-    std::fflush(stdout);
-    execvp(python.c_str(), raw.data());
-    throw Failure{"fit runs in the Python package: cannot start '" + python + "' (" + std::strerror(errno) +
-                  "); pip install 'swarmcl[fit]' and set SWARMCL_PYTHON to that interpreter"};
+    return raw;
+}
+
+}  // namespace
+
+Command add_fit(CLI::App& program) {
+    CLI::App* app = program.add_subcommand(
+        "fit", "Fit a scenario's parameters to real tracks (CMA-ES or a GA; runs in the Python package)");
+    // Everything after `fit` goes to Python as it is.
+    app->prefix_command();
+    app->allow_extras();
+    app->footer("swarmcl fit SCENARIO.json --tracks FILE.csv --ranges RANGES.json [--method cmaes|ga]\n"
+                "            [--generations G] [--population P] [--seed S] [...]\n"
+                "runs $SWARMCL_PYTHON -m swarmcl fit with the same arguments (python3 by default;\n"
+                "pip install 'swarmcl[fit]'), so under mpirun each rank is one Python process\n"
+                "(docs/evaluation.md).  Its options, from Python:");
+    Command command;
+    command.app = app;
+    command.more_help = [] {
+        // The Python program's own --help: its options are declared there.
+        const std::string python = python_program();
+        std::vector<std::string> args = {python, "-m", "swarmcl", "fit", "--help"};
+        std::vector<char*> raw = raw_args(args);
+        std::fflush(stdout);
+        pid_t pid = 0;
+        int status = -1;
+        if (posix_spawnp(&pid, python.c_str(), nullptr, nullptr, raw.data(), environ) == 0)
+            waitpid(pid, &status, 0);
+        if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+            std::printf("\n(the options could not be listed: '%s -m swarmcl fit --help' failed; "
+                        "pip install 'swarmcl[fit]' and set SWARMCL_PYTHON to that interpreter)\n",
+                        python.c_str());
+    };
+    command.run = [app]() -> int {
+                const std::string python = python_program();
+                std::vector<std::string> args = {python, "-m", "swarmcl", "fit"};
+                for (const std::string& a : app->remaining()) args.push_back(a);
+                std::vector<char*> raw = raw_args(args);
+                std::fflush(stdout);
+                execvp(python.c_str(), raw.data());
+                throw Failure{"fit runs in the Python package: cannot start '" + python + "' (" +
+                              std::strerror(errno) +
+                              "); pip install 'swarmcl[fit]' and set SWARMCL_PYTHON to that interpreter"};
+    };
+    return command;
 }
 
 }  // namespace swarmcl_cli

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include <nlohmann/json.hpp>
+#include <swarmcl/swarmcl.h>
 
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
@@ -104,8 +105,10 @@ RunCheckpoint parse_run_checkpoint(const std::string& text, const std::string& p
     r.done = u32("done");
     r.swarm_file = str("swarm_file");
     r.frames_file = str("frames_file");
-    if (r.every == 0 || r.checkpoint_every == 0 || r.done > r.steps || r.formats == 0 || r.formats > 7)
+    if (r.every == 0 || r.checkpoint_every == 0 || r.done > r.steps || r.formats == 0)
         bad("inconsistent settings");
+    for (uint32_t bit = 1; bit != 0; bit <<= 1)  // every format one the library's table names
+        if ((r.formats & bit) && !swcl_export_format_name(bit)) bad("inconsistent settings");
     for (const std::string* f : {&r.swarm_file, &r.frames_file})
         if (f->empty() || f->find('/') != std::string::npos) bad("a file name is not a plain name in the folder");
     return r;

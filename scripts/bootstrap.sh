@@ -7,7 +7,7 @@ packages=(
   build-essential cmake pkg-config git
   ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd clinfo
   libglm-dev libgtest-dev libnanoflann-dev libnoise-dev nlohmann-json3-dev
-  libtinyobjloader-dev zlib1g-dev libopenvdb-dev libboost-dev python3-scikit-fmm
+  libtinyobjloader-dev zlib1g-dev libcli11-dev libopenvdb-dev libboost-dev python3-scikit-fmm
   python3 python3-pip python3-venv
   openmpi-bin
 )

@@ -33,6 +33,7 @@ import numpy as np
 
 import swarmcl
 from machine_info import cpu_model  # scripts/machine_info.py
+from result_paths import shown_value  # scripts/result_paths.py: no machine's absolute path in results
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DATA = os.path.join(ROOT, "..", "shared", "data", "anopheles-coluzzii-swarm.csv")
@@ -126,7 +127,7 @@ def main(argv=None) -> int:
     if not os.path.exists(DATA):
         print(f"skipped: no {DATA} (the real tracks are not in the repository)")
         return 0
-    results = {"settings": vars(args), "cpu": cpu_model(), "variants": {}}
+    results = {"settings": shown_value(vars(args)), "cpu": cpu_model(), "variants": {}}
     start = time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp, swarmcl.Context() as ctx:
         files, cut, span = split_tracks(DATA, tmp)
@@ -153,7 +154,8 @@ def main(argv=None) -> int:
                 "terms": {h: dict(zip(swarmcl.METRICS, map(float, v))) for h, v in terms.items()},
                 "score": {h: swarmcl.score(v) for h, v in terms.items()},
                 "seed_scores": spread,
-                "seconds": time.perf_counter() - t, "scenario": r["scenario"],
+                # The energy model's training half lives in a temporary folder: $TMPDIR/... in the record.
+                "seconds": time.perf_counter() - t, "scenario": shown_value(r["scenario"]),
             }
             print(f"{name:22s} train E {results['variants'][name]['score']['train']:8.4f}   "
                   f"test E {results['variants'][name]['score']['test']:8.4f}   "

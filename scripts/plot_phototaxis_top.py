@@ -4,8 +4,8 @@
 "Chasing and phototaxis"), with the mean angular momentum about the lamp's vertical axis.
 
     ./build/swarmcl run examples/scenarios/path_phototaxis.json --out out/ph70 --format npy --every 1
-    sed 's/"angle_deg": 70/"angle_deg": 0/' examples/scenarios/path_phototaxis.json > /tmp/ph0.json
-    ./build/swarmcl run /tmp/ph0.json --out out/ph0 --format npy --every 1
+    mkdir -p out && sed 's/"angle_deg": 70/"angle_deg": 0/' examples/scenarios/path_phototaxis.json > out/ph0.json
+    ./build/swarmcl run out/ph0.json --out out/ph0 --format npy --every 1
     python scripts/plot_phototaxis_top.py out/ph0 out/ph70 docs/images/path_phototaxis_top.png
 """
 import sys

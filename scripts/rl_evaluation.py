@@ -32,6 +32,7 @@ import numpy as np
 
 import swarmcl
 from machine_info import cpu_model  # scripts/machine_info.py
+from result_paths import shown_value  # scripts/result_paths.py: no machine's absolute path in results
 from swarmcl.rl import RlEnv
 from swarmcl.rl.evaluation import cohesion_repulsion, inter_agent_distance, speed_differential, swarm_rewards
 from swarmcl.rl.export import load_policy, policy_actions
@@ -452,8 +453,7 @@ def main() -> int:
         methods[path.stem] = pol
     res = json.loads(args.out_json.read_text()) if args.out_json.is_file() else {}
     res.update(date=dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d"), cpu=cpu_model(),
-               args={k: ([str(x) for x in v] if isinstance(v, list) and v and isinstance(v[0], Path)
-                     else str(v) if isinstance(v, Path) else v) for k, v in vars(args).items()},
+               args=shown_value(vars(args)),
                policies={m: p["metadata"].get("swarmcl.trained_by", "?") for m, p in methods.items() if p})
     with swarmcl.Context() as ctx:
         dev = ctx.device

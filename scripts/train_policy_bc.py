@@ -17,7 +17,10 @@ leader with random slow turns and speed changes) and quadrilateral
 the action scale (the tanh range).
 
     PYTHONPATH=bindings/python SWARMCL_BUILD_DIR=$PWD/build \\
-        nice -n 10 /work/venv/bin/python scripts/train_policy_bc.py --out models/policy_roaming.safetensors
+        nice -n 10 build/venv/bin/python scripts/train_policy_bc.py --out models/policy_roaming.safetensors
+
+(build/venv is the virtual environment scripts/test.sh makes; any Python with
+NumPy and the package's dependencies does.)
 """
 from __future__ import annotations
 

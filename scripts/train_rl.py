@@ -25,7 +25,6 @@ import argparse
 import datetime as dt
 import json
 import os
-import shlex
 import subprocess
 import sys
 import tempfile
@@ -33,14 +32,9 @@ import textwrap
 from pathlib import Path
 
 from machine_info import cpu_model  # scripts/machine_info.py
+from result_paths import shown_command, shown_path, shown_value  # no machine's absolute path in results
 
 ROOT = Path(__file__).resolve().parents[1]
-
-
-def _shown(path: Path) -> str:
-    """A path relative to the repository when inside it."""
-    path = Path(path).resolve()
-    return str(path.relative_to(ROOT)) if ROOT in path.parents else str(path)
 
 
 def reference_rewards(cfg: dict, eval_episodes: int) -> dict:
@@ -176,13 +170,14 @@ def main() -> int:
     plot(results, refs, Path(args.png), title, args.train_args.strip())
     record = {
         "what": "scripts/train_rl.py: DDPG with RAG vs noise-only DDPG, same seeds and training-time budget",
-        "command": shlex.join([Path(sys.argv[0]).name, *sys.argv[1:]]),
+        "command": shown_command(sys.argv),
         "cpu": cpu_model(), "cores": os.cpu_count(), "started_utc": started.isoformat(timespec="seconds"),
         "budget_seconds": args.budget_seconds, "references": refs, "swarm_check": swarm, "title": title,
         "train_args": args.train_args.strip(),
         "budget_measure": "wall time of the training episodes (evaluations excluded), per run; "
                           + ("the runs one after the other" if args.sequential else "the two runs side by side"),
-        "runs": {name: {"command": " ".join(runs[name][0][1:]), "model": _shown(runs[name][2]),
+        "runs": {name: {"command": " ".join(shown_value(a) for a in runs[name][0][1:]),
+                        "model": shown_path(runs[name][2]),
                         **results[name]} for name in runs},
     }
     Path(args.json).parent.mkdir(parents=True, exist_ok=True)

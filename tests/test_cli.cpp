@@ -21,6 +21,7 @@
 #include <fcntl.h>
 
 #include <nlohmann/json.hpp>
+#include <swarmcl/swarmcl.h>
 
 #include "data/tracks.hpp"
 #include "scenario/scenario.hpp"
@@ -335,6 +336,94 @@ TEST_F(Cli, UsageErrorsExitWith2) {
     r = cli("--help", dir.path());
     EXPECT_EQ(r.status, 0);
     EXPECT_NE(r.out.find("usage"), std::string::npos);
+}
+
+// `swarmcl COMMAND --help` for every command, `swarmcl help COMMAND` the
+// same: the command's usage line and each of its options, on stdout, exit 0,
+// nothing run or written.
+TEST_F(Cli, EveryCommandHasHelp) {
+    const std::map<std::string, std::vector<std::string>> options = {
+        {"run", {"SCENARIO.json", "--steps", "--out", "--format", "--every", "--device", "--quiet", "--checkpoint-every"}},
+        {"resume", {"DIR", "--device", "--quiet"}},
+        {"evaluate", {"SCENARIO.json", "--tracks", "--columns", "--unit-scale", "--window", "--warmup", "--steps",
+                      "--every", "--bins", "--half-width", "--out", "--plot", "--device", "--quiet"}},
+        {"fit", {"--tracks", "--ranges", "--method", "--generations"}},
+        {"devices", {}},
+        {"validate", {"SCENARIO.json"}},
+    };
+    // fit's own options come from Python; without one, its help says so and still succeeds.
+    setenv("SWARMCL_PYTHON", "/no/such/python", 1);
+    for (const auto& [command, names] : options) {
+        for (const std::string& args : {command + " --help", command + " -h", "help " + command}) {
+            SCOPED_TRACE(args);
+            const Result r = cli(args, dir.path());
+            EXPECT_EQ(r.status, 0) << r.err;
+            EXPECT_NE(r.out.find("usage: swarmcl " + command + " "), std::string::npos) << r.out;
+            for (const std::string& name : names) EXPECT_NE(r.out.find(name), std::string::npos) << name << "\n" << r.out;
+            EXPECT_NE(r.out.find("--help"), std::string::npos) << r.out;
+        }
+    }
+    const Result fit = cli("fit --help", dir.path());
+    EXPECT_NE(fit.out.find("the options could not be listed"), std::string::npos) << fit.out;
+    unsetenv("SWARMCL_PYTHON");
+    EXPECT_EQ(list_dir(dir.path()), (std::set<std::string>{"tiny.json"})) << "--help runs nothing";
+
+    // The program's own help lists every command.
+    for (const std::string& args : {std::string("--help"), std::string("help")}) {
+        const Result r = cli(args, dir.path());
+        EXPECT_EQ(r.status, 0);
+        EXPECT_NE(r.out.find("usage: swarmcl [OPTIONS] SUBCOMMAND"), std::string::npos) << r.out;
+        for (const auto& [command, names] : options) EXPECT_NE(r.out.find("\n  " + command + " "), std::string::npos) << command;
+        EXPECT_NE(r.out.find("--version"), std::string::npos) << r.out;
+    }
+}
+
+TEST_F(Cli, VersionNamesTheProgramAndTheLibrary) {
+    const Result r = cli("--version", dir.path());
+    EXPECT_EQ(r.status, 0) << r.err;
+    const std::string v = std::to_string(SWCL_VERSION_MAJOR) + "." + std::to_string(SWCL_VERSION_MINOR) + "." +
+                          std::to_string(SWCL_VERSION_PATCH);
+    EXPECT_EQ(r.out, "swarmcl " + v + " (library " + swcl_version_string() + ")\n");
+    EXPECT_TRUE(r.err.empty()) << r.err;
+}
+
+// A bad command line: exit 2, the message names what is wrong, then the
+// command's usage line; never a crash, nothing written.
+TEST_F(Cli, BadArgumentsSayWhatIsWrong) {
+    const std::map<std::string, std::string> cases = {
+        {"run tiny.json --bogus", "--bogus"},
+        {"evaluate tiny.json --tracks t.csv --bogus 3", "--bogus"},
+        {"evaluate tiny.json --tracks t.csv --help-me", "--help-me"},
+        {"resume", "DIR is required"},
+        {"resume a b", "b"},
+        {"devices extra", "extra"},
+        {"validate a.json b.json", "b.json"},
+        {"run tiny.json --format csv,,npy", "--format: empty export format name (expected csv, npy or vtp)"},
+        {"run tiny.json --format gif", "--format: unknown export format 'gif' (expected csv, npy or vtp)"},
+        {"run tiny.json --every", "--every"},
+        {"run tiny.json --checkpoint-every 0", "--checkpoint-every: expected an integer >= 1, got '0'"},
+        {"evaluate tiny.json --tracks t.csv --window 0.5", "--window: expected FROM,TO"},
+        {"evaluate tiny.json --tracks t.csv --columns id,t", "--columns: expected five names"},
+        {"evaluate tiny.json --tracks t.csv --unit-scale nan", "--unit-scale: expected a number, got 'nan'"},
+        {"evaluate tiny.json --tracks t.csv --bins 0", "--bins: expected an integer >= 1, got '0'"},
+        {"help nope", "unknown command 'nope'"},
+        {"fly", "unknown command 'fly'"},
+    };
+    for (const auto& [args, message] : cases) {
+        SCOPED_TRACE(args);
+        const Result r = cli(args, dir.path());
+        EXPECT_EQ(r.status, 2) << r.out << r.err;
+        EXPECT_EQ(r.err.rfind("swarmcl: ", 0), 0u) << r.err;
+        EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("usage: swarmcl"), std::string::npos) << r.err;
+        EXPECT_TRUE(r.out.empty()) << r.out;
+    }
+    EXPECT_EQ(list_dir(dir.path()), (std::set<std::string>{"tiny.json"}));
+    // Options take "--flag=value" as well; one given twice takes its last value.
+    const Result r = cli("run tiny.json --steps=2 --every=2 --format=csv --format=npy --out=eq --quiet --steps 4", dir.path());
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(list_dir(dir / "eq"), (std::set<std::string>{"tiny_positions.npy", "tiny_velocities.npy", "run.json"}));
+    EXPECT_EQ(nlohmann::json::parse(read_bytes(dir / "eq/run.json"))["steps"], 4);
 }
 
 TEST_F(Cli, InterruptRemovesUnfinishedOutputs) {

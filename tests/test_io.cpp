@@ -251,7 +251,7 @@ TEST(FullDisk, RecorderFailsWithIoAndLeavesNoCompleteLookingFile) {
     bool failed = false;
     uint32_t frames_done = 0;
     {
-        Recorder rec(disk.path(), "swarm", kExportAll);
+        Recorder rec(disk.path(), "swarm", all_export_formats());
         for (uint32_t frame = 0; frame < 1000 && !failed; ++frame) {
             for (auto& x : pos) x = u(rng);
             for (auto& x : vel) x = u(rng);
@@ -464,7 +464,7 @@ TEST(Recorder, AllFormatsTogether) {
     TempDir dir;
     const Frames f = make_frames(4, 2, 15);
     {
-        Recorder rec(dir.path() + "/nested/out", "all", kExportAll);  // folders are created
+        Recorder rec(dir.path() + "/nested/out", "all", all_export_formats());  // folders are created
         record(rec, f);
         rec.finish();
         EXPECT_EQ(rec.files().size(), 1u + 2u + 2u + 1u);
@@ -480,7 +480,7 @@ TEST(Recorder, WithoutFinishNothingIsLeft) {
     TempDir dir;
     const Frames f = make_frames(5, 3, 16);
     {
-        Recorder rec(dir.path(), "lost", kExportAll);
+        Recorder rec(dir.path(), "lost", all_export_formats());
         record(rec, f);
         // .vtp frames are committed as they come ...
         EXPECT_TRUE(fs::exists(dir / "lost_000000.vtp"));
@@ -552,7 +552,7 @@ TEST(Recorder, BadArguments) {
 TEST(Recorder, ParseExportFormats) {
     EXPECT_EQ(parse_export_formats("csv"), uint32_t(kExportCsv));
     EXPECT_EQ(parse_export_formats("npy,vtp"), uint32_t(kExportNpy | kExportVtp));
-    EXPECT_EQ(parse_export_formats("csv,npy,vtp"), uint32_t(kExportAll));
+    EXPECT_EQ(parse_export_formats("csv,npy,vtp"), all_export_formats());
     const Error e = expect_error([] { parse_export_formats("csv,gif"); });
     EXPECT_EQ(e.status(), Status::InvalidArgument);
     EXPECT_NE(std::string(e.what()).find("gif"), std::string::npos) << e.what();
@@ -562,7 +562,7 @@ TEST(Recorder, ParseExportFormats) {
 TEST(Recorder, SimulatedFullDiskMidRunLeavesNothing) {
     TempDir dir;
     const Frames f = make_frames(50, 20, 21);
-    for (const uint32_t formats : {uint32_t(kExportCsv), uint32_t(kExportNpy), uint32_t(kExportVtp), uint32_t(kExportAll)}) {
+    for (const uint32_t formats : {uint32_t(kExportCsv), uint32_t(kExportNpy), uint32_t(kExportVtp), all_export_formats()}) {
         SeamGuard seam(20000);
         bool failed = false;
         {

@@ -1,4 +1,5 @@
-// Recording trajectories (host/io/recorder: CSV, .npy, VTK).
+// Recording trajectories (host/io/recorder: CSV, .npy, VTK) and the export
+// formats by name (host/io/export_format).
 #include <mutex>
 #include <vector>
 
@@ -7,6 +8,11 @@
 
 using namespace swarmcl;
 using namespace swarmcl::capi;
+
+// The header's bits are the table's.
+static_assert(uint32_t(SWCL_EXPORT_CSV) == kExportCsv && uint32_t(SWCL_EXPORT_NPY) == kExportNpy &&
+                  uint32_t(SWCL_EXPORT_VTP) == kExportVtp,
+              "swcl_export_format and io/export_format.hpp disagree");
 
 namespace {
 
@@ -65,6 +71,20 @@ swcl_status swcl_recorder_finish(swcl_recorder recorder) {
 
 swcl_status swcl_recorder_destroy(swcl_recorder recorder) {
     return guarded(__func__, [&] { recorders().remove(recorder.id); });
+}
+
+const char* swcl_export_format_name(uint32_t format) {
+    for (const ExportFormatInfo& f : export_formats())
+        if (f.bit == format) return f.name;
+    return nullptr;
+}
+
+swcl_status swcl_export_formats_parse(const char* list, uint32_t* out) {
+    return guarded(__func__, [&] {
+        require(list != nullptr, "list is NULL");
+        check_out(out, "out");
+        *out = parse_export_formats(list);
+    });
 }
 
 }  // extern "C"

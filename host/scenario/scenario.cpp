@@ -11,7 +11,7 @@
 #include "core/error.hpp"
 #include "core/philox.hpp"
 #include "io/json_object.hpp"
-#include "io/recorder.hpp"
+#include "io/export_format.hpp"
 #include "scenario/model_section.hpp"
 
 namespace swarmcl {
@@ -72,15 +72,15 @@ void read_output(const json& j, Scenario& s) {
     if (s.output_dir.empty()) bad_json(o.at("dir"), "expected a non-empty folder name");
     if (o.has("formats")) {
         const json& f = o.child("formats");
-        if (!f.is_array() || f.empty()) bad_json(o.at("formats"), "expected a non-empty array of \"csv\", \"npy\", \"vtp\"");
+        if (!f.is_array() || f.empty())
+            bad_json(o.at("formats"), "expected a non-empty array of " + export_format_choices("\""));
         s.output_formats = 0;
         for (size_t i = 0; i < f.size(); ++i) {
             const std::string at = o.at("formats") + "[" + std::to_string(i) + "]";
             const std::string name = f[i].is_string() ? f[i].get<std::string>() : std::string();
-            if (name == "csv") s.output_formats |= kExportCsv;
-            else if (name == "npy") s.output_formats |= kExportNpy;
-            else if (name == "vtp") s.output_formats |= kExportVtp;
-            else bad_json(at, "expected \"csv\", \"npy\" or \"vtp\"");
+            const ExportFormatInfo* format = find_export_format(name);
+            if (!format) bad_json(at, "expected " + export_format_choices("\""));
+            s.output_formats |= format->bit;
         }
     }
     s.output_every = uint32_t(o.integer("every", s.output_every, 0xFFFFFFFFu));

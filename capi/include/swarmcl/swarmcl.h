@@ -308,6 +308,15 @@ SWCL_API swcl_status swcl_recorder_add_frame(swcl_recorder recorder, swcl_swarm 
 SWCL_API swcl_status swcl_recorder_finish(swcl_recorder recorder);
 SWCL_API swcl_status swcl_recorder_destroy(swcl_recorder recorder);
 
+/* The export formats by name, as scenario files ("output.formats") and
+ * `swarmcl run --format` name them.  The name of one format's bit ("csv",
+ * "npy", "vtp"); NULL for 0, several bits or a bit no format has. */
+SWCL_API const char* swcl_export_format_name(uint32_t format);
+/* "csv,npy" -> SWCL_EXPORT_CSV | SWCL_EXPORT_NPY in *out.
+ * SWCL_ERROR_INVALID_ARGUMENT for an unknown name (swcl_last_error names it
+ * and the known ones), an empty name or an empty list; *out is unchanged. */
+SWCL_API swcl_status swcl_export_formats_parse(const char* list, uint32_t* out);
+
 /* ==== EXPERIMENTAL: the models ================================================
  * Obstacles, noise fields and the four models of the papers.  Their functions
  * and descriptors may still change between 0.x minor versions (a descriptor
