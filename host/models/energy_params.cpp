@@ -58,7 +58,7 @@ const ParamTable& energy_param_table() {
                                 "Table 1, escaping \"in danger\" (docs/energy-model.md)"),
                   &C::danger_weights);
         t.add("rho", T::Float, &C::rho).positive()
-            .says("rho: scale of every term's exponent").cites("FASTSWARM §4.1.1, Eq. 4-14; §5 (2.5)").on_device();
+            .says("the paper's rho: scale of every term's exponent").cites("FASTSWARM §4.1.1, Eq. 4-14; §5 (2.5)").on_device();
         t.add("d_rep", T::Float, &C::d_rep).positive().in("m")
             .says("repulsion radius: neighbours closer than this repel").cites("FASTSWARM §4.1.1, Eq. 4 (value ours)")
             .on_device();
