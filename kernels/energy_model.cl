@@ -11,7 +11,9 @@
 // EM_MAX_CAND (the most candidates of any agent), EM_TERMS (the checking
 // variant that writes every term of every candidate and moves nothing) and
 // EM_TAYLOR_OA (Eq. 6 by a second-order expansion, see below) and
-// EM_KEEP_OUT (1: startling stimuli are kept out of, see em_environment_term).
+// EM_KEEP_OUT (1: startling stimuli are kept out of, see em_environment_term),
+// and ENERGY_<KEY>, the slots of the model's parameter block
+// (ParamTable::device_defines, host/models/energy_params.cpp).
 #include "lib/noise_field.cl"
 #include "lib/grid_common.cl"
 
@@ -20,6 +22,11 @@
 #endif
 #ifndef EM_KEEP_OUT
 #define EM_KEEP_OUT 0
+#endif
+// energy_select reads each weight set as one float8 (order W_*): the table
+// lays the eight rows of a set out one after the other.
+#if ENERGY_WEIGHTS_USER != ENERGY_WEIGHTS_REP + 7 || ENERGY_DANGER_WEIGHTS_USER != ENERGY_DANGER_WEIGHTS_REP + 7
+#error "the energy weights are not contiguous in the parameter block"
 #endif
 
 // Weights in this order (Table 1 columns).
@@ -131,11 +138,13 @@ inline emv em_closestv(float3 r0, float3 vs, emv vx, emv vy, emv vz, float h) {
 //   EM_DATASET_PARAMS (sorted by speed): dv = (v, 0); ds = the EM_P_* planes
 //            of v, v^, a^ and |a| (unit vectors and lengths precomputed on
 //            the host), ds_stride floats apart; group_start (groups + 1),
-//            group_min_speed, groups, span (neighbouring groups searched);
+//            group_min_speed, groups;
 //   EM_WEIGHT_PARAMS: centre (xyz: swarm centre, from energy_centre_*);
-//            w, wd: weights normally and in danger (float8, order W_*);
-//            radii: (d_rep, d_att1, d_att2, rho);
-//            extra: (accel_time, danger_horizon, keypoint_reach, keypoints_closed);
+//            params: the model's parameter block (params[ENERGY_<KEY>]: the
+//            weights normally and in danger, rho, d_rep, d_att1, d_att2,
+//            span (neighbouring groups searched, as_uint), danger_horizon,
+//            keypoint_reach, keypoints_closed); accel_time (derived: the
+//            config's, or the dataset's frame time when that is 0);
 //   EM_SCENE_PARAMS: stim: 2 float4 per stimulus ((x, y, z, kind),
 //            (d_danger, vx, vy, vz)) at t = 0, nstim; kp: keypoints (float4),
 //            nkp, goal (per agent id);
@@ -151,8 +160,8 @@ inline emv em_closestv(float3 r0, float3 vs, emv vx, emv vy, emv vz, float h) {
         float t, uint step
 #define EM_DATASET_PARAMS                                                                            \
     __global const float4 *dv, __global const float *ds, uint ds_stride, __global const uint *group_start, \
-        __global const float *group_min_speed, uint groups, uint span
-#define EM_WEIGHT_PARAMS __global const float4 *centre, float8 w, float8 wd, float4 radii, float4 extra
+        __global const float *group_min_speed, uint groups
+#define EM_WEIGHT_PARAMS __global const float4 *centre, __global const float *params, float accel_time
 #define EM_SCENE_PARAMS                                                                              \
     __global const float4 *stim, uint nstim, __global const float4 *kp, uint nkp, __global uint *goal
 #define EM_PREPARED_PARAMS __global const float *pxyz, uint pstride, __global const float4 *noise_pre
@@ -648,9 +657,13 @@ EM_INLINE uint em_next_goal(__global const float4* kp, uint nkp, uint my_goal, f
 __kernel void energy_select(EM_SELECT_PARAMS) {
     const uint i = get_global_id(0);
     if (i >= n) return;
+    // The model's parameters (host/models/energy_params.cpp lays the block out).
+    const float8 w = vload8(0, params + ENERGY_WEIGHTS_REP), wd = vload8(0, params + ENERGY_DANGER_WEIGHTS_REP);
+    const float4 radii = (float4)(params[ENERGY_D_REP], params[ENERGY_D_ATT1], params[ENERGY_D_ATT2], params[ENERGY_RHO]);
     const float rho = radii.w;
-    const float accel_time = extra.x, horizon = extra.y, reach = extra.z;
-    const int closed = extra.w != 0.0f;
+    const uint span = as_uint(params[ENERGY_SPAN]);
+    const float horizon = params[ENERGY_DANGER_HORIZON], reach = params[ENERGY_KEYPOINT_REACH];
+    const int closed = params[ENERGY_KEYPOINTS_CLOSED] != 0.0f;
     const float4 p4 = pos[i];
     const uint id = ids[i];
     EmAgent a;

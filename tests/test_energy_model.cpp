@@ -317,6 +317,38 @@ TEST(EnergyModel, KeypointGoalsAdvanceInOrder) {
     EXPECT_GE(moving, n * 3 / 4);
 }
 
+// keypoints_closed is in the model's parameter block (energy_select reads
+// it there): set_keypoints(..., closed) that changes it uploads the block
+// again, so the run equals one configured open from the start.
+TEST(EnergyModel, SetKeypointsChangesClosedOnTheDevice) {
+    auto ctx = shared_context();
+    auto data = test_dataset();
+    const uint32_t n = 20;
+    EnergyModelConfig c;
+    c.weights = {1, 0.5f, 0, 1, 1, 0, 1, 1};  // Table 1, shape constraint
+    c.keypoints = {{0.2f, 0, 0}, {0, 0.2f, 0}, {-0.2f, 0, 0}, {0, -0.2f, 0}};
+    c.keypoint_reach = 0.06f;
+    auto goals_after = [&](bool closed, bool reopen) {
+        Swarm s(ctx, small_config(n, 5));
+        EnergyModelConfig cc = c;
+        cc.keypoints_closed = closed;
+        auto m = std::make_shared<EnergyModel>(s, cc, data);
+        if (reopen) m->set_keypoints(c.keypoints, false);
+        s.set_behavior(m);
+        std::vector<int32_t> all, goal;
+        std::vector<uint8_t> back;
+        for (int step = 0; step < 300; ++step) {
+            s.step(1);
+            m->goals(s, goal, back);
+            all.insert(all.end(), goal.begin(), goal.end());
+        }
+        return all;
+    };
+    const auto open = goals_after(false, false);
+    EXPECT_EQ(goals_after(true, true), open);
+    EXPECT_NE(goals_after(true, false), open) << "closed and open curves should differ within 300 steps";
+}
+
 TEST(EnergyModel, BadConfigurationsAreRefused) {
     auto ctx = shared_context();
     auto data = test_dataset();

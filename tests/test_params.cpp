@@ -11,10 +11,13 @@
 #include <iterator>
 #include <sstream>
 #include <string>
+#include <type_traits>
 
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
+#include "data/dataset.hpp"
+#include "models/energy_spec.hpp"
 #include "models/field_model.hpp"
 #include "models/model_checkpoint.hpp"
 #include "models/swarm_checkpoint.hpp"
@@ -200,18 +203,27 @@ double other_value(const Param& p, int a) {
     return d;
 }
 
-// Every row of the table survives a checkpoint's model section (MODL): the
-// checkpoint holds each parameter the table declares.
+// The config a decoded model section holds (the energy model's is in its
+// EnergySpec).
 template <class Config>
-void expect_every_row_round_trips(const ParamTable& t) {
+Config& spec_config(ModelSpec& spec) {
+    if constexpr (std::is_same_v<Config, EnergyModelConfig>) return std::get<EnergySpec>(spec).config;
+    else return std::get<Config>(spec);
+}
+
+// Every row of the table survives a checkpoint's model section (MODL): the
+// checkpoint holds each parameter the table declares.  `extra`: what
+// write_model_descriptor takes after the config (the energy model's dataset).
+template <class Config, class... Extra>
+void expect_every_row_round_trips(const ParamTable& t, const Extra&... extra) {
     Config c;
     for (const Param& p : t.params())
         for (int a = 0; a < p.components(); ++a) p.set(&c, other_value(p, a), a);
     ByteWriter w;
-    write_model_descriptor(w, c);
+    write_model_descriptor(w, c, extra...);
     ByteReader r(w.data(), "test");
     CheckpointModel m = read_model_descriptor(r);
-    Config& back = std::get<Config>(m.spec);
+    Config& back = spec_config<Config>(m.spec);
     for (const Param& p : t.params())
         for (int a = 0; a < p.components(); ++a) {
             EXPECT_NE(p.get(&c, a), p.def[a]) << t.model() << " " << p.key << ": the test did not change it";
@@ -221,6 +233,200 @@ void expect_every_row_round_trips(const ParamTable& t) {
 
 TEST(ParamTable, EveryParameterIsInTheCheckpoint) {
     expect_every_row_round_trips<FieldModelConfig>(field_param_table());
+    expect_every_row_round_trips<EnergyModelConfig>(energy_param_table(), synthetic_dataset(DatasetOptions{}));
+}
+
+// The energy model's table (models/energy_params.cpp): its scenario keys read
+// as the section always read them, its checks, its device block as
+// energy_select reads it, and its MODL version 1 checkpoints still read.
+const EnergyModelConfig& energy_config(const Scenario& s) { return std::get<EnergySpec>(s.model).config; }
+
+std::string energy_parse_error(const std::string& model) {
+    try {
+        parse_scenario(R"({"agents": {"count": 10}, "model": )" + model + "}");
+    } catch (const Error& e) {
+        EXPECT_EQ(e.status(), Status::Parse) << e.what();
+        return e.what();
+    }
+    ADD_FAILURE() << "parsed: " << model;
+    return {};
+}
+
+TEST(EnergyParams, ScenarioKeysComeFromTheTable) {
+    const Scenario s = parse_scenario(R"({"agents": {"count": 10}, "model": {"type": "energy",
+        "weights": {"rep": 2, "n": 0.5}, "danger_weights": {"env": 3}, "rho": 2, "d_rep": 0.05, "d_att1": 0.2,
+        "d_att2": 0.5, "centre": [1, 2, 3], "span": 2, "accel_time": 0.02, "danger_horizon": 0.5, "keep_out": false,
+        "keypoints": [[0, 0, 0], [1, 0, 0]], "keypoints_closed": false, "bidirectional": false, "keypoint_reach": 0.1,
+        "stimuli": [{"type": "startle", "position": [1, 0, 0]}], "dataset": {"type": "synthetic", "k": 50}}})");
+    const EnergyModelConfig& c = energy_config(s);
+    const EnergyModelConfig d;
+    EXPECT_EQ(c.weights.rep, 2.0f);
+    EXPECT_EQ(c.weights.n, 0.5f);
+    EXPECT_EQ(c.weights.cos, d.weights.cos);  // untouched weights keep their defaults
+    EXPECT_EQ(c.danger_weights.env, 3.0f);
+    EXPECT_EQ(c.danger_weights.n, d.danger_weights.n);
+    EXPECT_EQ(c.rho, 2.0f);
+    EXPECT_EQ(c.d_rep, 0.05f);
+    EXPECT_EQ(c.d_att1, 0.2f);
+    EXPECT_EQ(c.d_att2, 0.5f);
+    EXPECT_TRUE(c.has_fixed_centre);
+    EXPECT_EQ(c.fixed_centre, (std::array<float, 3>{1, 2, 3}));
+    EXPECT_EQ(c.span, 2u);
+    EXPECT_EQ(c.accel_time, 0.02f);
+    EXPECT_EQ(c.danger_horizon, 0.5f);
+    EXPECT_FALSE(c.keep_out);
+    EXPECT_FALSE(c.keypoints_closed);
+    EXPECT_FALSE(c.bidirectional);
+    EXPECT_EQ(c.keypoint_reach, 0.1f);
+    EXPECT_EQ(c.keypoints.size(), 2u);
+    EXPECT_EQ(c.stimuli.size(), 1u);
+    EXPECT_EQ(std::get<EnergySpec>(s.model).dataset.k, 50u);
+    // Without "centre" E_cos pulls to the mean; without "noise" the energy
+    // model's own noise; a "noise" object is the whole noise (the keys it
+    // leaves out take NoiseConfig's defaults, as this section always read it).
+    const Scenario plain = parse_scenario(R"({"agents": {"count": 10}, "model": {"type": "energy"}})");
+    EXPECT_FALSE(energy_config(plain).has_fixed_centre);
+    EXPECT_EQ(energy_config(plain).noise.scale, 0.2f);
+    EXPECT_EQ(energy_config(plain).noise.time_scale, 1.0f);
+    EXPECT_EQ(float(energy_param_table().find("noise.scale")->def[0]), 0.2f);  // the table's default
+    const Scenario noisy =
+        parse_scenario(R"({"agents": {"count": 10}, "model": {"type": "energy", "noise": {"gain": 0.1}}})");
+    EXPECT_EQ(energy_config(noisy).noise.gain, 0.1f);
+    EXPECT_EQ(energy_config(noisy).noise.scale, NoiseConfig().scale);
+    EXPECT_EQ(energy_config(noisy).noise.time_scale, NoiseConfig().time_scale);
+}
+
+TEST(EnergyParams, BadScenarioValuesNameTheKeyAndTheRange) {
+    EXPECT_EQ(energy_parse_error(R"({"type": "energy", "weights": {"rep": -1}})"),
+              "model.weights.rep: expected a number >= 0");
+    EXPECT_EQ(energy_parse_error(R"({"type": "energy", "span": 2000})"), "model.span: expected an integer in [0, 1024]");
+    EXPECT_EQ(energy_parse_error(R"({"type": "energy", "rho": 0})"), "model.rho: expected a number > 0");
+    EXPECT_EQ(energy_parse_error(R"({"type": "energy", "centre": [1, 2]})"),
+              "model.centre: expected an array of 3 numbers");
+    EXPECT_EQ(energy_parse_error(R"({"type": "energy", "keep_out": 1})"), "model.keep_out: expected true or false");
+    EXPECT_EQ(energy_parse_error(R"({"type": "energy", "noise": {"scale": -1}})"),
+              "model.noise.scale: expected a number > 0");
+    EXPECT_EQ(energy_parse_error(R"({"type": "energy", "d_rep": 0.5, "d_att1": 0.1})"),
+              "model: energy model d_att1 must be a finite number >= d_rep");
+    const std::string unknown = energy_parse_error(R"({"type": "energy", "weights": {"repulsion": 1}})");
+    EXPECT_EQ(unknown.rfind("model.weights.repulsion: unknown key; the energy model's parameters: ", 0), 0u) << unknown;
+    EXPECT_NE(unknown.find("danger_weights.n"), std::string::npos) << unknown;
+    EXPECT_NE(unknown.find("keypoint_reach"), std::string::npos) << unknown;
+    EXPECT_EQ(unknown.find("has_fixed_centre"), std::string::npos) << "implied, not a key: " << unknown;
+    EXPECT_EQ(energy_parse_error(R"({"type": "energy", "has_fixed_centre": true})").rfind("model.has_fixed_centre: unknown key", 0), 0u);
+}
+
+TEST(EnergyParams, ValidateNamesTheFieldItsValueAndRange) {
+    EnergyModelConfig c;
+    EnergyModel::validate(c);
+    c.weights.rep = -1.0f;
+    try {
+        EnergyModel::validate(c);
+        FAIL() << "validated";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.status(), Status::InvalidArgument);
+        EXPECT_STREQ(e.what(), "energy model weights.rep = -1 is outside [0, inf)");
+    }
+    c = EnergyModelConfig();
+    c.span = 1025;
+    try {
+        EnergyModel::validate(c);
+        FAIL() << "validated";
+    } catch (const Error& e) {
+        EXPECT_STREQ(e.what(), "energy model span = 1025 is outside [0, 1024]");
+    }
+    c = EnergyModelConfig();
+    c.danger_weights.n = NAN;
+    try {
+        EnergyModel::validate(c);
+        FAIL() << "validated";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("danger_weights.noise = nan"), std::string::npos) << e.what();
+    }
+    c = EnergyModelConfig();
+    c.d_att2 = c.d_att1 / 2;  // a cross-parameter check, kept by hand
+    EXPECT_THROW(EnergyModel::validate(c), Error);
+}
+
+TEST(EnergyParams, DeviceBlockIsLaidOutFromTheTable) {
+    const ParamTable& t = energy_param_table();
+    // Both weight sets (8 + 8), rho, d_rep, d_att1, d_att2, span,
+    // danger_horizon, keypoints_closed, keypoint_reach.
+    ASSERT_EQ(t.device_floats(), 24u);
+    const auto slot = [&](const char* key) { return t.find(key)->device; };
+    // energy_select reads each weight set as one float8.
+    const char* names[8] = {"rep", "oa", "cos", "dir", "acc", "env", "n", "user"};
+    for (int k = 0; k < 8; ++k) {
+        EXPECT_EQ(slot(("weights." + std::string(names[k])).c_str()), slot("weights.rep") + k) << names[k];
+        EXPECT_EQ(slot(("danger_weights." + std::string(names[k])).c_str()), slot("danger_weights.rep") + k);
+    }
+    EnergyModelConfig c;
+    c.weights.user = 0.75f;
+    c.danger_weights.env = 2.5f;
+    c.d_att2 = 0.625f;
+    c.span = 3;
+    c.keypoints_closed = false;
+    std::vector<float> block(t.device_floats(), -99.0f);
+    t.write_device_block(&c, block.data());
+    for (float v : block) EXPECT_NE(v, -99.0f);
+    EXPECT_EQ(block[size_t(slot("weights.user"))], 0.75f);
+    EXPECT_EQ(block[size_t(slot("danger_weights.env"))], 2.5f);
+    EXPECT_EQ(block[size_t(slot("d_att2"))], 0.625f);
+    uint32_t span = 0;
+    std::memcpy(&span, &block[size_t(slot("span"))], 4);  // as_uint() in the kernel
+    EXPECT_EQ(span, 3u);
+    EXPECT_EQ(block[size_t(slot("keypoints_closed"))], 0.0f);
+    EXPECT_EQ(slot("accel_time"), -1);  // derived per model (0: the dataset's frame time): an argument
+    EXPECT_EQ(slot("noise.scale"), -1);
+    const std::string defines = t.device_defines("ENERGY");
+    EXPECT_NE(defines.find("-DENERGY_DANGER_WEIGHTS_REP=" + std::to_string(slot("danger_weights.rep"))),
+              std::string::npos) << defines;
+    EXPECT_NE(defines.find("-DENERGY_FLOATS=24"), std::string::npos) << defines;
+}
+
+// A MODL version 1 energy descriptor (every field in the fields() order of
+// that version, then the dataset) still reads.
+TEST(EnergyParams, VersionOneCheckpointsStillRead) {
+    ByteWriter w;
+    w.string("energy");
+    const float weights[8] = {2, 1, 0.5f, 1, 1, 0, 0.25f, 0}, danger[8] = {1, 0, 0, 1, 1, 3, 0.5f, 0};
+    for (float v : weights) w.f32(v);
+    for (float v : danger) w.f32(v);
+    w.f32(2.0f), w.f32(0.05f), w.f32(0.2f), w.f32(0.5f);  // rho, d_rep, d_att1, d_att2
+    w.boolean(true), w.f32(1), w.f32(2), w.f32(3);        // has_fixed_centre, fixed_centre
+    w.u32(2), w.f32(0.02f), w.boolean(true), w.f32(0.5f), w.boolean(false);  // span .. keep_out
+    // noise: type, scale, gain, seed, time_scale, boundary_distance, domain_walls,
+    // region_min, region_max, boundaries, baked, bake_resolution, finite_difference, fd_step
+    w.u32(1), w.f32(0.3f), w.f32(0.1f), w.u64(7), w.f32(2.0f), w.f32(0.4f), w.boolean(false);
+    for (int k = 0; k < 6; ++k) w.f32(0.0f);
+    w.u64(0), w.boolean(false), w.u32(64), w.u32(64), w.u32(64), w.boolean(false), w.f32(0.0f);
+    w.u64(1), w.u32(1), w.f32(1), w.f32(0), w.f32(0), w.f32(0.1f), w.f32(0), w.f32(0), w.f32(0.4f);  // a startle stimulus
+    w.u64(2), w.f32(0), w.f32(0), w.f32(0), w.f32(1), w.f32(0), w.f32(0);  // two keypoints
+    w.boolean(false), w.boolean(false), w.f32(0.1f);  // keypoints_closed, bidirectional, keypoint_reach
+    w.string(dataset_to_bytes(synthetic_dataset(DatasetOptions{})));
+    ByteReader r(w.data(), "test");
+    const CheckpointModel m = read_model_descriptor(r, 1);
+    const EnergyModelConfig& c = std::get<EnergySpec>(m.spec).config;
+    EXPECT_EQ(c.weights.rep, 2.0f);
+    EXPECT_EQ(c.weights.n, 0.25f);
+    EXPECT_EQ(c.danger_weights.env, 3.0f);
+    EXPECT_EQ(c.rho, 2.0f);
+    EXPECT_EQ(c.d_att2, 0.5f);
+    EXPECT_TRUE(c.has_fixed_centre);
+    EXPECT_EQ(c.fixed_centre[2], 3.0f);
+    EXPECT_EQ(c.span, 2u);
+    EXPECT_TRUE(c.exact_attraction);
+    EXPECT_FALSE(c.keep_out);
+    EXPECT_EQ(c.noise.type, NoiseType::Perlin);
+    EXPECT_EQ(c.noise.seed, 7u);
+    ASSERT_EQ(c.stimuli.size(), 1u);
+    EXPECT_EQ(c.stimuli[0].kind, Stimulus::Kind::Startle);
+    EXPECT_EQ(c.stimuli[0].d_danger, 0.4f);
+    ASSERT_EQ(c.keypoints.size(), 2u);
+    EXPECT_FALSE(c.keypoints_closed);
+    EXPECT_EQ(c.keypoint_reach, 0.1f);
+    ASSERT_NE(m.dataset, nullptr);
+    EXPECT_EQ(m.dataset->size(), synthetic_dataset(DatasetOptions{}).size());
 }
 
 // A checkpoint written before MODL v2 (the fuzz corpus' field model seed,

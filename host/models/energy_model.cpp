@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "params/param_block.hpp"
 #include "swarm/swarm.hpp"
 
 namespace swarmcl {
@@ -16,15 +17,6 @@ constexpr uint32_t kCentreChunks = 64;  // fixed: the reduction order depends on
 constexpr uint32_t kGoalUnset = 0x7FFFFFFFu;
 constexpr uint32_t kGoalBackward = 0x80000000u;
 constexpr uint32_t kMaxCandidates = 4096;  // private arrays of the kernel
-
-bool finite_nonneg(float x) { return std::isfinite(x) && x >= 0.0f; }
-
-void check_weights(const EnergyWeights& w, const std::string& what) {
-    const float all[8] = {w.rep, w.oa, w.cos, w.dir, w.acc, w.env, w.n, w.user};
-    const char* names[8] = {"rep", "oa", "cos", "dir", "acc", "env", "n", "user"};
-    for (int k = 0; k < 8; ++k)
-        require(finite_nonneg(all[k]), "energy model " + what + "." + names[k] + " must be a finite number >= 0");
-}
 
 void check_stimuli(const std::vector<Stimulus>& stimuli) {
     require(stimuli.size() <= 1024, "energy model: more than 1024 stimuli");
@@ -48,31 +40,14 @@ void check_keypoints(const std::vector<std::array<float, 3>>& kp) {
             require(std::isfinite(kp[k][a]), "energy model keypoints[" + std::to_string(k) + "] is not finite");
 }
 
-cl_float8 pack(const EnergyWeights& w) {
-    cl_float8 p;
-    const float v[8] = {w.rep, w.oa, w.cos, w.dir, w.acc, w.env, w.n, w.user};
-    for (int k = 0; k < 8; ++k) p.s[k] = v[k];
-    return p;
-}
-
 }  // namespace
 
 void EnergyModel::validate(const EnergyModelConfig& c) {
-    check_weights(c.weights, "weights");
-    check_weights(c.danger_weights, "danger_weights");
-    require(std::isfinite(c.rho) && c.rho > 0.0f, "energy model rho must be a finite number > 0");
-    require(std::isfinite(c.d_rep) && c.d_rep > 0.0f, "energy model d_rep must be a finite number > 0");
-    require(std::isfinite(c.d_att1) && c.d_att1 >= c.d_rep,
-            "energy model d_att1 must be a finite number >= d_rep");
-    require(std::isfinite(c.d_att2) && c.d_att2 >= c.d_att1,
-            "energy model d_att2 must be a finite number >= d_att1");
-    require(c.span <= 1024, "energy model span above 1024");
-    require(finite_nonneg(c.accel_time), "energy model accel_time must be >= 0 (0: the dataset's frame time)");
-    require(finite_nonneg(c.danger_horizon), "energy model danger_horizon must be >= 0");
-    require(std::isfinite(c.keypoint_reach) && c.keypoint_reach > 0.0f,
-            "energy model keypoint_reach must be a finite number > 0");
-    for (int a = 0; a < 3; ++a)
-        require(std::isfinite(c.fixed_centre[a]), "energy model fixed_centre must be finite");
+    // Each parameter's range from the table ("energy model weights.rep = -1
+    // is outside [0, inf)"), then what the table cannot say alone.
+    energy_param_table().validate(const_cast<EnergyModelConfig*>(&c));
+    require(c.d_att1 >= c.d_rep, "energy model d_att1 must be a finite number >= d_rep");
+    require(c.d_att2 >= c.d_att1, "energy model d_att2 must be a finite number >= d_att1");
     check_stimuli(c.stimuli);
     check_keypoints(c.keypoints);
     NoiseField::validate(c.noise);
@@ -114,7 +89,7 @@ EnergyModel::EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr
     const std::string defines = noise_->defines() + " -DEM_MAX_CAND=" + std::to_string(max_cand_) +
                                 (noise_pre_ ? " -DEM_NOISE_PRE" : "") +
                                 (taylor_ ? " -DEM_TAYLOR_OA" : "") + " -DEM_KEEP_OUT=" +
-                                (config_.keep_out ? "1" : "0");
+                                (config_.keep_out ? "1" : "0") + energy_param_table().device_defines("ENERGY");
     select_ = ctx.kernel("energy_model.cl", "energy_select", defines);
     terms_ = ctx.kernel("energy_model.cl", "energy_select", defines + " -DEM_TERMS");
     prepare_ = ctx.kernel("energy_model.cl", "energy_prepare", defines);
@@ -166,6 +141,7 @@ EnergyModel::EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr
     noise_buf_.allocate(ctx, noise_pre_ ? capacity_ : 1, "noise velocities");
     vel_out_.allocate(ctx, capacity_, "energy model velocities");
     goal_.allocate(ctx, capacity_, "keypoint goals");
+    upload_params();
     set_keypoints(config_.keypoints, config_.keypoints_closed);
     set_stimuli(config_.stimuli);
 }
@@ -176,6 +152,8 @@ void EnergyModel::reset_goals(uint32_t capacity) {
         g[id] = kGoalUnset | ((config_.bidirectional && (id & 1u)) ? kGoalBackward : 0u);
     goal_.upload(ctx_, g.data(), capacity);
 }
+
+void EnergyModel::upload_params() { params_ = upload_param_block(ctx_, energy_param_table(), &config_); }
 
 void EnergyModel::set_stimuli(std::vector<Stimulus> stimuli) {
     check_stimuli(stimuli);
@@ -201,7 +179,9 @@ void EnergyModel::set_keypoints(std::vector<std::array<float, 3>> keypoints, boo
     buf.upload(ctx_, k.data(), k.size());
     kp_ = std::move(buf);
     config_.keypoints = std::move(keypoints);
+    const bool closed_changed = config_.keypoints_closed != closed;
     config_.keypoints_closed = closed;
+    if (closed_changed) upload_params();  // keypoints_closed is in the block
     reset_goals(capacity_);
 }
 
@@ -235,8 +215,9 @@ void EnergyModel::sample_noise(Swarm& swarm, uint64_t step) {
 
 cl_uint EnergyModel::set_common_args(cl::Kernel& k, Swarm& swarm, uint64_t step) {
     // energy_select's argument groups in order (kernels/energy_model.cl,
-    // EM_SELECT_PARAMS): state and time, dataset, weights, scene, prepared
-    // planes, grid, noise; the caller adds the outputs and checks the count.
+    // EM_SELECT_PARAMS): state and time, dataset, model parameters, scene,
+    // prepared planes, grid, noise; the caller adds the outputs and checks
+    // the count.
     const auto& c = config_;
     cl_uint i = swarm.set_step_args(k, step);
     k.setArg(i++, dv_.get());
@@ -245,12 +226,12 @@ cl_uint EnergyModel::set_common_args(cl::Kernel& k, Swarm& swarm, uint64_t step)
     k.setArg(i++, group_start_.get());
     k.setArg(i++, group_min_speed_.get());
     k.setArg(i++, cl_uint(dataset_->groups()));
-    k.setArg(i++, cl_uint(c.span));
     k.setArg(i++, centre_.get());
-    k.setArg(i++, pack(c.weights));
-    k.setArg(i++, pack(c.danger_weights));
-    k.setArg(i++, cl_float4{{c.d_rep, c.d_att1, c.d_att2, c.rho}});
-    k.setArg(i++, cl_float4{{accel_time_, c.danger_horizon, c.keypoint_reach, c.keypoints_closed ? 1.0f : 0.0f}});
+    // The weights, rho, radii, span, danger_horizon, keypoint_reach and
+    // keypoints_closed: the parameter block; accel_time derived (0: the
+    // dataset's frame time).
+    k.setArg(i++, params_.get());
+    k.setArg(i++, accel_time_);
     k.setArg(i++, stim_.get());
     k.setArg(i++, cl_uint(c.stimuli.size()));
     k.setArg(i++, kp_.get());

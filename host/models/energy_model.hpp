@@ -68,6 +68,10 @@ struct EnergyModelConfig {
     }
 };
 
+// Its parameters, declared once (models/energy_params.cpp): every field but
+// the stimuli, the keypoints, the noise's boundaries and exact_attraction.
+const ParamTable& energy_param_table();
+
 // The eight terms of one candidate for one agent (checking and tests).
 struct EnergyTerms {
     std::vector<float> terms;       // [agent id][candidate - first][term], EnergyModel::max_candidates() wide
@@ -113,6 +117,7 @@ private:
     cl_uint set_common_args(cl::Kernel& k, Swarm& swarm, uint64_t step);
     void sample_noise(Swarm& swarm, uint64_t step);
     void reset_goals(uint32_t capacity);
+    void upload_params();  // config_'s parameter block, again when keypoints_closed changes
 
     Context& ctx_;  // the swarm's (a swarm keeps its context alive)
     EnergyModelConfig config_;
@@ -129,6 +134,7 @@ private:
     DeviceBuffer<cl_float4> dv_, centre_, partial_, stim_, kp_, vel_out_, noise_buf_;
     DeviceBuffer<cl_uint> group_start_, goal_;
     DeviceBuffer<cl_float> group_min_speed_, pxyz_;
+    DeviceBuffer<cl_float> params_;  // energy_param_table()'s device block (upload_params)
     uint32_t capacity_ = 0, pxyz_stride_ = 0;
 };
 

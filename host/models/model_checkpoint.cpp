@@ -177,6 +177,14 @@ template <class A>
 void structured_fields(A& a, FieldModelConfig& c) {
     a(c.noise.boundaries);
 }
+// The energy model: its dataset follows the descriptor (write_model_descriptor).
+template <>
+constexpr bool kHasTable<EnergyModelConfig> = true;
+inline const ParamTable& table_of(const EnergyModelConfig&) { return energy_param_table(); }
+template <class A>
+void structured_fields(A& a, EnergyModelConfig& c) {
+    a(c.noise.boundaries), a(c.stimuli), a(c.keypoints), a(c.exact_attraction);
+}
 
 namespace {
 
@@ -255,9 +263,10 @@ void check_mesh(const TriangleMesh& m, ByteReader& r) {
                 r.bad("a mesh triangle names vertex " + std::to_string(i) + " of " + std::to_string(m.vertices.size()));
 }
 
+// The fields of a config: its table's rows and its structured fields (MODL
+// v2), or every field in fields() order.
 template <class Config>
-void write_named(ByteWriter& out, const Config& c) {
-    out.string(ModelTraits<Config>::name);
+void write_config(ByteWriter& out, const Config& c) {
     Save s{out};
     if constexpr (kHasTable<Config>) {
         Config& m = const_cast<Config&>(c);
@@ -266,6 +275,24 @@ void write_named(ByteWriter& out, const Config& c) {
     } else {
         s(c);
     }
+}
+template <class Config>
+void read_config(ByteReader& in, Config& c, uint32_t version) {
+    Load l{in};
+    if constexpr (kHasTable<Config>) {
+        if (version >= 2) {
+            read_table_params(in, table_of(c), &c);
+            structured_fields(l, c);
+            return;
+        }
+    }
+    l(c);  // version 1, or a model without a table: every field in fields() order
+}
+
+template <class Config>
+void write_named(ByteWriter& out, const Config& c) {
+    out.string(ModelTraits<Config>::name);
+    write_config(out, c);
 }
 
 // Reads the descriptor of the alternative whose name is `name` (I: its
@@ -283,7 +310,7 @@ CheckpointModel read_alternative(const std::string& name, ByteReader& in, uint32
             m.spec = Ballistic{};
         } else if constexpr (std::is_same_v<Config, EnergySpec>) {
             EnergySpec e;
-            l(e.config);
+            read_config(in, e.config, version);
             const std::string bytes = in.string();
             try {
                 m.dataset = std::make_shared<const Dataset>(dataset_from_bytes(bytes));
@@ -298,16 +325,7 @@ CheckpointModel read_alternative(const std::string& name, ByteReader& in, uint32
             m.spec = std::move(p);
         } else {
             Config c;
-            if constexpr (kHasTable<Config>) {
-                if (version >= 2) {
-                    read_table_params(in, table_of(c), &c);
-                    structured_fields(l, c);
-                } else {
-                    l(c);  // version 1: every field in fields() order
-                }
-            } else {
-                l(c);
-            }
+            read_config(in, c, version);
             m.spec = std::move(c);
         }
         return m;
@@ -321,8 +339,7 @@ void write_model_descriptor(ByteWriter& out, const PathModelConfig& c) { write_n
 void write_model_descriptor(ByteWriter& out, const ForceModelConfig& c) { write_named(out, c); }
 void write_model_descriptor(ByteWriter& out, const EnergyModelConfig& c, const Dataset& d) {
     out.string(ModelTraits<EnergySpec>::name);
-    Save s{out};
-    s(c);
+    write_config(out, c);
     out.string(dataset_to_bytes(d));
 }
 void write_model_descriptor(ByteWriter& out, const PolicyModelConfig& c, const std::string& weights) {
@@ -364,7 +381,7 @@ static_assert(sizeof(NoiseConfig) == 112, "NoiseConfig changed: update fields(No
 static_assert(sizeof(PathModelConfig) == 328 && sizeof(PathTarget) == 20 && sizeof(PathLamp) == 36, "PathModelConfig changed: update its checkpoint fields()");
 static_assert(sizeof(ForceModelConfig) == 328, "ForceModelConfig changed: update its checkpoint fields()");
 static_assert(sizeof(PolicyModelConfig) == 128 && sizeof(RlObstacleBox) == 24, "PolicyModelConfig changed: update its checkpoint fields()");
-static_assert(sizeof(EnergyModelConfig) == 288, "EnergyModelConfig changed: update its checkpoint fields()");
+// EnergyModelConfig has a parameter table too (MODL v2, as FieldModelConfig).
 static_assert(sizeof(Boundary) == 48 && sizeof(Goal) == 32 && sizeof(Stimulus) == 32 && sizeof(EnergyWeights) == 32,
               "an obstacle, goal or stimulus struct changed: update its checkpoint fields()");
 #endif

@@ -1,13 +1,17 @@
 // The registry of every model's parameter table (docs/architecture.md, "How
 // to add a parameter").
 #include "fields/noise_field.hpp"
+#include "models/energy_model.hpp"
 #include "models/field_model.hpp"
 #include "params/param_table.hpp"
 
 namespace swarmcl {
 
 const std::vector<const ParamTable*>& model_param_tables() {
-    static const std::vector<const ParamTable*> tables = {&field_param_table()};
+    static const std::vector<const ParamTable*> tables = {
+        &field_param_table(),
+        &energy_param_table(),
+    };
     return tables;
 }
 

@@ -1,6 +1,8 @@
-// "model": {"type": "energy"}: FASTSWARM (docs/energy-model.md): the energy
-// weights and radii, stimuli, keypoints and where the reference dataset comes
-// from; the noise and the analytic obstacles as the field model reads them.
+// "model": {"type": "energy"}: FASTSWARM (docs/energy-model.md).  Its
+// parameters (weights, radii, the noise, ...) are its table's keys
+// (models/energy_params.cpp); read here by hand: where the reference dataset
+// comes from, the stimuli and the keypoints, and the analytic obstacles as
+// the noise's boundaries.
 #include <cmath>
 #include <limits>
 #include <set>
@@ -9,6 +11,7 @@
 
 #include "core/error.hpp"
 #include "io/json_object.hpp"
+#include "params/param_table.hpp"
 #include "scenario/model_section.hpp"
 #include "scenario/section_parts.hpp"
 
@@ -16,20 +19,6 @@ namespace swarmcl {
 namespace {
 
 using json = nlohmann::json;
-
-EnergyWeights read_weights(const json& j, const std::string& path, EnergyWeights w) {
-    JsonObject r(j, path);
-    w.rep = r.non_negative("rep", w.rep);
-    w.oa = r.non_negative("oa", w.oa);
-    w.cos = r.non_negative("cos", w.cos);
-    w.dir = r.non_negative("dir", w.dir);
-    w.acc = r.non_negative("acc", w.acc);
-    w.env = r.non_negative("env", w.env);
-    w.n = r.non_negative("n", w.n);
-    w.user = r.non_negative("user", w.user);
-    r.finish();
-    return w;
-}
 
 void read_dataset(const json& j, const std::string& path, EnergySpec& e) {
     JsonObject r(j, path);
@@ -79,28 +68,24 @@ void read_dataset(const json& j, const std::string& path, EnergySpec& e) {
     r.finish();
 }
 
-// Every key of the model object but "type" and "noise" (read_energy_section
-// reads those).
+// The structured keys of the model object, read by hand below; every other
+// key is a row of energy_param_table().
+const std::set<std::string> kStructured = {"type", "dataset", "stimuli", "keypoints"};
+
+// The model object: the table's parameters, then the structured keys.
 EnergySpec read_energy_scenario(const json& j, const std::string& path) {
     EnergySpec e;
-    JsonObject r(j, path, {"type", "noise"});
     EnergyModelConfig& c = e.config;
+    // A "noise" object describes the whole noise: keys it leaves out take
+    // the noise's defaults (swcl_noise_desc_default), not the energy
+    // model's own (scale 0.2 m, time_scale 1 s, which hold without the
+    // object) -- as this section has always read it, so that a scenario's
+    // run stays the same.
+    if (j.is_object() && j.contains("noise")) c.noise = NoiseConfig{};
+    energy_param_table().read_json(j, path, &c, kStructured);
+    c.has_fixed_centre = j.contains("centre");
+    JsonObject r(j, path, {"type"});
     if (r.has("dataset")) read_dataset(r.child("dataset"), r.at("dataset"), e);
-    if (r.has("weights")) c.weights = read_weights(r.child("weights"), r.at("weights"), c.weights);
-    if (r.has("danger_weights"))
-        c.danger_weights = read_weights(r.child("danger_weights"), r.at("danger_weights"), c.danger_weights);
-    c.rho = r.positive("rho", c.rho);
-    c.d_rep = r.positive("d_rep", c.d_rep);
-    c.d_att1 = r.positive("d_att1", c.d_att1);
-    c.d_att2 = r.positive("d_att2", c.d_att2);
-    if (r.has("centre")) {
-        c.has_fixed_centre = true;
-        c.fixed_centre = r.vec3("centre", {});
-    }
-    c.span = uint32_t(r.integer("span", c.span, 0, 1024));
-    c.accel_time = r.non_negative("accel_time", c.accel_time);
-    c.danger_horizon = r.non_negative("danger_horizon", c.danger_horizon);
-    c.keep_out = r.boolean("keep_out", c.keep_out);
     if (r.has("stimuli")) {
         const json& list = r.child("stimuli");
         if (!list.is_array()) bad_json(r.at("stimuli"), "expected an array");
@@ -127,12 +112,8 @@ EnergySpec read_energy_scenario(const json& j, const std::string& path) {
         for (size_t i = 0; i < list.size(); ++i)
             c.keypoints.push_back(JsonObject::to_vec3(list[i], r.at("keypoints") + "[" + std::to_string(i) + "]"));
     }
-    c.keypoints_closed = r.boolean("keypoints_closed", c.keypoints_closed);
-    c.bidirectional = r.boolean("bidirectional", c.bidirectional);
-    c.keypoint_reach = r.positive("keypoint_reach", c.keypoint_reach);
-    r.finish();
     // The model's own checks (combinations such as d_att1 >= d_rep), minus
-    // the noise which the caller reads and checks.
+    // the noise which check_energy_section checks in the swarm's domain.
     try {
         EnergyModelConfig check = c;
         check.noise = NoiseConfig{};
@@ -147,10 +128,8 @@ EnergySpec read_energy_scenario(const json& j, const std::string& path) {
 
 ModelSpec read_energy_section(const SectionInput& in) {
     std::vector<Boundary> obstacles = read_obstacles(in.obstacles);
-    JsonObject o(in.model, "model");
-    o.string("type", "field");
     EnergySpec e = read_energy_scenario(in.model, "model");
-    if (o.has("noise")) e.config.noise = read_noise(o.child("noise"), "model.noise");
+    JsonObject(in.model, "model", {"type"}).string("type", "field");
     e.config.noise.boundaries = std::move(obstacles);
     return e;
 }

@@ -4,6 +4,8 @@ stable ABI; the table is what the library reads scenarios, ranges and device
 blocks from), the Python model classes are built from the rows, and fit
 ranges are checked against them."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -18,6 +20,9 @@ DESCRIPTORS = {
     "field": ("swcl_field_model_desc", lib.swcl_field_model_desc_default,
               {"noise.boundaries", "noise.boundary_count"}),
     "noise": ("swcl_noise_desc", lib.swcl_noise_desc_default, {"boundaries", "boundary_count"}),
+    "energy": ("swcl_energy_model_desc", lib.swcl_energy_model_desc_default,
+               {"noise.boundaries", "noise.boundary_count", "stimuli", "stimulus_count", "keypoints",
+                "keypoint_count"}),
 }
 
 
@@ -121,3 +126,58 @@ def test_fit_ranges_are_checked_against_the_table():
         load_ranges({"model.noise.baked": [0, 1]}, FIELD_SCENARIO)
     with pytest.raises(ValueError, match="is a uint3 parameter of the field model, not a number"):
         load_ranges({"model.noise.bake_resolution": [8, 16]}, FIELD_SCENARIO)
+
+
+def test_energy_model_classes_are_built_from_the_table():
+    rows = {r["c_field"]: r for r in swarmcl.model_parameters("energy")}
+    # The public fields keep their order (positional arguments) and defaults.
+    assert [f.name for f in dataclasses.fields(swarmcl.EnergyModel)] == [
+        "weights", "danger_weights", "rho", "d_rep", "d_att1", "d_att2", "centre", "span", "accel_time",
+        "danger_horizon", "noise", "stimuli", "keypoints", "keypoints_closed", "bidirectional", "keypoint_reach",
+        "keep_out"]
+    assert [f.name for f in dataclasses.fields(swarmcl.EnergyWeights)] == [
+        "rep", "oa", "cos", "dir", "acc", "env", "noise", "user"]
+    m = swarmcl.EnergyModel()
+    for name in ("rho", "d_rep", "d_att1", "d_att2", "accel_time", "danger_horizon", "keypoint_reach"):
+        assert np.float32(getattr(m, name)) == np.float32(rows[name]["default"]), name
+        assert rows[name]["doc"] in swarmcl.EnergyModel.__doc__
+    assert m.span == 1 and m.keep_out is True and m.keypoints_closed is True and m.bidirectional is True
+    assert m.centre is None and m.keypoints is None and m.stimuli == []
+    assert (m.noise.scale, m.noise.time_scale) == (pytest.approx(0.2), 1.0)  # the energy model's own noise
+    assert m.weights == swarmcl.EnergyWeights(1.0, 1.0, 0.05, 1.0, 1.0, 0.0, 0.2, 0.0)  # Table 1 aggregation
+    assert m.danger_weights == swarmcl.EnergyWeights(1.0, 0.0, 0.0, 1.0, 1.0, 2.0, 0.3, 0.0)  # in danger
+    assert rows["weights.noise"]["doc"] in swarmcl.EnergyWeights.__doc__
+    p, _ = swarmcl.EnergyModel(weights=swarmcl.EnergyWeights(rep=2.0, noise=0.5), rho=3.0, span=2, centre=(1, 2, 3),
+                               keep_out=False).to_c()
+    assert p.weights.rep == 2.0 and p.weights.noise == 0.5 and p.danger_weights.env == 2.0
+    assert p.rho == 3.0 and p.span == 2 and p.keep_out == 0 and p.keypoints_closed == 1
+    assert p.has_fixed_centre == 1 and list(p.fixed_centre) == [1, 2, 3]
+    assert p.noise.scale == pytest.approx(0.2) and p.noise.time_scale == 1.0
+    with pytest.raises(TypeError, match="EnergyModel.span must be a uint32"):
+        swarmcl.EnergyModel(span="wide").to_c()
+    with pytest.raises(TypeError, match="EnergyWeights.rep must be a float"):
+        swarmcl.EnergyModel(weights=swarmcl.EnergyWeights(rep="heavy")).to_c()
+
+
+def test_a_bad_energy_value_from_python_names_the_parameter_and_range(ctx):
+    s = swarmcl.Swarm(ctx, agent_count=10, dt=0.01, seed=1)
+    data = swarmcl.Dataset.synthetic(k=60, groups=3)
+    with pytest.raises(swarmcl.InvalidArgumentError, match=r"energy model rho = -1 is outside \(0, inf\)"):
+        s.set_energy_model(data, swarmcl.EnergyModel(rho=-1.0))
+    with pytest.raises(swarmcl.InvalidArgumentError, match=r"energy model danger_weights\.noise = -0\.5 is outside"):
+        s.set_energy_model(data, swarmcl.EnergyModel(danger_weights=swarmcl.EnergyWeights(noise=-0.5)))
+    with pytest.raises(swarmcl.InvalidArgumentError, match="d_att1 must be a finite number >= d_rep"):
+        s.set_energy_model(data, swarmcl.EnergyModel(d_rep=0.5, d_att1=0.1))
+
+
+ENERGY_SCENARIO = {"agents": {"count": 10}, "model": {"type": "energy", "weights": {"rep": 1.0}}}
+
+
+def test_energy_fit_ranges_are_checked_against_the_table():
+    params = load_ranges({"model.weights.rep": [0.0, 3.0], "model.danger_weights.env": [0.0, 4.0],
+                          "model.span": [0, 3]}, ENERGY_SCENARIO)
+    assert [p.integer for p in params] == [False, False, True]
+    with pytest.raises(ValueError, match=r"neither in the scenario nor a parameter of the energy model"):
+        load_ranges({"model.weights.repulsion": [0.0, 1.0]}, ENERGY_SCENARIO)
+    with pytest.raises(ValueError, match=r"leaves the parameter's valid range \(0, inf\)"):
+        load_ranges({"model.rho": [0.0, 3.0]}, ENERGY_SCENARIO)

@@ -7,22 +7,25 @@
 ...     s.set_energy_model(data, swarmcl.EnergyModel(centre=(0, 0, 0)))
 ...     s.step(100)
 
-Defaults of the dataclasses come from the C library's ``*_default()``.
+EnergyModel's and EnergyWeights' scalar fields, their defaults and docs come
+from the library's parameter table (``swarmcl.model_parameters("energy")``);
+the other defaults from the C library's ``*_default()``.
 """
 
 from __future__ import annotations
 
 import enum
 import os
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, make_dataclass
 from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
 from ._core import _Handle, _xyz_in
 from ._native import ffi, lib
-from .descriptors import NoiseDesc, _f32, _tuple3, _vec3
+from .descriptors import NoiseDesc, _tuple3, _vec3
 from .errors import check
+from .params import c_ordered_fields, copy_scalars_to_c, parameter_doc, scalar_defaults, scalar_fields
 
 __all__ = ["Dataset", "EnergyWeights", "EnergyModel", "Stimulus", "StimulusKind", "TimeFormat",
            "write_mixed_csv"]
@@ -157,27 +160,24 @@ class Dataset(_Handle):
 
 
 def _weights_default(which: str):
+    """The table's defaults of the weight set ``which`` ("weights",
+    "danger_weights")."""
     def factory():
-        w = getattr(_ENERGY_DEFAULT, which)
-        return EnergyWeights(**{k: _f32(getattr(w, k)) for k in EnergyWeights.__dataclass_fields__})
+        return EnergyWeights(**scalar_defaults("energy", prefix=which + "."))
     return field(default_factory=factory)
 
 
-@dataclass
-class EnergyWeights:
-    """Weights of the energy terms (Table 1 columns)."""
-    rep: float = 1.0
-    oa: float = 1.0
-    cos: float = 0.05
-    dir: float = 1.0
-    acc: float = 1.0
-    env: float = 0.0
-    noise: float = 0.2
-    user: float = 0.0
+def _weights_to_c(self, dst) -> None:
+    copy_scalars_to_c(self, dst, "energy", prefix="weights.")
 
-    def _to_c(self, dst) -> None:
-        for k in EnergyWeights.__dataclass_fields__:
-            setattr(dst, k, float(getattr(self, k)))
+
+# swcl_energy_weights: its fields (rep, oa, cos, dir, acc, env, noise, user),
+# their defaults (Table 1 aggregation) and docs from the table's "weights." rows.
+EnergyWeights = make_dataclass("EnergyWeights", scalar_fields("energy", prefix="weights."),
+                               namespace={"_to_c": _weights_to_c, "__module__": __name__})
+EnergyWeights.__doc__ = ("Weights of the energy terms (Table 1 columns; scenario key 'n' for noise).\n"
+                         "Defaults (Table 1 aggregation) are the library's:\n"
+                         + parameter_doc("energy", prefix="weights."))
 
 
 @dataclass
@@ -214,70 +214,52 @@ def _stimuli_c(stimuli):
     return arr, len(stimuli)
 
 
-def _energy_default(name: str):
-    def factory():
-        c = _ENERGY_DEFAULT
-        if name == "noise":
-            return NoiseDesc._from_c(c.noise)
-        if name in ("keypoints_closed", "bidirectional", "keep_out"):
-            return bool(getattr(c, name))
-        if name == "span":
-            return int(c.span)
-        return _f32(getattr(c, name))
-    return field(default_factory=factory)
+def _energy_to_c(self):
+    """A new ``swcl_energy_model_desc*`` and the objects it points into."""
+    keep: list = []
+    p = ffi.new("swcl_energy_model_desc*", lib.swcl_energy_model_desc_default())
+    self.weights._to_c(p.weights)
+    self.danger_weights._to_c(p.danger_weights)
+    copy_scalars_to_c(self, p, "energy", _ENERGY_HAND)
+    if self.centre is None:
+        p.has_fixed_centre = 0
+    else:
+        p.has_fixed_centre = 1
+        p.fixed_centre = _vec3(self.centre, "EnergyModel.centre")
+    noise = self.noise if self.noise is not None else NoiseDesc()
+    noise._to_c(p.noise, keep)
+    arr, n = _stimuli_c(self.stimuli)
+    keep.append(arr)
+    p.stimuli, p.stimulus_count = arr, n
+    if self.keypoints is not None:
+        kp = _xyz_in(self.keypoints, "EnergyModel.keypoints")
+        keep.append(kp)
+        p.keypoints = ffi.from_buffer("float[]", kp) if kp.size else ffi.NULL
+        p.keypoint_count = len(kp)
+    return p, keep
 
 
-@dataclass
-class EnergyModel:
-    """swcl_energy_model_desc: the FASTSWARM energy model (defaults: Table 1
-    aggregation, rho = 2.5).  ``centre``: None (the swarm's mean position) or
-    a fixed (x, y, z); ``keypoints``: None or an (n >= 2, 3) array."""
-    weights: EnergyWeights = _weights_default("weights")
-    danger_weights: EnergyWeights = _weights_default("danger_weights")
-    rho: float = _energy_default("rho")
-    d_rep: float = _energy_default("d_rep")
-    d_att1: float = _energy_default("d_att1")
-    d_att2: float = _energy_default("d_att2")
-    centre: Optional[Vec3] = None
-    span: int = _energy_default("span")
-    accel_time: float = _energy_default("accel_time")
-    danger_horizon: float = _energy_default("danger_horizon")
-    noise: NoiseDesc = _energy_default("noise")
-    stimuli: List[Stimulus] = field(default_factory=list)
-    keypoints: Optional[np.ndarray] = None
-    keypoints_closed: bool = _energy_default("keypoints_closed")
-    bidirectional: bool = _energy_default("bidirectional")
-    keypoint_reach: float = _energy_default("keypoint_reach")
-    keep_out: bool = _energy_default("keep_out")
-
-    def to_c(self):
-        """A new ``swcl_energy_model_desc*`` and the objects it points into."""
-        keep: list = []
-        p = ffi.new("swcl_energy_model_desc*", lib.swcl_energy_model_desc_default())
-        self.weights._to_c(p.weights)
-        self.danger_weights._to_c(p.danger_weights)
-        for name in ("rho", "d_rep", "d_att1", "d_att2", "accel_time", "danger_horizon", "keypoint_reach"):
-            setattr(p, name, float(getattr(self, name)))
-        p.span = int(self.span)
-        if self.centre is None:
-            p.has_fixed_centre = 0
-        else:
-            p.has_fixed_centre = 1
-            p.fixed_centre = _vec3(self.centre, "EnergyModel.centre")
-        noise = self.noise if self.noise is not None else NoiseDesc()
-        noise._to_c(p.noise, keep)
-        arr, n = _stimuli_c(self.stimuli)
-        keep.append(arr)
-        p.stimuli, p.stimulus_count = arr, n
-        if self.keypoints is not None:
-            kp = _xyz_in(self.keypoints, "EnergyModel.keypoints")
-            keep.append(kp)
-            p.keypoints = ffi.from_buffer("float[]", kp) if kp.size else ffi.NULL
-            p.keypoint_count = len(kp)
-        p.keypoints_closed = 1 if self.keypoints_closed else 0
-        p.bidirectional = 1 if self.bidirectional else 0
-        p.keep_out = 1 if self.keep_out else 0
-        return p, keep
+# The energy model's fields in swcl_energy_model_desc's order: the weights,
+# the centre (None or (x, y, z) for has_fixed_centre + fixed_centre), the
+# noise, the stimuli and the keypoints by hand; every other parameter from
+# the library's table (swcl_model_parameters("energy")).
+_ENERGY_HAND = {
+    "weights": ("weights", EnergyWeights, _weights_default("weights")),
+    "danger_weights": ("danger_weights", EnergyWeights, _weights_default("danger_weights")),
+    "has_fixed_centre": ("centre", Optional[Vec3], field(default=None)),
+    "noise": ("noise", NoiseDesc, field(default_factory=lambda: NoiseDesc._from_c(_ENERGY_DEFAULT.noise))),
+    "stimuli": ("stimuli", List[Stimulus], field(default_factory=list)),
+    "keypoints": ("keypoints", Optional[np.ndarray], field(default=None)),
+}
+EnergyModel = make_dataclass("EnergyModel", c_ordered_fields("swcl_energy_model_desc", "energy", _ENERGY_HAND),
+                             namespace={"to_c": _energy_to_c, "__module__": __name__})
+EnergyModel.__doc__ = (
+    "swcl_energy_model_desc: the FASTSWARM energy model (defaults: Table 1\n"
+    "aggregation, rho = 2.5).  ``weights``, ``danger_weights``: EnergyWeights;\n"
+    "``centre``: None (the swarm's mean position) or a fixed (x, y, z);\n"
+    "``noise``: a NoiseDesc (default curl, scale 0.2 m, time_scale 1 s);\n"
+    "``stimuli``: Stimulus objects; ``keypoints``: None or an (n >= 2, 3) array.\n"
+    "Defaults are the library's (swcl_model_parameters('energy')):\n" + parameter_doc("energy", _ENERGY_HAND))
 
 
 # ---- swarm methods (bound onto Swarm in _core.py) ---------------------------------------

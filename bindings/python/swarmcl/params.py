@@ -18,7 +18,8 @@ import numpy as np
 
 from ._native import ffi, lib
 
-__all__ = ["model_parameters", "parameter_doc", "scalar_fields", "copy_scalars_to_c"]
+__all__ = ["model_parameters", "parameter_doc", "scalar_fields", "scalar_defaults", "c_ordered_fields",
+           "copy_scalars_to_c"]
 
 _PY_TYPES = {"float": float, "uint32": int, "uint64": int, "bool": bool}
 
@@ -55,32 +56,66 @@ def _line(row: Dict[str, Any]) -> str:
     return f"{row['c_field']}{unit}: {row['doc']} (valid {row['range']}; {row['ref']})"
 
 
-def scalar_rows(model: str, skip: Iterable[str] = ()) -> List[Dict[str, Any]]:
+def scalar_rows(model: str, skip: Iterable[str] = (), prefix: str = "") -> List[Dict[str, Any]]:
     """The rows of ``model`` that are plain scalars of its C descriptor (not
-    nested in a struct, not in ``skip``)."""
+    nested in a struct, not in ``skip``).  With ``prefix`` ("weights."), the
+    scalars of that nested struct instead (``skip`` then names fields of
+    it)."""
     skip = set(skip)
     return [r for r in model_parameters(model)
-            if "." not in r["c_field"] and r["c_field"] not in skip and r["type"] in _PY_TYPES]
+            if r["c_field"].startswith(prefix) and "." not in r["c_field"][len(prefix):]
+            and r["c_field"][len(prefix):] not in skip and r["type"] in _PY_TYPES]
 
 
-def scalar_fields(model: str, skip: Iterable[str] = ()) -> list:
+def _name(row: Dict[str, Any], prefix: str) -> str:
+    return row["c_field"][len(prefix):]
+
+
+def scalar_fields(model: str, skip: Iterable[str] = (), prefix: str = "") -> list:
     """``dataclasses.make_dataclass`` fields for the scalar rows: the C field's
-    name, its Python type, the table's default."""
-    return [(r["c_field"], _PY_TYPES[r["type"]], dataclasses.field(default=_default(r)))
-            for r in scalar_rows(model, skip)]
+    name (after ``prefix``), its Python type, the table's default."""
+    return [(_name(r, prefix), _PY_TYPES[r["type"]], dataclasses.field(default=_default(r)))
+            for r in scalar_rows(model, skip, prefix)]
 
 
-def parameter_doc(model: str, skip: Iterable[str] = ()) -> str:
+def scalar_defaults(model: str, skip: Iterable[str] = (), prefix: str = "") -> Dict[str, Any]:
+    """The scalar rows' defaults by field name (after ``prefix``): a nested
+    struct's defaults, e.g. the energy model's "danger_weights."."""
+    return {_name(r, prefix): _default(r) for r in scalar_rows(model, skip, prefix)}
+
+
+def c_ordered_fields(ctype: str, model: str, hand: Dict[str, tuple]) -> list:
+    """``make_dataclass`` fields in the order of the C descriptor ``ctype``'s
+    fields: a field named in ``hand`` (the C field's name -> a hand-written
+    ``(name, type, dataclasses.field)``, e.g. "has_fixed_centre" -> centre)
+    takes its place, a scalar row of ``model``'s table comes from the table,
+    and any other C field (pointers' counts, fields a hand field covers) is
+    left out.  Keeps a class's positional order when its scalar fields move
+    to the table."""
+    scalars = {f[0]: f for f in scalar_fields(model, hand)}
+    out = []
+    for name, _ in ffi.typeof(ctype).fields:
+        if name in hand:
+            out.append(hand[name])
+        elif name in scalars:
+            out.append(scalars.pop(name))
+    if scalars:
+        raise RuntimeError(f"{model} table rows that are not {ctype} fields: {sorted(scalars)}")
+    return out
+
+
+def parameter_doc(model: str, skip: Iterable[str] = (), prefix: str = "") -> str:
     """One line per scalar parameter: name, unit, doc, valid range, paper."""
-    return "\n".join("    " + _line(r) for r in scalar_rows(model, skip))
+    return "\n".join("    " + _line(r) for r in scalar_rows(model, skip, prefix))
 
 
-def copy_scalars_to_c(obj: Any, desc, model: str, skip: Iterable[str] = ()) -> None:
-    """Copies ``obj``'s scalar parameters into the C descriptor ``desc``; a
-    value of the wrong kind is a TypeError naming the parameter (the library
-    checks the ranges)."""
-    for r in scalar_rows(model, skip):
-        name = r["c_field"]
+def copy_scalars_to_c(obj: Any, desc, model: str, skip: Iterable[str] = (), prefix: str = "") -> None:
+    """Copies ``obj``'s scalar parameters into the C descriptor ``desc`` (with
+    ``prefix``, ``desc`` is that nested struct: ``p.weights`` for
+    "weights."); a value of the wrong kind is a TypeError naming the
+    parameter (the library checks the ranges)."""
+    for r in scalar_rows(model, skip, prefix):
+        name = _name(r, prefix)
         v = getattr(obj, name)
         try:
             setattr(desc, name, int(bool(v)) if r["type"] == "bool" else _PY_TYPES[r["type"]](v))
