@@ -15,6 +15,7 @@
 
 #include "core/error.hpp"
 #include "models/field_model.hpp"
+#include "models/force_model.hpp"
 #include "models/model_checkpoint.hpp"
 #include "params/param_table.hpp"
 #include "scenario/scenario.hpp"
@@ -181,6 +182,83 @@ TEST(ParamTable, ExportedThroughTheCApi) {
     EXPECT_EQ(swcl_model_parameters("field", nullptr), SWCL_ERROR_INVALID_ARGUMENT);
 }
 
+// The force model's section reads its table's keys; the legacy noise keys
+// keep their meaning, and a "noise" object starts from the noise module's
+// defaults, not Table 1's (scenario/force_section.cpp).
+TEST(ParamTable, ForceSectionReadsTheTableAndTheLegacyNoiseKeys) {
+    const auto model_of = [](const std::string& m) {
+        return std::get<ForceModelConfig>(parse_scenario(R"({"agents": {"count": 5}, "model": )" + m + "}").model);
+    };
+    const ForceModelConfig d = model_of(R"({"type": "force", "r_rep": 0.5, "keyframe_period": 4294967295,
+        "keyframes": [{"frame": 0, "shape": "sphere"}],
+        "path": {"points": [[0,0,0],[1,0,0],[2,0,0],[3,0,0]], "speed": 2, "orient": false}, "assignment": "curve"})");
+    EXPECT_EQ(d.r_rep, 0.5f);
+    EXPECT_EQ(d.keyframe_period, 4294967295u);
+    EXPECT_EQ(d.path_speed, 2.0f);
+    EXPECT_FALSE(d.path_orient);
+    EXPECT_EQ(d.path.size(), 12u);
+    EXPECT_EQ(d.assignment, Assignment::Curve);
+    EXPECT_EQ(d.noise.scale, ForceModelConfig().noise.scale);  // Table 1's rho
+    const ForceModelConfig legacy = model_of(R"({"type": "force", "rho": 0.5, "eta": 0.25, "noise_seed": 3,
+        "noise_type": "perlin", "noise_time_scale": 2})");
+    EXPECT_EQ(legacy.noise.scale, 0.5f);
+    EXPECT_EQ(legacy.noise.gain, 0.25f / 0.5f);
+    EXPECT_EQ(legacy.noise.seed, 3u);
+    EXPECT_EQ(legacy.noise.type, NoiseType::Perlin);
+    EXPECT_EQ(legacy.noise.time_scale, 2.0f);
+    const ForceModelConfig object = model_of(R"({"type": "force", "noise": {"type": "white"}})");
+    EXPECT_EQ(object.noise.scale, NoiseConfig().scale);  // the noise module's default, not rho
+    EXPECT_EQ(object.noise.gain, NoiseConfig().gain);
+    const auto error_of = [&](const std::string& m) {
+        try {
+            model_of(m);
+        } catch (const Error& e) {
+            EXPECT_EQ(e.status(), Status::Parse) << e.what();
+            return std::string(e.what());
+        }
+        return std::string("parsed");
+    };
+    EXPECT_EQ(error_of(R"({"type": "force", "keyframe_period": 4294967296})"),
+              "model.keyframe_period: expected an integer in [0, 4294967295]");
+    EXPECT_EQ(error_of(R"({"type": "force", "path": {"speed": 1}})"), "model.path.points: missing");
+    EXPECT_EQ(error_of(R"({"type": "force", "assignment": "far"})"),
+              "model.assignment: expected one of \"nearest\", \"curve\"");
+    const std::string unknown = error_of(R"({"type": "force", "terms": 1})");
+    EXPECT_EQ(unknown.rfind("model.terms: unknown key; the force model's parameters: r_rep, ", 0), 0u) << unknown;
+    EXPECT_NE(error_of(R"({"type": "force", "rho": 1, "noise": {}})").find("model.rho: give either"), std::string::npos);
+    ForceModelConfig c;
+    c.alpha = 1.5f;
+    try {
+        validate(c);
+        ADD_FAILURE() << "validated";
+    } catch (const Error& e) {
+        EXPECT_STREQ(e.what(), "force model alpha = 1.5 is outside [0, 1]");
+    }
+    c = ForceModelConfig();
+    c.noise.scale = 0.0f;  // the descriptor's rho
+    EXPECT_THROW(validate(c), Error);
+    c = ForceModelConfig();
+    c.r_ali = 0.1f;  // below r_rep: the zones' order is checked beside the table
+    EXPECT_THROW(validate(c), Error);
+}
+
+TEST(ParamTable, ForceDeviceBlock) {
+    const ParamTable& f = force_param_table();
+    ForceModelConfig fc;
+    fc.terms = kForceAlignment | kForceCurl;
+    fc.neighbor_sample = 7;
+    std::vector<float> block(f.device_floats());
+    f.write_device_block(&fc, block.data());
+    uint32_t bits = 0;
+    std::memcpy(&bits, &block[size_t(f.find("terms")->device)], 4);
+    EXPECT_EQ(bits, uint32_t(kForceAlignment | kForceCurl));  // integers bit-cast
+    std::memcpy(&bits, &block[size_t(f.find("neighbor_sample")->device)], 4);
+    EXPECT_EQ(bits, 7u);
+    EXPECT_EQ(block[size_t(f.find("max_speed")->device)], fc.max_speed);
+    EXPECT_EQ(f.find("sample_seed")->device, -1);  // 64 bits: an argument
+    EXPECT_NE(f.device_defines("FORCE").find("-DFORCE_R_REP="), std::string::npos);
+}
+
 // A valid value of row `p` (component a) other than its default.
 double other_value(const Param& p, int a) {
     const double d = p.def[a];
@@ -219,6 +297,7 @@ void expect_every_row_round_trips(const ParamTable& t) {
 
 TEST(ParamTable, EveryParameterIsInTheCheckpoint) {
     expect_every_row_round_trips<FieldModelConfig>(field_param_table());
+    expect_every_row_round_trips<ForceModelConfig>(force_param_table());
 }
 
 // docs/scenarios.md holds each table between markers; the test fails when

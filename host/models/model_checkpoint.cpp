@@ -168,14 +168,29 @@ void fields(A& a, PolicyModelConfig& c) {
 // MODL v2: a model with a parameter table (params/param_table.hpp) writes
 // its table's rows by key (so a parameter added later reads back from an
 // older file as its default), then only its structured fields here.
+// kTableSince: the first MODL version in which the model's descriptor is
+// its table's rows (older versions: fields()).
 template <class Config>
 constexpr bool kHasTable = false;
+template <class Config>
+constexpr uint32_t kTableSince = 0;
 template <>
 constexpr bool kHasTable<FieldModelConfig> = true;
+template <>
+constexpr uint32_t kTableSince<FieldModelConfig> = 2;
 inline const ParamTable& table_of(const FieldModelConfig&) { return field_param_table(); }
 template <class A>
 void structured_fields(A& a, FieldModelConfig& c) {
     a(c.noise.boundaries);
+}
+template <>
+constexpr bool kHasTable<ForceModelConfig> = true;
+template <>
+constexpr uint32_t kTableSince<ForceModelConfig> = 3;
+inline const ParamTable& table_of(const ForceModelConfig&) { return force_param_table(); }
+template <class A>
+void structured_fields(A& a, ForceModelConfig& c) {
+    a(c.noise.boundaries), a(c.keyframes), a(c.path), a(c.obstacles), a(c.mesh_obstacles);
 }
 
 namespace {
@@ -191,6 +206,7 @@ void write_table_params(ByteWriter& w, const ParamTable& t, void* config) {
             switch (p.type) {
                 case ParamType::Float:
                 case ParamType::Vec3: w.f32(float(p.get(config, a))); break;
+                case ParamType::Double: w.f64(p.get(config, a)); break;
                 case ParamType::UInt32:
                 case ParamType::UInt3: w.u32(uint32_t(p.get(config, a))); break;
                 case ParamType::UInt64: w.u64(*static_cast<uint64_t*>(p.field(config))); break;
@@ -222,6 +238,7 @@ void read_table_params(ByteReader& r, const ParamTable& t, void* config) {
             switch (p->type) {
                 case ParamType::Float:
                 case ParamType::Vec3: p->set(config, r.f32(), a); break;
+                case ParamType::Double: p->set(config, r.f64(), a); break;
                 case ParamType::UInt32:
                 case ParamType::UInt3: p->set(config, r.u32(), a); break;
                 case ParamType::UInt64: *static_cast<uint64_t*>(p->field(config)) = r.u64(); break;
@@ -299,11 +316,11 @@ CheckpointModel read_alternative(const std::string& name, ByteReader& in, uint32
         } else {
             Config c;
             if constexpr (kHasTable<Config>) {
-                if (version >= 2) {
+                if (version >= kTableSince<Config>) {
                     read_table_params(in, table_of(c), &c);
                     structured_fields(l, c);
                 } else {
-                    l(c);  // version 1: every field in fields() order
+                    l(c);  // before its table: every field in fields() order
                 }
             } else {
                 l(c);
@@ -362,7 +379,7 @@ static_assert(sizeof(NoiseConfig) == 112, "NoiseConfig changed: update fields(No
 // (tests/test_params.cpp checks every row round-trips); fields() keeps the
 // version 1 layout for reading older files.
 static_assert(sizeof(PathModelConfig) == 328 && sizeof(PathTarget) == 20 && sizeof(PathLamp) == 36, "PathModelConfig changed: update its checkpoint fields()");
-static_assert(sizeof(ForceModelConfig) == 328, "ForceModelConfig changed: update its checkpoint fields()");
+// ForceModelConfig too (its table's rows by key, then structured_fields).
 static_assert(sizeof(PolicyModelConfig) == 128 && sizeof(RlObstacleBox) == 24, "PolicyModelConfig changed: update its checkpoint fields()");
 static_assert(sizeof(EnergyModelConfig) == 288, "EnergyModelConfig changed: update its checkpoint fields()");
 static_assert(sizeof(Boundary) == 48 && sizeof(Goal) == 32 && sizeof(Stimulus) == 32 && sizeof(EnergyWeights) == 32,

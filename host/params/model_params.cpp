@@ -2,12 +2,13 @@
 // to add a parameter").
 #include "fields/noise_field.hpp"
 #include "models/field_model.hpp"
+#include "models/force_model.hpp"
 #include "params/param_table.hpp"
 
 namespace swarmcl {
 
 const std::vector<const ParamTable*>& model_param_tables() {
-    static const std::vector<const ParamTable*> tables = {&field_param_table()};
+    static const std::vector<const ParamTable*> tables = {&field_param_table(), &force_param_table()};
     return tables;
 }
 
