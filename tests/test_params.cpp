@@ -16,6 +16,7 @@
 #include "core/error.hpp"
 #include "models/field_model.hpp"
 #include "models/force_model.hpp"
+#include "models/path_model.hpp"
 #include "models/model_checkpoint.hpp"
 #include "params/param_table.hpp"
 #include "scenario/scenario.hpp"
@@ -242,7 +243,7 @@ TEST(ParamTable, ForceSectionReadsTheTableAndTheLegacyNoiseKeys) {
     EXPECT_THROW(validate(c), Error);
 }
 
-TEST(ParamTable, ForceDeviceBlock) {
+TEST(ParamTable, ForceAndPathDeviceBlocks) {
     const ParamTable& f = force_param_table();
     ForceModelConfig fc;
     fc.terms = kForceAlignment | kForceCurl;
@@ -257,6 +258,53 @@ TEST(ParamTable, ForceDeviceBlock) {
     EXPECT_EQ(block[size_t(f.find("max_speed")->device)], fc.max_speed);
     EXPECT_EQ(f.find("sample_seed")->device, -1);  // 64 bits: an argument
     EXPECT_NE(f.device_defines("FORCE").find("-DFORCE_R_REP="), std::string::npos);
+    const ParamTable& p = path_param_table();
+    PathModelConfig pc;
+    pc.lamp.enabled = true;
+    pc.lamp.center = {1, 2, 3};
+    block.assign(p.device_floats(), 0.0f);
+    p.write_device_block(&pc, block.data());
+    EXPECT_EQ(block[size_t(p.find("lamp.center")->device) + 2], 3.0f);
+    EXPECT_EQ(block[size_t(p.find("lamp.enabled")->device)], 1.0f);
+    EXPECT_EQ(block[size_t(p.find("speed")->device)], pc.speed);
+}
+
+// The path model's section: "grid", "cost", "lamp" and "moving_goal" are
+// objects whose scalar keys are table rows; the rest is the section's.
+TEST(ParamTable, PathSectionReadsTheTable) {
+    const std::string head = R"({"agents": {"count": 5}, "model": {"type": "path", "goals": [{"center": [1, 1, 1]}], )";
+    const auto model_of = [&](const std::string& rest) {
+        return std::get<PathModelConfig>(parse_scenario(head + rest + "}}").model);
+    };
+    const PathModelConfig c = model_of(R"("cost": {"A": 0.7, "second_order": true}, "grid": {"resolution": [8, 9, 10],
+        "min": [0, 0, 0], "max": [2, 2, 2]}, "lamp": {"center": [1, 1, 1], "angle_deg": 90}, "moving_goal":
+        {"waypoints": [[1, 1, 1]], "every": 5})");
+    EXPECT_EQ(c.weights.A, double(0.7f));  // read as a float, as before
+    EXPECT_EQ(c.weights.B, CostWeights().B);
+    EXPECT_TRUE(c.second_order);
+    EXPECT_EQ(c.resolution, (std::array<uint32_t, 3>{8, 9, 10}));
+    EXPECT_TRUE(c.has_grid_box);
+    EXPECT_EQ(c.grid_max[2], 2.0f);
+    EXPECT_TRUE(c.lamp.enabled);
+    EXPECT_EQ(c.lamp.angle, float(90.0 * 3.14159265358979323846 / 180.0));
+    EXPECT_EQ(c.waypoint_every, 5u);
+    EXPECT_EQ(c.waypoints.size(), 1u);
+    const auto error_of = [&](const std::string& rest) {
+        try {
+            model_of(rest);
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("parsed");
+    };
+    EXPECT_EQ(error_of(R"("lamp": {"radius": 0.1})"), "model.lamp.center: missing");
+    EXPECT_EQ(error_of(R"("lamp": {"center": [1, 1, 1], "probability": 2})"),
+              "model.lamp.probability: expected a number in [0, 1]");
+    EXPECT_EQ(error_of(R"("grid": {"min": [0, 0, 0]})"), "model.grid.max: missing");
+    EXPECT_EQ(error_of(R"("cost": {"A": 0})"), "model.cost.A: expected a number > 0");
+    EXPECT_EQ(error_of(R"("moving_goal": {"every": 2})"), "model.moving_goal.waypoints: missing");
+    EXPECT_EQ(error_of(R"("lamp": {"center": [1, 1, 1], "enabled": true})").rfind("model.lamp.enabled: unknown key", 0),
+              0u);
 }
 
 // A valid value of row `p` (component a) other than its default.
@@ -298,6 +346,7 @@ void expect_every_row_round_trips(const ParamTable& t) {
 TEST(ParamTable, EveryParameterIsInTheCheckpoint) {
     expect_every_row_round_trips<FieldModelConfig>(field_param_table());
     expect_every_row_round_trips<ForceModelConfig>(force_param_table());
+    expect_every_row_round_trips<PathModelConfig>(path_param_table());
 }
 
 // docs/scenarios.md holds each table between markers; the test fails when

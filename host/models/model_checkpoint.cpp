@@ -192,6 +192,15 @@ template <class A>
 void structured_fields(A& a, ForceModelConfig& c) {
     a(c.noise.boundaries), a(c.keyframes), a(c.path), a(c.obstacles), a(c.mesh_obstacles);
 }
+template <>
+constexpr bool kHasTable<PathModelConfig> = true;
+template <>
+constexpr uint32_t kTableSince<PathModelConfig> = 3;
+inline const ParamTable& table_of(const PathModelConfig&) { return path_param_table(); }
+template <class A>
+void structured_fields(A& a, PathModelConfig& c) {
+    a(c.noise.boundaries), a(c.obstacles), a(c.groups), a(c.waypoints), a(c.targets);
+}
 
 namespace {
 
@@ -378,7 +387,8 @@ static_assert(sizeof(NoiseConfig) == 112, "NoiseConfig changed: update fields(No
 // FieldModelConfig has a parameter table: MODL v2 writes its rows by key
 // (tests/test_params.cpp checks every row round-trips); fields() keeps the
 // version 1 layout for reading older files.
-static_assert(sizeof(PathModelConfig) == 328 && sizeof(PathTarget) == 20 && sizeof(PathLamp) == 36, "PathModelConfig changed: update its checkpoint fields()");
+// PathModelConfig too; its targets are structured fields (fields() below).
+static_assert(sizeof(PathTarget) == 20, "PathTarget changed: update its checkpoint fields()");
 // ForceModelConfig too (its table's rows by key, then structured_fields).
 static_assert(sizeof(PolicyModelConfig) == 128 && sizeof(RlObstacleBox) == 24, "PolicyModelConfig changed: update its checkpoint fields()");
 static_assert(sizeof(EnergyModelConfig) == 288, "EnergyModelConfig changed: update its checkpoint fields()");

@@ -18,7 +18,7 @@ namespace swarmcl {
 
 // Version of the MODL section this code writes (and the newest it reads).
 // 2: a model with a parameter table writes its rows by key, then its
-// structured fields (the field model); 3: the force model too;
+// structured fields (the field model); 3: the force and path models too;
 // 1 (still read): every field in fields() order.
 constexpr uint32_t kModelSectionVersion = 3;
 

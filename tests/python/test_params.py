@@ -30,6 +30,11 @@ DESCRIPTORS = {
               {"keyframes", "keyframe_count", "path", "path_point_count", "obstacles", "obstacle_count",
                "mesh_obstacles", "mesh_obstacle_count", "eta"},
               _FORCE_NOISE_NOT_IN_C | {"terms"}),
+    "path": ("swcl_path_model_desc", lib.swcl_path_model_desc_default,
+             {"noise.boundaries", "noise.boundary_count", "obstacles", "obstacle_count", "goals", "goal_count",
+              "groups", "group_count"},
+             {"has_grid_box", "waypoint_every"} | {"lamp." + k for k in ("enabled", "center", "radius", "probability",
+                                                                       "speed", "angle", "keep_out")}),
 }
 
 
@@ -135,6 +140,20 @@ def test_a_bad_force_value_from_python_names_the_parameter_and_range(ctx):
     s = swarmcl.Swarm(ctx, agent_count=10, seed=1)
     with pytest.raises(swarmcl.InvalidArgumentError, match=r"alpha = 1.5 is outside \[0, 1\]"):
         s.set_force_model(swarmcl.ForceModel(alpha=1.5))
+
+
+def test_path_model_class_is_built_from_the_table():
+    rows = {r["c_field"]: r for r in swarmcl.model_parameters("path")}
+    m = swarmcl.PathModel()
+    for name in ("cost_a", "cost_b", "speed", "goal_falloff", "min_distance"):
+        assert np.float32(getattr(m, name)) == np.float32(rows[name]["default"]), name
+        assert rows[name]["doc"] in swarmcl.PathModel.__doc__
+    assert m.second_order is False and m.grid is None and tuple(m.resolution) == (64, 64, 64)
+    assert not hasattr(m, "waypoint_every") and not hasattr(m, "has_grid_box")
+    p, _ = swarmcl.PathModel(speed=2.5, second_order=True, cost_a=0.5).to_c()
+    assert p.speed == 2.5 and p.second_order == 1 and p.cost_a == 0.5
+    with pytest.raises(TypeError, match="PathModel.speed must be a float"):
+        swarmcl.PathModel(speed="fast").to_c()
 
 
 FIELD_SCENARIO = {"agents": {"count": 10}, "model": {"type": "field", "goal": {"center": [0, 0, 0]}}}
