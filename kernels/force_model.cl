@@ -177,9 +177,14 @@ SWCL_INLINE uint fm_sample_start(ulong seed, uint grp, uint step, uint n, uint* 
 // indices; by_target holds each target's insect position this step
 // (force_model_scatter).
 // The arguments of both force kernels (the wide one adds the x/y/z planes).
+// params: the model's parameter block (models/force_params.cpp lays it out;
+// the host defines FORCE_<KEY> as each parameter's slot).  spacing: the
+// current targets' sqrt(A/N) (1 without targets), which sigma and the
+// default distance scale derive from; seed: the sample seed (64 bits, not
+// in the float block).
 #define FM_FORCE_PARAMS                                                                                 \
     __global const float4 *pos, __global const float4 *vel, __global const uint *ids, uint n, GRID_PARAMS, \
-        float4 zones, float4 weights, float4 blend, uint terms, uint sample_cap, ulong seed, uint has_targets, \
+        __global const float *params, float spacing, ulong seed, uint has_targets,                          \
         __global const uint *target_of, __global const float4 *targets, __global const uint *nbr_start,    \
         __global const uint *nbr_index, __global const float4 *by_target, float4 frame_x, float4 frame_y,  \
         float4 frame_z, float t, uint step, __global float4 *force, __global const float4 *rep_in, NOISE_PARAMS
@@ -390,11 +395,13 @@ inline float fm_mesh_obstacle(__global const float* phi, int4 dims, float4 origi
 // scaled by 1 - ramp: u_a = u - (1 - ramp) n min(n.u, 0).  At the surface
 // the insect slides tangentially; moving away is never slowed.
 __kernel void force_model_integrate(__global float4* pos, __global float4* vel, __global const float4* force,
-                                    uint n, float dt, float max_speed, float cruise_speed,
-                                    __global const float4* prims, uint nprims, float range, uint has_mesh,
+                                    uint n, float dt, __global const float* params,
+                                    __global const float4* prims, uint nprims, uint has_mesh,
                                     __global const float* phi, int4 dims, float4 origin_h) {
     const uint i = get_global_id(0);
     if (i >= n) return;
+    const float max_speed = params[FORCE_MAX_SPEED], cruise_speed = params[FORCE_CRUISE_SPEED];
+    const float range = params[FORCE_OBSTACLE_RANGE];
     float4 p = (float4)(pos[i].xyz, 0.0f);
     float4 u = (float4)(vel[i].xyz, 0.0f) + dt * force[i];
     const float s = length(u);

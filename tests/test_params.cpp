@@ -19,6 +19,8 @@
 #include "data/dataset.hpp"
 #include "models/energy_spec.hpp"
 #include "models/field_model.hpp"
+#include "models/force_model.hpp"
+#include "models/path_model.hpp"
 #include "models/model_checkpoint.hpp"
 #include "models/swarm_checkpoint.hpp"
 #include "params/param_table.hpp"
@@ -186,6 +188,130 @@ TEST(ParamTable, ExportedThroughTheCApi) {
     EXPECT_EQ(swcl_model_parameters("field", nullptr), SWCL_ERROR_INVALID_ARGUMENT);
 }
 
+// The force model's section reads its table's keys; the legacy noise keys
+// keep their meaning, and a "noise" object starts from the noise module's
+// defaults, not Table 1's (scenario/force_section.cpp).
+TEST(ParamTable, ForceSectionReadsTheTableAndTheLegacyNoiseKeys) {
+    const auto model_of = [](const std::string& m) {
+        return std::get<ForceModelConfig>(parse_scenario(R"({"agents": {"count": 5}, "model": )" + m + "}").model);
+    };
+    const ForceModelConfig d = model_of(R"({"type": "force", "r_rep": 0.5, "keyframe_period": 4294967295,
+        "keyframes": [{"frame": 0, "shape": "sphere"}],
+        "path": {"points": [[0,0,0],[1,0,0],[2,0,0],[3,0,0]], "speed": 2, "orient": false}, "assignment": "curve"})");
+    EXPECT_EQ(d.r_rep, 0.5f);
+    EXPECT_EQ(d.keyframe_period, 4294967295u);
+    EXPECT_EQ(d.path_speed, 2.0f);
+    EXPECT_FALSE(d.path_orient);
+    EXPECT_EQ(d.path.size(), 12u);
+    EXPECT_EQ(d.assignment, Assignment::Curve);
+    EXPECT_EQ(d.noise.scale, ForceModelConfig().noise.scale);  // Table 1's rho
+    const ForceModelConfig legacy = model_of(R"({"type": "force", "rho": 0.5, "eta": 0.25, "noise_seed": 3,
+        "noise_type": "perlin", "noise_time_scale": 2})");
+    EXPECT_EQ(legacy.noise.scale, 0.5f);
+    EXPECT_EQ(legacy.noise.gain, 0.25f / 0.5f);
+    EXPECT_EQ(legacy.noise.seed, 3u);
+    EXPECT_EQ(legacy.noise.type, NoiseType::Perlin);
+    EXPECT_EQ(legacy.noise.time_scale, 2.0f);
+    const ForceModelConfig object = model_of(R"({"type": "force", "noise": {"type": "white"}})");
+    EXPECT_EQ(object.noise.scale, NoiseConfig().scale);  // the noise module's default, not rho
+    EXPECT_EQ(object.noise.gain, NoiseConfig().gain);
+    const auto error_of = [&](const std::string& m) {
+        try {
+            model_of(m);
+        } catch (const Error& e) {
+            EXPECT_EQ(e.status(), Status::Parse) << e.what();
+            return std::string(e.what());
+        }
+        return std::string("parsed");
+    };
+    EXPECT_EQ(error_of(R"({"type": "force", "keyframe_period": 4294967296})"),
+              "model.keyframe_period: expected an integer in [0, 4294967295]");
+    EXPECT_EQ(error_of(R"({"type": "force", "path": {"speed": 1}})"), "model.path.points: missing");
+    EXPECT_EQ(error_of(R"({"type": "force", "assignment": "far"})"),
+              "model.assignment: expected one of \"nearest\", \"curve\"");
+    const std::string unknown = error_of(R"({"type": "force", "terms": 1})");
+    EXPECT_EQ(unknown.rfind("model.terms: unknown key; the force model's parameters: r_rep, ", 0), 0u) << unknown;
+    EXPECT_NE(error_of(R"({"type": "force", "rho": 1, "noise": {}})").find("model.rho: give either"), std::string::npos);
+    ForceModelConfig c;
+    c.alpha = 1.5f;
+    try {
+        validate(c);
+        ADD_FAILURE() << "validated";
+    } catch (const Error& e) {
+        EXPECT_STREQ(e.what(), "force model alpha = 1.5 is outside [0, 1]");
+    }
+    c = ForceModelConfig();
+    c.noise.scale = 0.0f;  // the descriptor's rho
+    EXPECT_THROW(validate(c), Error);
+    c = ForceModelConfig();
+    c.r_ali = 0.1f;  // below r_rep: the zones' order is checked beside the table
+    EXPECT_THROW(validate(c), Error);
+}
+
+TEST(ParamTable, ForceAndPathDeviceBlocks) {
+    const ParamTable& f = force_param_table();
+    ForceModelConfig fc;
+    fc.terms = kForceAlignment | kForceCurl;
+    fc.neighbor_sample = 7;
+    std::vector<float> block(f.device_floats());
+    f.write_device_block(&fc, block.data());
+    uint32_t bits = 0;
+    std::memcpy(&bits, &block[size_t(f.find("terms")->device)], 4);
+    EXPECT_EQ(bits, uint32_t(kForceAlignment | kForceCurl));  // integers bit-cast
+    std::memcpy(&bits, &block[size_t(f.find("neighbor_sample")->device)], 4);
+    EXPECT_EQ(bits, 7u);
+    EXPECT_EQ(block[size_t(f.find("max_speed")->device)], fc.max_speed);
+    EXPECT_EQ(f.find("sample_seed")->device, -1);  // 64 bits: an argument
+    EXPECT_NE(f.device_defines("FORCE").find("-DFORCE_R_REP="), std::string::npos);
+    const ParamTable& p = path_param_table();
+    PathModelConfig pc;
+    pc.lamp.enabled = true;
+    pc.lamp.center = {1, 2, 3};
+    block.assign(p.device_floats(), 0.0f);
+    p.write_device_block(&pc, block.data());
+    EXPECT_EQ(block[size_t(p.find("lamp.center")->device) + 2], 3.0f);
+    EXPECT_EQ(block[size_t(p.find("lamp.enabled")->device)], 1.0f);
+    EXPECT_EQ(block[size_t(p.find("speed")->device)], pc.speed);
+}
+
+// The path model's section: "grid", "cost", "lamp" and "moving_goal" are
+// objects whose scalar keys are table rows; the rest is the section's.
+TEST(ParamTable, PathSectionReadsTheTable) {
+    const std::string head = R"({"agents": {"count": 5}, "model": {"type": "path", "goals": [{"center": [1, 1, 1]}], )";
+    const auto model_of = [&](const std::string& rest) {
+        return std::get<PathModelConfig>(parse_scenario(head + rest + "}}").model);
+    };
+    const PathModelConfig c = model_of(R"("cost": {"A": 0.7, "second_order": true}, "grid": {"resolution": [8, 9, 10],
+        "min": [0, 0, 0], "max": [2, 2, 2]}, "lamp": {"center": [1, 1, 1], "angle_deg": 90}, "moving_goal":
+        {"waypoints": [[1, 1, 1]], "every": 5})");
+    EXPECT_EQ(c.weights.A, double(0.7f));  // read as a float, as before
+    EXPECT_EQ(c.weights.B, CostWeights().B);
+    EXPECT_TRUE(c.second_order);
+    EXPECT_EQ(c.resolution, (std::array<uint32_t, 3>{8, 9, 10}));
+    EXPECT_TRUE(c.has_grid_box);
+    EXPECT_EQ(c.grid_max[2], 2.0f);
+    EXPECT_TRUE(c.lamp.enabled);
+    EXPECT_EQ(c.lamp.angle, float(90.0 * 3.14159265358979323846 / 180.0));
+    EXPECT_EQ(c.waypoint_every, 5u);
+    EXPECT_EQ(c.waypoints.size(), 1u);
+    const auto error_of = [&](const std::string& rest) {
+        try {
+            model_of(rest);
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("parsed");
+    };
+    EXPECT_EQ(error_of(R"("lamp": {"radius": 0.1})"), "model.lamp.center: missing");
+    EXPECT_EQ(error_of(R"("lamp": {"center": [1, 1, 1], "probability": 2})"),
+              "model.lamp.probability: expected a number in [0, 1]");
+    EXPECT_EQ(error_of(R"("grid": {"min": [0, 0, 0]})"), "model.grid.max: missing");
+    EXPECT_EQ(error_of(R"("cost": {"A": 0})"), "model.cost.A: expected a number > 0");
+    EXPECT_EQ(error_of(R"("moving_goal": {"every": 2})"), "model.moving_goal.waypoints: missing");
+    EXPECT_EQ(error_of(R"("lamp": {"center": [1, 1, 1], "enabled": true})").rfind("model.lamp.enabled: unknown key", 0),
+              0u);
+}
+
 // A valid value of row `p` (component a) other than its default.
 double other_value(const Param& p, int a) {
     const double d = p.def[a];
@@ -233,6 +359,8 @@ void expect_every_row_round_trips(const ParamTable& t, const Extra&... extra) {
 
 TEST(ParamTable, EveryParameterIsInTheCheckpoint) {
     expect_every_row_round_trips<FieldModelConfig>(field_param_table());
+    expect_every_row_round_trips<ForceModelConfig>(force_param_table());
+    expect_every_row_round_trips<PathModelConfig>(path_param_table());
     expect_every_row_round_trips<EnergyModelConfig>(energy_param_table(), synthetic_dataset(DatasetOptions{}));
 }
 

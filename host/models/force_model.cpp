@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "params/param_block.hpp"
 #include "swarm/swarm.hpp"
 
 namespace swarmcl {
@@ -19,11 +20,6 @@ constexpr float kPrimSphere = 2.0f, kPrimBox = 3.0f;
 // FM_SOA_PAD).
 constexpr uint32_t kFineSoaPad = 16;
 
-void require_finite_positive(float v, const char* name, bool allow_zero = false) {
-    require(std::isfinite(v) && (allow_zero ? v >= 0.0f : v > 0.0f),
-            std::string("force model ") + name + (allow_zero ? " must be a finite number >= 0" : " must be > 0"));
-}
-
 }  // namespace
 
 ForceModelConfig::ForceModelConfig() {
@@ -33,27 +29,12 @@ ForceModelConfig::ForceModelConfig() {
 }
 
 void validate(const ForceModelConfig& c) {
-    require_finite_positive(c.r_rep, "r_rep");
-    require(std::isfinite(c.r_ali) && std::isfinite(c.r_att) && c.r_rep <= c.r_ali && c.r_ali <= c.r_att,
+    // Each parameter's range: force_param_table() ("force model alpha = 1.5
+    // is outside [0, 1]"); what one row cannot say follows.
+    force_param_table().validate(const_cast<ForceModelConfig*>(&c));
+    require(c.r_rep <= c.r_ali && c.r_ali <= c.r_att,
             "force model zone radii must satisfy 0 < r_rep <= r_ali <= r_att (§4.1)");
-    require_finite_positive(c.w_rep, "w_rep", true);
-    require_finite_positive(c.w_ali, "w_ali", true);
-    require_finite_positive(c.w_att, "w_att", true);
-    require_finite_positive(c.w_dis, "w_dis", true);
-    require_finite_positive(c.w_con, "w_con", true);
-    require_finite_positive(c.omega, "omega");
-    require_finite_positive(c.neighbor_k, "neighbor_k");
-    require_finite_positive(c.distance_scale, "distance_scale", true);
-    require(std::isfinite(c.alpha) && c.alpha >= 0.0f && c.alpha <= 1.0f,
-            "force model alpha must lie in [0, 1] (Eq. 1)");
-    require_finite_positive(c.max_speed, "max_speed");
-    require(std::isfinite(c.cruise_speed) && c.cruise_speed >= 0.0f && c.cruise_speed <= c.max_speed,
-            "force model cruise_speed must lie in [0, max_speed]");
-    require_finite_positive(c.min_distance, "min_distance", true);
-    require_finite_positive(c.min_spacing, "min_spacing", true);
-    require_finite_positive(c.obstacle_range, "obstacle_range");
-    require_finite_positive(c.path_speed, "path_speed", true);
-    require((c.terms & ~uint32_t(kForceAll)) == 0, "force model terms: unknown bits");
+    require(c.cruise_speed <= c.max_speed, "force model cruise_speed must lie in [0, max_speed]");
     for (size_t k = 1; k < c.keyframes.size(); ++k)
         require(c.keyframes[k].frame > c.keyframes[k - 1].frame,
                 "force model keyframes must be in strictly increasing frame order (keyframe " + std::to_string(k) +
@@ -80,7 +61,6 @@ void validate(const ForceModelConfig& c) {
             fail(Status::InvalidArgument, name + ": only spheres and boxes are obstacles of the force model");
         }
     }
-    require(std::isfinite(c.mesh_cell) && c.mesh_cell >= 0.0f, "force model mesh_cell must be a finite number >= 0");
     for (size_t k = 0; k < c.mesh_obstacles.size(); ++k) {
         const TriangleMesh& m = c.mesh_obstacles[k];
         const std::string name = "force model mesh obstacle " + std::to_string(k);
@@ -136,15 +116,20 @@ ForceModel::ForceModel(Swarm& swarm, ForceModelConfig config)
     // On CPU devices the explicit-width force kernel (NoiseField::width()
     // agents per work-item; kernels/force_model.cl).
     width_ = noise_->width();
-    force_k_ = noise_->kernel("force_model.cl", width_ > 1 ? "force_model_force_w" : "force_model_force");
-    fine_gather_k_ = noise_->kernel("force_model.cl", "force_model_fine_gather");
+    // Every kernel of force_model.cl with the parameter block's slots
+    // (FORCE_R_REP, ...; one program), and the block itself.
+    const std::string defines = force_param_table().device_defines("FORCE");
+    params_ = upload_param_block(ctx, force_param_table(), &config_);
+    force_k_ = noise_->kernel("force_model.cl", width_ > 1 ? "force_model_force_w" : "force_model_force", defines);
+    fine_gather_k_ = noise_->kernel("force_model.cl", "force_model_fine_gather", defines);
     // One agent per work-item on every device: with a few candidates per
     // agent, 16 lanes walking the union of their boxes measured slower.
-    mde_k_ = noise_->kernel("force_model.cl", "force_model_mde");
-    repulsion_k_ = noise_->kernel("force_model.cl", width_ > 1 ? "force_model_repulsion_w" : "force_model_repulsion");
-    integrate_k_ = noise_->kernel("force_model.cl", "force_model_integrate");
-    project_k_ = noise_->kernel("force_model.cl", "force_model_project");
-    scatter_k_ = noise_->kernel("force_model.cl", "force_model_scatter");
+    mde_k_ = noise_->kernel("force_model.cl", "force_model_mde", defines);
+    repulsion_k_ = noise_->kernel("force_model.cl", width_ > 1 ? "force_model_repulsion_w" : "force_model_repulsion",
+                                  defines);
+    integrate_k_ = noise_->kernel("force_model.cl", "force_model_integrate", defines);
+    project_k_ = noise_->kernel("force_model.cl", "force_model_project", defines);
+    scatter_k_ = noise_->kernel("force_model.cl", "force_model_scatter", defines);
     if (!config_.path.empty()) path_.emplace(config_.path);
     std::vector<cl_float4> prims;
     for (const Boundary& b : config_.obstacles) {
@@ -289,9 +274,9 @@ void ForceModel::enqueue_force(Swarm& swarm, uint64_t step) {
     swarm.ensure_grid();
     const auto& c = config_;
     const ShapeTargets* t = current_targets();
+    // sigma (omega spacing) and the default distance scale (2 spacing) are
+    // derived by the kernel from its parameter block and the spacing.
     const float spacing = t ? float(t->spacing) : 1.0f;
-    const float sigma = c.omega * spacing;
-    const float dscale = c.distance_scale > 0.0f ? c.distance_scale : 2.0f * spacing;
     const float dt = swarm.config().dt;
     const Placement place = placement(step, dt);
     cl_float4 frame[3];  // rows of [R | offset] (kernels/force_model.cl)
@@ -310,11 +295,8 @@ void ForceModel::enqueue_force(Swarm& swarm, uint64_t step) {
     kf.setArg(i++, swarm.ids().get());
     kf.setArg(i++, n);
     i = swarm.grid().set_grid_args(kf, i);
-    kf.setArg(i++, cl_float4{{c.r_rep, c.r_ali, c.r_att, sigma}});
-    kf.setArg(i++, cl_float4{{c.w_rep, c.w_ali, c.w_att, c.w_dis}});
-    kf.setArg(i++, cl_float4{{c.alpha, c.w_con, dscale, 0.0f}});
-    kf.setArg(i++, cl_uint(c.terms));
-    kf.setArg(i++, cl_uint(c.neighbor_sample));
+    kf.setArg(i++, params_.get());
+    kf.setArg(i++, spacing);
     kf.setArg(i++, cl_ulong(c.sample_seed));
     kf.setArg(i++, cl_uint(t ? 1 : 0));
     kf.setArg(i++, target_of_buf_.get());
@@ -339,7 +321,7 @@ void ForceModel::enqueue_force(Swarm& swarm, uint64_t step) {
         build_fine_grid(swarm);
         fine_current_ = true;
         set_args(repulsion_k_, fine_soa_.get(), fine_.sorted_slots().get(), cl_uint(n), fine_.geometry().get(),
-                 fine_.cell_start().get(), c.r_rep, rep_.get());
+                 fine_.cell_start().get(), params_.get(), rep_.get());
         launch(swarm.context(), repulsion_k_, (n + width_ - 1) / width_);
     }
     kf.setArg(i++, rep_.get());
@@ -356,7 +338,8 @@ std::vector<cl_float4> ForceModel::sample_mesh_obstacles(Swarm& swarm, const std
     for (size_t i = 0; i < n; ++i) pts[i] = cl_float4{{xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2], 0.0f}};
     DeviceBuffer<cl_float4> in(ctx, pts.size(), "mesh obstacle sample points"), out(ctx, pts.size(), "mesh obstacle samples");
     in.upload(ctx, pts.data(), pts.size());
-    cl::Kernel k = noise_->kernel("force_model.cl", "force_model_mesh_distance");
+    cl::Kernel k = noise_->kernel("force_model.cl", "force_model_mesh_distance",
+                                  force_param_table().device_defines("FORCE"));
     const cl_int4 mdims{{cl_int(mesh_grid_.dims[0]), cl_int(mesh_grid_.dims[1]), cl_int(mesh_grid_.dims[2]), 0}};
     const cl_float4 morigin{{float(mesh_grid_.origin[0]), float(mesh_grid_.origin[1]), float(mesh_grid_.origin[2]),
                              float(mesh_grid_.h)}};
@@ -430,9 +413,8 @@ void ForceModel::advance(Swarm& swarm, uint64_t step) {
     Context& ctx = swarm.context();
     const cl_uint has_mesh = config_.mesh_obstacles.empty() ? 0u : 1u;
     set_args(integrate_k_, swarm.positions().get(), swarm.velocities().get(), force_.get(), cl_uint(n),
-             swarm.config().dt, config_.max_speed, config_.cruise_speed, prims_.get(), cl_uint(nprims_),
-             config_.obstacle_range, has_mesh, mesh_phi_.get(), mesh_dims_arg(mesh_grid_),
-             mesh_origin_arg(mesh_grid_));
+             swarm.config().dt, params_.get(), prims_.get(), cl_uint(nprims_), has_mesh, mesh_phi_.get(),
+             mesh_dims_arg(mesh_grid_), mesh_origin_arg(mesh_grid_));
     launch(ctx, integrate_k_, n);
     swarm.positions_changed();
 }

@@ -89,7 +89,11 @@ struct ForceModelConfig {
     ForceModelConfig();  // sets the noise defaults of Table 1
 };
 
-// Error(InvalidArgument) naming the field for any invalid parameter.
+// Its parameters, declared once (models/force_params.cpp).
+const ParamTable& force_param_table();
+
+// Error(InvalidArgument) naming the field for any invalid parameter: the
+// table's ranges, then what they cannot say (zone order, keyframes, meshes).
 void validate(const ForceModelConfig& config);
 
 // The most cells of the mesh obstacles' distance grid (64 MiB of floats).
@@ -158,6 +162,7 @@ private:
     std::unique_ptr<NoiseField> noise_;
     std::optional<BSplinePath> path_;
     cl::Kernel force_k_, integrate_k_, project_k_, scatter_k_;
+    DeviceBuffer<cl_float> params_;  // force_param_table()'s device block
     uint32_t width_ = 1;  // agents per work-item of force_k_
     uint32_t prepared_n_ = 0;
     std::vector<ShapeTargets> targets_;  // per keyframe

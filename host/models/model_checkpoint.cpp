@@ -168,18 +168,44 @@ void fields(A& a, PolicyModelConfig& c) {
 // MODL v2: a model with a parameter table (params/param_table.hpp) writes
 // its table's rows by key (so a parameter added later reads back from an
 // older file as its default), then only its structured fields here.
+// kTableSince: the first MODL version in which the model's descriptor is
+// its table's rows (older versions: fields()).
 template <class Config>
 constexpr bool kHasTable = false;
+template <class Config>
+constexpr uint32_t kTableSince = 0;
 template <>
 constexpr bool kHasTable<FieldModelConfig> = true;
+template <>
+constexpr uint32_t kTableSince<FieldModelConfig> = 2;
 inline const ParamTable& table_of(const FieldModelConfig&) { return field_param_table(); }
 template <class A>
 void structured_fields(A& a, FieldModelConfig& c) {
     a(c.noise.boundaries);
 }
+template <>
+constexpr bool kHasTable<ForceModelConfig> = true;
+template <>
+constexpr uint32_t kTableSince<ForceModelConfig> = 3;
+inline const ParamTable& table_of(const ForceModelConfig&) { return force_param_table(); }
+template <class A>
+void structured_fields(A& a, ForceModelConfig& c) {
+    a(c.noise.boundaries), a(c.keyframes), a(c.path), a(c.obstacles), a(c.mesh_obstacles);
+}
+template <>
+constexpr bool kHasTable<PathModelConfig> = true;
+template <>
+constexpr uint32_t kTableSince<PathModelConfig> = 3;
+inline const ParamTable& table_of(const PathModelConfig&) { return path_param_table(); }
+template <class A>
+void structured_fields(A& a, PathModelConfig& c) {
+    a(c.noise.boundaries), a(c.obstacles), a(c.groups), a(c.waypoints), a(c.targets);
+}
 // The energy model: its dataset follows the descriptor (write_model_descriptor).
 template <>
 constexpr bool kHasTable<EnergyModelConfig> = true;
+template <>
+constexpr uint32_t kTableSince<EnergyModelConfig> = 3;
 inline const ParamTable& table_of(const EnergyModelConfig&) { return energy_param_table(); }
 template <class A>
 void structured_fields(A& a, EnergyModelConfig& c) {
@@ -199,6 +225,7 @@ void write_table_params(ByteWriter& w, const ParamTable& t, void* config) {
             switch (p.type) {
                 case ParamType::Float:
                 case ParamType::Vec3: w.f32(float(p.get(config, a))); break;
+                case ParamType::Double: w.f64(p.get(config, a)); break;
                 case ParamType::UInt32:
                 case ParamType::UInt3: w.u32(uint32_t(p.get(config, a))); break;
                 case ParamType::UInt64: w.u64(*static_cast<uint64_t*>(p.field(config))); break;
@@ -230,6 +257,7 @@ void read_table_params(ByteReader& r, const ParamTable& t, void* config) {
             switch (p->type) {
                 case ParamType::Float:
                 case ParamType::Vec3: p->set(config, r.f32(), a); break;
+                case ParamType::Double: p->set(config, r.f64(), a); break;
                 case ParamType::UInt32:
                 case ParamType::UInt3: p->set(config, r.u32(), a); break;
                 case ParamType::UInt64: *static_cast<uint64_t*>(p->field(config)) = r.u64(); break;
@@ -263,8 +291,8 @@ void check_mesh(const TriangleMesh& m, ByteReader& r) {
                 r.bad("a mesh triangle names vertex " + std::to_string(i) + " of " + std::to_string(m.vertices.size()));
 }
 
-// The fields of a config: its table's rows and its structured fields (MODL
-// v2), or every field in fields() order.
+// The fields of a config: its table's rows and its structured fields (from
+// MODL version kTableSince<Config>), or every field in fields() order.
 template <class Config>
 void write_config(ByteWriter& out, const Config& c) {
     Save s{out};
@@ -280,13 +308,13 @@ template <class Config>
 void read_config(ByteReader& in, Config& c, uint32_t version) {
     Load l{in};
     if constexpr (kHasTable<Config>) {
-        if (version >= 2) {
+        if (version >= kTableSince<Config>) {
             read_table_params(in, table_of(c), &c);
             structured_fields(l, c);
             return;
         }
     }
-    l(c);  // version 1, or a model without a table: every field in fields() order
+    l(c);  // before its table, or a model without a table: every field in fields() order
 }
 
 template <class Config>
@@ -378,8 +406,9 @@ static_assert(sizeof(NoiseConfig) == 112, "NoiseConfig changed: update fields(No
 // FieldModelConfig has a parameter table: MODL v2 writes its rows by key
 // (tests/test_params.cpp checks every row round-trips); fields() keeps the
 // version 1 layout for reading older files.
-static_assert(sizeof(PathModelConfig) == 328 && sizeof(PathTarget) == 20 && sizeof(PathLamp) == 36, "PathModelConfig changed: update its checkpoint fields()");
-static_assert(sizeof(ForceModelConfig) == 328, "ForceModelConfig changed: update its checkpoint fields()");
+// PathModelConfig too; its targets are structured fields (fields() below).
+static_assert(sizeof(PathTarget) == 20, "PathTarget changed: update its checkpoint fields()");
+// ForceModelConfig too (its table's rows by key, then structured_fields).
 static_assert(sizeof(PolicyModelConfig) == 128 && sizeof(RlObstacleBox) == 24, "PolicyModelConfig changed: update its checkpoint fields()");
 // EnergyModelConfig has a parameter table too (MODL v2, as FieldModelConfig).
 static_assert(sizeof(Boundary) == 48 && sizeof(Goal) == 32 && sizeof(Stimulus) == 32 && sizeof(EnergyWeights) == 32,

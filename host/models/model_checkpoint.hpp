@@ -19,8 +19,9 @@ namespace swarmcl {
 
 // Version of the MODL section this code writes (and the newest it reads).
 // 2: a model with a parameter table writes its rows by key, then its
-// structured fields; 1 (still read): every field in fields() order.
-constexpr uint32_t kModelSectionVersion = 2;
+// structured fields (the field model); 3: the force and path models too;
+// 1 (still read): every field in fields() order.
+constexpr uint32_t kModelSectionVersion = 3;
 
 // A decoded model section: the spec, and for the energy model its dataset
 // (the spec's source fields are not used).

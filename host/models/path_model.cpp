@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "params/param_block.hpp"
 #include "swarm/swarm.hpp"
 
 namespace swarmcl {
@@ -24,12 +25,10 @@ PathModel::PathModel(Swarm& swarm, PathModelConfig config)
       domain_min_(swarm.config().domain_min), domain_max_(swarm.config().domain_max) {
     const auto t0 = std::chrono::steady_clock::now();
     auto& c = config_;
-    require(std::isfinite(c.speed) && c.speed >= 0.0f, "path model speed (s0) must be a finite number >= 0");
-    require(std::isfinite(c.goal_falloff) && c.goal_falloff >= 0.0f, "path model goal_falloff must be a finite number >= 0");
-    require(std::isfinite(c.min_distance) && c.min_distance >= 0.0f,
-            "path model min_distance must be a finite number >= 0 (0: off)");
+    // Each parameter's range: path_param_table() ("path model speed = -1 is
+    // outside [0, inf) (m/s)"); what one row cannot say follows.
+    path_param_table().validate(&c);
     require(!c.groups.empty() && c.groups.size() <= 64, "path model needs 1 to 64 groups, each with its goals");
-    require(c.waypoints.empty() || c.waypoint_every > 0, "path model waypoint_every must be >= 1");
     for (const auto& w : c.waypoints)
         require(std::isfinite(w[0]) && std::isfinite(w[1]) && std::isfinite(w[2]), "path model waypoints must be finite");
     if (!c.has_grid_box) {
@@ -83,6 +82,7 @@ PathModel::PathModel(Swarm& swarm, PathModelConfig config)
         upload_directions(g);
     }
     local_ = build_local(c.targets);
+    upload_params();
     ctx_.queue().finish();
     preprocess_seconds_ = seconds_since(t0);
 }
@@ -141,6 +141,8 @@ PathModel::LocalField PathModel::build_local(const std::vector<PathTarget>& targ
         // The procedural curl path of noise_field.cl with every boundary, no wide kernels.
         defines = "-DNOISE_KIND=0 -DNOISE_TIMED=" + std::string(nc.time_scale > 0 ? "1" : "0") + " -DPATH_MESH=1";
     }
+    // The parameter block's slots (PATH_SPEED, ...), for every kernel of path_model.cl.
+    defines += path_param_table().device_defines("PATH");
     if (mesh_noise_ && config_.noise.baked) {
         // The noise's bake grid over its region (NoiseField's bake), with the mesh.
         const BakeGrid g = bake_grid(out.noise->config());
@@ -273,20 +275,14 @@ uint32_t PathModel::add_target(const PathTarget& target) {
 void PathModel::set_lamp(const PathLamp& lamp) {
     if (!lamp.enabled) {
         config_.lamp.enabled = false;
+        upload_params();
         return;
     }
-    const auto finite3 = [](const std::array<float, 3>& v) {
-        return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
-    };
-    require(finite3(lamp.center), "path model lamp: center must be finite");
-    require(std::isfinite(lamp.radius) && lamp.radius > 0.0f, "path model lamp: radius must be a finite number > 0");
-    require(std::isfinite(lamp.probability) && lamp.probability >= 0.0f && lamp.probability <= 1.0f,
-            "path model lamp: probability must be in [0, 1]");
-    require(std::isfinite(lamp.speed) && lamp.speed >= 0.0f, "path model lamp: speed must be a finite number >= 0");
-    require(std::isfinite(lamp.angle) && lamp.angle >= 0.0f && lamp.angle <= 1.5707964f,
-            "path model lamp: angle must be in [0, pi/2] rad");
-    require(std::isfinite(lamp.keep_out) && lamp.keep_out > 0.0f,
-            "path model lamp: keep_out must be a finite number > 0");
+    {  // the lamp's rows of the table ("path model lamp.radius = 0 is outside (0, inf) (m)")
+        PathModelConfig with;
+        with.lamp = lamp;
+        path_param_table().validate(&with, "lamp.");
+    }
     const auto top = grid_.max_corner();
     for (int a = 0; a < 3; ++a)
         require(lamp.center[a] > grid_.origin[a] && lamp.center[a] < top[a],
@@ -312,6 +308,14 @@ void PathModel::set_lamp(const PathLamp& lamp) {
     require(free, "path model lamp: no free space around it (every cell within " + std::to_string(outer) +
                       " m of its centre is inside an obstacle)");
     config_.lamp = lamp;
+    upload_params();
+}
+
+void PathModel::upload_params() {
+    // The lamp changes at run time; the constructor's first upload comes
+    // after its set_lamp.
+    if (!local_.noise) return;
+    params_ = upload_param_block(ctx_, path_param_table(), &config_);
 }
 
 void PathModel::advance(Swarm& swarm, uint64_t step) {
@@ -335,7 +339,7 @@ void PathModel::advance(Swarm& swarm, uint64_t step) {
     advance_.setArg(i++, grid_origin_arg());
     advance_.setArg(i++, group_end_.get());
     advance_.setArg(i++, cl_uint(config_.groups.size()));
-    advance_.setArg(i++, config_.speed);
+    advance_.setArg(i++, params_.get());  // path_param_table()'s block: s0, the lamp
     advance_.setArg(i++, phi_dev_.get());
     // The ramp compares the cost with A * falloff (cost per metre of free path: A).
     advance_.setArg(i++, config_.goal_falloff > 0.0f ? float(1.0 / (config_.weights.A * config_.goal_falloff)) : 0.0f);
@@ -343,12 +347,10 @@ void PathModel::advance(Swarm& swarm, uint64_t step) {
     advance_.setArg(i++, local_.vl_min);
     advance_.setArg(i++, local_.vl_cell);
     advance_.setArg(i++, local_.vl_dims);
-    // Phototaxis (§7): radius 0 turns the lamp off.
+    // Phototaxis (§7): the lamp's turn (cos, sin of its angle; the rest of
+    // the lamp is in the block).
     const PathLamp& L = config_.lamp;
-    advance_.setArg(i++, cl_float4{{L.center[0], L.center[1], L.center[2], L.enabled ? L.radius : 0.0f}});
-    advance_.setArg(i++, cl_float4{{L.probability, L.speed, std::cos(L.angle), std::sin(L.angle)}});
-    advance_.setArg(i++, L.keep_out);
-    advance_.setArg(i++, cl_ulong(config_.noise.seed));
+    advance_.setArg(i++, cl_float2{{std::cos(L.angle), std::sin(L.angle)}});
     check_arg_count(advance_, i);
     launch(ctx_, advance_, (size_t(n) + local_.width - 1) / local_.width);
     swarm.positions_changed();

@@ -74,6 +74,9 @@ struct PathModelConfig {
     PathLamp lamp;                       // phototaxis (off unless enabled)
 };
 
+// Its parameters, declared once (models/path_params.cpp).
+const ParamTable& path_param_table();
+
 class PathModel : public Behavior {
 public:
     // Preprocesses (signed distance, cost fields); Error(InvalidArgument)
@@ -140,6 +143,7 @@ private:
     // then commits both (an error leaves everything as it was).
     double retarget(std::vector<PathTarget> targets, uint32_t group, const std::vector<PathTarget>& changed);
     void upload_directions(uint32_t group);
+    void upload_params();  // path_param_table()'s device block of config_
 
     PathModelConfig config_;
     Context& ctx_;
@@ -153,6 +157,7 @@ private:
     DeviceBuffer<cl_float4> dirs_;
     DeviceBuffer<cl_float> phi_dev_;
     DeviceBuffer<cl_uint> group_end_;
+    DeviceBuffer<cl_float> params_;  // path_param_table()'s device block
     double preprocess_seconds_ = 0.0;
     uint32_t recomputes_ = 0;
     double recompute_seconds_ = 0.0;

@@ -17,6 +17,8 @@ using json = nlohmann::json;
 // The shortest text that reads back as the same float ("0.4", "1e+30").
 std::string number_text(double v) {
     if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+    // Integers as integers ("4294967295", not "4.2949673e+09").
+    if (v == std::floor(v) && std::fabs(v) < 1e15) return std::to_string(int64_t(v));
     std::ostringstream s;
     s.precision(9);
     s << v;
@@ -55,6 +57,7 @@ const char* param_type_name(ParamType t) {
         case ParamType::Vec3: return "vec3";
         case ParamType::Enum: return "enum";
         case ParamType::UInt3: return "uint3";
+        case ParamType::Double: return "float";
     }
     return "?";
 }
@@ -91,6 +94,7 @@ std::string Param::expectation() const {
         case ParamType::UInt3:
             return "an integer in [" + number_text(lo) + ", " + number_text(integer_hi(*this)) + "] or 3 of them";
         case ParamType::Vec3:
+        case ParamType::Double:
         case ParamType::Float: {
             const std::string what = type == ParamType::Vec3 ? "an array of 3 " : "a ";
             const std::string noun = type == ParamType::Vec3 ? "numbers" : "number";
@@ -109,6 +113,7 @@ double Param::get(void* config, int a) const {
     void* p = field(config);
     switch (type) {
         case ParamType::Float: return *static_cast<float*>(p);
+        case ParamType::Double: return *static_cast<double*>(p);
         case ParamType::UInt32: return *static_cast<uint32_t*>(p);
         case ParamType::UInt64: return double(*static_cast<uint64_t*>(p));
         case ParamType::Bool: return *static_cast<bool*>(p) ? 1.0 : 0.0;
@@ -127,6 +132,7 @@ void Param::set(void* config, double v, int a) const {
     void* p = field(config);
     switch (type) {
         case ParamType::Float: *static_cast<float*>(p) = float(v); break;
+        case ParamType::Double: *static_cast<double*>(p) = v; break;
         case ParamType::UInt32: *static_cast<uint32_t*>(p) = uint32_t(v); break;
         case ParamType::UInt64: *static_cast<uint64_t*>(p) = uint64_t(v); break;
         case ParamType::Bool: *static_cast<bool*>(p) = v != 0.0; break;
@@ -150,6 +156,7 @@ bool Param::valid(double v) const {
         case ParamType::UInt3:
             return v == std::floor(v) && v >= (std::isfinite(lo) ? lo : 0.0) && v <= integer_hi(*this);
         case ParamType::Float:
+        case ParamType::Double:
         case ParamType::Vec3: {
             if (std::fabs(v) > double(std::numeric_limits<float>::max())) return false;
             const float f = float(v);
@@ -167,6 +174,12 @@ const Param* ParamTable::find(const std::string& key) const {
     for (const Param& p : params_)
         if (p.key == key) return &p;
     return nullptr;
+}
+
+Param& ParamTable::row(const std::string& key) {
+    for (Param& p : params_)
+        if (p.key == key) return p;
+    fail(Status::Internal, model_ + " parameter table has no row " + key);
 }
 
 const Param* ParamTable::find_c_field(const std::string& c_field) const {
@@ -194,15 +207,16 @@ void ParamTable::finish_layout(void* defaults) {
     }
 }
 
-void ParamTable::validate(void* config) const {
+void ParamTable::validate(void* config, const std::string& prefix) const {
     for (const Param& p : params_) {
-        if (p.type == ParamType::UInt64) continue;  // every value is valid (seeds)
+        if (p.key.compare(0, prefix.size(), prefix) != 0) continue;
+        if (p.type == ParamType::UInt64 && !std::isfinite(p.hi)) continue;  // every value is valid (seeds)
         for (int a = 0; a < p.components(); ++a) {
             const double v = p.get(config, a);
             if (p.valid(v)) continue;
             std::string name = p.c_field;
             if (p.components() > 1) name += "[" + std::to_string(a) + "]";
-            const bool is_float = p.type == ParamType::Float || p.type == ParamType::Vec3;
+            const bool is_float = p.type == ParamType::Float || p.type == ParamType::Vec3 || p.type == ParamType::Double;
             const std::string value = is_float && std::isfinite(v) ? number_text(shortest(float(v))) : number_text(v);
             fail(Status::InvalidArgument, model_ + " model " + name + " = " + value + " is outside " +
                                               p.range_text() + (p.unit.empty() ? "" : " (" + p.unit + ")"));
@@ -240,7 +254,8 @@ void ParamTable::read_object(const json& j, const std::string& path, const std::
                     break;
                 }
                 case ParamType::UInt64:
-                    if (!v.is_number_unsigned()) bad();
+                    // A finite hi bounds it (keyframe_period); else every value (seeds).
+                    if (!v.is_number_unsigned() || (std::isfinite(p->hi) && double(v.get<uint64_t>()) > p->hi)) bad();
                     *static_cast<uint64_t*>(p->field(config)) = v.get<uint64_t>();
                     break;
                 case ParamType::UInt32:
@@ -274,6 +289,10 @@ void ParamTable::read_object(const json& j, const std::string& path, const std::
                     if (!v.is_number() || !p->valid(v.get<double>())) bad();
                     p->set(config, v.get<double>());
                     break;
+                case ParamType::Double:  // read as a float (see ParamType)
+                    if (!v.is_number() || !p->valid(v.get<double>())) bad();
+                    p->set(config, double(float(v.get<double>())));
+                    break;
             }
             continue;
         }
@@ -298,6 +317,7 @@ void ParamTable::write_device_block(void* config, float* out) const {
             float f = 0.0f;
             switch (p.type) {
                 case ParamType::Float:
+                case ParamType::Double:
                 case ParamType::Vec3:
                 case ParamType::Bool: f = float(p.get(config, a)); break;
                 default: {
@@ -337,7 +357,8 @@ json ParamTable::to_json() const {
         };
         if (p.components() == 3) r["default"] = {value(p.def[0]), value(p.def[1]), value(p.def[2])};
         else r["default"] = value(p.def[0]);
-        if (p.type == ParamType::Float || p.type == ParamType::Vec3 || is_integer(p.type)) {
+        if (p.type == ParamType::Float || p.type == ParamType::Double || p.type == ParamType::Vec3 ||
+            is_integer(p.type)) {
             r["min"] = std::isfinite(p.lo) ? json(p.lo) : json(nullptr);
             r["max"] = std::isfinite(p.hi) ? json(p.hi) : json(nullptr);
             r["min_exclusive"] = p.lo_open;

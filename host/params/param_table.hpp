@@ -23,7 +23,10 @@
 
 namespace swarmcl {
 
-enum class ParamType { Float, UInt32, UInt64, Bool, Vec3, Enum, UInt3 };
+// Double: a float parameter kept in a double field (the path model's cost
+// weights): read from a scenario as a float (as the C descriptor's float
+// field), checkpointed as the double it is; named "float" outside.
+enum class ParamType { Float, UInt32, UInt64, Bool, Vec3, Enum, UInt3, Double };
 
 const char* param_type_name(ParamType t);
 
@@ -89,7 +92,8 @@ public:
 
     // Throws Error(InvalidArgument) naming the first parameter of `config`
     // outside its range: "field model goal_radius = -1 is outside [0, inf) (m)".
-    void validate(void* config) const;
+    // `prefix`: only the rows whose keys start with it ("lamp.").
+    void validate(void* config, const std::string& prefix = "") const;
 
     // Reads every parameter present in the scenario object `model`
     // ("model" at path `path`) into `config`; keys in `handled` (full keys
@@ -124,6 +128,14 @@ public:
         params_.push_back(std::move(p));
         return params_.back();
     }
+    // A row of a member of a struct held by `Config` (the path model's
+    // lamp.radius: PathModelConfig::lamp, PathLamp::radius).
+    template <class Config, class Inner, class T>
+    Param& add(const char* key, ParamType type, Inner Config::*outer, T Inner::*member) {
+        Param& p = add(key, type, outer);
+        p.field = [outer, member](void* c) -> void* { return &((static_cast<Config*>(c)->*outer).*member); };
+        return p;
+    }
     // Every row of `inner` (a table of a struct held by `Config`), its keys
     // under `prefix` ("noise.").
     template <class Config, class Inner>
@@ -137,6 +149,9 @@ public:
             params_.push_back(std::move(p));
         }
     }
+    // The row of `key`, to amend while building (an included row's C field:
+    // the force model's "noise.scale" is its descriptor's "rho").
+    Param& row(const std::string& key);
     // Reads the defaults from a default-constructed config and lays out the
     // device block; the last step of a table's definition.
     template <class Config>

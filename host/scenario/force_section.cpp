@@ -1,11 +1,15 @@
 // "model": {"type": "force"}: the shape-constrained force model
 // (docs/force-model.md).  Its spheres and boxes stay analytic; "cylinder" and
-// "mesh" (an OBJ file) obstacles are meshes as in the path model.
+// "mesh" (an OBJ file) obstacles are meshes as in the path model.  Its
+// parameters are its table's keys (models/force_params.cpp); the legacy noise
+// keys, keyframes and the path's points are read here.
 #include <limits>
+#include <set>
 
 #include <nlohmann/json.hpp>
 
 #include "io/json_object.hpp"
+#include "params/param_table.hpp"
 #include "scenario/model_section.hpp"
 #include "scenario/section_parts.hpp"
 #include "shapes/keyframe_spec.hpp"
@@ -80,29 +84,28 @@ TriangleMesh read_keyframe_mesh(JsonObject& k, const std::string& base_dir) {
     return placed_keyframe_mesh(spec, mesh);
 }
 
-ForceModelConfig read_force_model(JsonObject& o, std::vector<Boundary> obstacles, const std::string& base_dir) {
+// The keys of the model object that the table (models/force_params.cpp) does
+// not read: the type, the legacy noise keys and the structured parts.
+const std::set<std::string> kHandled = {"type",       "eta",        "rho",         "noise_seed", "noise_type",
+                                        "noise_time_scale", "keyframes", "path.points"};
+
+ForceModelConfig read_force_model(const json& model, std::vector<Boundary> obstacles, const std::string& base_dir) {
+    JsonObject o(model, "model", kHandled);
+    o.string("type", "field");
     ForceModelConfig c;
-    c.r_rep = o.positive("r_rep", c.r_rep);
-    c.r_ali = o.positive("r_ali", c.r_ali);
-    c.r_att = o.positive("r_att", c.r_att);
-    c.w_rep = o.non_negative("w_rep", c.w_rep);
-    c.w_ali = o.non_negative("w_ali", c.w_ali);
-    c.w_att = o.non_negative("w_att", c.w_att);
-    c.w_dis = o.non_negative("w_dis", c.w_dis);
-    c.w_con = o.non_negative("w_con", c.w_con);
-    c.omega = o.positive("omega", c.omega);
-    c.neighbor_k = o.positive("neighbor_k", c.neighbor_k);
-    c.distance_scale = o.non_negative("distance_scale", c.distance_scale);
-    c.neighbor_sample = uint32_t(o.integer("neighbor_sample", c.neighbor_sample, 0xFFFFFFFFu));
-    if (o.has("noise")) {
+    if (model.is_object() && model.contains("noise")) {
         // The internal noise term as a noise object (as the field model's):
         // another type than curl gives the papers' baselines (BSwarm-style
         // Gaussian noise, Boids + Perlin / random noise; docs/baselines.md).
-        // Its gain is the noise module's (force units, m/s^2), not eta / rho.
+        // Its gain is the noise module's (force units, m/s^2), not eta / rho,
+        // and it starts from the noise module's defaults, not Table 1's.
         for (const char* key : {"eta", "rho", "noise_seed", "noise_type", "noise_time_scale"})
             if (o.has(key)) bad_json(o.at(key), std::string("give either \"noise\" or ") + key + ", not both");
-        c.noise = read_noise(o.child("noise"), o.at("noise"));
-    } else {
+        c.noise = NoiseConfig{};
+    }
+    // Every parameter of the table present in the object (ranges, unknown keys).
+    force_param_table().read_json(model, "model", &c, kHandled);
+    if (!model.contains("noise")) {
         const float rho = o.positive("rho", c.noise.scale);
         const float eta = o.non_negative("eta", c.noise.gain * c.noise.scale);
         c.noise.scale = rho;
@@ -115,16 +118,6 @@ ForceModelConfig read_force_model(JsonObject& o, std::vector<Boundary> obstacles
         // > 0: the noise field varies in time (4D noise), seconds per noise unit.
         c.noise.time_scale = o.non_negative("noise_time_scale", c.noise.time_scale);
     }
-    c.alpha = float(o.number("alpha", c.alpha, 0.0, 1.0, "in [0, 1]"));
-    c.max_speed = o.positive("max_speed", c.max_speed);
-    c.cruise_speed = o.non_negative("cruise_speed", c.cruise_speed);
-    c.min_distance = o.non_negative("min_distance", c.min_distance);
-    c.min_spacing = o.non_negative("min_spacing", c.min_spacing);
-    const std::string assignment = o.string("assignment", "nearest");
-    if (assignment == "nearest") c.assignment = Assignment::Nearest;
-    else if (assignment == "curve") c.assignment = Assignment::Curve;
-    else bad_json(o.at("assignment"), "expected \"nearest\" or \"curve\"");
-    c.sample_seed = o.integer("sample_seed", c.sample_seed, std::numeric_limits<uint64_t>::max());
     if (o.has("keyframes")) {
         const json& list = o.child("keyframes");
         if (!list.is_array()) bad_json(o.at("keyframes"), "expected an array of {\"frame\", \"shape\" or \"mesh\"}");
@@ -138,10 +131,8 @@ ForceModelConfig read_force_model(JsonObject& o, std::vector<Boundary> obstacles
             k.finish();
         }
     }
-    c.keyframe_period = o.integer("keyframe_period", 0, 0xFFFFFFFFu);
-    if (o.has("path")) {
-        JsonObject p(o.child("path"), o.at("path"));
-        p.allow({"points", "speed", "orient"});
+    if (o.has("path")) {  // "speed" and "orient" are the table's
+        JsonObject p(o.child("path"), o.at("path"), {"speed", "orient"});
         p.require_key("points");
         const json& pts = p.child("points");
         if (!pts.is_array() || pts.size() < 4) bad_json(p.at("points"), "expected at least 4 [x, y, z] control points");
@@ -149,18 +140,12 @@ ForceModelConfig read_force_model(JsonObject& o, std::vector<Boundary> obstacles
             const auto v = JsonObject::to_vec3(pts[i], p.at("points") + "[" + std::to_string(i) + "]");
             c.path.insert(c.path.end(), v.begin(), v.end());
         }
-        c.path_speed = p.non_negative("speed", c.path_speed);
-        c.path_orient = p.boolean("orient", c.path_orient);
-        p.finish();
     }
     for (size_t i = 0; i < obstacles.size(); ++i)
         if (obstacles[i].kind == Boundary::Kind::Plane)
             bad_json("obstacles[" + std::to_string(i) + "]",
                      "the force model takes sphere, box, cylinder and mesh (OBJ file) obstacles");
     c.obstacles = std::move(obstacles);
-    c.obstacle_range = o.positive("obstacle_range", c.obstacle_range);
-    c.mesh_cell = o.non_negative("mesh_cell", c.mesh_cell);  // mesh obstacles' grid (0: obstacle_range / 4)
-    o.finish();
     try {
         validate(c);
     } catch (const Error& e) {
@@ -185,9 +170,7 @@ ModelSpec read_force_section(const SectionInput& in) {
             if (mesh_type) meshes.push_back(read_mesh_obstacle(entry, where, in.base_dir));
             else obstacles.push_back(read_obstacle(entry, where));
         }
-    JsonObject o(in.model, "model");
-    o.string("type", "field");
-    ForceModelConfig c = read_force_model(o, std::move(obstacles), in.base_dir);
+    ForceModelConfig c = read_force_model(in.model, std::move(obstacles), in.base_dir);
     if (!meshes.empty()) {
         c.mesh_obstacles = std::move(meshes);
         try {

@@ -1,10 +1,14 @@
 // "model": {"type": "path"}: the path-field model (docs/path-field.md) with
-// the obstacles as meshes.
+// the obstacles as meshes.  Its parameters are its table's keys
+// (models/path_params.cpp); goals, groups, targets, the moving goal's
+// waypoints and the lamp's angle in degrees are read here.
 #include <cmath>
+#include <set>
 
 #include <nlohmann/json.hpp>
 
 #include "io/json_object.hpp"
+#include "params/param_table.hpp"
 #include "scenario/model_section.hpp"
 #include "scenario/section_parts.hpp"
 
@@ -64,65 +68,36 @@ std::vector<PathTarget> read_targets(const json& j, const std::string& path) {
     return out;
 }
 
-// "lamp": phototaxis (§7); the angle in degrees.
-PathLamp read_lamp(const json& j, const std::string& path) {
-    JsonObject o(j, path);
-    o.allow({"center", "radius", "probability", "speed", "angle_deg", "keep_out"});
-    PathLamp l;
-    l.enabled = true;
-    l.center = o.required_vec3("center");
-    l.radius = o.positive("radius", l.radius);
-    l.probability = float(o.number("probability", l.probability, 0.0, 1.0, "in [0, 1]"));
-    l.speed = o.non_negative("speed", l.speed);
-    l.angle = float(o.number("angle_deg", 0.0, 0.0, 90.0, "in [0, 90]") * 3.14159265358979323846 / 180.0);
-    l.keep_out = o.positive("keep_out", l.keep_out);
-    o.finish();
-    return l;
-}
+// The keys of the model object that the table (models/path_params.cpp) does
+// not read: the type and the structured parts.
+const std::set<std::string> kHandled = {"type",  "goals",   "groups", "targets", "moving_goal.waypoints",
+                                        "lamp.angle_deg"};
 
 }  // namespace
 
 ModelSpec read_path_section(const SectionInput& in) {
-    JsonObject o(in.model, "model");
+    JsonObject o(in.model, "model", kHandled);
     o.string("type", "");
     const json* obstacles = in.obstacles;
     const std::string& base_dir = in.base_dir;
     PathModelConfig c;
-    if (o.has("noise")) c.noise = read_noise(o.child("noise"), "model.noise");
+    // Every parameter of the table present in the object (ranges, unknown
+    // keys; "grid": {"resolution", "min", "max"}, "cost": {"A", "B",
+    // "second_order"}, "lamp": {...}, "moving_goal": {"every"}).
+    path_param_table().read_json(in.model, "model", &c, kHandled);
     if (obstacles)
         for (size_t i = 0; i < obstacles->size(); ++i)
             c.obstacles.push_back(read_mesh_obstacle((*obstacles)[i], "obstacles[" + std::to_string(i) + "]", base_dir));
     if (o.has("grid")) {
-        JsonObject g(o.child("grid"), "model.grid");
-        g.allow({"resolution", "min", "max"});
-        if (g.has("resolution")) {
-            const auto r = JsonObject::to_vec3(g.child("resolution"), g.at("resolution"));
-            for (int a = 0; a < 3; ++a) {
-                if (r[a] < 2 || r[a] > 4096 || r[a] != std::floor(r[a]))
-                    bad_json(g.at("resolution"), "expected 3 integers in [2, 4096]");
-                c.resolution[a] = uint32_t(r[a]);
-            }
-        }
-        if (g.has("min") || g.has("max")) {
+        JsonObject g(o.child("grid"), "model.grid", {"resolution"});
+        if (g.has("min") || g.has("max")) {  // both, min below max
             c.has_grid_box = true;
-            c.grid_min = g.required_vec3("min");
-            c.grid_max = g.required_vec3("max");
+            g.require_key("min");
+            g.require_key("max");
             for (int a = 0; a < 3; ++a)
                 if (!(c.grid_min[a] < c.grid_max[a])) bad_json(g.at("min"), "must be below model.grid.max on every axis");
         }
-        g.finish();
     }
-    if (o.has("cost")) {
-        JsonObject k(o.child("cost"), "model.cost");
-        k.allow({"A", "B", "second_order"});
-        c.weights.A = k.positive("A", float(c.weights.A));
-        c.weights.B = k.non_negative("B", float(c.weights.B));
-        c.second_order = k.boolean("second_order", c.second_order);
-        k.finish();
-    }
-    c.speed = o.non_negative("speed", c.speed);
-    c.goal_falloff = o.non_negative("goal_falloff", c.goal_falloff);
-    c.min_distance = o.non_negative("min_distance", c.min_distance);
     if (o.has("groups")) {
         const json& gs = o.child("groups");
         if (!gs.is_array() || gs.empty() || gs.size() > 64) bad_json("model.groups", "expected an array of 1 to 64 groups");
@@ -145,20 +120,19 @@ ModelSpec read_path_section(const SectionInput& in) {
         c.groups.push_back({0, {}});
     }
     if (o.has("targets")) c.targets = read_targets(o.child("targets"), "model.targets");
-    if (o.has("lamp")) c.lamp = read_lamp(o.child("lamp"), "model.lamp");
-    if (o.has("moving_goal")) {
-        JsonObject m(o.child("moving_goal"), "model.moving_goal");
-        m.allow({"waypoints", "every"});
+    if (o.has("lamp")) {  // phototaxis (§7); the angle in degrees
+        JsonObject l(o.child("lamp"), "model.lamp", {"center", "radius", "probability", "speed", "keep_out"});
+        c.lamp.enabled = true;
+        c.lamp.angle = float(l.number("angle_deg", 0.0, 0.0, 90.0, "in [0, 90]") * 3.14159265358979323846 / 180.0);
+    }
+    if (o.has("moving_goal")) {  // "every" is the table's
+        JsonObject m(o.child("moving_goal"), "model.moving_goal", {"every"});
         m.require_key("waypoints");
         const json& w = m.child("waypoints");
         if (!w.is_array() || w.empty()) bad_json(m.at("waypoints"), "expected a non-empty array of [x, y, z]");
         for (size_t i = 0; i < w.size(); ++i)
             c.waypoints.push_back(JsonObject::to_vec3(w[i], m.at("waypoints") + "[" + std::to_string(i) + "]"));
-        c.waypoint_every = uint32_t(m.integer("every", 60, 0xFFFFFFFFu));
-        if (c.waypoint_every == 0) bad_json(m.at("every"), "expected an integer >= 1");
-        m.finish();
     }
-    o.finish();
     return c;
 }
 

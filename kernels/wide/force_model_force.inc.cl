@@ -19,6 +19,15 @@ __kernel void SWCL_KERNEL(force_model_force)(FM_FORCE_PARAMS) {
     SWCL_BFN(fm_load_xyz)(pos, base, n, &px, &py, &pz);
     SWCL_BFN(fm_load_xyz)(vel, base, n, &ux, &uy, &uz);
     const Grid g = GRID_MAKE();
+    // The parameter block as the arguments they replace: the zone radii and
+    // sigma = omega sqrt(A/N) (Eq. 5); the weights of Eq. 2 and 6; alpha,
+    // w_con and the distance scale (0: 2 sqrt(A/N)).
+    const float4 zones = (float4)(params[FORCE_R_REP], params[FORCE_R_ALI], params[FORCE_R_ATT],
+                                  params[FORCE_OMEGA] * spacing);
+    const float4 weights = (float4)(params[FORCE_W_REP], params[FORCE_W_ALI], params[FORCE_W_ATT], params[FORCE_W_DIS]);
+    const float dscale = params[FORCE_DISTANCE_SCALE] > 0.0f ? params[FORCE_DISTANCE_SCALE] : 2.0f * spacing;
+    const float4 blend = (float4)(params[FORCE_ALPHA], params[FORCE_W_CON], dscale, 0.0f);
+    const uint terms = as_uint(params[FORCE_TERMS]), sample_cap = as_uint(params[FORCE_NEIGHBOR_SAMPLE]);
 
     // §4.1, Eq. 2-3: each neighbour counts in exactly one zone (S = -1, 0, 1
     // below R_rep, below R_ali, up to R_att); each zone's sum is averaged over

@@ -15,7 +15,7 @@
 
 __kernel void SWCL_KERNEL(force_model_repulsion)(__global const float* fine_soa, __global const uint* fine_slot,
                                                  uint n, __global const float4* fine_geo,
-                                                 __global const uint* fine_start, float r_rep,
+                                                 __global const uint* fine_start, __global const float* params,
                                                  __global float4* rep_out) {
     const uint base = get_global_id(0) * SWCL_BW;
     if (base >= n) return;
@@ -26,6 +26,7 @@ __kernel void SWCL_KERNEL(force_model_repulsion)(__global const float* fine_soa,
                   pz = SWCL_BVLOAD(fine_soa + 2 * stride + base);
     const swcl_bu k = (swcl_bu)(base) + SWCL_BLANE_IDS;
     const swcl_bi live = k < n;
+    const float r_rep = params[FORCE_R_REP];  // the parameter block (force_params.cpp)
     const float r_rep2 = r_rep * r_rep;
     // Each lane's row of fine cells (only groups the lanes).
     const swcl_bi row = swcl_bcvt_i(clamp((py - fg.origin.y) * fg.inv_cell, 0.0f, (float)(fg.dims.y - 1))) +

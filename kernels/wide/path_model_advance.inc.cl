@@ -8,13 +8,21 @@
 __kernel void SWCL_KERNEL(path_model_advance)(__global float4* pos, __global float4* vel, __global const uint* ids,
                                               uint n, float dt, float t, uint step, NOISE_PARAMS,
                                               __global const float4* dirs, int4 dims, float4 origin_h,
-                                              __global const uint* group_end, uint ngroups, float s0,
-                                              __global const float* phi, float inv_falloff_cost,
-                                              __global const float4* vl, float4 vl_min, float4 vl_cell,
-                                              int4 vl_dims, float4 lamp, float4 lamp_pull, float lamp_keep,
-                                              ulong seed) {
+                                              __global const uint* group_end, uint ngroups,
+                                              __global const float* params, __global const float* phi,
+                                              float inv_falloff_cost, __global const float4* vl, float4 vl_min,
+                                              float4 vl_cell, int4 vl_dims, float2 lamp_turn) {
     const uint base = get_global_id(0) * SWCL_BW;
     if (base >= n) return;
+    // The model's parameter block (models/path_params.cpp lays it out; the
+    // host defines PATH_<KEY> as each parameter's slot): s0 and the lamp
+    // (lamp.w: its radius, 0 when it is off; lamp_turn: cos, sin of its angle).
+    const float s0 = params[PATH_SPEED];
+    const float4 lamp = (float4)(params[PATH_LAMP_CENTER], params[PATH_LAMP_CENTER + 1], params[PATH_LAMP_CENTER + 2],
+                                 params[PATH_LAMP_ENABLED] != 0.0f ? params[PATH_LAMP_RADIUS] : 0.0f);
+    const float4 lamp_pull = (float4)(params[PATH_LAMP_PROBABILITY], params[PATH_LAMP_SPEED], lamp_turn.x, lamp_turn.y);
+    const float lamp_keep = params[PATH_LAMP_KEEP_OUT];
+    // The lamp's draws are keyed by the noise seed (noise_seed, NOISE_PARAMS).
     swcl_bf px, py, pz;
     SWCL_BFN(path_load_xyz)(pos, base, n, &px, &py, &pz);
     swcl_bf vx, vy, vz;
@@ -43,7 +51,7 @@ __kernel void SWCL_KERNEL(path_model_advance)(__global float4* pos, __global flo
         SWCL_BLANE(vy, k) += kk * d.y;                                                                       \
         SWCL_BLANE(vz, k) += kk * d.z;                                                                       \
         if (lamp.w > 0.0f) {                                                                                 \
-            const float3 pl = path_lamp_pull(lamp, lamp_pull, lamp_keep, seed, agent, step,                  \
+            const float3 pl = path_lamp_pull(lamp, lamp_pull, lamp_keep, noise_seed, agent, step,                 \
                                              (float3)(SWCL_BLANE(px, k), SWCL_BLANE(py, k), SWCL_BLANE(pz, k))); \
             SWCL_BLANE(vx, k) += pl.x;                                                                       \
             SWCL_BLANE(vy, k) += pl.y;                                                                       \

@@ -14,15 +14,32 @@ from swarmcl.fitting import load_ranges
 
 ffi, lib = swarmcl.ffi, swarmcl.lib
 
+# The noise rows a model's C descriptor has no field for (the force model's
+# descriptor gives its noise as eta, rho and noise_seed: rho is the row
+# noise.scale, noise_seed noise.seed, eta = gain * scale is derived).
+_FORCE_NOISE_NOT_IN_C = {"noise." + k for k in ("type", "gain", "time_scale", "boundary_distance", "domain_walls",
+                                                "region_min", "region_max", "baked", "bake_resolution",
+                                                "finite_difference", "fd_step")}
+
 # model -> (its C descriptor, its defaults function, the fields that are
-# structured data rather than parameters: pointers and their counts).
+# structured data rather than parameters: pointers and their counts, derived
+# fields; the table rows the descriptor has no field for).
 DESCRIPTORS = {
     "field": ("swcl_field_model_desc", lib.swcl_field_model_desc_default,
-              {"noise.boundaries", "noise.boundary_count"}),
-    "noise": ("swcl_noise_desc", lib.swcl_noise_desc_default, {"boundaries", "boundary_count"}),
+              {"noise.boundaries", "noise.boundary_count"}, set()),
+    "noise": ("swcl_noise_desc", lib.swcl_noise_desc_default, {"boundaries", "boundary_count"}, set()),
+    "force": ("swcl_force_model_desc", lib.swcl_force_model_desc_default,
+              {"keyframes", "keyframe_count", "path", "path_point_count", "obstacles", "obstacle_count",
+               "mesh_obstacles", "mesh_obstacle_count", "eta"},
+              _FORCE_NOISE_NOT_IN_C | {"terms"}),
+    "path": ("swcl_path_model_desc", lib.swcl_path_model_desc_default,
+             {"noise.boundaries", "noise.boundary_count", "obstacles", "obstacle_count", "goals", "goal_count",
+              "groups", "group_count"},
+             {"has_grid_box", "waypoint_every"} | {"lamp." + k for k in ("enabled", "center", "radius", "probability",
+                                                                       "speed", "angle", "keep_out")}),
     "energy": ("swcl_energy_model_desc", lib.swcl_energy_model_desc_default,
                {"noise.boundaries", "noise.boundary_count", "stimuli", "stimulus_count", "keypoints",
-                "keypoint_count"}),
+                "keypoint_count"}, set()),
 }
 
 
@@ -30,7 +47,8 @@ def c_fields(ctype, prefix=""):
     """(dotted name, cffi type) of every field of a C struct, nested structs
     walked into; struct_size left out."""
     out = []
-    for name, f in (ffi.typeof(ctype) if isinstance(ctype, str) else ctype).fields:
+    # A nested struct's type is a CType already (ffi.typeof refuses one).
+    for name, f in (ctype if isinstance(ctype, ffi.CType) else ffi.typeof(ctype)).fields:
         if name == "struct_size":
             continue
         if f.type.kind == "struct":
@@ -61,15 +79,17 @@ def as_table_value(row, v, ctype):
 
 @pytest.mark.parametrize("model", sorted(DESCRIPTORS))
 def test_every_descriptor_field_is_a_row_with_the_same_default(model):
-    ctype, default_fn, structured = DESCRIPTORS[model]
+    ctype, default_fn, structured, not_in_c = DESCRIPTORS[model]
     rows = {r["c_field"]: r for r in swarmcl.model_parameters(model)}
     desc = default_fn()
     fields = dict(c_fields(ctype))
     missing = [n for n in fields if n not in rows and n not in structured]
     assert not missing, f"{ctype} fields without a row in the {model} table: {missing}"
-    extra = [n for n in rows if n not in fields]
+    extra = [n for n in rows if n not in fields and n not in not_in_c]
     assert not extra, f"{model} table rows without a {ctype} field: {extra}"
     for name, row in rows.items():
+        if name in not_in_c:
+            continue
         have = as_table_value(row, c_value(desc, name), fields[name])
         want = row["default"]
         if row["type"] in ("float", "vec3"):
@@ -105,6 +125,40 @@ def test_a_bad_value_from_python_names_the_parameter_and_range(ctx):
     s = swarmcl.Swarm(ctx, agent_count=10, seed=1)
     with pytest.raises(swarmcl.InvalidArgumentError, match=r"goal_radius = -1 is outside \[0, inf\)"):
         s.set_field_model(swarmcl.FieldModel(goal=(0, 0, 0), goal_radius=-1.0))
+
+
+def test_force_model_class_is_built_from_the_table():
+    rows = {r["c_field"]: r for r in swarmcl.model_parameters("force")}
+    m = swarmcl.ForceModel()
+    for name in ("r_rep", "w_att", "alpha", "max_speed", "rho", "obstacle_range", "path_speed"):
+        assert np.float32(getattr(m, name)) == np.float32(rows[name]["default"]), name
+        assert rows[name]["doc"] in swarmcl.ForceModel.__doc__
+    assert m.path_orient is True and m.keyframe_period == 0 and m.assignment == "nearest"
+    assert m.eta == pytest.approx(0.125) and not hasattr(m, "terms")
+    p, _ = swarmcl.ForceModel(r_rep=0.5, noise_seed=7, path_orient=False, keyframe_period=9).to_c()
+    assert p.r_rep == 0.5 and p.noise_seed == 7 and p.path_orient == 0 and p.keyframe_period == 9
+    with pytest.raises(TypeError, match="ForceModel.alpha must be a float"):
+        swarmcl.ForceModel(alpha="half").to_c()
+
+
+def test_a_bad_force_value_from_python_names_the_parameter_and_range(ctx):
+    s = swarmcl.Swarm(ctx, agent_count=10, seed=1)
+    with pytest.raises(swarmcl.InvalidArgumentError, match=r"alpha = 1.5 is outside \[0, 1\]"):
+        s.set_force_model(swarmcl.ForceModel(alpha=1.5))
+
+
+def test_path_model_class_is_built_from_the_table():
+    rows = {r["c_field"]: r for r in swarmcl.model_parameters("path")}
+    m = swarmcl.PathModel()
+    for name in ("cost_a", "cost_b", "speed", "goal_falloff", "min_distance"):
+        assert np.float32(getattr(m, name)) == np.float32(rows[name]["default"]), name
+        assert rows[name]["doc"] in swarmcl.PathModel.__doc__
+    assert m.second_order is False and m.grid is None and tuple(m.resolution) == (64, 64, 64)
+    assert not hasattr(m, "waypoint_every") and not hasattr(m, "has_grid_box")
+    p, _ = swarmcl.PathModel(speed=2.5, second_order=True, cost_a=0.5).to_c()
+    assert p.speed == 2.5 and p.second_order == 1 and p.cost_a == 0.5
+    with pytest.raises(TypeError, match="PathModel.speed must be a float"):
+        swarmcl.PathModel(speed="fast").to_c()
 
 
 FIELD_SCENARIO = {"agents": {"count": 10}, "model": {"type": "field", "goal": {"center": [0, 0, 0]}}}

@@ -1,7 +1,7 @@
 """The force model of the shape-constrained flying insects paper
 (docs/force-model.md): ``ForceModel`` mirrors ``swcl_force_model_desc`` (its
-defaults are read from ``swcl_force_model_desc_default()``, Table 1 of the
-paper), ``Keyframe`` mirrors ``swcl_keyframe``.
+scalar fields, defaults and docs come from the library's parameter table,
+``swcl_model_parameters("force")``; Table 1 of the paper), ``Keyframe`` mirrors ``swcl_keyframe``.
 
 >>> model = swarmcl.ForceModel(keyframes=[swarmcl.Keyframe(0, "sphere"),
 ...                                      swarmcl.Keyframe(600, "mammoth")])
@@ -10,13 +10,14 @@ paper), ``Keyframe`` mirrors ``swcl_keyframe``.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, make_dataclass
 from typing import Optional, Sequence, Union
 
 import numpy as np
 
 from ._native import ffi, lib
 from .descriptors import Box, Sphere, Vec3, _boundary_to_c, _f32, _vec3
+from .params import copy_scalars_to_c, parameter_doc, scalar_fields
 from .path import (BoxObstacle, CylinderObstacle, MeshObstacle, ObjObstacle, SphereObstacle,
                    _obstacle_to_c)
 
@@ -87,84 +88,62 @@ def path_to_c(path, keep: list):
     return ffi.cast("const float*", ffi.from_buffer(p)), len(p)
 
 
-@dataclass
-class ForceModel:
-    """swcl_force_model_desc: zone radii and weights (Eq. 2-3), curl noise
-    (eta, rho: Eq. 4), shape forces (Eq. 5-7), the union weight alpha (Eq. 1),
-    speeds, MDE, keyframes, path and obstacles (spheres and boxes, Eq. 8-9).
-    ``assignment``: 'nearest' or 'curve'.  ``path_orient`` (default True):
-    the shape's frame turns with the path (forward +x along the tangent);
-    False: it is translated only.  ``mesh_obstacles``: the path module's
-    obstacles (MeshObstacle, ObjObstacle, BoxObstacle, SphereObstacle,
-    CylinderObstacle), avoided like ``obstacles`` through a signed distance
-    grid of cells ``mesh_cell`` m (0: obstacle_range / 4)."""
-    r_rep: float = _default("r_rep")
-    r_ali: float = _default("r_ali")
-    r_att: float = _default("r_att")
-    w_rep: float = _default("w_rep")
-    w_ali: float = _default("w_ali")
-    w_att: float = _default("w_att")
-    w_dis: float = _default("w_dis")
-    w_con: float = _default("w_con")
-    omega: float = _default("omega")
-    neighbor_k: float = _default("neighbor_k")
-    distance_scale: float = _default("distance_scale")
-    neighbor_sample: int = _default("neighbor_sample")
-    eta: float = _default("eta")
-    rho: float = _default("rho")
-    noise_seed: int = _default("noise_seed")
-    alpha: float = _default("alpha")
-    max_speed: float = _default("max_speed")
-    cruise_speed: float = _default("cruise_speed")
-    min_distance: float = _default("min_distance")
-    min_spacing: float = _default("min_spacing")
-    assignment: str = "nearest"
-    sample_seed: int = _default("sample_seed")
-    keyframes: list = field(default_factory=list)
-    keyframe_period: int = 0
-    path: Optional[np.ndarray] = None
-    path_speed: float = 0.0
-    obstacles: list = field(default_factory=list)
-    obstacle_range: float = _default("obstacle_range")
-    path_orient: bool = field(default_factory=lambda: bool(_DEFAULT.path_orient))
-    mesh_obstacles: list = field(default_factory=list)
-    mesh_cell: float = _default("mesh_cell")
+# The force model's fields: eta (Eq. 4's magnitude: the library keeps
+# gain = eta / rho), the assignment by name, keyframes, path points and
+# obstacles by hand; every other parameter (names, defaults, docs) from the
+# library's table (swcl_model_parameters("force"); rho is its noise.scale,
+# noise_seed its noise.seed).  "terms" is not in the C descriptor.
+_FORCE_STRUCTURED = ("terms",)
 
-    def to_c(self):
-        """A new ``swcl_force_model_desc*`` and the objects it points into."""
-        keep: list = []
-        p = ffi.new("swcl_force_model_desc*", lib.swcl_force_model_desc_default())
-        for name in ("r_rep", "r_ali", "r_att", "w_rep", "w_ali", "w_att", "w_dis", "w_con", "omega",
-                     "neighbor_k", "distance_scale", "eta", "rho", "alpha", "max_speed", "cruise_speed",
-                     "min_distance", "min_spacing", "path_speed", "obstacle_range"):
-            setattr(p, name, float(getattr(self, name)))
-        p.neighbor_sample = int(self.neighbor_sample)
-        p.noise_seed = int(self.noise_seed)
-        p.sample_seed = int(self.sample_seed)
-        if self.assignment not in _ASSIGN:
-            raise ValueError(f"ForceModel.assignment must be 'nearest' or 'curve', got {self.assignment!r}")
-        p.assignment = _ASSIGN[self.assignment]
-        p.keyframes, p.keyframe_count = keyframes_to_c(self.keyframes, keep)
-        p.keyframe_period = int(self.keyframe_period)
-        p.path, p.path_point_count = path_to_c(self.path, keep)
-        obs = ffi.new("swcl_obstacle[]", max(len(self.obstacles), 1))
-        keep.append(obs)
-        for i, b in enumerate(self.obstacles):
-            if not isinstance(b, (Sphere, Box)):
-                raise TypeError(f"ForceModel.obstacles[{i}] must be a Sphere or Box, got {type(b).__name__}")
-            _boundary_to_c(b, obs[i])
-        p.obstacles = obs
-        p.obstacle_count = len(self.obstacles)
-        p.path_orient = 1 if self.path_orient else 0
-        meshes = ffi.new("swcl_obstacle[]", max(len(self.mesh_obstacles), 1))
-        keep.append(meshes)
-        kinds = (MeshObstacle, ObjObstacle, BoxObstacle, SphereObstacle, CylinderObstacle)
-        for i, o in enumerate(self.mesh_obstacles):
-            if not isinstance(o, kinds):
-                raise TypeError(f"ForceModel.mesh_obstacles[{i}] must be a Mesh, Obj, Box, Sphere or "
-                                f"CylinderObstacle, got {type(o).__name__}")
-            _obstacle_to_c(o, meshes[i], keep)
-        p.mesh_obstacles = meshes
-        p.mesh_obstacle_count = len(self.mesh_obstacles)
-        p.mesh_cell = float(self.mesh_cell)
-        return p, keep
+
+def _force_model_to_c(self):
+    """A new ``swcl_force_model_desc*`` and the objects it points into."""
+    keep: list = []
+    p = ffi.new("swcl_force_model_desc*", lib.swcl_force_model_desc_default())
+    copy_scalars_to_c(self, p, "force", _FORCE_STRUCTURED)
+    p.eta = float(self.eta)
+    if self.assignment not in _ASSIGN:
+        raise ValueError(f"ForceModel.assignment must be 'nearest' or 'curve', got {self.assignment!r}")
+    p.assignment = _ASSIGN[self.assignment]
+    p.keyframes, p.keyframe_count = keyframes_to_c(self.keyframes, keep)
+    p.path, p.path_point_count = path_to_c(self.path, keep)
+    obs = ffi.new("swcl_obstacle[]", max(len(self.obstacles), 1))
+    keep.append(obs)
+    for i, b in enumerate(self.obstacles):
+        if not isinstance(b, (Sphere, Box)):
+            raise TypeError(f"ForceModel.obstacles[{i}] must be a Sphere or Box, got {type(b).__name__}")
+        _boundary_to_c(b, obs[i])
+    p.obstacles = obs
+    p.obstacle_count = len(self.obstacles)
+    meshes = ffi.new("swcl_obstacle[]", max(len(self.mesh_obstacles), 1))
+    keep.append(meshes)
+    kinds = (MeshObstacle, ObjObstacle, BoxObstacle, SphereObstacle, CylinderObstacle)
+    for i, o in enumerate(self.mesh_obstacles):
+        if not isinstance(o, kinds):
+            raise TypeError(f"ForceModel.mesh_obstacles[{i}] must be a Mesh, Obj, Box, Sphere or "
+                            f"CylinderObstacle, got {type(o).__name__}")
+        _obstacle_to_c(o, meshes[i], keep)
+    p.mesh_obstacles = meshes
+    p.mesh_obstacle_count = len(self.mesh_obstacles)
+    return p, keep
+
+
+ForceModel = make_dataclass(
+    "ForceModel",
+    scalar_fields("force", _FORCE_STRUCTURED)
+    + [("eta", float, _default("eta")),
+       ("assignment", str, field(default="nearest")),
+       ("keyframes", list, field(default_factory=list)),
+       ("path", Optional[np.ndarray], field(default=None)),
+       ("obstacles", list, field(default_factory=list)),
+       ("mesh_obstacles", list, field(default_factory=list))],
+    namespace={"to_c": _force_model_to_c, "__module__": __name__})
+ForceModel.__doc__ = (
+    "swcl_force_model_desc: zone radii and weights (Eq. 2-3), curl noise\n"
+    "(eta, rho: Eq. 4), shape forces (Eq. 5-7), the union weight alpha (Eq. 1),\n"
+    "speeds, MDE, keyframes, path and obstacles (spheres and boxes, Eq. 8-9).\n"
+    "``assignment``: 'nearest' or 'curve'.  ``mesh_obstacles``: the path module's\n"
+    "obstacles (MeshObstacle, ObjObstacle, BoxObstacle, SphereObstacle,\n"
+    "CylinderObstacle), avoided like ``obstacles`` through a signed distance grid.\n"
+    "``eta``: Eq. 4's noise magnitude (m/s^2; the library's noise gain is eta / rho).\n"
+    "Defaults are the library's (swcl_model_parameters('force')):\n" + parameter_doc("force", _FORCE_STRUCTURED))

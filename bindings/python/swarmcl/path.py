@@ -1,16 +1,18 @@
 """The path model (swcl_path_model_desc, docs/path-field.md): obstacle meshes,
-goals, groups, and the descriptor whose defaults come from
-swcl_path_model_desc_default() (the curl-noise paper's values)."""
+goals, groups, and the descriptor: its scalar fields, defaults and docs from
+the library's parameter table (swcl_model_parameters("path")), the noise and
+resolution from swcl_path_model_desc_default() (the curl-noise paper's values)."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, make_dataclass
 from typing import List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from ._native import ffi, lib
 from .descriptors import NoiseDesc, Vec3, _f32, _vec3
+from .params import copy_scalars_to_c, parameter_doc, scalar_fields
 
 __all__ = ["Goal", "MeshObstacle", "ObjObstacle", "BoxObstacle", "SphereObstacle", "CylinderObstacle",
            "PathGroup", "PathModel", "PathInfo", "PathTarget", "Lamp"]
@@ -124,49 +126,55 @@ class PathGroup:
     goals: List[Goal]
 
 
-@dataclass
-class PathModel:
-    """swcl_path_model_desc: noise + obstacles + goals (one group) or groups."""
-    goals: List[Goal] = field(default_factory=list)
-    groups: List[PathGroup] = field(default_factory=list)
-    obstacles: List[Obstacle] = field(default_factory=list)
-    noise: NoiseDesc = field(default_factory=lambda: NoiseDesc._from_c(_DEFAULT.noise))
-    grid: Optional[Tuple[Vec3, Vec3]] = None     # None: the swarm's domain
-    resolution: Tuple[int, int, int] = tuple(int(r) for r in _DEFAULT.resolution)
-    cost_a: float = _f32(_DEFAULT.cost_a)
-    cost_b: float = _f32(_DEFAULT.cost_b)
-    second_order: bool = bool(_DEFAULT.second_order)
-    speed: float = _f32(_DEFAULT.speed)
-    goal_falloff: float = _f32(_DEFAULT.goal_falloff)
-    min_distance: float = _f32(_DEFAULT.min_distance)
+def _path_model_to_c(self):
+    """A new ``swcl_path_model_desc*`` and the objects it points into."""
+    keep: list = []
+    p = ffi.new("swcl_path_model_desc*", lib.swcl_path_model_desc_default())
+    noise = self.noise if self.noise is not None else NoiseDesc()
+    noise._to_c(p.noise, keep)
+    if self.obstacles:
+        arr = ffi.new("swcl_obstacle[]", len(self.obstacles))
+        for k, o in enumerate(self.obstacles):
+            _obstacle_to_c(o, arr[k], keep)
+        keep.append(arr)
+        p.obstacles, p.obstacle_count = arr, len(self.obstacles)
+    if self.grid is not None:
+        p.grid_min = _vec3(self.grid[0], "PathModel.grid[0]")
+        p.grid_max = _vec3(self.grid[1], "PathModel.grid[1]")
+    p.resolution = tuple(int(r) for r in self.resolution)
+    copy_scalars_to_c(self, p, "path", _PATH_STRUCTURED)
+    p.goals, p.goal_count = _goals_to_c(self.goals, keep)
+    if self.groups:
+        arr = ffi.new("swcl_path_group[]", len(self.groups))
+        for k, g in enumerate(self.groups):
+            arr[k].agents = int(g.agents)
+            arr[k].goals, arr[k].goal_count = _goals_to_c(g.goals, keep)
+        keep.append(arr)
+        p.groups, p.group_count = arr, len(self.groups)
+    return p, keep
 
-    def to_c(self):
-        keep: list = []
-        p = ffi.new("swcl_path_model_desc*", lib.swcl_path_model_desc_default())
-        noise = self.noise if self.noise is not None else NoiseDesc()
-        noise._to_c(p.noise, keep)
-        if self.obstacles:
-            arr = ffi.new("swcl_obstacle[]", len(self.obstacles))
-            for k, o in enumerate(self.obstacles):
-                _obstacle_to_c(o, arr[k], keep)
-            keep.append(arr)
-            p.obstacles, p.obstacle_count = arr, len(self.obstacles)
-        if self.grid is not None:
-            p.grid_min = _vec3(self.grid[0], "PathModel.grid[0]")
-            p.grid_max = _vec3(self.grid[1], "PathModel.grid[1]")
-        p.resolution = tuple(int(r) for r in self.resolution)
-        p.cost_a, p.cost_b = self.cost_a, self.cost_b
-        p.second_order = 1 if self.second_order else 0
-        p.speed, p.goal_falloff, p.min_distance = self.speed, self.goal_falloff, self.min_distance
-        p.goals, p.goal_count = _goals_to_c(self.goals, keep)
-        if self.groups:
-            arr = ffi.new("swcl_path_group[]", len(self.groups))
-            for k, g in enumerate(self.groups):
-                arr[k].agents = int(g.agents)
-                arr[k].goals, arr[k].goal_count = _goals_to_c(g.goals, keep)
-            keep.append(arr)
-            p.groups, p.group_count = arr, len(self.groups)
-        return p, keep
+
+# The path model's fields: goals, groups, obstacles, the noise, the grid box
+# (None or (min, max)) and its resolution by hand; the scalar parameters
+# (cost_a, cost_b, second_order, speed, goal_falloff, min_distance: names,
+# defaults, docs) from the library's table (swcl_model_parameters("path")).
+# has_grid_box and waypoint_every are not in the C descriptor (the lamp's and
+# targets' rows are set through Swarm.set_path_lamp / targets).
+_PATH_STRUCTURED = ("has_grid_box", "waypoint_every")
+PathModel = make_dataclass(
+    "PathModel",
+    [("goals", List[Goal], field(default_factory=list)),
+     ("groups", List[PathGroup], field(default_factory=list)),
+     ("obstacles", List[Obstacle], field(default_factory=list)),
+     ("noise", NoiseDesc, field(default_factory=lambda: NoiseDesc._from_c(_DEFAULT.noise))),
+     ("grid", Optional[Tuple[Vec3, Vec3]], field(default=None)),  # None: the swarm's domain
+     ("resolution", Tuple[int, int, int], field(default=tuple(int(r) for r in _DEFAULT.resolution)))]
+    + scalar_fields("path", _PATH_STRUCTURED),
+    namespace={"to_c": _path_model_to_c, "__module__": __name__})
+PathModel.__doc__ = (
+    "swcl_path_model_desc: noise + obstacles + goals (one group) or groups; ``grid``: None (the\n"
+    "swarm's domain) or (min, max); ``resolution``: cells per axis at most.\n"
+    "Defaults are the library's (swcl_model_parameters('path')):\n" + parameter_doc("path", _PATH_STRUCTURED))
 
 
 @dataclass(frozen=True)
