@@ -150,9 +150,11 @@ SWCL_INLINE bool po_rows_w(const Grid* g, float4 p, float r, int y, int z, int* 
 
 // ---- Eq. 2: the actions applied (rl_agents_step on the swarm's layout) -------
 __kernel void policy_apply(__global float4* pos, __global float4* vel, __global const float* actions, uint n,
-                           __global const float4* lst_before, float du_max, float dq_max, float u_max, float dt) {
+                           __global const float4* lst_before, __global const float* params, float dq_max, float dt) {
     const uint s = get_global_id(0);
     if (s >= n) return;
+    // du_max and u_max from the model's block; dq_max in radians from the host.
+    const float du_max = params[POLICY_DU_MAX], u_max = params[POLICY_U_MAX];
     const float3 p = pos[s].xyz;
     const float4 qu = policy_qu(vel[s], p, lst_before[0].xyz);
     const float du = clamp(actions[4 * s], -du_max, du_max);

@@ -21,6 +21,7 @@
 #include "models/field_model.hpp"
 #include "models/force_model.hpp"
 #include "models/path_model.hpp"
+#include "models/policy_model.hpp"
 #include "models/model_checkpoint.hpp"
 #include "models/swarm_checkpoint.hpp"
 #include "params/param_table.hpp"
@@ -334,6 +335,7 @@ double other_value(const Param& p, int a) {
 template <class Config>
 Config& spec_config(ModelSpec& spec) {
     if constexpr (std::is_same_v<Config, EnergyModelConfig>) return std::get<EnergySpec>(spec).config;
+    else if constexpr (std::is_same_v<Config, PolicyModelConfig>) return std::get<PolicySpec>(spec).config;
     else return std::get<Config>(spec);
 }
 
@@ -362,6 +364,48 @@ TEST(ParamTable, EveryParameterIsInTheCheckpoint) {
     expect_every_row_round_trips<ForceModelConfig>(force_param_table());
     expect_every_row_round_trips<PathModelConfig>(path_param_table());
     expect_every_row_round_trips<EnergyModelConfig>(energy_param_table(), synthetic_dataset(DatasetOptions{}));
+    expect_every_row_round_trips<PolicyModelConfig>(policy_param_table(), std::string("weights"));
+}
+
+// The policy model's checks are the ones it shares with the RL environment
+// (rl/leader_follow_params); its table states the same ranges: a value just
+// outside a row's range is refused, naming the row's field, and the
+// defaults pass.
+TEST(PolicyParams, TheTablesRangesAreTheSharedValidations) {
+    const ParamTable& t = policy_param_table();
+    validate(PolicyModelConfig{});
+    int checked = 0;
+    for (const Param& p : t.params()) {
+        if (p.type != ParamType::Float || !std::isfinite(p.lo)) continue;
+        PolicyModelConfig c;
+        p.set(&c, p.lo_open ? p.lo : std::nextafter(float(p.lo), -1.0f));
+        try {
+            validate(c);
+            ADD_FAILURE() << p.key << " = just outside " << p.range_text() << " was accepted";
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find(p.c_field), std::string::npos) << p.key << ": " << e.what();
+        }
+        ++checked;
+    }
+    EXPECT_EQ(checked, 12);
+    // Scenario keys come from the table: the leader's object included.
+    const Scenario s = parse_scenario(R"({"agents": {"count": 4}, "model": {"type": "policy", "weights": "w.safetensors",
+        "r_coh": 20, "u_max": 2.5, "leader": {"mode": "tour", "speed": 0.7, "reach_radius": 3,
+        "waypoints": [[1, 0, 0, 1], [0, 1, 0, 1]]}}})");
+    const PolicyModelConfig& c = std::get<PolicySpec>(s.model).config;
+    EXPECT_EQ(c.r_coh, 20.0f);
+    EXPECT_EQ(c.u_max, 2.5f);
+    EXPECT_EQ(c.leader_mode, PolicyLeaderMode::Tour);
+    EXPECT_EQ(c.leader_speed, 0.7f);
+    EXPECT_EQ(c.reach_radius, 3.0f);
+    EXPECT_EQ(c.waypoints.size(), 2u);
+    try {
+        parse_scenario(R"({"agents": {"count": 4}, "model": {"type": "policy", "weights": "w", "leader": {"sped": 1}}})");
+        ADD_FAILURE() << "parsed";
+    } catch (const Error& e) {
+        EXPECT_EQ(std::string(e.what()).rfind("model.leader.sped: unknown key; the policy model's parameters: ", 0), 0u)
+            << e.what();
+    }
 }
 
 // The energy model's table (models/energy_params.cpp): its scenario keys read
@@ -563,7 +607,11 @@ TEST(EnergyParams, VersionOneCheckpointsStillRead) {
 TEST(ParamTable, AVersion1FieldCheckpointStillLoads) {
     std::ifstream in(std::string(SWARMCL_SOURCE_DIR) + "/bench/fuzz/corpus/checkpoint/aggregation", std::ios::binary);
     ASSERT_TRUE(in);
-    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    // The fuzz seed's first byte tells the fuzz target whether to check the
+    // CRC (bench/fuzz/make_seeds.cpp); the checkpoint follows.
+    const std::string seed((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_GT(seed.size(), 1u);
+    const std::string bytes = seed.substr(1);
     const auto sections = parse_checkpoint(bytes);
     bool v1 = false;
     for (const auto& sec : sections) v1 = v1 || (sec.tag == section_tag("MODL") && sec.version == 1);

@@ -211,6 +211,16 @@ template <class A>
 void structured_fields(A& a, EnergyModelConfig& c) {
     a(c.noise.boundaries), a(c.stimuli), a(c.keypoints), a(c.exact_attraction);
 }
+// The policy model: its weights file follows the descriptor.
+template <>
+constexpr bool kHasTable<PolicyModelConfig> = true;
+template <>
+constexpr uint32_t kTableSince<PolicyModelConfig> = 3;
+inline const ParamTable& table_of(const PolicyModelConfig&) { return policy_param_table(); }
+template <class A>
+void structured_fields(A& a, PolicyModelConfig& c) {
+    a(c.waypoints), a(c.obstacles);
+}
 
 namespace {
 
@@ -333,7 +343,6 @@ CheckpointModel read_alternative(const std::string& name, ByteReader& in, uint32
         using Config = std::variant_alternative_t<I, ModelSpec>;
         if (name != ModelTraits<Config>::name) return read_alternative<I + 1>(name, in, version);
         CheckpointModel m;
-        Load l{in};
         if constexpr (std::is_same_v<Config, Ballistic>) {
             m.spec = Ballistic{};
         } else if constexpr (std::is_same_v<Config, EnergySpec>) {
@@ -348,7 +357,7 @@ CheckpointModel read_alternative(const std::string& name, ByteReader& in, uint32
             m.spec = std::move(e);
         } else if constexpr (std::is_same_v<Config, PolicySpec>) {
             PolicySpec p;
-            l(p.config);
+            read_config(in, p.config, version);
             p.weights_bytes = std::make_shared<const std::string>(in.string());
             m.spec = std::move(p);
         } else {
@@ -372,8 +381,7 @@ void write_model_descriptor(ByteWriter& out, const EnergyModelConfig& c, const D
 }
 void write_model_descriptor(ByteWriter& out, const PolicyModelConfig& c, const std::string& weights) {
     out.string(ModelTraits<PolicySpec>::name);
-    Save s{out};
-    s(c);
+    write_config(out, c);
     out.string(weights);
 }
 void write_ballistic_descriptor(ByteWriter& out) { out.string(ModelTraits<Ballistic>::name); }
@@ -409,7 +417,8 @@ static_assert(sizeof(NoiseConfig) == 112, "NoiseConfig changed: update fields(No
 // PathModelConfig too; its targets are structured fields (fields() below).
 static_assert(sizeof(PathTarget) == 20, "PathTarget changed: update its checkpoint fields()");
 // ForceModelConfig too (its table's rows by key, then structured_fields).
-static_assert(sizeof(PolicyModelConfig) == 128 && sizeof(RlObstacleBox) == 24, "PolicyModelConfig changed: update its checkpoint fields()");
+// PolicyModelConfig too (from MODL v3); its obstacle boxes are structured.
+static_assert(sizeof(RlObstacleBox) == 24, "RlObstacleBox changed: update its checkpoint fields()");
 // EnergyModelConfig has a parameter table too (MODL v2, as FieldModelConfig).
 static_assert(sizeof(Boundary) == 48 && sizeof(Goal) == 32 && sizeof(Stimulus) == 32 && sizeof(EnergyWeights) == 32,
               "an obstacle, goal or stimulus struct changed: update its checkpoint fields()");

@@ -7,6 +7,7 @@
 #include "core/error.hpp"
 #include "fields/noise_field.hpp"
 #include "models/model_descriptor.hpp"
+#include "params/param_block.hpp"
 #include "rl/leader_follow_params.hpp"
 #include "swarm/swarm.hpp"
 
@@ -143,13 +144,16 @@ PolicyModel::PolicyModel(Swarm& swarm, PolicyModelConfig config, std::shared_ptr
     if (env && (std::string(env) == "1" || std::string(env) == "8" || std::string(env) == "16"))
         lanes_ = uint32_t(std::stoul(env));
     if (const uint32_t w = kernel_width_override()) lanes_ = w;
-    const std::string lanes_define = "-DPM_W=" + std::to_string(lanes_);
+    // Every build of policy.cl names the parameter block's slots (POLICY_*).
+    const std::string slots = policy_param_table().device_defines("POLICY");
+    const std::string lanes_define = "-DPM_W=" + std::to_string(lanes_) + slots;
     // With lanes, the observations too come PM_W agents per work-item.
     observe_k_ = lanes_ > 1 ? ctx.kernel("policy.cl", "policy_observe_w", lanes_define)
-                            : ctx.kernel("policy.cl", "policy_observe");
+                            : ctx.kernel("policy.cl", "policy_observe", slots);
     mlp_k_ = ctx.kernel("policy.cl", "policy_mlp", lanes_define);
-    apply_k_ = ctx.kernel("policy.cl", "policy_apply");
-    copy_k_ = ctx.kernel("policy.cl", "policy_leader_copy");
+    apply_k_ = ctx.kernel("policy.cl", "policy_apply", slots);
+    copy_k_ = ctx.kernel("policy.cl", "policy_leader_copy", slots);
+    block_ = upload_param_block(ctx, policy_param_table(), &config_);
     leader_k_ = ctx.kernel("rl_env.cl", "rl_leader_step");
     set_args(copy_k_, lpos_.get(), lvel_.get(), lst_.get());
     launch(ctx, copy_k_, 1);
@@ -181,9 +185,8 @@ void PolicyModel::enqueue_observe(Swarm& swarm) {
     i = swarm.grid().set_grid_args(observe_k_, i);
     observe_k_.setArg(i++, lst_.get());
     observe_k_.setArg(i++, search);
-    observe_k_.setArg(i++, c.r_coh);
+    observe_k_.setArg(i++, block_.get());
     observe_k_.setArg(i++, r_nbr);
-    observe_k_.setArg(i++, c.body_radius);
     observe_k_.setArg(i++, box_c_.get());
     observe_k_.setArg(i++, box_h_.get());
     observe_k_.setArg(i++, cl_uint(c.obstacles.size()));
@@ -230,7 +233,7 @@ void PolicyModel::advance(Swarm& swarm, uint64_t) {
     launch(ctx_, leader_k_, 1);
     if (n > 0) {
         set_args(apply_k_, swarm.positions().get(), swarm.velocities().get(), actions_.get(), n, lst_.get(),
-                 c.du_max, c.dq_max_deg * kDegToRad, c.u_max, swarm.config().dt);
+                 block_.get(), c.dq_max_deg * kDegToRad, swarm.config().dt);
         launch(ctx_, apply_k_, n);
         swarm.positions_changed();
     }

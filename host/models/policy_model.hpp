@@ -42,6 +42,10 @@ struct PolicyModelConfig {
     std::vector<RlObstacleBox> obstacles;
 };
 
+// Its parameters, declared once (models/policy_params.cpp).
+class ParamTable;
+const ParamTable& policy_param_table();
+
 // Error(InvalidArgument) naming the field: the parameters shared with the
 // RL environment through validate_leader_follow (rl/leader_follow_params.hpp),
 // then the leader's start and mode.
@@ -96,6 +100,7 @@ private:
     uint32_t lanes_ = 1, max_width_ = 0, mean_off_ = 0, std_off_ = 0;
     Context& ctx_;
     DeviceBuffer<float> params_, obs_, actions_, scratch_;
+    DeviceBuffer<cl_float> block_;  // policy_param_table()'s device block (params_ holds the MLP's weights)
     DeviceBuffer<cl_uint> layers_, wp_, done_;
     DeviceBuffer<cl_float4> lpos_, lvel_, lst_, ctl_, waypoints_, box_c_, box_h_;
     cl::Kernel observe_k_, mlp_k_, apply_k_, copy_k_, leader_k_;

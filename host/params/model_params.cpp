@@ -5,6 +5,7 @@
 #include "models/field_model.hpp"
 #include "models/force_model.hpp"
 #include "models/path_model.hpp"
+#include "models/policy_model.hpp"
 #include "params/param_table.hpp"
 
 namespace swarmcl {
@@ -16,6 +17,7 @@ const std::vector<const ParamTable*>& model_param_tables() {
         &path_param_table(),
         &force_param_table(),
         &energy_param_table(),
+        &policy_param_table(),
     };
     return tables;
 }

@@ -5,20 +5,13 @@
 #include <nlohmann/json.hpp>
 
 #include "io/json_object.hpp"
+#include "params/param_table.hpp"
 #include "scenario/model_section.hpp"
 #include "scenario/section_parts.hpp"
 
 namespace swarmcl {
 
 namespace {
-
-PolicyLeaderMode read_leader_mode(JsonObject& o) {
-    const std::string m = o.string("mode", "joystick");
-    if (m == "joystick") return PolicyLeaderMode::Joystick;
-    if (m == "navigation") return PolicyLeaderMode::Navigation;
-    if (m == "tour") return PolicyLeaderMode::Tour;
-    bad_json(o.at("mode"), "expected \"joystick\", \"navigation\" or \"tour\"");
-}
 
 std::vector<std::array<float, 4>> read_waypoints(const nlohmann::json& j, const std::string& path) {
     if (!j.is_array()) bad_json(path, "expected an array of [x, y, z, speed]");
@@ -50,28 +43,14 @@ ModelSpec read_policy_section(const SectionInput& in) {
     p.weights_path = o.string("weights", "");
     if (p.weights_path.empty()) bad_json(o.at("weights"), "expected the path of a safetensors file");
     if (p.weights_path[0] != '/' && !in.base_dir.empty()) p.weights_path = in.base_dir + "/" + p.weights_path;
-    c.r_sep = o.positive("r_sep", c.r_sep);
-    c.r_ali = o.positive("r_ali", c.r_ali);
-    c.r_coh = o.positive("r_coh", c.r_coh);
-    c.neighbor_radius = o.non_negative("neighbor_radius", c.neighbor_radius);
-    c.body_radius = o.positive("body_radius", c.body_radius);
-    c.du_max = o.non_negative("du_max", c.du_max);
-    c.dq_max_deg = o.non_negative("dq_max_deg", c.dq_max_deg);
-    c.u_max = o.positive("u_max", c.u_max);
+    // Every parameter from the table (models/policy_params.cpp); the
+    // waypoints are structured.
+    policy_param_table().read_json(in.model, "model", &c, {"type", "weights", "leader.waypoints"});
     if (o.has("leader")) {
-        JsonObject l(o.child("leader"), "model.leader");
-        l.allow({"mode", "waypoints", "position", "heading", "speed", "du_max", "dq_max_deg", "reach_radius"});
-        c.leader_mode = read_leader_mode(l);
+        JsonObject l(o.child("leader"), "model.leader", {"mode", "position", "heading", "speed", "du_max",
+                                                         "dq_max_deg", "reach_radius"});
         if (l.has("waypoints")) c.waypoints = read_waypoints(l.child("waypoints"), l.at("waypoints"));
-        c.leader_position = l.vec3("position", c.leader_position);
-        c.leader_heading = l.vec3("heading", c.leader_heading);
-        c.leader_speed = l.non_negative("speed", c.leader_speed);
-        c.leader_du_max = l.non_negative("du_max", c.leader_du_max);
-        c.leader_dq_max_deg = l.non_negative("dq_max_deg", c.leader_dq_max_deg);
-        c.reach_radius = l.positive("reach_radius", c.reach_radius);
-        l.finish();
     }
-    o.finish();
     for (size_t k = 0; k < obstacles.size(); ++k) {
         const Boundary& b = obstacles[k];
         if (b.kind != Boundary::Kind::Box)

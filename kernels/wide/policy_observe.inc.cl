@@ -25,11 +25,14 @@
 #include "wide/width.inc.cl"
 
 __kernel void SWCL_KERNEL(policy_observe)(__global const float4* pos, __global const float4* vel, uint n,
-                                          GRID_PARAMS, __global const float4* lst, float search, float r_coh,
-                                          float r_nbr, float body, __global const float4* box_c,
-                                          __global const float4* box_h, uint nbox, int efs, uint obs_dim,
-                                          __global float* obs) {
+                                          GRID_PARAMS, __global const float4* lst, float search,
+                                          __global const float* params, float r_nbr,
+                                          __global const float4* box_c, __global const float4* box_h, uint nbox,
+                                          int efs, uint obs_dim, __global float* obs) {
     const uint base = get_global_id(0) * SWCL_BW;
+    // The model's parameter block (models/policy_params.cpp, POLICY_<KEY>
+    // slots); r_nbr and the search reach are derived on the host.
+    const float r_coh = params[POLICY_R_COH], body = params[POLICY_BODY_RADIUS];
     if (base >= n) return;
     const Grid g = GRID_MAKE();
     const float3 lp = lst[0].xyz;

@@ -40,6 +40,9 @@ DESCRIPTORS = {
     "energy": ("swcl_energy_model_desc", lib.swcl_energy_model_desc_default,
                {"noise.boundaries", "noise.boundary_count", "stimuli", "stimulus_count", "keypoints",
                 "keypoint_count"}, set()),
+    "policy": ("swcl_policy_model_desc", lib.swcl_policy_model_desc_default,
+               {"weights_path", "weights_data", "weights_size", "waypoints", "waypoint_count", "obstacles",
+                "obstacle_count"}, set()),
 }
 
 
@@ -235,3 +238,22 @@ def test_energy_fit_ranges_are_checked_against_the_table():
         load_ranges({"model.weights.repulsion": [0.0, 1.0]}, ENERGY_SCENARIO)
     with pytest.raises(ValueError, match=r"leaves the parameter's valid range \(0, inf\)"):
         load_ranges({"model.rho": [0.0, 3.0]}, ENERGY_SCENARIO)
+
+
+def test_policy_model_class_is_built_from_the_table():
+    import dataclasses
+    rows = {r["c_field"]: r for r in swarmcl.model_parameters("policy")}
+    # The public fields keep their order (positional arguments).
+    assert [f.name for f in dataclasses.fields(swarmcl.PolicyModel)] == [
+        "weights", "leader_mode", "waypoints", "leader_position", "leader_heading", "leader_speed", "leader_du_max",
+        "leader_dq_max_deg", "reach_radius", "r_sep", "r_ali", "r_coh", "neighbor_radius", "body_radius", "du_max",
+        "dq_max_deg", "u_max", "obstacles"]
+    m = swarmcl.PolicyModel()
+    for name in ("r_sep", "r_ali", "r_coh", "du_max", "u_max", "reach_radius", "leader_speed"):
+        assert np.float32(getattr(m, name)) == np.float32(rows[name]["default"]), name
+        assert rows[name]["doc"] in swarmcl.PolicyModel.__doc__
+    assert m.leader_mode == "joystick" and m.leader_heading == (1.0, 0.0, 0.0)
+    d, _ = swarmcl.PolicyModel(r_coh=20.0, u_max=2.5, leader_mode="tour").to_c()
+    assert d.r_coh == 20.0 and d.u_max == 2.5 and d.r_sep == 1.0
+    with pytest.raises(TypeError, match="PolicyModel.u_max must be a float"):
+        swarmcl.PolicyModel(u_max="fast").to_c()

@@ -12,13 +12,14 @@ a safetensors file drives the swarm's agents as followers of a leader.
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass, field
+from dataclasses import field, make_dataclass
 from pathlib import Path
 from typing import Optional, Sequence, Union
 
 import numpy as np
 
 from ._native import ffi, lib
+from .params import c_ordered_fields, copy_scalars_to_c, parameter_doc
 
 __all__ = ["PolicyModel", "SHIPPED_POLICY", "DDPG_POLICY"]
 
@@ -45,65 +46,57 @@ SHIPPED_POLICY = _shipped()
 DDPG_POLICY = _shipped("policy_roaming_ddpg.safetensors")
 
 
-def _f(name: str):
-    return field(default_factory=lambda: float(getattr(_DEFAULT, name)))
+def _vec3_default(name: str):
+    return field(default_factory=lambda: tuple(float(x) for x in getattr(_DEFAULT, name)))
 
 
-@dataclass
-class PolicyModel:
-    """``weights``: a path, or the file's bytes.  ``leader_mode``: "joystick"
-    (``Swarm.set_policy_leader_controls``), "navigation" (stops after the last
-    waypoint) or "tour" (starts over); ``waypoints``: (K, 4) x, y, z, target
-    speed.  ``obstacles``: boxes (B, 6) centre xyz, half extents xyz."""
-    weights: Union[str, os.PathLike, bytes] = field(default_factory=lambda: SHIPPED_POLICY)
-    leader_mode: str = "joystick"
-    waypoints: Optional[Sequence] = None
-    leader_position: Sequence[float] = (0.0, 0.0, 0.0)
-    leader_heading: Sequence[float] = (1.0, 0.0, 0.0)
-    leader_speed: float = _f("leader_speed")
-    leader_du_max: float = _f("leader_du_max")
-    leader_dq_max_deg: float = _f("leader_dq_max_deg")
-    reach_radius: float = _f("reach_radius")
-    r_sep: float = _f("r_sep")
-    r_ali: float = _f("r_ali")
-    r_coh: float = _f("r_coh")
-    neighbor_radius: float = _f("neighbor_radius")
-    body_radius: float = _f("body_radius")
-    du_max: float = _f("du_max")
-    dq_max_deg: float = _f("dq_max_deg")
-    u_max: float = _f("u_max")
-    obstacles: Optional[Sequence] = None
+def _policy_model_to_c(self):
+    """The C descriptor and the objects it points into (keep them alive)."""
+    d = ffi.new("swcl_policy_model_desc*", _DEFAULT)
+    keep: list = []
+    if isinstance(self.weights, (bytes, bytearray)):
+        buf = ffi.from_buffer(bytes(self.weights))
+        keep.append(buf)
+        d.weights_data = buf
+        d.weights_size = len(self.weights)
+    else:
+        path = ffi.new("char[]", os.fsencode(self.weights))
+        keep.append(path)
+        d.weights_path = path
+    if self.leader_mode not in _MODES:
+        raise ValueError(f"PolicyModel.leader_mode: expected one of {sorted(_MODES)}, got {self.leader_mode!r}")
+    d.leader_mode = _MODES[self.leader_mode]
+    if self.waypoints is not None:
+        w = np.ascontiguousarray(self.waypoints, dtype=np.float32).reshape(-1, 4)
+        keep.append(w)
+        d.waypoints = ffi.cast("float*", w.ctypes.data)
+        d.waypoint_count = len(w)
+    if self.obstacles is not None:
+        o = np.ascontiguousarray(self.obstacles, dtype=np.float32).reshape(-1, 6)
+        keep.append(o)
+        d.obstacles = ffi.cast("float*", o.ctypes.data)
+        d.obstacle_count = len(o)
+    for a in range(3):
+        d.leader_position[a] = float(self.leader_position[a])
+        d.leader_heading[a] = float(self.leader_heading[a])
+    copy_scalars_to_c(self, d, "policy")
+    return d, keep
 
-    def to_c(self):
-        """The C descriptor and the objects it points into (keep them alive)."""
-        d = ffi.new("swcl_policy_model_desc*", _DEFAULT)
-        keep: list = []
-        if isinstance(self.weights, (bytes, bytearray)):
-            buf = ffi.from_buffer(bytes(self.weights))
-            keep.append(buf)
-            d.weights_data = buf
-            d.weights_size = len(self.weights)
-        else:
-            path = ffi.new("char[]", os.fsencode(self.weights))
-            keep.append(path)
-            d.weights_path = path
-        if self.leader_mode not in _MODES:
-            raise ValueError(f"PolicyModel.leader_mode: expected one of {sorted(_MODES)}, got {self.leader_mode!r}")
-        d.leader_mode = _MODES[self.leader_mode]
-        if self.waypoints is not None:
-            w = np.ascontiguousarray(self.waypoints, dtype=np.float32).reshape(-1, 4)
-            keep.append(w)
-            d.waypoints = ffi.cast("float*", w.ctypes.data)
-            d.waypoint_count = len(w)
-        if self.obstacles is not None:
-            o = np.ascontiguousarray(self.obstacles, dtype=np.float32).reshape(-1, 6)
-            keep.append(o)
-            d.obstacles = ffi.cast("float*", o.ctypes.data)
-            d.obstacle_count = len(o)
-        for a in range(3):
-            d.leader_position[a] = float(self.leader_position[a])
-            d.leader_heading[a] = float(self.leader_heading[a])
-        for name in ("leader_speed", "leader_du_max", "leader_dq_max_deg", "reach_radius", "r_sep", "r_ali", "r_coh",
-                     "neighbor_radius", "body_radius", "du_max", "dq_max_deg", "u_max"):
-            setattr(d, name, float(getattr(self, name)))
-        return d, keep
+
+# The fields in the C descriptor's order (positional arguments as before):
+# the weights, the leader's mode, waypoints and start by hand, every scalar
+# parameter from the library's table (swcl_model_parameters("policy")), the
+# obstacle boxes by hand.
+PolicyModel = make_dataclass("PolicyModel", c_ordered_fields("swcl_policy_model_desc", "policy", {
+    "weights_path": ("weights", Union[str, os.PathLike, bytes], field(default_factory=lambda: SHIPPED_POLICY)),
+    "leader_mode": ("leader_mode", str, field(default="joystick")),
+    "waypoints": ("waypoints", Optional[Sequence], field(default=None)),
+    "leader_position": ("leader_position", Sequence[float], _vec3_default("leader_position")),
+    "leader_heading": ("leader_heading", Sequence[float], _vec3_default("leader_heading")),
+    "obstacles": ("obstacles", Optional[Sequence], field(default=None)),
+}), namespace={"to_c": _policy_model_to_c, "__module__": __name__})
+PolicyModel.__doc__ = (
+    "swcl_policy_model_desc.  ``weights``: a path, or the file's bytes.  ``leader_mode``: \"joystick\"\n"
+    "(``Swarm.set_policy_leader_controls``), \"navigation\" (stops after the last waypoint) or \"tour\"\n"
+    "(starts over); ``waypoints``: (K, 4) x, y, z, target speed.  ``obstacles``: boxes (B, 6) centre xyz,\n"
+    "half extents xyz.  Defaults are the library's (swcl_model_parameters('policy')):\n" + parameter_doc("policy"))
