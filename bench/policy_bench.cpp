@@ -136,6 +136,8 @@ Row run(std::shared_ptr<Context> ctx, const std::shared_ptr<const std::string>& 
 
 }  // namespace
 
+int run(const std::string& weights, const std::string& out, const std::vector<std::pair<uint32_t, int>>& sizes);
+
 int main(int argc, char** argv) {
     std::string weights = std::string(SWARMCL_SOURCE_DIR) + "/models/policy_roaming.safetensors";
     std::string out = std::string(SWARMCL_SOURCE_DIR) + "/bench/results/policy.json";
@@ -146,8 +148,12 @@ int main(int argc, char** argv) {
             weights = argv[++i];
         } else if (a == "--cell" && i + 1 < argc) {
             g_cell = float(std::atof(argv[++i]));
-        } else if (a == "--out" && i + 1 < argc) {
+        } else if ((a == "--out" || a == "--json") && i + 1 < argc) {
             out = argv[++i];
+        } else if (a.empty() || a[0] < '0' || a[0] > '9') {
+            std::fprintf(stderr, "policy_bench: unknown argument '%s'\nusage: policy_bench [--weights FILE] "
+                                 "[--json FILE] [--cell M] [N [steps]] ...\n", a.c_str());
+            return 2;
         } else {
             const uint32_t n = uint32_t(std::atol(argv[i]));
             int steps = 10;
@@ -156,6 +162,15 @@ int main(int argc, char** argv) {
         }
     }
     if (sizes.empty()) sizes = {{10000, 10}, {100000, 10}, {1000000, 3}};
+    try {
+        return run(weights, out, sizes);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "policy_bench: %s\n", e.what());
+        return 1;
+    }
+}
+
+int run(const std::string& weights, const std::string& out, const std::vector<std::pair<uint32_t, int>>& sizes) {
     auto ctx = std::make_shared<Context>("", "");
     auto bytes = std::make_shared<const std::string>(read_policy_file(weights));
     const PolicyWeights w = parse_policy_weights(reinterpret_cast<const uint8_t*>(bytes->data()), bytes->size());

@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Runs the model benchmarks of two builds alternately (old, new, new, old),
+# so a change that must not slow anything is measured on one machine at one
+# time (docs/benchmarks.md).  Usage:
+#   bench/compare_builds.sh OLD_BUILD_DIR NEW_BUILD_DIR OUT_DIR
+# OUT_DIR gets {old,new}-<bench>-r<round>.json and machine.txt (CPU, load).
+set -euo pipefail
+old=$1 new=$2 out=$3
+mkdir -p "$out"
+# name, arguments, the option that names the JSON file
+benches=(
+  "noise_bench|--quick|--json"
+  "force_bench|--scenarios moon,horse --counts 10000 --caps 64 --seconds 3|--json"
+  "path_bench|--steps 100|--json"
+  "energy_bench|--sizes 10000,100000|--json"
+  "policy_bench|100000 5|--out"
+)
+{ grep -m1 "model name" /proc/cpuinfo | cut -d: -f2- | sed 's/^ //'; echo "cores $(nproc)"; } > "$out/machine.txt"
+run() {  # run LABEL BUILD ROUND
+  for b in "${benches[@]}"; do
+    IFS='|' read -r name args json <<< "$b"
+    echo "== $1 round $3: $name $args (load $(cut -d' ' -f1 /proc/loadavg))" | tee -a "$out/machine.txt"
+    # shellcheck disable=SC2086
+    (cd "$2/bench" && ./$name $args $json "$out/$1-$name-r$3.json" > "$out/$1-$name-r$3.txt" 2>&1) ||
+      echo "   $name failed" | tee -a "$out/machine.txt"
+  done
+}
+run old "$old" 1; run new "$new" 1; run new "$new" 2; run old "$old" 2
