@@ -4,12 +4,28 @@
 #include <algorithm>
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include "core/error.hpp"
 #include "device/context.hpp"
 #include "device/kernel_args.hpp"
 
 namespace swarmcl {
+
+// Fills `bytes` bytes of `buffer` from `offset` with copies of `value`
+// (clEnqueueFillBuffer).  On Oclgrind (Context::fills_by_write()) the same
+// bytes are written from the host instead: Oclgrind 21.10 keeps filled memory
+// marked uninitialised, and every kernel reading it would be reported.
+template <typename T>
+void fill_buffer(Context& ctx, cl::Buffer& buffer, const T& value, size_t offset, size_t bytes) {
+    if (!bytes) return;
+    if (!ctx.fills_by_write()) {
+        ctx.queue().enqueueFillBuffer(buffer, value, offset, bytes);
+        return;
+    }
+    std::vector<T> pattern(bytes / sizeof(T), value);
+    ctx.queue().enqueueWriteBuffer(buffer, CL_TRUE, offset, bytes, pattern.data());
+}
 
 template <typename T>
 class DeviceBuffer {
@@ -39,7 +55,7 @@ public:
     const cl::Buffer& get() const { return buffer_; }
 
     void fill(Context& ctx, const T& value, size_t count) {
-        if (count) ctx.queue().enqueueFillBuffer(buffer_, value, 0, count * sizeof(T));
+        fill_buffer(ctx, buffer_, value, 0, count * sizeof(T));
     }
     void upload(Context& ctx, const T* src, size_t count, bool blocking = true) {
         if (count) ctx.queue().enqueueWriteBuffer(buffer_, blocking ? CL_TRUE : CL_FALSE, 0, count * sizeof(T), src);
