@@ -323,12 +323,12 @@ SWCL_INLINE swcl_vg3 swcl_perlin3(float3 p) { return swcl_perlin3_shifted(p, (in
 SWCL_INLINE swcl_vg4 swcl_perlin4(float4 p) { return swcl_perlin4_shifted(p, (int4)(0)); }
 
 /* Per-seed, per-channel domain offset (see header): a raw Philox draw. */
-inline uint4 swcl_perlin_offset(ulong seed, uint channel)
+static inline uint4 swcl_perlin_offset(ulong seed, uint channel)
 {
     return swcl_rand_u4(seed, channel, 0u, SWCL_STREAM_PERLIN_OFFSET, 0u);
 }
-inline int4 swcl_offset_cells(uint4 o) { return convert_int4(o >> 24); }
-inline float4 swcl_offset_frac(uint4 o) { return convert_float4(o & 0xffffffu) * 0x1.0p-24f; }
+static inline int4 swcl_offset_cells(uint4 o) { return convert_int4(o >> 24); }
+static inline float4 swcl_offset_frac(uint4 o) { return convert_float4(o & 0xffffffu) * 0x1.0p-24f; }
 
 /* Seeded noise: value and gradient (d/dp) of noise_seed(p) = noise(p + offset). */
 SWCL_INLINE swcl_vg3 swcl_perlin3_seeded(float3 p, uint4 o)
