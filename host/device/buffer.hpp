@@ -3,6 +3,7 @@
 #pragma once
 #include <algorithm>
 #include <cstddef>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -15,7 +16,10 @@ namespace swarmcl {
 // Fills `bytes` bytes of `buffer` from `offset` with copies of `value`
 // (clEnqueueFillBuffer).  On Oclgrind (Context::fills_by_write()) the same
 // bytes are written from the host instead: Oclgrind 21.10 keeps filled memory
-// marked uninitialised, and every kernel reading it would be reported.
+// marked uninitialised, and every kernel reading it would be reported.  And
+// since a write of part of a buffer there marks the rest uninitialised (an
+// 8-byte counter pair, the first word rewritten: the second reported), a
+// partial fill reads the whole buffer back and writes it whole.
 template <typename T>
 void fill_buffer(Context& ctx, cl::Buffer& buffer, const T& value, size_t offset, size_t bytes) {
     if (!bytes) return;
@@ -23,8 +27,12 @@ void fill_buffer(Context& ctx, cl::Buffer& buffer, const T& value, size_t offset
         ctx.queue().enqueueFillBuffer(buffer, value, offset, bytes);
         return;
     }
-    std::vector<T> pattern(bytes / sizeof(T), value);
-    ctx.queue().enqueueWriteBuffer(buffer, CL_TRUE, offset, bytes, pattern.data());
+    const size_t size = buffer.getInfo<CL_MEM_SIZE>();
+    std::vector<unsigned char> whole(size);
+    ctx.queue().enqueueReadBuffer(buffer, CL_TRUE, 0, size, whole.data());
+    for (size_t at = offset; at + sizeof(T) <= offset + bytes; at += sizeof(T))
+        std::memcpy(whole.data() + at, &value, sizeof(T));
+    ctx.queue().enqueueWriteBuffer(buffer, CL_TRUE, 0, size, whole.data());
 }
 
 template <typename T>

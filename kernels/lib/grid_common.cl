@@ -92,14 +92,24 @@ static inline float dist2(float4 a, float4 b) {
 // cells of the box for r = 2 cells.  The slab distances are shrunk by a
 // tolerance far above their float rounding (a few ulp of the coordinates'
 // magnitude), so rounding never drops an agent; r is widened likewise.
-__attribute__((always_inline)) inline float grid_slab_distance(float x, float origin, float cell, int k, int n) {
+#ifndef SWCL_ALWAYS_INLINE
+// Forced inlining; -DSWCL_NO_ALWAYS_INLINE drops it, for Oclgrind 21.10,
+// which cannot run the llvm.experimental.noalias.scope.decl calls LLVM 14's
+// always-inliner leaves even at -cl-opt-disable (docs/reliability.md).
+#ifdef SWCL_NO_ALWAYS_INLINE
+#define SWCL_ALWAYS_INLINE
+#else
+#define SWCL_ALWAYS_INLINE __attribute__((always_inline))
+#endif
+#endif
+SWCL_ALWAYS_INLINE static inline float grid_slab_distance(float x, float origin, float cell, int k, int n) {
     const float lo = k == 0 ? -INFINITY : origin + (float)k * cell;
     const float hi = k == n - 1 ? INFINITY : origin + (float)(k + 1) * cell;
     const float tol = 2e-6f * (fabs(x) + fabs(origin) + cell * (float)n);
     return fmax(0.0f, fmax(lo - x, x - hi) - tol);
 }
 
-__attribute__((always_inline)) inline bool grid_row_x_range(const Grid* g, float4 p, float r, int y, int z, int* x0, int* x1) {
+SWCL_ALWAYS_INLINE static inline bool grid_row_x_range(const Grid* g, float4 p, float r, int y, int z, int* x0, int* x1) {
     const float cell = 1.0f / g->inv_cell;
     const float ey = grid_slab_distance(p.y, g->origin.y, cell, y, g->dims.y);
     const float ez = grid_slab_distance(p.z, g->origin.z, cell, z, g->dims.z);
@@ -135,7 +145,7 @@ static inline Grid grid_from_geometry(__global const float4* geo, __global const
 }
 
 #ifndef SWCL_INLINE
-#define SWCL_INLINE __attribute__((always_inline)) inline
+#define SWCL_INLINE SWCL_ALWAYS_INLINE static inline
 #endif
 
 // Lower bound of the distance from p to any agent outside the cell box
