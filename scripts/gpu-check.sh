@@ -73,10 +73,10 @@ if [ -n "$pack" ]; then
   grep -m1 '^CMAKE_HOME_DIRECTORY' "$src/CMakeCache.txt" | cut -d= -f2 > "$pack/SOURCE_DIR"
   (cd "$src" && pwd) > "$pack/BUILD_DIR"
   # One compressed file as well (the folder is ~70 MB, mostly statically
-  # linked tests; xz makes it a fraction of that, for carrying).
-  XZ_OPT="${XZ_OPT:--T0 -3}" tar -C "$(dirname "$pack")" -cJf "$pack.tar.xz" "$(basename "$pack")"
-  echo "gpu-check --pack: $(du -sh "$pack" | cut -f1) in $pack, $(du -sh "$pack.tar.xz" | cut -f1) as $pack.tar.xz" \
-       "(carry either; then: bash scripts/gpu-check.sh --prebuilt $pack.tar.xz)"
+  # linked tests; gzip, present on any machine, makes it a fraction of that).
+  tar -C "$(dirname "$pack")" -czf "$pack.tar.gz" "$(basename "$pack")"
+  echo "gpu-check --pack: $(du -sh "$pack" | cut -f1) in $pack, $(du -sh "$pack.tar.gz" | cut -f1) as $pack.tar.gz" \
+       "(carry either; then: bash scripts/gpu-check.sh --prebuilt $pack.tar.gz --no-build)"
   exit 0
 fi
 
@@ -155,9 +155,10 @@ if [ -z "$build" ]; then
         "the packages (scripts/bootstrap.sh installs them), carried here"
     exit 2
   fi
-  if [ -f "$prebuilt" ] && [[ "$prebuilt" == *.tar.xz ]]; then
+  if [ -f "$prebuilt" ] && [[ "$prebuilt" == *.tar.gz ]]; then
     unpack="$root/build-gpu-prebuilt"
-    rm -rf "$unpack" && mkdir -p "$unpack" && tar -C "$unpack" -xJf "$prebuilt" \
+    archive=$(cd "$(dirname "$prebuilt")" && pwd)/$(basename "$prebuilt")
+    rm -rf "$unpack" && mkdir -p "$unpack" && tar -C "$unpack" -xzf "$archive" \
       || { say "--prebuilt $prebuilt: cannot unpack"; exit 2; }
     prebuilt=$(find "$unpack" -mindepth 1 -maxdepth 1 -type d | head -1)
   fi

