@@ -54,7 +54,6 @@ CASES = [
     ("test_field_model", "FieldModelReference.WhiteNoiseAndGoalOneStep", GPU),
     ("test_force_model", "ForceTerms.InteractionZonesMatchBruteForce", GPU),
     ("test_force_obstacles", "ForceMeshObstacles.SampledDistanceOfASphereMeshIsWithinACell", GPU),
-    ("test_energy_model", "EnergyModel.EveryTermMatchesTheHostReference", GPU),
     ("test_policy", "PolicyMlp.KernelMatchesReference", GPU),
     ("test_policy", "PolicyObserve.GridObservationsEqualTheAllPairsReference", GPU),
     ("test_policy", "PolicyObserve.GridObservationsEqualTheAllPairsReference", CPU),
@@ -79,6 +78,10 @@ NOT_RUN = {
     "force_model_force_w": "ForceModel.WideKernelMatchesTheScalarOne: reports not yet analysed "
                            "(docs/reliability.md), left out of the gate",
     "force_model_repulsion_w": "as force_model_force_w",
+    "energy_select": "EnergyModel.EveryTermMatchesTheHostReference: 20 reports not yet analysed "
+                     "(docs/reliability.md), left out of the gate",
+    "energy_prepare": "as energy_select",
+    "energy_centre_final": "as energy_select",
 }
 # Left out of the gate, with open reports (docs/reliability.md, "Oclgrind"):
 # Neighbors.SparseSwarmNearestSearchesFar, PointGrid.GivenGeometryMatchesBruteForce,
