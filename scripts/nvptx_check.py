@@ -4,7 +4,8 @@
 Input: a folder of programs exactly as the host built them
 ($SWARMCL_PROGRAM_DUMP_DIR, written by host/device/context.cpp: includes
 expanded, the first line "// swarmcl-build-options: <options>" with the GPU
-profile's defines).  Each program is compiled by clang for
+profile's defines); --census BUILD fills it first by running a fixed list of
+small GoogleTest cases in the GPU profile (ctest nvptx.compile does).  Each program is compiled by clang for
 nvptx64-nvidia-nvcl with libclc's OpenCL C library linked in, then assembled
 by ptxas -arch=sm_90 -v.  Per kernel: registers, spill stores/loads, stack
 frame (local memory) — the largest over the program variants (defines) that
@@ -126,8 +127,8 @@ def main():
     ap.add_argument("--markdown", help="write the docs table here")
     ap.add_argument("--no-coverage", action="store_true", help="do not require every kernel to be compiled")
     ap.add_argument("--census", metavar="BUILD", help="first fill dump_dir by running natively, in the GPU "
-                    "profile, the GoogleTest cases scripts/oclgrind_check.py lists (a few minutes on PoCL) "
-                    "instead of the whole GPU-profile suite")
+                    "profile, the GoogleTest cases scripts/oclgrind_check.py lists (CASES and CENSUS_EXTRA; a "
+                    "few minutes on PoCL)")
     args = ap.parse_args()
 
     if args.census:
@@ -135,7 +136,7 @@ def main():
         import oclgrind_check
         shutil.rmtree(args.dump_dir, ignore_errors=True)
         env = dict(os.environ, SWARMCL_PROGRAM_DUMP_DIR=os.path.abspath(args.dump_dir), SWARMCL_DEVICE_PROFILE="gpu")
-        for binary, gfilter, profile in oclgrind_check.CASES:
+        for binary, gfilter, profile in oclgrind_check.CASES + oclgrind_check.CENSUS_EXTRA:
             if profile["SWARMCL_DEVICE_PROFILE"] != "gpu":
                 continue
             r = subprocess.run([os.path.join(args.census, "tests", binary), f"--gtest_filter={gfilter or '*'}"],

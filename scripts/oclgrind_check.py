@@ -53,15 +53,26 @@ CASES = [
     ("test_field_model", "FieldModelTest.MinimumDistanceSeparatesIsolatedPairsExactly", GPU),
     ("test_field_model", "FieldModelReference.WhiteNoiseAndGoalOneStep", GPU),
     ("test_force_model", "ForceTerms.InteractionZonesMatchBruteForce", GPU),
-    ("test_force_obstacles", "ForceMeshObstacles.SampledDistanceOfASphereMeshIsWithinACell", GPU),
-    ("test_policy", "PolicyMlp.KernelMatchesReference", GPU),
-    ("test_policy", "PolicyObserve.GridObservationsEqualTheAllPairsReference", GPU),
-    ("test_policy", "PolicyObserve.GridObservationsEqualTheAllPairsReference", CPU),
     ("test_policy", "PolicyStep.AppliesTheActionsWithEquationTwo", GPU),
     ("test_rl_env", "RlEnv.ObservationsAndRewardsMatchReference", GPU),
     ("test_rl_env", "RlEnv.RagMatchesReference", GPU),
     ("test_swarm_metrics", "SwarmMetrics.NearestNeighbourMatchesBruteForce", GPU),
-    ("test_swarm_metrics", "SwarmMetrics.DeviceMatchesTheHostReferenceOnTheSameTrajectories", CPU),
+]
+
+# Cases left out of the Oclgrind gate (too slow under it, or with open
+# reports) that still build programs natively: scripts/nvptx_check.py
+# --census runs them too, so every GPU-profile program is compiled for NVIDIA.
+CENSUS_EXTRA = [
+    ("test_noise", "BakedNoise.AgreesWithProceduralAtNodesAndWithinTrilinearErrorBetween", GPU),
+    ("test_sdf", "Sdf.MeshWithAHole", GPU),
+    ("test_path_field", "PathModel.GlobalVelocityMatchesTheHostReference", GPU),
+    ("test_path_field", "PathModel.BakedMeshNoiseMatchesProcedural", GPU),
+    ("test_path_chasing", "PathChasing.MovingTheTargetMatchesAFreshBuild", GPU),
+    ("test_force_model", "ForceModel.MinDistanceMatchesItsReference", GPU),
+    ("test_energy_model", "EnergyModel.EveryTermMatchesTheHostReference", GPU),
+    ("test_policy", "PolicyObserve.GridObservationsEqualTheAllPairsReference", GPU),
+    ("test_policy", "PolicyMlp.KernelMatchesReference", GPU),
+    ("test_force_obstacles", "ForceMeshObstacles.SampledDistanceOfASphereMeshIsWithinACell", GPU),
 ]
 
 # Kernels no case runs, and why (they are compiled for NVIDIA all the same,
@@ -82,7 +93,22 @@ NOT_RUN = {
                      "(docs/reliability.md), left out of the gate",
     "energy_prepare": "as energy_select",
     "energy_centre_final": "as energy_select",
+    "policy_observe": "PolicyObserve.GridObservationsEqualTheAllPairsReference: 20 reports in scatter_xyz "
+                      "not yet analysed (docs/reliability.md), left out of the gate",
+    "policy_observe_w": "as policy_observe",
+    "metrics_histogram": "SwarmMetrics.DeviceMatchesTheHostReference... (CPU profile) failed under Oclgrind "
+                         "without a report: not yet analysed",
+    "force_model_mesh_distance": "ForceMeshObstacles.SampledDistance... took over 200 s under Oclgrind",
+    "force_model_mde": "its case (ForceModel.MinDistanceMatchesItsReference) has open reports",
+    "force_model_integrate": "as force_model_mde",
+    "force_model_project": "as force_model_mde",
+    "field_model_advance_w": "no CPU-profile field model case in the list yet (the one tried has open "
+                             "reports in min_distance_enforce_w)",
+    "noise_sample_w": "as field_model_advance_w",
+    "integrate_ballistic": "no case without a model in the list yet",
 }
+# PolicyMlp.KernelMatchesReference (over 200 s) is left out too; policy_mlp
+# runs in PolicyStep.AppliesTheActionsWithEquationTwo.
 # Left out of the gate, with open reports (docs/reliability.md, "Oclgrind"):
 # Neighbors.SparseSwarmNearestSearchesFar, PointGrid.GivenGeometryMatchesBruteForce,
 # ForceModel.MinDistanceMatchesItsReference (grid_keys_count after a second
