@@ -46,15 +46,15 @@
 
 // Unit vector, or 0 for a zero vector (then |v^ - u^| = 1 for every unit u^:
 // the term does not prefer any direction).
-inline float3 em_unit(float3 v) {
+static inline float3 em_unit(float3 v) {
     const float l2 = v.x * v.x + v.y * v.y + v.z * v.z;
     return l2 > 0.0f ? v / sqrt(l2) : (float3)(0.0f);
 }
 
-inline float em_len(float3 v) { return sqrt(v.x * v.x + v.y * v.y + v.z * v.z); }
+static inline float em_len(float3 v) { return sqrt(v.x * v.x + v.y * v.y + v.z * v.z); }
 
 // Speed group of speed s: the last group whose slowest sample is <= s.
-inline uint em_group(float s, __global const float* group_min_speed, uint groups) {
+static inline uint em_group(float s, __global const float* group_min_speed, uint groups) {
     uint g = 0;
     for (uint k = 1; k < groups; ++k)
         if (group_min_speed[k] <= s) g = k;
@@ -84,7 +84,7 @@ typedef float16 emv;
 #define EM_LOAD(plane, c) vload16(0, ds + (size_t)(plane) * ds_stride + (c))
 
 // Sum of the 16 lanes in a fixed order (halves, recursively).
-inline float em_hsum(emv v) {
+static inline float em_hsum(emv v) {
     const float8 a = v.lo + v.hi;
     const float4 b = a.lo + a.hi;
     const float2 c = b.lo + b.hi;
@@ -93,22 +93,22 @@ inline float em_hsum(emv v) {
 
 
 // any() by halving ORs (PoCL's any on int16 tests the 16 lanes one by one).
-inline bool em_any(int16 m) {
+static inline bool em_any(int16 m) {
     const int8 a = m.lo | m.hi;
     const int4 b = a.lo | a.hi;
     const int2 c = b.lo | b.hi;
     return (c.x | c.y) < 0;
 }
 
-inline emv em_lenv(emv x, emv y, emv z) { return sqrt(x * x + y * y + z * z); }
+static inline emv em_lenv(emv x, emv y, emv z) { return sqrt(x * x + y * y + z * z); }
 
 // |v^ - u| over the lanes' unit vectors (hx, hy, hz) for one direction u.
-inline emv em_dirv(emv hx, emv hy, emv hz, float3 u) { return em_lenv(hx - u.x, hy - u.y, hz - u.z); }
+static inline emv em_dirv(emv hx, emv hy, emv hz, float3 u) { return em_lenv(hx - u.x, hy - u.y, hz - u.z); }
 
 // Stimulus s at time t: xyz = position + velocity t, w = kind.  The buffer
 // holds (position, kind), (d_danger, velocity) per stimulus, uploaded when
 // the stimuli are set, so a step needs no upload.
-inline float4 em_stimulus(__global const float4* stim, uint s, float t) {
+static inline float4 em_stimulus(__global const float4* stim, uint s, float t) {
     const float4 a = stim[2 * s], b = stim[2 * s + 1];
     return (float4)(a.xyz + b.yzw * t, a.w);
 }
@@ -117,14 +117,14 @@ inline float4 em_stimulus(__global const float4* stim, uint s, float t) {
 // moving danger, min over tau in [0, h] of |r0 + u tau| (r0 = p - p_s, u = v -
 // v_s: both move on at constant velocity).  h = dt, a still danger: Eq. 12's
 // |p'_{t+1} - p_s|.
-inline float em_closest(float3 r0, float3 u, float h) {
+static inline float em_closest(float3 r0, float3 u, float h) {
     const float uu = dot(u, u);
     const float tau = uu > 0.0f ? clamp(-dot(r0, u) / uu, 0.0f, h) : 0.0f;
     return length(r0 + u * tau);
 }
 
 // em_closest over the lanes' candidate velocities (vx, vy, vz).
-inline emv em_closestv(float3 r0, float3 vs, emv vx, emv vy, emv vz, float h) {
+static inline emv em_closestv(float3 r0, float3 vs, emv vx, emv vy, emv vz, float h) {
     const emv ux = vx - vs.x, uy = vy - vs.y, uz = vz - vs.z;
     const emv uu = ux * ux + uy * uy + uz * uz;
     const emv tau = select((emv)(0.0f), clamp(-(r0.x * ux + r0.y * uy + r0.z * uz) / uu, 0.0f, h), uu > 0.0f);
@@ -179,7 +179,17 @@ inline emv em_closestv(float3 r0, float3 vs, emv vx, emv vy, emv vz, float h) {
 // is for reading, measured no slower in bench/energy_bench.cpp).  Each keeps
 // its statements as they were, so the arithmetic, and the results, are the
 // same bit for bit.
-#define EM_INLINE __attribute__((always_inline)) inline
+#ifndef SWCL_ALWAYS_INLINE
+// Forced inlining; -DSWCL_NO_ALWAYS_INLINE drops it, for Oclgrind 21.10,
+// which cannot run the llvm.experimental.noalias.scope.decl calls LLVM 14's
+// always-inliner leaves even at -cl-opt-disable (docs/reliability.md).
+#ifdef SWCL_NO_ALWAYS_INLINE
+#define SWCL_ALWAYS_INLINE
+#else
+#define SWCL_ALWAYS_INLINE __attribute__((always_inline))
+#endif
+#endif
+#define EM_INLINE SWCL_ALWAYS_INLINE static inline
 
 #define EM_LANES ((int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15))
 

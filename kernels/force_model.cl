@@ -324,14 +324,14 @@ __kernel void force_model_scatter(__global const float4* pos, __global const uin
 }
 
 // §6, Eq. 9.
-inline float fm_ramp(float x) {
+static inline float fm_ramp(float x) {
     if (x >= 1.0f) return 1.0f;
     const float x3 = x * x * x;
     return 1.875f * x - 1.25f * x3 + 0.375f * x3 * x * x;
 }
 
 // Unit outward normal and distance of obstacle k (curl_noise.cl primitives).
-inline float fm_obstacle(__global const float4* prims, uint k, float4 p, float4* nrm) {
+static inline float fm_obstacle(__global const float4* prims, uint k, float4 p, float4* nrm) {
     const swcl_dist b = swcl_prim_dist(prims[2 * k], prims[2 * k + 1], 0, p.xyz);
     const float gl = length(b.g);
     *nrm = gl > 0.0f ? (float4)(b.g / gl, 0.0f) : (float4)(0.0f, 0.0f, 1.0f, 0.0f);
@@ -346,7 +346,7 @@ inline float fm_obstacle(__global const float4* prims, uint k, float4 p, float4*
 // rounding of the norm's square roots, so the bound holds for the computed d
 // too and skipping changes no bit.  -inf (no bound) for other primitives,
 // which are cheap.
-inline float fm_obstacle_bound(__global const float4* prims, uint k, float4 p) {
+static inline float fm_obstacle_bound(__global const float4* prims, uint k, float4 p) {
     const float4 a = prims[2 * k], b = prims[2 * k + 1];
     if (swcl_prim_type(a) != SWCL_PRIM_BOX) return -INFINITY;
     const float3 q = fabs(p.xyz - a.xyz) - (b.xyz - b.w);
@@ -361,7 +361,7 @@ inline float fm_obstacle_bound(__global const float4* prims, uint k, float4 p) {
 // outward normal.  Outside the grid's cell centres the meshes are farther
 // than the ramp's range (the host grows the grid by range + 2 cells):
 // INFINITY.
-inline float fm_mesh_obstacle(__global const float* phi, int4 dims, float4 origin_h, float4 p, float4* nrm) {
+static inline float fm_mesh_obstacle(__global const float* phi, int4 dims, float4 origin_h, float4 p, float4* nrm) {
     const float3 u = (p.xyz - origin_h.xyz) / origin_h.w - (float3)(0.5f);
     const float3 top = convert_float3(dims.xyz - (int3)(1));
     if (any(u < (float3)(0.0f)) || any(u > top)) {

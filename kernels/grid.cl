@@ -25,7 +25,7 @@
 // chunk (no barriers or local memory; PoCL runs such loops well on a CPU).
 #include "lib/grid_common.cl"
 
-inline uint chunk_size(uint n, uint nchunks) { return (n + nchunks - 1u) / nchunks; }
+static inline uint chunk_size(uint n, uint nchunks) { return (n + nchunks - 1u) / nchunks; }
 
 // Chunk b: keys[s] = cell of the agent in slot s, and counts[b] = movers in
 // the chunk.  The cell is grid_cell_of()'s, computed as clamp then truncate,
@@ -140,7 +140,7 @@ __kernel void radix_scatter(__global const uint* keys, __global const uint* slot
 
 // Sorts a few movers (slot[i], id[i]) by id: insertion sort when short or
 // nearly sorted, heap sort for crowded cells so the cost stays n log n.
-inline void swap_pair(__global uint* slot, __global uint* id, uint a, uint b) {
+static inline void swap_pair(__global uint* slot, __global uint* id, uint a, uint b) {
     const uint ts = slot[a], ti = id[a];
     slot[a] = slot[b];
     id[a] = id[b];
@@ -148,7 +148,7 @@ inline void swap_pair(__global uint* slot, __global uint* id, uint a, uint b) {
     id[b] = ti;
 }
 
-inline void sift_down(__global uint* slot, __global uint* id, uint root, uint end) {
+static inline void sift_down(__global uint* slot, __global uint* id, uint root, uint end) {
     while (2u * root + 1u < end) {
         uint child = 2u * root + 1u;
         if (child + 1u < end && id[child + 1u] > id[child]) child++;
@@ -158,7 +158,7 @@ inline void sift_down(__global uint* slot, __global uint* id, uint root, uint en
     }
 }
 
-inline void sort_by_id(__global uint* slot, __global uint* id, uint len) {
+static inline void sort_by_id(__global uint* slot, __global uint* id, uint len) {
     uint descents = 0;
     for (uint i = 1; i < len; ++i) descents += id[i - 1u] > id[i] ? 1u : 0u;
     if (descents == 0u) return;
@@ -208,7 +208,7 @@ __kernel void grid_sort_runs(__global const uint* m_ptr, __global const uint* m_
 // writes the outputs [b * per_item, ...): it finds how many stayers come
 // before its first output by a binary search on the merge path, then merges.
 // perm[new slot] = old slot; new_key[new slot] = cell (the next layout).
-inline bool stayer_first(uint sk, uint sid, uint mk, uint mid) { return sk < mk || (sk == mk && sid < mid); }
+static inline bool stayer_first(uint sk, uint sid, uint mk, uint mid) { return sk < mk || (sk == mk && sid < mid); }
 
 __kernel void grid_merge(__global const uint* keys, __global const uint* ids, __global const uint* st_slot,
                          __global const uint* m_ptr, __global const uint* m_key, __global const uint* m_slot,

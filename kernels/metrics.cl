@@ -19,7 +19,17 @@
 #include "lib/grid_common.cl"
 
 #ifndef SWCL_INLINE
-#define SWCL_INLINE __attribute__((always_inline)) inline
+#ifndef SWCL_ALWAYS_INLINE
+// Forced inlining; -DSWCL_NO_ALWAYS_INLINE drops it, for Oclgrind 21.10,
+// which cannot run the llvm.experimental.noalias.scope.decl calls LLVM 14's
+// always-inliner leaves even at -cl-opt-disable (docs/reliability.md).
+#ifdef SWCL_NO_ALWAYS_INLINE
+#define SWCL_ALWAYS_INLINE
+#else
+#define SWCL_ALWAYS_INLINE __attribute__((always_inline))
+#endif
+#endif
+#define SWCL_INLINE SWCL_ALWAYS_INLINE static inline
 #endif
 
 // The metrics' indices, M_SPEED ... M_ETA and M_COUNT: build defines from

@@ -68,9 +68,9 @@ typedef int8 mde_iw;
 #define MDE_LAST(v) ((v).s7)
 #define MDE_LANES(E) E(0), E(1), E(2), E(3), E(4), E(5), E(6), E(7)
 #define MDE_EACH_LANE(E) E(0) E(1) E(2) E(3) E(4) E(5) E(6) E(7)
-inline int mde_hmax(int8 v) { const int4 b = max(v.lo, v.hi); const int2 c = max(b.lo, b.hi); return max(c.x, c.y); }
-inline int mde_hsum(int8 v) { const int4 b = v.lo + v.hi; const int2 c = b.lo + b.hi; return c.x + c.y; }
-inline int mde_hmin(int8 v) { const int4 b = min(v.lo, v.hi); const int2 c = min(b.lo, b.hi); return min(c.x, c.y); }
+static inline int mde_hmax(int8 v) { const int4 b = max(v.lo, v.hi); const int2 c = max(b.lo, b.hi); return max(c.x, c.y); }
+static inline int mde_hsum(int8 v) { const int4 b = v.lo + v.hi; const int2 c = b.lo + b.hi; return c.x + c.y; }
+static inline int mde_hmin(int8 v) { const int4 b = min(v.lo, v.hi); const int2 c = min(b.lo, b.hi); return min(c.x, c.y); }
 #elif MDE_WIDTH == 16
 typedef float16 mde_fw;
 typedef int16 mde_iw;
@@ -83,15 +83,15 @@ typedef int16 mde_iw;
                      E(8), E(9), E(a), E(b), E(c), E(d), E(e), E(f)
 #define MDE_EACH_LANE(E) E(0) E(1) E(2) E(3) E(4) E(5) E(6) E(7) \
                          E(8) E(9) E(a) E(b) E(c) E(d) E(e) E(f)
-inline int mde_hmax(int16 v) {
+static inline int mde_hmax(int16 v) {
     const int8 a = max(v.lo, v.hi); const int4 b = max(a.lo, a.hi); const int2 c = max(b.lo, b.hi);
     return max(c.x, c.y);
 }
-inline int mde_hmin(int16 v) {
+static inline int mde_hmin(int16 v) {
     const int8 a = min(v.lo, v.hi); const int4 b = min(a.lo, a.hi); const int2 c = min(b.lo, b.hi);
     return min(c.x, c.y);
 }
-inline int mde_hsum(int16 v) {
+static inline int mde_hsum(int16 v) {
     const int8 a = v.lo + v.hi; const int4 b = a.lo + a.hi; const int2 c = b.lo + b.hi;
     return c.x + c.y;
 }
@@ -102,13 +102,13 @@ inline int mde_hsum(int16 v) {
 // The lanes of a 32-bit array at the indices idx (every index valid: callers
 // send masked lanes to index 0).
 #define MDE_GATHER_LANE_(k) a[idx.s##k]
-inline mde_iw mde_gather_i(__global const int* a, mde_iw idx) { return (mde_iw)(MDE_LANES(MDE_GATHER_LANE_)); }
+static inline mde_iw mde_gather_i(__global const int* a, mde_iw idx) { return (mde_iw)(MDE_LANES(MDE_GATHER_LANE_)); }
 // x, y, z of the positions at slots idx: one float4 load per lane.
 #define MDE_LOAD_P_(k) const float4 P##k = pos[idx.s##k];
 #define MDE_PX_(k) P##k.x
 #define MDE_PY_(k) P##k.y
 #define MDE_PZ_(k) P##k.z
-inline void mde_gather_xyz(__global const float4* pos, mde_iw idx, mde_fw* x, mde_fw* y, mde_fw* z) {
+static inline void mde_gather_xyz(__global const float4* pos, mde_iw idx, mde_fw* x, mde_fw* y, mde_fw* z) {
     MDE_EACH_LANE(MDE_LOAD_P_)
     *x = (mde_fw)(MDE_LANES(MDE_PX_));
     *y = (mde_fw)(MDE_LANES(MDE_PY_));
@@ -116,7 +116,7 @@ inline void mde_gather_xyz(__global const float4* pos, mde_iw idx, mde_fw* x, md
 }
 
 // grid_axis lane by lane: the same operations, so the same cells.
-inline mde_iw mde_axis(mde_fw x, float origin, float inv_cell, int n) {
+static inline mde_iw mde_axis(mde_fw x, float origin, float inv_cell, int n) {
     return mde_cvt_iw(clamp((x - origin) * inv_cell, 0.0f, (float)(n - 1)));
 }
 
@@ -142,7 +142,7 @@ inline mde_iw mde_axis(mde_fw x, float origin, float inv_cell, int n) {
 
 // Rare: the scalar kernel's Philox direction for agents on the same point,
 // lane by lane.
-inline void mde_coincident(mde_iw coincident, mde_iw slot, mde_iw j, __global const uint* ids, ulong seed,
+static inline void mde_coincident(mde_iw coincident, mde_iw slot, mde_iw j, __global const uint* ids, ulong seed,
                            mde_fw* ux, mde_fw* uy, mde_fw* uz) {
     float ax[MDE_WIDTH], ay[MDE_WIDTH], az[MDE_WIDTH];
     mde_vstore(*ux, 0, ax); mde_vstore(*uy, 0, ay); mde_vstore(*uz, 0, az);

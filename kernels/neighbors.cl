@@ -20,11 +20,11 @@ __kernel void neighbor_count(__global const float4* pos, __global const uint* id
 }
 
 // (d2, id) lexicographic order: deterministic ties.
-inline bool closer(float d2a, uint ida, float d2b, uint idb) {
+static inline bool closer(float d2a, uint ida, float d2b, uint idb) {
     return d2a < d2b || (d2a == d2b && ida < idb);
 }
 
-inline void visit_nearest(__global const float4* pos, __global const uint* ids, uint i, float4 p,
+static inline void visit_nearest(__global const float4* pos, __global const uint* ids, uint i, float4 p,
                           uint j0, uint j1, float* best_d2, uint* best_id) {
     for (uint j = j0; j < j1; ++j) {
         if (j == i) continue;

@@ -19,7 +19,7 @@
 
 // Trilinear read of a cell-centred float4 grid (origin_h: min corner, cell
 // edge), clamped to its border.
-inline float4 path_trilinear(__global const float4* grid, int4 dims, float4 origin_h, float3 p) {
+static inline float4 path_trilinear(__global const float4* grid, int4 dims, float4 origin_h, float3 p) {
     const float3 u = clamp((p - origin_h.xyz) / origin_h.w - (float3)(0.5f), (float3)(0.0f),
                            convert_float3(dims.xyz - (int3)(1)));
     const int3 i0 = min(convert_int3(u), dims.xyz - (int3)(2));
@@ -36,7 +36,7 @@ inline float4 path_trilinear(__global const float4* grid, int4 dims, float4 orig
 // gradient and Hessian from the tricubic B-spline of the cell-centred signed
 // distance grid, a C^2 interpolant (so curl N stays continuous and exactly
 // divergence-free; the B-spline smooths edges by about one cell).
-inline void path_bspline(float t, float* w, float* dw, float* ddw) {
+static inline void path_bspline(float t, float* w, float* dw, float* ddw) {
     const float s = 1.0f - t, t2 = t * t, t3 = t2 * t;
     w[0] = s * s * s / 6.0f;
     w[1] = (3.0f * t3 - 6.0f * t2 + 4.0f) / 6.0f;
@@ -49,7 +49,7 @@ inline void path_bspline(float t, float* w, float* dw, float* ddw) {
     ddw[0] = s; ddw[1] = 3.0f * t - 2.0f; ddw[2] = 1.0f - 3.0f * t; ddw[3] = t;
 }
 
-inline swcl_dist path_mesh_dist(__global const float* phi, int4 dims, float4 origin_h, float3 p) {
+static inline swcl_dist path_mesh_dist(__global const float* phi, int4 dims, float4 origin_h, float3 p) {
     const float3 u = (p - origin_h.xyz) / origin_h.w - (float3)(0.5f);
     const float3 f = floor(u);
     const int3 i0 = convert_int3(f);
@@ -91,7 +91,7 @@ inline swcl_dist path_mesh_dist(__global const float* phi, int4 dims, float4 ori
 
 // V_l at (x, y, z): curl noise (NOISE_KIND == NOISE_CURL, analytic
 // derivatives) with every analytic boundary, then the mesh (Eq. 2 once more).
-inline void path_noise_mesh(NOISE_PARAMS, __global const float* phi, int4 dims, float4 origin_h, float x, float y,
+static inline void path_noise_mesh(NOISE_PARAMS, __global const float* phi, int4 dims, float4 origin_h, float x, float y,
                             float z, float t, float* vx, float* vy, float* vz) {
     const float scale = noise_shape.x, gain = noise_shape.y, d0 = noise_shape.z;
     swcl_pj N;

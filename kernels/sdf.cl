@@ -18,7 +18,7 @@
 // Closest point to p on triangle (a, b, c) (Ericson, Real-Time Collision
 // Detection, 5.1.5) and the feature it lies on: 0 face, 1-3 vertex a/b/c,
 // 4-6 edge ab/bc/ca.
-inline float3 sdf_closest(float3 p, float3 a, float3 b, float3 c, int* feature) {
+static inline float3 sdf_closest(float3 p, float3 a, float3 b, float3 c, int* feature) {
     const float3 ab = b - a, ac = c - a, ap = p - a;
     const float d1 = dot(ab, ap), d2 = dot(ac, ap);
     if (d1 <= 0.0f && d2 <= 0.0f) { *feature = 1; return a; }

@@ -10,6 +10,10 @@ packages=(
   libtinyobjloader-dev zlib1g-dev libcli11-dev libopenvdb-dev libboost-dev python3-scikit-fmm
   python3 python3-pip python3-venv
   openmpi-bin
+  # issue 27: every kernel under Oclgrind (ctest oclgrind.kernels), and
+  # compiled for NVIDIA by clang + libclc (ctest nvptx.compile; ptxas comes
+  # with the CUDA toolkit, not from here: without it that test is skipped)
+  oclgrind clang-15 libclc-15 libclc-15-dev
 )
 
 missing=()

@@ -35,8 +35,8 @@ const std::string kExamples = std::string(SWARMCL_SOURCE_DIR) + "/examples/scena
 
 // The context resumed runs are loaded into: not the one they were saved from.
 std::shared_ptr<Context> other_context() {
-    static std::shared_ptr<Context> ctx = std::make_shared<Context>("", "");
-    return ctx;
+    static std::shared_ptr<Context> ctx;
+    return test::kept_context(ctx);
 }
 
 std::vector<float> read_all(Swarm& s, Attribute a) {

@@ -139,18 +139,62 @@ TEST(Kernels, KernelDirOverridesAndBuildErrorsCarryTheLog) {
         FAIL() << "expected a build error";
     } catch (const Error& e) {
         EXPECT_EQ(e.status(), Status::Build);
-        EXPECT_NE(std::string(e.what()).find("undefined_name"), std::string::npos) << e.what();
+        // The first line names the program, the device and the log's first
+        // error (issue 27: a new driver refusing a kernel is read at a glance).
+        const std::string what = e.what();
+        const std::string first_line = what.substr(0, what.find('\n'));
+        EXPECT_NE(first_line.find("kernels/grid.cl"), std::string::npos) << what;
+        EXPECT_NE(first_line.find("'" + ctx.device().device_name + "'"), std::string::npos) << what;
+        EXPECT_NE(first_line.find("undefined_name"), std::string::npos) << what;
+        EXPECT_NE(first_line.find("error"), std::string::npos) << what;
+        EXPECT_NE(what.find("build log:"), std::string::npos) << what;
     }
-    // Through the C API: SWCL_ERROR_BUILD and the log in swcl_last_error().
+    // Through the C API: SWCL_ERROR_BUILD, and in swcl_last_error() the
+    // kernel the swarm asked for as well.
     swcl_context c;
     swcl_context_desc d = swcl_context_desc_default();
     ASSERT_EQ(swcl_context_create(&d, &c), SWCL_OK);
     swcl_swarm_desc sd = swcl_swarm_desc_default();
     swcl_swarm s;
     EXPECT_EQ(swcl_swarm_create(c, &sd, &s), SWCL_ERROR_BUILD);
-    EXPECT_NE(std::string(swcl_last_error()).find("undefined_name"), std::string::npos);
+    const std::string last = swcl_last_error();
+    const std::string last_first_line = last.substr(0, last.find('\n'));
+    EXPECT_NE(last_first_line.find("undefined_name"), std::string::npos) << last;
+    EXPECT_NE(last_first_line.find("kernels/grid.cl (kernel "), std::string::npos) << last;
     EXPECT_EQ(swcl_context_destroy(c), SWCL_OK);
     fs::remove_all(dir);
+}
+
+TEST(Kernels, ABuildFailureLeavesOtherContextsUsable) {
+    // One context's program fails (a driver refusing a kernel); a context
+    // made before it and one made after, with the good sources, still work.
+    swcl_context before;
+    swcl_context_desc d = swcl_context_desc_default();
+    ASSERT_EQ(swcl_context_create(&d, &before), SWCL_OK);
+    const fs::path dir = fs::temp_directory_path() / "swarmcl_kernel_dir_usable_test";
+    fs::create_directories(dir);
+    std::ofstream(dir / "grid.cl") << "__kernel void broken(__global float* x) { x[0] = undefined_name; }\n";
+    {
+        ScopedEnv env("SWARMCL_KERNEL_DIR", dir.string());
+        swcl_context bad;
+        ASSERT_EQ(swcl_context_create(&d, &bad), SWCL_OK);
+        swcl_swarm_desc sd = swcl_swarm_desc_default();
+        swcl_swarm s;
+        EXPECT_EQ(swcl_swarm_create(bad, &sd, &s), SWCL_ERROR_BUILD);
+        EXPECT_EQ(swcl_context_destroy(bad), SWCL_OK);
+    }
+    fs::remove_all(dir);
+    swcl_context after;
+    ASSERT_EQ(swcl_context_create(&d, &after), SWCL_OK);
+    for (swcl_context c : {before, after}) {
+        swcl_swarm_desc sd = swcl_swarm_desc_default();
+        sd.agent_count = 100;
+        swcl_swarm s;
+        ASSERT_EQ(swcl_swarm_create(c, &sd, &s), SWCL_OK) << swcl_last_error();
+        EXPECT_EQ(swcl_swarm_step(s, 2), SWCL_OK) << swcl_last_error();
+        EXPECT_EQ(swcl_swarm_destroy(s), SWCL_OK);
+        EXPECT_EQ(swcl_context_destroy(c), SWCL_OK);
+    }
 }
 
 TEST(Kernels, KernelDirWithAMissingFileSaysWhere) {

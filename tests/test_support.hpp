@@ -1,6 +1,9 @@
 // Shared test helpers: one context per test binary (kernels compile once),
 // random points, and plain brute-force references.
 #pragma once
+#include <gtest/gtest.h>
+
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -14,9 +17,37 @@
 
 namespace swarmcl::test {
 
+// Contexts a test binary keeps for all its tests are released when the tests
+// end (a GoogleTest environment's TearDown, before main returns), not by
+// static destructors at exit: an OpenCL implementation may already be torn
+// down by then (Oclgrind 21.10 aborts with "corrupted double-linked list",
+// LLVM freeing a program in clReleaseProgram from an exit handler).
+class KeptContexts : public ::testing::Environment {
+public:
+    static std::vector<std::shared_ptr<Context>*>& slots() {
+        static std::vector<std::shared_ptr<Context>*> s;
+        return s;
+    }
+    void TearDown() override {
+        for (auto* slot : slots()) slot->reset();
+    }
+};
+inline ::testing::Environment* const kept_contexts_environment =
+    ::testing::AddGlobalTestEnvironment(new KeptContexts);
+
+// A context made on first use and kept (in *slot) until the tests end.
+inline std::shared_ptr<Context> kept_context(std::shared_ptr<Context>& slot) {
+    if (!slot) {
+        slot = std::make_shared<Context>("", "");
+        auto& slots = KeptContexts::slots();
+        if (std::find(slots.begin(), slots.end(), &slot) == slots.end()) slots.push_back(&slot);
+    }
+    return slot;
+}
+
 inline std::shared_ptr<Context> shared_context() {
-    static std::shared_ptr<Context> ctx = std::make_shared<Context>("", "");
-    return ctx;
+    static std::shared_ptr<Context> ctx;
+    return kept_context(ctx);
 }
 
 inline std::vector<float> random_points(size_t n, float lo, float hi, uint32_t seed) {

@@ -3,13 +3,37 @@
 #pragma once
 #include <algorithm>
 #include <cstddef>
+#include <cstring>
 #include <string>
+#include <vector>
 
 #include "core/error.hpp"
 #include "device/context.hpp"
 #include "device/kernel_args.hpp"
 
 namespace swarmcl {
+
+// Fills `bytes` bytes of `buffer` from `offset` with copies of `value`
+// (clEnqueueFillBuffer).  On Oclgrind (Context::fills_by_write()) the same
+// bytes are written from the host instead: Oclgrind 21.10 keeps filled memory
+// marked uninitialised, and every kernel reading it would be reported.  And
+// since a write of part of a buffer there marks the rest uninitialised (an
+// 8-byte counter pair, the first word rewritten: the second reported), a
+// partial fill reads the whole buffer back and writes it whole.
+template <typename T>
+void fill_buffer(Context& ctx, cl::Buffer& buffer, const T& value, size_t offset, size_t bytes) {
+    if (!bytes) return;
+    if (!ctx.fills_by_write()) {
+        ctx.queue().enqueueFillBuffer(buffer, value, offset, bytes);
+        return;
+    }
+    const size_t size = buffer.getInfo<CL_MEM_SIZE>();
+    std::vector<unsigned char> whole(size);
+    ctx.queue().enqueueReadBuffer(buffer, CL_TRUE, 0, size, whole.data());
+    for (size_t at = offset; at + sizeof(T) <= offset + bytes; at += sizeof(T))
+        std::memcpy(whole.data() + at, &value, sizeof(T));
+    ctx.queue().enqueueWriteBuffer(buffer, CL_TRUE, 0, size, whole.data());
+}
 
 template <typename T>
 class DeviceBuffer {
@@ -39,7 +63,7 @@ public:
     const cl::Buffer& get() const { return buffer_; }
 
     void fill(Context& ctx, const T& value, size_t count) {
-        if (count) ctx.queue().enqueueFillBuffer(buffer_, value, 0, count * sizeof(T));
+        fill_buffer(ctx, buffer_, value, 0, count * sizeof(T));
     }
     void upload(Context& ctx, const T* src, size_t count, bool blocking = true) {
         if (count) ctx.queue().enqueueWriteBuffer(buffer_, blocking ? CL_TRUE : CL_FALSE, 0, count * sizeof(T), src);

@@ -1,6 +1,11 @@
 #include "device/context.hpp"
 
+#include <cctype>
+#include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
 
 #include "core/error.hpp"
 #include "device/kernel_sources.hpp"
@@ -26,6 +31,57 @@ DeviceEntry profiled(DeviceEntry d) {
     return d;
 }
 
+// The line of a compiler log a reader needs first: the first that says
+// "error" (clang, PoCL, NVIDIA and Oclgrind all write "error:"), else the
+// first non-empty line, else a note that the driver gave no log.
+std::string first_error(const std::string& log) {
+    std::string first_nonempty;
+    size_t begin = 0;
+    while (begin < log.size()) {
+        size_t end = log.find('\n', begin);
+        if (end == std::string::npos) end = log.size();
+        std::string line = log.substr(begin, end - begin);
+        begin = end + 1;
+        if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+        if (first_nonempty.empty()) first_nonempty = line;
+        std::string lower = line;
+        for (char& c : lower) c = char(std::tolower((unsigned char)c));
+        if (lower.find("error") != std::string::npos) return line;
+    }
+    return first_nonempty.empty() ? std::string("(the driver gave no build log)") : first_nonempty;
+}
+
+// $SWARMCL_PROGRAM_DUMP_DIR (development, docs/reliability.md, "NVIDIA
+// compile"): every program as built, its includes expanded, written to
+// <dir>/<file stem>-<hash>.cl with its build options in a first-line comment,
+// so tools (scripts/nvptx-check.sh) compile exactly what the host builds.
+// Written to a temporary name and renamed, so concurrent test processes
+// never leave a half-written file; a failure to write is ignored (it is a
+// debugging aid, never a reason to fail a build).
+void dump_program(const std::string& file, const std::string& options, const std::string& source) {
+    const char* dir = std::getenv("SWARMCL_PROGRAM_DUMP_DIR");
+    if (!dir || !*dir) return;
+    const std::string text = "// swarmcl-build-options: " + options + "\n" + source;
+    uint64_t h = 1469598103934665603ull;  // FNV-1a 64
+    for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
+    std::string stem = file.substr(0, file.rfind('.'));
+    for (char& c : stem)
+        if (c == '/') c = '_';
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx", (unsigned long long)h);
+    const std::string path = std::string(dir) + "/" + stem + "-" + hex + ".cl";
+    const std::string tmp = path + ".tmp" + std::to_string(getpid());
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    {
+        std::ofstream out(tmp, std::ios::binary);
+        if (!out) return;
+        out << text;
+        if (!out) return;
+    }
+    std::rename(tmp.c_str(), path.c_str());
+}
+
 }  // namespace
 
 Context::Context(const std::string& selector, const std::string& build_options)
@@ -36,6 +92,8 @@ Context::Context(const std::string& selector, const std::string& build_options)
     // the same on every run (docs/design.md, "Kernels").
     // SWCL_CPU_PROFILE: CPU-only constructs (x86 prefetch, lib/prefetch.cl)
     // compile only where the CPU paths run.
+    fills_by_write_ = device_.platform_name.find("Oclgrind") != std::string::npos ||
+                      device_.device_name.find("Oclgrind") != std::string::npos;
     options_ = std::string("-cl-std=CL1.2 -DSWCL_CPU_PROFILE=") + (device_.cpu_profile ? "1" : "0");
     if (!build_options.empty()) options_ += " " + build_options;
 }
@@ -52,24 +110,52 @@ cl::Program Context::program(const std::string& file, const std::string& defines
     std::lock_guard<std::mutex> lock(programs_mutex_);
     const std::string key = defines.empty() ? file : file + '\n' + defines;
     if (auto it = programs_.find(key); it != programs_.end()) return it->second;
-    cl::Program program(context_, load_kernel_source(file));
+    const std::string source = load_kernel_source(file);
     const std::string options = defines.empty() ? options_ : options_ + " " + defines;
+    dump_program(file, options, source);
+    cl::Program program(context_, source);
+    // A failed build names the device, the program and the log's first error
+    // on its first line (a new driver refusing one kernel is found at a
+    // glance), then the options and the whole log.  Only this context's
+    // program fails: other contexts, on other devices, stay usable.
+    auto build_failed = [&](const std::string& how, const std::string& log) {
+        fail(Status::Build, "building kernels/" + file + " for device '" + device_.device_name + "' (" +
+                                device_.platform_name + ") failed" + how + ": " + first_error(log) +
+                                "\nbuild options: " + options + "\nbuild log:\n" + log);
+    };
     try {
         program.build({device_.device}, options.c_str());
     } catch (const cl::BuildError& e) {
         std::string log;
         for (const auto& entry : e.getBuildLog()) log += entry.second;
-        fail(Status::Build, "building kernels/" + file + " with '" + options + "' failed:\n" + log);
+        build_failed("", log);
     } catch (const cl::Error& e) {
-        std::string log = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device_.device);
-        fail(Status::Build, "building kernels/" + file + " failed (" + std::to_string(e.err()) + "):\n" + log);
+        std::string log;
+        try {
+            log = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device_.device);
+        } catch (const cl::Error&) {
+            // No log either: the status code below is all there is.
+        }
+        build_failed(" (OpenCL error " + std::to_string(e.err()) + ")", log);
     }
     programs_.emplace(key, program);
     return program;
 }
 
 cl::Kernel Context::kernel(const std::string& file, const char* name, const std::string& defines) {
-    return cl::Kernel(program(file, defines), name);
+    cl::Program built;
+    try {
+        built = program(file, defines);
+    } catch (const Error& e) {
+        if (e.status() != Status::Build) throw;
+        // The kernel the caller wanted, in the first line with the rest.
+        std::string message = e.what();
+        const std::string head = "building kernels/" + file;
+        if (message.compare(0, head.size(), head) == 0)
+            message.insert(head.size(), std::string(" (kernel ") + name + ")");
+        fail(Status::Build, message);
+    }
+    return cl::Kernel(built, name);
 }
 
 }  // namespace swarmcl

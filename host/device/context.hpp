@@ -29,19 +29,28 @@ public:
     // The program compiled from kernels/<file> (includes expanded), with
     // `defines` (e.g. "-DNOISE_KIND=0") appended to the build options; each
     // (file, defines) pair is built once and kept.  A build failure throws
-    // Error(Build) carrying the compiler log.
+    // Error(Build): its first line names the program, the device and the
+    // log's first error; then the options and the whole compiler log.
     cl::Program program(const std::string& file, const std::string& defines = "");
     // A fresh kernel object (kernels hold arguments, so callers keep their own).
+    // A build failure names the kernel too.
     cl::Kernel kernel(const std::string& file, const char* name, const std::string& defines = "");
 
     // Largest single allocation the device allows, in bytes.
     uint64_t max_allocation() const { return device_.max_allocation; }
+
+    // True on Oclgrind, whose --uninitialized check (21.10) does not count
+    // clEnqueueFillBuffer as writing the memory: fill_buffer() writes the
+    // pattern from the host there instead, so every report it gives is one
+    // of ours (docs/reliability.md, "Oclgrind").  False on every other device.
+    bool fills_by_write() const { return fills_by_write_; }
 
 private:
     DeviceEntry device_;
     cl::Context context_;
     cl::CommandQueue queue_;
     std::string options_;
+    bool fills_by_write_ = false;
     std::mutex programs_mutex_;
     std::map<std::string, cl::Program> programs_;
 };

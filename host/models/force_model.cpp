@@ -378,7 +378,7 @@ StepStages ForceModel::stages() const {
 void ForceModel::enforce_min_distance(Swarm& swarm, DeviceBuffer<cl_uint>& moved) {
     const uint32_t n = swarm.agent_count();
     Context& ctx = swarm.context();
-    ctx.queue().enqueueFillBuffer(moved.get(), cl_uint(0), 0, sizeof(cl_uint));
+    fill_buffer(ctx, moved.get(), cl_uint(0), 0, sizeof(cl_uint));
     if (n == 0) return;
     // The fine grid of this step's forces, built before the Newton step
     // moved each agent by at most max_speed dt (force_model_mde), or one of

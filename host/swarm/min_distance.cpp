@@ -87,7 +87,7 @@ void MinDistance::apply(Swarm& swarm, DeviceBuffer<cl_uint>& moved) {
     k.setArg(i++, swarm.scratch().get());
     k.setArg(i++, moved.get());
     check_arg_count(k, i);
-    swarm.context().queue().enqueueFillBuffer(moved.get(), cl_uint(0), 0, sizeof(cl_uint));
+    fill_buffer(swarm.context(), moved.get(), cl_uint(0), 0, sizeof(cl_uint));
     launch(swarm.context(), k, wide ? (n + width_ - 1) / width_ : n);
     swarm.swap_positions_with_scratch();
 }

@@ -41,7 +41,7 @@ const SwarmConfig& checked(const SwarmConfig& c, Context& ctx) {
     const double bytes = double(c.capacity) * (4 * 16 + 13 * 4 + 12) + double(max_cells_for(c.capacity)) * 8;
     if (bytes > double(ctx.device().global_memory))
         fail(Status::OutOfMemory, "a swarm of capacity " + std::to_string(c.capacity) + " needs about " +
-                                      std::to_string(uint64_t(bytes)) + " bytes; the device has " +
+                                      std::to_string(uint64_t(bytes)) + " bytes; the device '" + ctx.device().device_name + "' has " +
                                       std::to_string(ctx.device().global_memory));
     return c;
 }
@@ -120,8 +120,7 @@ void Swarm::set_count(uint32_t n) {
     ensure_slot_of();
     set_args(gather_, vel_.get(), slot_of_.get(), keep, packed_.get());
     launch(c, gather_, keep);
-    if (n > keep) c.queue().enqueueFillBuffer(packed_.get(), 0.0f, size_t(keep) * 3 * sizeof(float),
-                                              size_t(n - keep) * 3 * sizeof(float));
+    if (n > keep) fill_buffer(c, packed_.get(), 0.0f, size_t(keep) * 3 * sizeof(float), size_t(n - keep) * 3 * sizeof(float));
     set_args(identity_, n, ids_.get(), slot_of_.get());
     launch(c, identity_, n);
     grid_.invalidate_layout();  // id order is no order a grid build made

@@ -418,7 +418,7 @@ SWCL_INLINE void swcl_modulate_prims(float3 x, float d0, __global const float4* 
 }
 
 /* Modulated potential N(x) (value only): what the FD mode differentiates. */
-inline float3 swcl_curl_noise_potential(float3 x, float t, int timed, swcl_curl_params c,
+static inline float3 swcl_curl_noise_potential(float3 x, float t, int timed, swcl_curl_params c,
                                         __global const float4* prims, uint nprims)
 {
     float3 psi; swcl_mat3 J;
@@ -444,7 +444,7 @@ SWCL_INLINE float3 swcl_curl_noise(float3 x, float t, int timed, swcl_curl_param
 
 /* V(x) by central differences of N with step h (m): for checks, and for
  * boundaries that provide only d and n. O(h^2) accurate. */
-inline float3 swcl_curl_noise_fd(float3 x, float h, float t, int timed, swcl_curl_params c,
+static inline float3 swcl_curl_noise_fd(float3 x, float h, float t, int timed, swcl_curl_params c,
                                  __global const float4* prims, uint nprims)
 {
     float3 ex = (float3)(h, 0.0f, 0.0f), ey = (float3)(0.0f, h, 0.0f), ez = (float3)(0.0f, 0.0f, h);

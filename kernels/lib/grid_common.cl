@@ -26,7 +26,7 @@ typedef struct {
                     __global const uint* grid_cell_start
 #define GRID_MAKE() grid_make(grid_origin, grid_inv_cell, grid_dims, grid_cell_start)
 
-inline Grid grid_make(float4 origin, float inv_cell, int4 dims, __global const uint* cell_start) {
+static inline Grid grid_make(float4 origin, float inv_cell, int4 dims, __global const uint* cell_start) {
     Grid g;
     g.origin = origin;
     g.inv_cell = inv_cell;
@@ -39,28 +39,28 @@ inline Grid grid_make(float4 origin, float inv_cell, int4 dims, __global const u
 // so huge coordinates cannot overflow the int conversion, then truncated:
 // on [0, n-1] truncation is floor, and below 0 or above n-1 both orders give
 // the same bound.  Several times faster on PoCL than floor() then clamp.
-inline int grid_axis(float x, float origin, float inv_cell, int n) {
+static inline int grid_axis(float x, float origin, float inv_cell, int n) {
     return (int)clamp((x - origin) * inv_cell, 0.0f, (float)(n - 1));
 }
 
-inline int4 grid_cell_of(const Grid* g, float4 p) {
+static inline int4 grid_cell_of(const Grid* g, float4 p) {
     return (int4)(grid_axis(p.x, g->origin.x, g->inv_cell, g->dims.x),
                   grid_axis(p.y, g->origin.y, g->inv_cell, g->dims.y),
                   grid_axis(p.z, g->origin.z, g->inv_cell, g->dims.z), 0);
 }
 
-inline uint grid_cell_index(const Grid* g, int4 c) {
+static inline uint grid_cell_index(const Grid* g, int4 c) {
     return (uint)c.x + (uint)g->dims.x * ((uint)c.y + (uint)g->dims.y * (uint)c.z);
 }
 
 // The box of cells holding every agent within distance r of p.
-inline void grid_search_box(const Grid* g, float4 p, float r, int4* lo, int4* hi) {
+static inline void grid_search_box(const Grid* g, float4 p, float r, int4* lo, int4* hi) {
     *lo = grid_cell_of(g, p - (float4)(r, r, r, 0.0f));
     *hi = grid_cell_of(g, p + (float4)(r, r, r, 0.0f));
 }
 
 // Agent slots of the cells x0..x1 of row (y, z): [range.x, range.y).
-inline uint2 grid_row_range(const Grid* g, int x0, int x1, int y, int z) {
+static inline uint2 grid_row_range(const Grid* g, int x0, int x1, int y, int z) {
     const uint row = (uint)g->dims.x * ((uint)y + (uint)g->dims.y * (uint)z);
     return (uint2)(g->cell_start[row + (uint)x0], g->cell_start[row + (uint)x1 + 1u]);
 }
@@ -77,7 +77,7 @@ inline uint2 grid_row_range(const Grid* g, int x0, int x1, int y, int z) {
                 for (uint j = grid_rng_.x; j < grid_rng_.y; ++j)
 #define GRID_END_FOR }}
 
-inline float dist2(float4 a, float4 b) {
+static inline float dist2(float4 a, float4 b) {
     const float4 d = a - b;
     return d.x * d.x + d.y * d.y + d.z * d.z;
 }
@@ -92,14 +92,24 @@ inline float dist2(float4 a, float4 b) {
 // cells of the box for r = 2 cells.  The slab distances are shrunk by a
 // tolerance far above their float rounding (a few ulp of the coordinates'
 // magnitude), so rounding never drops an agent; r is widened likewise.
-__attribute__((always_inline)) inline float grid_slab_distance(float x, float origin, float cell, int k, int n) {
+#ifndef SWCL_ALWAYS_INLINE
+// Forced inlining; -DSWCL_NO_ALWAYS_INLINE drops it, for Oclgrind 21.10,
+// which cannot run the llvm.experimental.noalias.scope.decl calls LLVM 14's
+// always-inliner leaves even at -cl-opt-disable (docs/reliability.md).
+#ifdef SWCL_NO_ALWAYS_INLINE
+#define SWCL_ALWAYS_INLINE
+#else
+#define SWCL_ALWAYS_INLINE __attribute__((always_inline))
+#endif
+#endif
+SWCL_ALWAYS_INLINE static inline float grid_slab_distance(float x, float origin, float cell, int k, int n) {
     const float lo = k == 0 ? -INFINITY : origin + (float)k * cell;
     const float hi = k == n - 1 ? INFINITY : origin + (float)(k + 1) * cell;
     const float tol = 2e-6f * (fabs(x) + fabs(origin) + cell * (float)n);
     return fmax(0.0f, fmax(lo - x, x - hi) - tol);
 }
 
-__attribute__((always_inline)) inline bool grid_row_x_range(const Grid* g, float4 p, float r, int y, int z, int* x0, int* x1) {
+SWCL_ALWAYS_INLINE static inline bool grid_row_x_range(const Grid* g, float4 p, float r, int y, int z, int* x0, int* x1) {
     const float cell = 1.0f / g->inv_cell;
     const float ey = grid_slab_distance(p.y, g->origin.y, cell, y, g->dims.y);
     const float ez = grid_slab_distance(p.z, g->origin.z, cell, z, g->dims.z);
@@ -115,11 +125,11 @@ __attribute__((always_inline)) inline bool grid_row_x_range(const Grid* g, float
 // grid_axis and grid_slab_distance for 8 cells at once (k: their
 // coordinates along the axis), the same operations lane by lane, so the same
 // results: a caller trims 8 rows of the search box with one vector pass.
-inline int8 grid_axis8(float8 x, float origin, float inv_cell, int n) {
+static inline int8 grid_axis8(float8 x, float origin, float inv_cell, int n) {
     return convert_int8(clamp((x - origin) * inv_cell, 0.0f, (float)(n - 1)));
 }
 
-inline float8 grid_slab_distance8(float x, float origin, float cell, int8 k, int n) {
+static inline float8 grid_slab_distance8(float x, float origin, float cell, int8 k, int n) {
     const float8 lo = select(origin + convert_float8(k) * cell, (float8)(-INFINITY), k == (int8)(0));
     const float8 hi = select(origin + convert_float8(k + 1) * cell, (float8)(INFINITY), k == (int8)(n - 1));
     const float tol = 2e-6f * (fabs(x) + fabs(origin) + cell * (float)n);
@@ -129,13 +139,13 @@ inline float8 grid_slab_distance8(float x, float origin, float cell, int8 k, int
 // The grid of a geometry buffer (point_grid.cl, spatial/point_grid.hpp):
 // geo[0] = origin xyz and 1 / cell edge in w; geo[1] = cells per axis and
 // their product, as int bits.
-inline Grid grid_from_geometry(__global const float4* geo, __global const uint* cell_start) {
+static inline Grid grid_from_geometry(__global const float4* geo, __global const uint* cell_start) {
     const float4 a = geo[0], b = geo[1];
     return grid_make((float4)(a.xyz, 0.0f), a.w, (int4)(as_int(b.x), as_int(b.y), as_int(b.z), 0), cell_start);
 }
 
 #ifndef SWCL_INLINE
-#define SWCL_INLINE __attribute__((always_inline)) inline
+#define SWCL_INLINE SWCL_ALWAYS_INLINE static inline
 #endif
 
 // Lower bound of the distance from p to any agent outside the cell box

@@ -8,7 +8,7 @@
 
 // Direction for two agents on the same point: a Philox direction keyed by the
 // pair, pointing opposite ways for the two, so they separate deterministically.
-inline float3 coincident_direction(ulong seed, uint self, uint other) {
+static inline float3 coincident_direction(ulong seed, uint self, uint other) {
     const uint lo = min(self, other), hi = max(self, other);
     const float4 u = swcl_rand_uniform4(seed, lo, hi, SWCL_STREAM_MDE);
     float3 d = (float3)(2.0f * u.x - 1.0f, 2.0f * u.y - 1.0f, 2.0f * u.z - 1.0f + 1e-3f);

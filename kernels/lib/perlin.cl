@@ -45,7 +45,17 @@
  * every instruction of its body has a scalar type, and that is also the shape
  * GPUs like. The struct / float3 functions further down are thin wrappers
  * over the scalar cores (*_s), kept for tests and the generic boundary path. */
-#define SWCL_INLINE __attribute__((always_inline)) inline
+#ifndef SWCL_ALWAYS_INLINE
+// Forced inlining; -DSWCL_NO_ALWAYS_INLINE drops it, for Oclgrind 21.10,
+// which cannot run the llvm.experimental.noalias.scope.decl calls LLVM 14's
+// always-inliner leaves even at -cl-opt-disable (docs/reliability.md).
+#ifdef SWCL_NO_ALWAYS_INLINE
+#define SWCL_ALWAYS_INLINE
+#else
+#define SWCL_ALWAYS_INLINE __attribute__((always_inline))
+#endif
+#endif
+#define SWCL_INLINE SWCL_ALWAYS_INLINE static inline
 
 /* int, not uchar: a gather of 32-bit words, no zero extension. */
 __constant int swcl_perm[256] = {
@@ -323,12 +333,12 @@ SWCL_INLINE swcl_vg3 swcl_perlin3(float3 p) { return swcl_perlin3_shifted(p, (in
 SWCL_INLINE swcl_vg4 swcl_perlin4(float4 p) { return swcl_perlin4_shifted(p, (int4)(0)); }
 
 /* Per-seed, per-channel domain offset (see header): a raw Philox draw. */
-inline uint4 swcl_perlin_offset(ulong seed, uint channel)
+static inline uint4 swcl_perlin_offset(ulong seed, uint channel)
 {
     return swcl_rand_u4(seed, channel, 0u, SWCL_STREAM_PERLIN_OFFSET, 0u);
 }
-inline int4 swcl_offset_cells(uint4 o) { return convert_int4(o >> 24); }
-inline float4 swcl_offset_frac(uint4 o) { return convert_float4(o & 0xffffffu) * 0x1.0p-24f; }
+static inline int4 swcl_offset_cells(uint4 o) { return convert_int4(o >> 24); }
+static inline float4 swcl_offset_frac(uint4 o) { return convert_float4(o & 0xffffffu) * 0x1.0p-24f; }
 
 /* Seeded noise: value and gradient (d/dp) of noise_seed(p) = noise(p + offset). */
 SWCL_INLINE swcl_vg3 swcl_perlin3_seeded(float3 p, uint4 o)

@@ -31,7 +31,7 @@
 #define SWCL_STREAM_PERLIN_OFFSET  2u  /* per-seed domain offsets, perlin.cl */
 
 /* One Philox round: two 32x32->64 multiplies, xor with the other words and key. */
-inline uint4 swcl_philox_round(uint4 c, uint2 k)
+static inline uint4 swcl_philox_round(uint4 c, uint2 k)
 {
     uint hi0 = mul_hi(SWCL_PHILOX_M0, c.x), lo0 = SWCL_PHILOX_M0 * c.x;
     uint hi1 = mul_hi(SWCL_PHILOX_M1, c.z), lo1 = SWCL_PHILOX_M1 * c.z;
@@ -39,7 +39,7 @@ inline uint4 swcl_philox_round(uint4 c, uint2 k)
 }
 
 /* Philox4x32 with 10 rounds; the key is bumped by (W0, W1) between rounds. */
-inline uint4 philox4x32_10(uint4 ctr, uint2 key)
+static inline uint4 philox4x32_10(uint4 ctr, uint2 key)
 {
     for (int r = 0; r < 9; ++r) {
         ctr = swcl_philox_round(ctr, key);
@@ -48,13 +48,13 @@ inline uint4 philox4x32_10(uint4 ctr, uint2 key)
     return swcl_philox_round(ctr, key);
 }
 
-inline uint2 swcl_seed_key(ulong seed)
+static inline uint2 swcl_seed_key(ulong seed)
 {
     return (uint2)((uint)(seed & 0xffffffffUL), (uint)(seed >> 32));
 }
 
 /* Four independent uints for (seed, agent, step, stream, sub). */
-inline uint4 swcl_rand_u4(ulong seed, uint agent_id, uint step, uint stream, uint sub)
+static inline uint4 swcl_rand_u4(ulong seed, uint agent_id, uint step, uint stream, uint sub)
 {
     return philox4x32_10((uint4)(agent_id, step, stream, sub), swcl_seed_key(seed));
 }
@@ -62,16 +62,16 @@ inline uint4 swcl_rand_u4(ulong seed, uint agent_id, uint step, uint stream, uin
 /* uint -> float. The top 24 bits are used so the result is exact in float:
  * [0,1):  k * 2^-24, k = x >> 8 in [0, 2^24)      (0 possible, 1 never)
  * (0,1]:  (k + 1) * 2^-24                          (1 possible, 0 never: safe for log) */
-inline float swcl_u01_co(uint x) { return (float)(x >> 8) * 0x1.0p-24f; }
-inline float swcl_u01_oc(uint x) { return (float)((x >> 8) + 1u) * 0x1.0p-24f; }
+static inline float swcl_u01_co(uint x) { return (float)(x >> 8) * 0x1.0p-24f; }
+static inline float swcl_u01_oc(uint x) { return (float)((x >> 8) + 1u) * 0x1.0p-24f; }
 
-inline float4 swcl_u01_co4(uint4 x)
+static inline float4 swcl_u01_co4(uint4 x)
 {
     return (float4)(swcl_u01_co(x.x), swcl_u01_co(x.y), swcl_u01_co(x.z), swcl_u01_co(x.w));
 }
 
 /* White noise W (data-driven noise paper §4.2.1): 4 uniforms in [0,1). */
-inline float4 swcl_rand_uniform4(ulong seed, uint agent_id, uint step, uint stream)
+static inline float4 swcl_rand_uniform4(ulong seed, uint agent_id, uint step, uint stream)
 {
     return swcl_u01_co4(swcl_rand_u4(seed, agent_id, step, stream, 0u));
 }
@@ -79,7 +79,7 @@ inline float4 swcl_rand_uniform4(ulong seed, uint agent_id, uint step, uint stre
 /* Box–Muller: two N(0,1) from two uints. Data-driven noise paper §4.2.1:
  * G = lambda * sqrt(-2 log W1) * sin(2 pi W2); the cos branch gives the
  * second, independent, normal. W1 in (0,1] so log is finite; W2 in [0,1). */
-inline float2 swcl_box_muller(uint a, uint b)
+static inline float2 swcl_box_muller(uint a, uint b)
 {
     float r  = sqrt(-2.0f * log(swcl_u01_oc(a)));
     float th = 6.283185307179586f * swcl_u01_co(b);
@@ -87,7 +87,7 @@ inline float2 swcl_box_muller(uint a, uint b)
 }
 
 /* Four N(0,1) for (seed, agent, step, stream); multiply by lambda outside. */
-inline float4 swcl_rand_gauss4(ulong seed, uint agent_id, uint step, uint stream)
+static inline float4 swcl_rand_gauss4(ulong seed, uint agent_id, uint step, uint stream)
 {
     uint4 u = swcl_rand_u4(seed, agent_id, step, stream, 0u);
     float2 g0 = swcl_box_muller(u.x, u.y);
