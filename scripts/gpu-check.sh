@@ -25,8 +25,9 @@
 # Each step has its own timeout and the whole run a budget (480 s,
 # $GPU_CHECK_BUDGET_S): a step that would start with under 15 s left is
 # recorded as skipped, so one hang cannot eat the device time.  Results:
-# bench/results/gpu/*.json (each names the device) and gpu-check.log, copied
-# to $OUT/gpu when $OUT is set.  --quick: small sizes and short timeouts, for
+# bench/results/gpu/*.json (each names the device) and gpu-check.log; with
+# $OUT set, summary.json, gpu-check.log and gpu-results.tar.gz (all of it)
+# are copied there.  --quick: small sizes and short timeouts, for
 # the rehearsal on PoCL (SWARMCL_DEVICE_PROFILE=gpu).
 # Exit status: 0 when every step that ran passed, 1 otherwise, 2 on a usage or
 # setup error.
@@ -269,7 +270,10 @@ total=$(elapsed)
   echo "}"
 } > "$results/summary.json"
 say "done in ${total}s (budget ${budget}s); results in bench/results/gpu/"
+# $OUT (the device tool's folder) takes few files: the summary, the log and
+# everything as one archive.
 if [ -n "${OUT:-}" ]; then
-  mkdir -p "$OUT/gpu" && cp -r "$results"/. "$OUT/gpu/" && say "copied to \$OUT/gpu"
+  cp "$results/summary.json" "$log" "$OUT/" && tar -C "$results" -czf "$OUT/gpu-results.tar.gz" . \
+    && say "copied summary.json, gpu-check.log and gpu-results.tar.gz to \$OUT"
 fi
 exit $failed
