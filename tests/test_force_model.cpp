@@ -312,7 +312,13 @@ TEST_F(ForceTerms, NeighbourSampleMatchesItsRule) {
 // On CPU devices the forces come from force_model_force_w (SWCL_W agents per
 // work-item, one neighbour sample per group of 16 slots): the same sample and
 // arithmetic as the one-agent kernel GPUs run, all terms, exact and sampled.
+// GPUs never run the wide kernel (the GPU profile is one agent per
+// work-item), and NVIDIA's compiler rounds its vector code apart from its
+// scalar code in the last bit (-0.306381 against -0.306382 on an H100,
+// 2026-11-27): the bitwise claim is the CPU profile's.
 TEST(ForceModel, WideKernelMatchesTheScalarOne) {
+    if (!shared_context()->device().cpu_profile)
+        GTEST_SKIP() << "the wide kernel runs on CPU devices only (this device has the GPU profile)";
     const uint32_t n = 1003;  // not a multiple of 16: the last work-item is partial
     const auto pos = test::random_points(n, -2.0f, 2.0f, 21), vel = test::random_points(n, -0.5f, 0.5f, 22);
     for (uint32_t cap : {0u, 64u}) {
