@@ -320,47 +320,41 @@ protected:
     }
 };
 
-TEST_F(FieldModelReference, WhiteNoiseAndGoalOneStep) {
+// White noise of gain 0.4 and a goal at 1.5 m/s with a 0.25 m sphere (some
+// agents start inside: no pull there), and its reference noise:
+// V = gain (2u - 1), u from Philox (seed, agent id, step, white-noise stream 0).
+swcl_field_model_desc white_noise_and_goal(uint64_t seed) {
     swcl_field_model_desc m = swcl_field_model_desc_default();
     m.noise.type = SWCL_NOISE_WHITE;
     m.noise.gain = 0.4f;
-    m.noise.seed = 77;
+    m.noise.seed = seed;
     m.has_goal = 1;
     m.goal[0] = 0.3f; m.goal[1] = -0.2f; m.goal[2] = 0.1f;
-    m.goal_radius = 0.25f;  // some agents start inside: no pull there
+    m.goal_radius = 0.25f;
     m.goal_speed = 1.5f;
-    check_steps(m, [&](const std::vector<float>& p, uint32_t step, float) {
-        // V = gain (2u - 1), u from Philox (seed, agent id, step, white-noise stream 0).
-        std::vector<float> v(p.size());
-        for (size_t i = 0; i < p.size() / 3; ++i) {
-            const auto r = swarmcl::philox_for(m.noise.seed, uint32_t(i), step, 0);
-            for (int a = 0; a < 3; ++a) v[3 * i + a] = m.noise.gain * (2.0f * swarmcl::uniform01(r[a]) - 1.0f);
-        }
-        return v;
-    });
+    return m;
+}
+std::vector<float> white_noise_at(const swcl_field_model_desc& m, const std::vector<float>& p, uint32_t step) {
+    std::vector<float> v(p.size());
+    for (size_t i = 0; i < p.size() / 3; ++i) {
+        const auto r = swarmcl::philox_for(m.noise.seed, uint32_t(i), step, 0);
+        for (int a = 0; a < 3; ++a) v[3 * i + a] = m.noise.gain * (2.0f * swarmcl::uniform01(r[a]) - 1.0f);
+    }
+    return v;
+}
+
+TEST_F(FieldModelReference, WhiteNoiseAndGoalOneStep) {
+    const swcl_field_model_desc m = white_noise_and_goal(77);
+    check_steps(m, [&](const std::vector<float>& p, uint32_t step, float) { return white_noise_at(m, p, step); });
 }
 
 // max_speed (a parameter added through the field model's table, issue 24):
 // the pull (1.5 m/s) plus the noise, capped at 0.6 m/s for the agents
 // outside the goal sphere, untouched for the slower ones inside.
 TEST_F(FieldModelReference, MaxSpeedCapsTheVelocityOneStep) {
-    swcl_field_model_desc m = swcl_field_model_desc_default();
-    m.noise.type = SWCL_NOISE_WHITE;
-    m.noise.gain = 0.4f;
-    m.noise.seed = 78;
-    m.has_goal = 1;
-    m.goal[0] = 0.3f; m.goal[1] = -0.2f; m.goal[2] = 0.1f;
-    m.goal_radius = 0.25f;
-    m.goal_speed = 1.5f;
+    swcl_field_model_desc m = white_noise_and_goal(78);
     m.max_speed = 0.6f;
-    check_steps(m, [&](const std::vector<float>& p, uint32_t step, float) {
-        std::vector<float> v(p.size());
-        for (size_t i = 0; i < p.size() / 3; ++i) {
-            const auto r = swarmcl::philox_for(m.noise.seed, uint32_t(i), step, 0);
-            for (int a = 0; a < 3; ++a) v[3 * i + a] = m.noise.gain * (2.0f * swarmcl::uniform01(r[a]) - 1.0f);
-        }
-        return v;
-    });
+    check_steps(m, [&](const std::vector<float>& p, uint32_t step, float) { return white_noise_at(m, p, step); });
 }
 
 TEST_F(FieldModelTest, MaxSpeedBoundsEveryAgentsSpeed) {
