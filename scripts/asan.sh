@@ -24,7 +24,13 @@ cmake --build "$build" -j"${JOBS:-$(nproc)}"
 # detect_leaks: LeakSanitizer at exit; suppressions only for the OpenCL runtime.
 # new_delete_type_mismatch etc. stay on.  halt_on_error so a report fails the test.
 export ASAN_OPTIONS="detect_leaks=1 halt_on_error=1 abort_on_error=0 detect_stack_use_after_return=0 ${ASAN_OPTIONS:-}"
-export LSAN_OPTIONS="suppressions=$root/scripts/lsan.supp print_suppressions=0 ${LSAN_OPTIONS:-}"
+# use_tls=0: LeakSanitizer's tracer crashed (SIGSEGV, "DTLS 7 at
+# 0x000000000928-0x000800001a2a", every run) reading the dynamic TLS of a
+# module PoCL had loaded and dropped, at the exit of
+# Determinism.CliFramesEqualTheCApiRun/policy run alone (2026-11-27); the test
+# itself passed.  Not scanning TLS as a root can only add leak reports
+# (objects held only by thread-locals), never hide one.
+export LSAN_OPTIONS="suppressions=$root/scripts/lsan.supp print_suppressions=0 use_tls=0 ${LSAN_OPTIONS:-}"
 export UBSAN_OPTIONS="print_stacktrace=1 halt_on_error=1 ${UBSAN_OPTIONS:-}"
 cd "$build"
 # All but the installed-package check: it builds a plain C program against the
