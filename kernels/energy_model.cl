@@ -179,16 +179,7 @@ static inline emv em_closestv(float3 r0, float3 vs, emv vx, emv vy, emv vz, floa
 // is for reading, measured no slower in bench/energy_bench.cpp).  Each keeps
 // its statements as they were, so the arithmetic, and the results, are the
 // same bit for bit.
-#ifndef SWCL_ALWAYS_INLINE
-// Forced inlining; -DSWCL_NO_ALWAYS_INLINE drops it, for Oclgrind 21.10,
-// which cannot run the llvm.experimental.noalias.scope.decl calls LLVM 14's
-// always-inliner leaves even at -cl-opt-disable (docs/reliability.md).
-#ifdef SWCL_NO_ALWAYS_INLINE
-#define SWCL_ALWAYS_INLINE
-#else
-#define SWCL_ALWAYS_INLINE __attribute__((always_inline))
-#endif
-#endif
+#include "lib/inline.cl"
 #define EM_INLINE SWCL_ALWAYS_INLINE static inline
 
 #define EM_LANES ((int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15))

@@ -18,19 +18,7 @@
 // metric's index M_<kernel> with M_COUNT (eval/metric_table.hpp).
 #include "lib/grid_common.cl"
 
-#ifndef SWCL_INLINE
-#ifndef SWCL_ALWAYS_INLINE
-// Forced inlining; -DSWCL_NO_ALWAYS_INLINE drops it, for Oclgrind 21.10,
-// which cannot run the llvm.experimental.noalias.scope.decl calls LLVM 14's
-// always-inliner leaves even at -cl-opt-disable (docs/reliability.md).
-#ifdef SWCL_NO_ALWAYS_INLINE
-#define SWCL_ALWAYS_INLINE
-#else
-#define SWCL_ALWAYS_INLINE __attribute__((always_inline))
-#endif
-#endif
-#define SWCL_INLINE SWCL_ALWAYS_INLINE static inline
-#endif
+#include "lib/inline.cl"
 
 // The metrics' indices, M_SPEED ... M_ETA and M_COUNT: build defines from
 // the host's metric table (host/eval/metric_table.hpp), one row per metric.

@@ -92,16 +92,7 @@ static inline float dist2(float4 a, float4 b) {
 // cells of the box for r = 2 cells.  The slab distances are shrunk by a
 // tolerance far above their float rounding (a few ulp of the coordinates'
 // magnitude), so rounding never drops an agent; r is widened likewise.
-#ifndef SWCL_ALWAYS_INLINE
-// Forced inlining; -DSWCL_NO_ALWAYS_INLINE drops it, for Oclgrind 21.10,
-// which cannot run the llvm.experimental.noalias.scope.decl calls LLVM 14's
-// always-inliner leaves even at -cl-opt-disable (docs/reliability.md).
-#ifdef SWCL_NO_ALWAYS_INLINE
-#define SWCL_ALWAYS_INLINE
-#else
-#define SWCL_ALWAYS_INLINE __attribute__((always_inline))
-#endif
-#endif
+#include "lib/inline.cl"
 SWCL_ALWAYS_INLINE static inline float grid_slab_distance(float x, float origin, float cell, int k, int n) {
     const float lo = k == 0 ? -INFINITY : origin + (float)k * cell;
     const float hi = k == n - 1 ? INFINITY : origin + (float)(k + 1) * cell;
@@ -144,9 +135,6 @@ static inline Grid grid_from_geometry(__global const float4* geo, __global const
     return grid_make((float4)(a.xyz, 0.0f), a.w, (int4)(as_int(b.x), as_int(b.y), as_int(b.z), 0), cell_start);
 }
 
-#ifndef SWCL_INLINE
-#define SWCL_INLINE SWCL_ALWAYS_INLINE static inline
-#endif
 
 // Lower bound of the distance from p to any agent outside the cell box
 // [lo, hi]: the distance to the nearest box face, where faces on the grid's

@@ -45,17 +45,7 @@
  * every instruction of its body has a scalar type, and that is also the shape
  * GPUs like. The struct / float3 functions further down are thin wrappers
  * over the scalar cores (*_s), kept for tests and the generic boundary path. */
-#ifndef SWCL_ALWAYS_INLINE
-// Forced inlining; -DSWCL_NO_ALWAYS_INLINE drops it, for Oclgrind 21.10,
-// which cannot run the llvm.experimental.noalias.scope.decl calls LLVM 14's
-// always-inliner leaves even at -cl-opt-disable (docs/reliability.md).
-#ifdef SWCL_NO_ALWAYS_INLINE
-#define SWCL_ALWAYS_INLINE
-#else
-#define SWCL_ALWAYS_INLINE __attribute__((always_inline))
-#endif
-#endif
-#define SWCL_INLINE SWCL_ALWAYS_INLINE static inline
+#include "lib/inline.cl"
 
 /* int, not uchar: a gather of 32-bit words, no zero extension. */
 __constant int swcl_perm[256] = {

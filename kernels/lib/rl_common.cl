@@ -8,19 +8,7 @@
 #ifndef SWCL_RL_COMMON_CL
 #define SWCL_RL_COMMON_CL
 #pragma OPENCL FP_CONTRACT OFF
-#ifndef SWCL_INLINE
-#ifndef SWCL_ALWAYS_INLINE
-// Forced inlining; -DSWCL_NO_ALWAYS_INLINE drops it, for Oclgrind 21.10,
-// which cannot run the llvm.experimental.noalias.scope.decl calls LLVM 14's
-// always-inliner leaves even at -cl-opt-disable (docs/reliability.md).
-#ifdef SWCL_NO_ALWAYS_INLINE
-#define SWCL_ALWAYS_INLINE
-#else
-#define SWCL_ALWAYS_INLINE __attribute__((always_inline))
-#endif
-#endif
-#define SWCL_INLINE SWCL_ALWAYS_INLINE static inline
-#endif
+#include "lib/inline.cl"
 
 #define RL_RAYS 42
 #define RL_OBS_LOCAL 9
