@@ -20,8 +20,10 @@
 // nodes min + (i, j, k) * cell.
 __kernel void noise_bake(NOISE_PARAMS, __global float4* out) {
     const uint i = get_global_id(0);
+    const int4 noise_bake_dims = NOISE_B_I4(NOISE_SLOT_BAKE_DIMS);
     const uint n = (uint)(noise_bake_dims.x * noise_bake_dims.y * noise_bake_dims.z);
     if (i >= n) return;
+    const float4 noise_bake_min = NOISE_B_F4(NOISE_SLOT_BAKE_MIN), noise_bake_cell = NOISE_B_F4(NOISE_SLOT_BAKE_CELL);
     const uint nx = (uint)noise_bake_dims.x, ny = (uint)noise_bake_dims.y;
     const float x = noise_bake_min.x + noise_bake_cell.x * (float)(i % nx);
     const float y = noise_bake_min.y + noise_bake_cell.y * (float)((i / nx) % ny);

@@ -93,11 +93,11 @@ static inline swcl_dist path_mesh_dist(__global const float* phi, int4 dims, flo
 // derivatives) with every analytic boundary, then the mesh (Eq. 2 once more).
 static inline void path_noise_mesh(NOISE_PARAMS, __global const float* phi, int4 dims, float4 origin_h, float x, float y,
                             float z, float t, float* vx, float* vy, float* vz) {
-    const float scale = noise_shape.x, gain = noise_shape.y, d0 = noise_shape.z;
+    const float scale = NOISE_B(NOISE_SCALE), gain = NOISE_B(NOISE_GAIN), d0 = NOISE_B(NOISE_BOUNDARY_DISTANCE);
     swcl_pj N;
-    swcl_noise_potential_s(x, y, z, t, NOISE_TIMED, 1.0f / scale, gain, noise_shape.w, noise_off0, noise_off1,
-                           noise_off2, &N);
-    swcl_modulate_prims_s(&N, x, y, z, d0, noise_prims, 0u, noise_nprims);
+    swcl_noise_potential_s(x, y, z, t, NOISE_TIMED, 1.0f / scale, gain, NOISE_B(NOISE_SLOT_INV_TIME_SCALE),
+                           NOISE_B_OFF(0), NOISE_B_OFF(1), NOISE_B_OFF(2), &N);
+    swcl_modulate_prims_s(&N, x, y, z, d0, noise_prims, 0u, NOISE_B_UINT(NOISE_SLOT_NPRIMS));
     // The B-spline reaches 2 cells: farther than d0 + 2 sqrt(3) cells from
     // the mesh, Eq. 2 is the identity; skip the 64 taps.
     const float3 p = (float3)(x, y, z);
@@ -121,9 +121,7 @@ __kernel void path_noise_bake(NOISE_PARAMS, __global const float* phi, int4 dims
     if (i >= n) return;
     const uint nx = (uint)vl_dims.x, ny = (uint)vl_dims.y;
     float vx, vy, vz;
-    path_noise_mesh(noise_type, noise_flags, noise_shape, noise_fd_step, noise_seed, noise_off0, noise_off1,
-                    noise_off2, noise_prims, noise_nprims, noise_baked, noise_bake_min, noise_bake_cell,
-                    noise_bake_dims, phi, dims, origin_h, vl_min.x + vl_cell.x * (float)(i % nx),
+    path_noise_mesh(NOISE_ARGS, phi, dims, origin_h, vl_min.x + vl_cell.x * (float)(i % nx),
                     vl_min.y + vl_cell.y * (float)((i / nx) % ny), vl_min.z + vl_cell.z * (float)(i / (nx * ny)),
                     0.0f, &vx, &vy, &vz);
     out[i] = (float4)(vx, vy, vz, 0.0f);
@@ -143,9 +141,7 @@ __kernel void path_noise_rebake_box(NOISE_PARAMS, __global const float* phi, int
     const uint nx = (uint)vl_dims.x, ny = (uint)vl_dims.y;
     const uint i = ix + nx * (iy + ny * iz);
     float vx, vy, vz;
-    path_noise_mesh(noise_type, noise_flags, noise_shape, noise_fd_step, noise_seed, noise_off0, noise_off1,
-                    noise_off2, noise_prims, noise_nprims, noise_baked, noise_bake_min, noise_bake_cell,
-                    noise_bake_dims, phi, dims, origin_h, vl_min.x + vl_cell.x * (float)(i % nx),
+    path_noise_mesh(NOISE_ARGS, phi, dims, origin_h, vl_min.x + vl_cell.x * (float)(i % nx),
                     vl_min.y + vl_cell.y * (float)((i / nx) % ny), vl_min.z + vl_cell.z * (float)(i / (nx * ny)),
                     0.0f, &vx, &vy, &vz);
     out[i] = (float4)(vx, vy, vz, 0.0f);

@@ -4,10 +4,12 @@
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <string>
 
 #include "core/error.hpp"
 #include "core/philox.hpp"
+#include "params/param_table.hpp"
 
 namespace swarmcl {
 namespace {
@@ -168,27 +170,51 @@ NoiseField::NoiseField(Context& ctx, NoiseConfig config, const std::array<float,
     prims_.allocate(ctx_, std::max<size_t>(prims.size(), 2), "noise boundaries");
     prims_.upload(ctx_, prims.data(), prims.size());
     baked_.allocate(ctx_, 1, "baked noise");
+    upload_block();
     if (config_.baked) bake();
 }
 
-cl_uint NoiseField::set_args(cl::Kernel& k, cl_uint i) const {
+std::vector<cl_float> NoiseField::block() const {
     const auto& c = config_;
+    const ParamTable& table = noise_param_table();
+    // The derived slots, in lib/noise_field.cl's order (NOISE_SLOT_*).
+    constexpr uint32_t kDerivedFloats = 29;
+    std::vector<cl_float> b(table.device_floats() + kDerivedFloats, 0.0f);
+    NoiseConfig resolved = c;
+    table.write_device_block(&resolved, b.data());
+    size_t at = table.device_floats();
+    const auto put_uint = [&](uint32_t u) { std::memcpy(&b[at++], &u, sizeof u); };
+    const auto put_float4 = [&](const cl_float4& v) {
+        for (int a = 0; a < 4; ++a) b[at++] = v.s[a];
+    };
     int flags = 0;
     if (c.time_scale > 0.0f) flags |= kFlagTimed;
     if (c.finite_difference) flags |= kFlagFiniteDifference;
     if (baked_ready_) flags |= kFlagBaked;
-    k.setArg(i++, cl_int(c.type));
-    k.setArg(i++, cl_int(flags));
-    k.setArg(i++, cl_float4{{c.scale, c.gain, c.boundary_distance, c.time_scale > 0.0f ? 1.0f / c.time_scale : 0.0f}});
-    k.setArg(i++, c.fd_step);
-    k.setArg(i++, cl_ulong(c.seed));
-    for (const auto& o : offsets_) k.setArg(i++, o);
+    put_uint(uint32_t(flags));
+    b[at++] = c.time_scale > 0.0f ? 1.0f / c.time_scale : 0.0f;
+    put_uint(uint32_t(c.seed));
+    put_uint(uint32_t(c.seed >> 32));
+    for (const auto& o : offsets_)
+        for (int a = 0; a < 4; ++a) put_uint(o.s[a]);
+    put_uint(prim_count_);
+    put_float4(bake_min_);
+    put_float4(bake_cell_);
+    for (int a = 0; a < 4; ++a) put_uint(uint32_t(bake_dims_.s[a]));
+    if (at != b.size()) fail(Status::Internal, "noise block: layout out of step with lib/noise_field.cl");
+    return b;
+}
+
+void NoiseField::upload_block() {
+    const std::vector<cl_float> b = block();
+    block_.allocate(ctx_, b.size(), "noise parameter block");
+    block_.upload(ctx_, b.data(), b.size());
+}
+
+cl_uint NoiseField::set_args(cl::Kernel& k, cl_uint i) const {
+    k.setArg(i++, block_.get());
     k.setArg(i++, prims_.get());
-    k.setArg(i++, cl_uint(prim_count_));
     k.setArg(i++, baked_.get());
-    k.setArg(i++, bake_min_);
-    k.setArg(i++, bake_cell_);
-    k.setArg(i++, bake_dims_);
     return i;
 }
 
@@ -206,7 +232,8 @@ std::string NoiseField::defines() const {
     const auto& c = config_;
     const uint32_t w = width();
     const std::string wd = w > 1 ? " -DNOISE_WIDTH=" + std::to_string(w) : "";
-    if (baked_ready_) return "-DNOISE_KIND=4" + wd;  // NOISE_KIND_BAKED
+    const std::string slots = block_defines();
+    if (baked_ready_) return "-DNOISE_KIND=4" + wd + slots;  // NOISE_KIND_BAKED
     std::string d = "-DNOISE_KIND=" + std::to_string(int(c.type));
     if (c.type == NoiseType::Curl || c.type == NoiseType::Perlin)
         d += std::string(" -DNOISE_TIMED=") + (c.time_scale > 0.0f ? "1" : "0");
@@ -215,8 +242,10 @@ std::string NoiseField::defines() const {
         d += std::string(" -DNOISE_WALLS=") + (c.domain_walls ? "1" : "0");
         d += std::string(" -DNOISE_OBSTACLES=") + (c.boundaries.empty() ? "0" : "1");
     }
-    return d + wd;
+    return d + wd + slots;
 }
+
+std::string NoiseField::block_defines() { return noise_param_table().device_defines("NOISE"); }
 
 cl::Kernel NoiseField::kernel(const std::string& file, const char* name, const std::string& extra_defines) const {
     return ctx_.kernel(file, name, defines() + extra_defines);
@@ -248,12 +277,14 @@ void NoiseField::bake() {
     bake_min_ = g.min;
     bake_cell_ = g.cell;
     bake_dims_ = g.dims;
+    upload_block();  // the grid's placement
     cl::Kernel kernel = this->kernel("noise_field.cl", "noise_bake");
     const cl_uint i = set_args(kernel, 0);  // procedural: baked_ready_ is false
     DeviceBuffer<cl_float4> grid = bake_nodes(ctx_, kernel, i, g, "baked noise");
     ctx_.queue().finish();
     baked_ = std::move(grid);
     baked_ready_ = true;
+    upload_block();  // the baked flag
 }
 
 cl::Kernel NoiseField::sample_kernel() const {

@@ -89,14 +89,25 @@ public:
 
     const NoiseConfig& config() const { return config_; }
 
-    // Appends the NOISE_PARAMS arguments (noise_field.cl) from `index` on.
+    // Appends the NOISE_PARAMS arguments (lib/noise_field.cl: the parameter
+    // block, the boundary primitives, the baked grid) from `index` on.
     cl_uint set_args(cl::Kernel& kernel, cl_uint index) const;
+
+    // The noise's parameter block as the kernels read it (NOISE_PARAMS):
+    // the noise table's device rows (fields/noise_params.cpp), then what is
+    // derived from them (flags, 1/time_scale, the seed's halves, the Perlin
+    // channel offsets, the primitive count, the baked grid's placement).
+    std::vector<cl_float> block() const;
 
     // Build options that specialise kernels/noise_field.cl (and files that
     // include it) for this field: -DNOISE_KIND, NOISE_TIMED, NOISE_FD,
-    // NOISE_WALLS, NOISE_OBSTACLES.  The kernel arguments stay the same.
+    // NOISE_WALLS, NOISE_OBSTACLES, and the block's slots (NOISE_SCALE, ...,
+    // NOISE_FLOATS).  The kernel arguments stay the same.
     // On CPU devices also -DNOISE_WIDTH=W (width()).
     std::string defines() const;
+    // The block's slots alone (" -DNOISE_TYPE=0 ... -DNOISE_FLOATS=5"), for a
+    // model that specialises the noise's kernels itself (the path model's mesh).
+    static std::string block_defines();
     // A kernel from `file` built for this field (Context::kernel with
     // defines() and `extra_defines`, e.g. a model's parameter slots).
     cl::Kernel kernel(const std::string& file, const char* name, const std::string& extra_defines = "") const;
@@ -126,10 +137,12 @@ public:
 
 private:
     void bake();
+    void upload_block();
 
     Context& ctx_;
     NoiseConfig config_;
     std::array<cl_uint4, 3> offsets_{};
+    DeviceBuffer<cl_float> block_;  // block(), uploaded at construction and after a bake
     DeviceBuffer<cl_float4> prims_;
     uint32_t prim_count_ = 0;
     DeviceBuffer<cl_float4> baked_;

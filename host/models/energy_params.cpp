@@ -81,7 +81,7 @@ const ParamTable& energy_param_table() {
             .cites("FASTSWARM §4.2.1, Eq. 10 (units ours, docs/energy-model.md)");
         t.add("danger_horizon", T::Float, &C::danger_horizon).non_negative().in("s")
             .says("look-ahead of the startled prediction").cites("FASTSWARM §4.2.2, Eq. 12 (ours)").on_device();
-        t.include("noise.", noise_param_table(), &C::noise);
+        t.include("noise.", noise_param_table(), &C::noise, ParamTable::Block::Own);
         t.add("keypoints_closed", T::Bool, &C::keypoints_closed)
             .says("the keypoint curve is a loop").cites("FASTSWARM §5.1.2").on_device();
         t.add("bidirectional", T::Bool, &C::bidirectional)

@@ -11,7 +11,7 @@ const ParamTable& field_param_table() {
         using C = FieldModelConfig;
         using T = ParamType;
         ParamTable t("field", "FieldModelConfig");
-        t.include("noise.", noise_param_table(), &C::noise);
+        t.include("noise.", noise_param_table(), &C::noise, ParamTable::Block::Own);
         t.add("has_goal", T::Bool, &C::has_goal).implied()
             .says("pull towards the goal (scenario files: set when \"goal\" is given)").cites("curl-noise paper §6")
             .on_device();

@@ -52,7 +52,7 @@ const ParamTable& force_param_table() {
         // The internal noise (Eq. 4: scale = rho, gain = eta / rho by
         // default); a scenario's "noise" object starts from the noise
         // module's defaults, the legacy keys from these (force_section.cpp).
-        t.include("noise.", noise_param_table(), &C::noise);
+        t.include("noise.", noise_param_table(), &C::noise, ParamTable::Block::Own);
         t.row("noise.scale").c("rho");         // swcl_force_model_desc's names
         t.row("noise.seed").c("noise_seed");
         t.add("min_distance", T::Float, &C::min_distance).non_negative().in("m")

@@ -139,7 +139,8 @@ PathModel::LocalField PathModel::build_local(const std::vector<PathTarget>& targ
     std::string defines = out.noise->defines();
     if (mesh_noise_) {
         // The procedural curl path of noise_field.cl with every boundary, no wide kernels.
-        defines = "-DNOISE_KIND=0 -DNOISE_TIMED=" + std::string(nc.time_scale > 0 ? "1" : "0") + " -DPATH_MESH=1";
+        defines = "-DNOISE_KIND=0 -DNOISE_TIMED=" + std::string(nc.time_scale > 0 ? "1" : "0") + " -DPATH_MESH=1" +
+                  NoiseField::block_defines();
     }
     // The parameter block's slots (PATH_SPEED, ...), for every kernel of path_model.cl.
     defines += path_param_table().device_defines("PATH");

@@ -14,7 +14,7 @@ const ParamTable& path_param_table() {
         using C = PathModelConfig;
         using T = ParamType;
         ParamTable t("path", "PathModelConfig");
-        t.include("noise.", noise_param_table(), &C::noise);
+        t.include("noise.", noise_param_table(), &C::noise, ParamTable::Block::Own);
         t.add("has_grid_box", T::Bool, &C::has_grid_box).implied()
             .says("the grid covers grid.min..grid.max (scenario files: set when they are given); false: the domain")
             .cites("ours");

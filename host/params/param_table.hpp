@@ -137,11 +137,16 @@ public:
         return p;
     }
     // Every row of `inner` (a table of a struct held by `Config`), its keys
-    // under `prefix` ("noise.").
+    // under `prefix` ("noise.").  Its device rows join this table's block
+    // (the energy model's weight sets), or, with Block::Own, stay in the
+    // inner struct's own block (the noise's: NoiseField::block()).
+    enum class Block { Shared, Own };
     template <class Config, class Inner>
-    void include(const std::string& prefix, const ParamTable& inner, Inner Config::*member) {
+    void include(const std::string& prefix, const ParamTable& inner, Inner Config::*member,
+                 Block block = Block::Shared) {
         for (const Param& q : inner.params()) {
             Param p = q;
+            if (block == Block::Own) p.device = -1;
             p.key = prefix + q.key;
             p.c_field = prefix + q.c_field;
             auto get_inner = q.field;

@@ -14,14 +14,38 @@
 #define NOISE_WHITE 2
 #define NOISE_GAUSSIAN 3
 
-// Kernel arguments of a noise field, in this order (NoiseField::set_args):
-//   type, flags (bit 0 time-varying, bit 1 finite differences, bit 2 baked),
-//   shape = (scale, gain, d0, 1/time_scale), fd step, seed, the three Perlin
-//   channel offsets, boundary primitives, the baked grid and its placement.
-#define NOISE_PARAMS int noise_type, int noise_flags, float4 noise_shape, float noise_fd_step, \
-    ulong noise_seed, uint4 noise_off0, uint4 noise_off1, uint4 noise_off2, \
-    __global const float4* noise_prims, uint noise_nprims, \
-    __global const float4* noise_baked, float4 noise_bake_min, float4 noise_bake_cell, int4 noise_bake_dims
+// Kernel arguments of a noise field (NoiseField::set_args): its parameter
+// block, the boundary primitives and the baked grid.  The block holds the
+// noise table's device rows at the slots NOISE_<KEY> (fields/noise_params.cpp;
+// NoiseField::defines passes them: NOISE_TYPE, NOISE_SCALE, NOISE_GAIN,
+// NOISE_BOUNDARY_DISTANCE, NOISE_FD_STEP), then, from NOISE_FLOATS on, what
+// the host derives from them (NoiseField::write_block, same order):
+//   flags (bit 0 time-varying, bit 1 finite differences, bit 2 baked),
+//   1/time_scale (0: static), the seed (low, high 32 bits), the three Perlin
+//   channel offsets (uint4 each), the number of primitives, and the baked
+//   grid's min corner, node spacing (float4 each) and nodes per axis (int4).
+// Integers are bit-cast into the float slots.
+#define NOISE_PARAMS __global const float *noise_block, __global const float4 *noise_prims, \
+    __global const float4 *noise_baked
+#define NOISE_ARGS noise_block, noise_prims, noise_baked
+#define NOISE_SLOT_FLAGS (NOISE_FLOATS + 0)
+#define NOISE_SLOT_INV_TIME_SCALE (NOISE_FLOATS + 1)
+#define NOISE_SLOT_SEED (NOISE_FLOATS + 2)
+#define NOISE_SLOT_OFFSETS (NOISE_FLOATS + 4)
+#define NOISE_SLOT_NPRIMS (NOISE_FLOATS + 16)
+#define NOISE_SLOT_BAKE_MIN (NOISE_FLOATS + 17)
+#define NOISE_SLOT_BAKE_CELL (NOISE_FLOATS + 21)
+#define NOISE_SLOT_BAKE_DIMS (NOISE_FLOATS + 25)
+#define NOISE_BLOCK_FLOATS (NOISE_FLOATS + 29)
+
+// Reads of the block.
+#define NOISE_B(slot) noise_block[slot]
+#define NOISE_B_UINT(slot) as_uint(noise_block[slot])
+#define NOISE_B_F4(slot) vload4(0, noise_block + (slot))
+#define NOISE_B_U4(slot) as_uint4(vload4(0, noise_block + (slot)))
+#define NOISE_B_I4(slot) as_int4(vload4(0, noise_block + (slot)))
+#define NOISE_B_SEED() ((ulong)NOISE_B_UINT(NOISE_SLOT_SEED) | ((ulong)NOISE_B_UINT(NOISE_SLOT_SEED + 1) << 32))
+#define NOISE_B_OFF(k) NOISE_B_U4(NOISE_SLOT_OFFSETS + 4 * (k))
 
 #define NOISE_FLAG_TIMED 1
 #define NOISE_FLAG_FD 2
@@ -39,33 +63,28 @@ typedef struct {
     int4 bake_dims;
 } NoiseField;
 
-#define NOISE_MAKE() noise_make(noise_type, noise_flags, noise_shape, noise_fd_step, noise_seed, \
-    noise_off0, noise_off1, noise_off2, noise_prims, noise_nprims, noise_baked, noise_bake_min, \
-    noise_bake_cell, noise_bake_dims)
+#define NOISE_MAKE() noise_make(NOISE_ARGS)
 
-SWCL_INLINE NoiseField noise_make(int type, int flags, float4 shape, float fd_step, ulong seed, uint4 off0,
-                             uint4 off1, uint4 off2, __global const float4* prims, uint nprims,
-                             __global const float4* baked, float4 bake_min, float4 bake_cell,
-                             int4 bake_dims) {
+SWCL_INLINE NoiseField noise_make(NOISE_PARAMS) {
     NoiseField f;
-    f.type = type;
-    f.flags = flags;
-    f.curl.scale = shape.x;
-    f.curl.inv_scale = 1.0f / shape.x;
-    f.curl.gain = shape.y;
-    f.curl.d0 = shape.z;
-    f.curl.inv_time_scale = shape.w;
-    f.curl.off[0] = off0;
-    f.curl.off[1] = off1;
-    f.curl.off[2] = off2;
-    f.fd_step = fd_step;
-    f.seed = seed;
-    f.prims = prims;
-    f.nprims = nprims;
-    f.baked = baked;
-    f.bake_min = bake_min;
-    f.bake_inv_cell = (float4)(1.0f) / bake_cell;
-    f.bake_dims = bake_dims;
+    f.type = as_int(NOISE_B(NOISE_TYPE));
+    f.flags = as_int(NOISE_B(NOISE_SLOT_FLAGS));
+    f.curl.scale = NOISE_B(NOISE_SCALE);
+    f.curl.inv_scale = 1.0f / f.curl.scale;
+    f.curl.gain = NOISE_B(NOISE_GAIN);
+    f.curl.d0 = NOISE_B(NOISE_BOUNDARY_DISTANCE);
+    f.curl.inv_time_scale = NOISE_B(NOISE_SLOT_INV_TIME_SCALE);
+    f.curl.off[0] = NOISE_B_OFF(0);
+    f.curl.off[1] = NOISE_B_OFF(1);
+    f.curl.off[2] = NOISE_B_OFF(2);
+    f.fd_step = NOISE_B(NOISE_FD_STEP);
+    f.seed = NOISE_B_SEED();
+    f.prims = noise_prims;
+    f.nprims = NOISE_B_UINT(NOISE_SLOT_NPRIMS);
+    f.baked = noise_baked;
+    f.bake_min = NOISE_B_F4(NOISE_SLOT_BAKE_MIN);
+    f.bake_inv_cell = (float4)(1.0f) / NOISE_B_F4(NOISE_SLOT_BAKE_CELL);
+    f.bake_dims = NOISE_B_I4(NOISE_SLOT_BAKE_DIMS);
     return f;
 }
 
@@ -188,19 +207,18 @@ SWCL_INLINE void noise_baked_sample_s(__global const float4* baked, float4 bmin,
 // The noise velocity at (x, y, z), time t, agent `agent`, step `step`, into
 // (*vx, *vy, *vz); same value as noise_velocity().
 #define NOISE_VELOCITY_S(x, y, z, t, agent, step, vx, vy, vz) \
-    noise_velocity_s(noise_type, noise_flags, noise_shape, noise_fd_step, noise_seed, noise_off0, noise_off1, \
-                     noise_off2, noise_prims, noise_nprims, noise_baked, noise_bake_min, noise_bake_cell,     \
-                     noise_bake_dims, x, y, z, t, agent, step, vx, vy, vz)
+    noise_velocity_s(NOISE_ARGS, x, y, z, t, agent, step, vx, vy, vz)
 
 SWCL_INLINE void noise_velocity_s(NOISE_PARAMS, float x, float y, float z, float t, uint agent, uint step,
                                   float* vx, float* vy, float* vz) {
 #if NOISE_SCALAR && NOISE_KIND == NOISE_KIND_BAKED
-    noise_baked_sample_s(noise_baked, noise_bake_min, noise_bake_cell, noise_bake_dims, x, y, z, vx, vy, vz);
+    noise_baked_sample_s(noise_baked, NOISE_B_F4(NOISE_SLOT_BAKE_MIN), NOISE_B_F4(NOISE_SLOT_BAKE_CELL),
+                         NOISE_B_I4(NOISE_SLOT_BAKE_DIMS), x, y, z, vx, vy, vz);
 #elif NOISE_SCALAR
-    const float scale = noise_shape.x, gain = noise_shape.y, d0 = noise_shape.z;
+    const float scale = NOISE_B(NOISE_SCALE), gain = NOISE_B(NOISE_GAIN), d0 = NOISE_B(NOISE_BOUNDARY_DISTANCE);
     swcl_pj N;
-    swcl_noise_potential_s(x, y, z, t, NOISE_TIMED, 1.0f / scale, gain, noise_shape.w, noise_off0, noise_off1,
-                           noise_off2, &N);
+    swcl_noise_potential_s(x, y, z, t, NOISE_TIMED, 1.0f / scale, gain, NOISE_B(NOISE_SLOT_INV_TIME_SCALE),
+                           NOISE_B_OFF(0), NOISE_B_OFF(1), NOISE_B_OFF(2), &N);
 #if NOISE_KIND == NOISE_PERLIN
     // Perlin vector noise: psi itself, no boundaries (noise_perlin_vector).
     *vx = N.p0; *vy = N.p1; *vz = N.p2;
@@ -212,7 +230,7 @@ SWCL_INLINE void noise_velocity_s(NOISE_PARAMS, float x, float y, float z, float
     }
 #endif
 #if NOISE_OBSTACLES
-    swcl_modulate_prims_s(&N, x, y, z, d0, noise_prims, NOISE_WALLS ? 1u : 0u, noise_nprims);
+    swcl_modulate_prims_s(&N, x, y, z, d0, noise_prims, NOISE_WALLS ? 1u : 0u, NOISE_B_UINT(NOISE_SLOT_NPRIMS));
 #endif
     swcl_pj_curl(&N, scale, vx, vy, vz);
 #endif
@@ -243,9 +261,7 @@ SWCL_INLINE void noise_store_s(__global float* o, uint i, uint n, float a, float
 // The noise velocity at the body's width: noise_velocity_s or _w (which
 // ignores agent and step: the random noises have no wide path).
 #define NOISE_VELOCITY_B(x, y, z, t, agent, step, vx, vy, vz)                                                    \
-    SWCL_BFN(noise_velocity)(noise_type, noise_flags, noise_shape, noise_fd_step, noise_seed, noise_off0,      \
-                             noise_off1, noise_off2, noise_prims, noise_nprims, noise_baked, noise_bake_min,   \
-                             noise_bake_cell, noise_bake_dims, x, y, z, t, agent, step, vx, vy, vz)
+    SWCL_BFN(noise_velocity)(NOISE_ARGS, x, y, z, t, agent, step, vx, vy, vz)
 
 // ---- explicit-width path (CPU devices) --------------------------------------
 //
@@ -306,12 +322,13 @@ SWCL_INLINE void noise_baked_sample_w(__global const float4* baked, float4 bmin,
 SWCL_INLINE void noise_velocity_w(NOISE_PARAMS, swcl_fw x, swcl_fw y, swcl_fw z, float t, uint agent, uint step,
                                   swcl_fw* vx, swcl_fw* vy, swcl_fw* vz) {
 #if NOISE_KIND == NOISE_KIND_BAKED
-    noise_baked_sample_w(noise_baked, noise_bake_min, noise_bake_cell, noise_bake_dims, x, y, z, vx, vy, vz);
+    noise_baked_sample_w(noise_baked, NOISE_B_F4(NOISE_SLOT_BAKE_MIN), NOISE_B_F4(NOISE_SLOT_BAKE_CELL),
+                         NOISE_B_I4(NOISE_SLOT_BAKE_DIMS), x, y, z, vx, vy, vz);
 #else
-    const float scale = noise_shape.x, gain = noise_shape.y, d0 = noise_shape.z;
+    const float scale = NOISE_B(NOISE_SCALE), gain = NOISE_B(NOISE_GAIN), d0 = NOISE_B(NOISE_BOUNDARY_DISTANCE);
     swcl_pjw N;
-    swcl_noise_potential_w(x, y, z, t, NOISE_TIMED, 1.0f / scale, gain, noise_shape.w, noise_off0, noise_off1,
-                           noise_off2, &N);
+    swcl_noise_potential_w(x, y, z, t, NOISE_TIMED, 1.0f / scale, gain, NOISE_B(NOISE_SLOT_INV_TIME_SCALE),
+                           NOISE_B_OFF(0), NOISE_B_OFF(1), NOISE_B_OFF(2), &N);
 #if NOISE_KIND == NOISE_PERLIN
     *vx = N.p0; *vy = N.p1; *vz = N.p2;
 #else
@@ -327,9 +344,7 @@ SWCL_INLINE void noise_velocity_w(NOISE_PARAMS, swcl_fw x, swcl_fw y, swcl_fw z,
 }
 
 #define NOISE_VELOCITY_W(x, y, z, t, vx, vy, vz) \
-    noise_velocity_w(noise_type, noise_flags, noise_shape, noise_fd_step, noise_seed, noise_off0, noise_off1, \
-                     noise_off2, noise_prims, noise_nprims, noise_baked, noise_bake_min, noise_bake_cell,     \
-                     noise_bake_dims, x, y, z, t, 0u, 0u, vx, vy, vz)
+    noise_velocity_w(NOISE_ARGS, x, y, z, t, 0u, 0u, vx, vy, vz)
 
 // The xyz of the SWCL_W points (float4 elements of p, seen as floats) from
 // `base` on: whole float16 loads and shuffles, or, in the last work-item,

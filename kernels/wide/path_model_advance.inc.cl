@@ -22,16 +22,15 @@ __kernel void SWCL_KERNEL(path_model_advance)(__global float4* pos, __global flo
                                  params[PATH_LAMP_ENABLED] != 0.0f ? params[PATH_LAMP_RADIUS] : 0.0f);
     const float4 lamp_pull = (float4)(params[PATH_LAMP_PROBABILITY], params[PATH_LAMP_SPEED], lamp_turn.x, lamp_turn.y);
     const float lamp_keep = params[PATH_LAMP_KEEP_OUT];
-    // The lamp's draws are keyed by the noise seed (noise_seed, NOISE_PARAMS).
+    // The lamp's draws are keyed by the noise seed (the noise block's).
+    const ulong noise_seed = NOISE_B_SEED();
     swcl_bf px, py, pz;
     SWCL_BFN(path_load_xyz)(pos, base, n, &px, &py, &pz);
     swcl_bf vx, vy, vz;
 #if PATH_BAKED
     SWCL_BFN(noise_baked_sample)(vl, vl_min, vl_cell, vl_dims, px, py, pz, &vx, &vy, &vz);
 #elif PATH_MESH  // width 1 only
-    path_noise_mesh(noise_type, noise_flags, noise_shape, noise_fd_step, noise_seed, noise_off0, noise_off1,
-                    noise_off2, noise_prims, noise_nprims, noise_baked, noise_bake_min, noise_bake_cell,
-                    noise_bake_dims, phi, dims, origin_h, px, py, pz, t, &vx, &vy, &vz);
+    path_noise_mesh(NOISE_ARGS, phi, dims, origin_h, px, py, pz, t, &vx, &vy, &vz);
 #else  // width 1 only
     NOISE_VELOCITY_B(px, py, pz, t, ids[base], step, &vx, &vy, &vz);
 #endif
