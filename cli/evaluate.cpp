@@ -65,6 +65,11 @@ void add_options(CLI::App& app, EvaluateArgs& a) {
     add_number(app, "--half-width", a.pdf.half_width, "the PDFs' half width in sigma (default 4)");
     app.add_option("--out", a.out, "the result (default: the scenario's output.dir/evaluation.json)")
         ->type_name("FILE.json");
+    app.add_flag_function(
+        "--robust",
+        [&a](int64_t) { a.pdf.standardise = SWCL_STANDARDISE_MEDIAN_MAD; },
+        "z-score each side with its median and 1.4826 MAD, not its mean and sigma (a few tracking glitches "
+        "do not move it)");
     app.add_flag("--plot", a.plot, "draw the PDFs beside the JSON (FILE.png, in Python)");
     add_device(app, a.device);
     app.add_flag("--quiet", a.quiet, "print nothing but errors");
@@ -76,7 +81,23 @@ nlohmann::json side_json(swcl_metrics m, swcl_metric k, const swcl_pdf_options& 
     check(swcl_metrics_get_info(m, k, &info), "reading a metric");
     std::vector<double> q(pdf.bins);
     check(swcl_metrics_pdf(m, k, &pdf, q.data(), q.size()), "computing a PDF");
-    return {{"count", info.count}, {"mean", info.mean}, {"sigma", info.sigma}, {"pdf", q}};
+    return {{"count", info.count}, {"mean", info.mean},   {"sigma", info.sigma},
+            {"median", info.median}, {"mad", info.mad}, {"pdf", q}};
+}
+
+// The Wasserstein-1 distance of one metric in its unit, or null when a side
+// has none of its samples (one insect in view: no d); other errors throw.
+nlohmann::json wasserstein_json(swcl_metrics real, swcl_metrics sim, swcl_metric k) {
+    double w = 0.0;
+    const swcl_status st = swcl_metrics_wasserstein(real, sim, k, &w);
+    if (st == SWCL_OK) return w;
+    swcl_metric_info a, b;
+    a.struct_size = b.struct_size = sizeof(swcl_metric_info);
+    check(swcl_metrics_get_info(real, k, &a), "reading a metric");
+    check(swcl_metrics_get_info(sim, k, &b), "reading a metric");
+    if (a.count == 0 || b.count == 0) return nullptr;
+    check(st, "computing a Wasserstein distance");
+    return nullptr;
 }
 
 // The seven PDFs as a PNG beside the JSON, drawn by the Python package
@@ -184,13 +205,24 @@ int evaluate(const EvaluateArgs& a) {
     out["steps"] = steps;
     out["every"] = every;
     out["frames"] = frame_count;
-    out["pdf"] = {{"bins", a.pdf.bins}, {"half_width", a.pdf.half_width}};
+    out["pdf"] = {{"bins", a.pdf.bins},
+                  {"half_width", a.pdf.half_width},
+                  {"standardise", a.pdf.standardise == SWCL_STANDARDISE_MEDIAN_MAD ? "median_mad" : "mean_sigma"}};
     out["weights"] = {{"w", w.w}, {"p1", w.p1}, {"p2", w.p2}};
     // The names are the library's metric table (swcl_metric_name).
-    for (int k = 0; k < SWCL_METRIC_COUNT; ++k)
-        out["metrics"][swcl_metric_name(swcl_metric(k))] = {{"distance", e[k]},
-                                                            {"real", side_json(real.handle, swcl_metric(k), a.pdf)},
-                                                            {"sim", side_json(sim.handle, swcl_metric(k), a.pdf)}};
+    // Beside each E_phi, the Wasserstein-1 distance in the metric's unit
+    // (the z-scored E_phi ignores scale).
+    std::vector<nlohmann::json> w1(SWCL_METRIC_COUNT);
+    for (int k = 0; k < SWCL_METRIC_COUNT; ++k) {
+        const swcl_metric m = swcl_metric(k);
+        w1[k] = wasserstein_json(real.handle, sim.handle, m);
+        auto& row = out["metrics"][swcl_metric_name(m)];
+        row = {{"distance", e[k]},
+               {"wasserstein", w1[k]},
+               {"unit", swcl_metric_unit(m)},
+               {"real", side_json(real.handle, m, a.pdf)},
+               {"sim", side_json(sim.handle, m, a.pdf)}};
+    }
     out["score"] = score;
     out["seconds"] = seconds();
     const std::string path = a.out.empty() ? std::string(info.output_dir) + "/evaluation.json" : a.out;
@@ -198,9 +230,16 @@ int evaluate(const EvaluateArgs& a) {
     if (!a.quiet) {
         std::printf("%s against %s: %zu frames of %zu agents every %u steps (%.4g s)\n", info.name, a.tracks.c_str(),
                     frame_count, n, every, sample_dt);
-        std::printf("%-22s %10s\n", "metric", "E_phi");
-        for (int k = 0; k < SWCL_METRIC_COUNT; ++k)
-            std::printf("%-22s %10.4f\n", swcl_metric_name(swcl_metric(k)), e[k]);
+        std::printf("%-22s %10s %12s  %-8s %12s %12s\n", "metric", "E_phi", "W1", "unit", "median real",
+                    "median sim");
+        for (int k = 0; k < SWCL_METRIC_COUNT; ++k) {
+            const auto& row = out["metrics"][swcl_metric_name(swcl_metric(k))];
+            char w[32] = "-";
+            if (!w1[k].is_null()) std::snprintf(w, sizeof w, "%.4g", w1[k].get<double>());
+            std::printf("%-22s %10.4f %12s  %-8s %12.4g %12.4g\n", swcl_metric_name(swcl_metric(k)), e[k], w,
+                        swcl_metric_unit(swcl_metric(k)), row["real"]["median"].get<double>(),
+                        row["sim"]["median"].get<double>());
+        }
         std::printf("score E = %.4f (equal weights; Eq. 1)   written to %s\n", score, path.c_str());
     }
     if (a.plot) {

@@ -346,7 +346,7 @@ TEST_F(Cli, EveryCommandHasHelp) {
         {"run", {"SCENARIO.json", "--steps", "--out", "--format", "--every", "--device", "--quiet", "--checkpoint-every"}},
         {"resume", {"DIR", "--device", "--quiet"}},
         {"evaluate", {"SCENARIO.json", "--tracks", "--columns", "--unit-scale", "--window", "--warmup", "--steps",
-                      "--every", "--bins", "--half-width", "--out", "--plot", "--device", "--quiet"}},
+                      "--every", "--bins", "--half-width", "--robust", "--out", "--plot", "--device", "--quiet"}},
         {"fit", {"--tracks", "--ranges", "--method", "--generations"}},
         {"devices", {}},
         {"validate", {"SCENARIO.json"}},
@@ -637,8 +637,34 @@ TEST_F(Cli, EvaluateScoresARunAgainstItsOwnRecordingAsIdentical) {
         EXPECT_EQ(m["real"]["count"], m["sim"]["count"]) << name;
         EXPECT_EQ(m["real"]["pdf"].size(), 50u) << name;
         EXPECT_LT(m["distance"].get<double>(), 0.02) << name;
+        EXPECT_TRUE(m["real"].contains("median") && m["real"].contains("mad")) << name;
     }
     EXPECT_GT(j["score"].get<double>(), 0.99);
+    // ... while the Wasserstein-1 distances, in the metrics' units, see the
+    // clock: the same nearest distances (m), speeds 50x slower (m/s).
+    const auto& d = j["metrics"]["nearest_distance"];
+    EXPECT_EQ(d["unit"], "m");
+    EXPECT_LT(d["wasserstein"].get<double>(), 1e-4 * d["sim"]["mean"].get<double>());
+    const auto& v = j["metrics"]["speed"];
+    EXPECT_EQ(v["unit"], "m/s");
+    EXPECT_NEAR(v["wasserstein"].get<double>(), (1.0 - 1.0 / 50.0) * v["sim"]["mean"].get<double>(),
+                1e-3 * v["sim"]["mean"].get<double>());
+    EXPECT_NEAR(v["real"]["median"].get<double>() * 50.0, v["sim"]["median"].get<double>(),
+                1e-3 * v["sim"]["median"].get<double>());
+    EXPECT_NE(r.out.find("W1"), std::string::npos) << r.out;
+    EXPECT_EQ(j["pdf"]["standardise"], "mean_sigma");
+    const Result robust = cli("evaluate tiny.json --tracks rec/tiny.csv --columns id,frame,P.x,P.y,P.z --steps 40 "
+                              "--every 1 --robust --out robust.json --quiet",
+                              dir.path());
+    ASSERT_EQ(robust.status, 0) << robust.err;
+    const auto jr = nlohmann::json::parse(read_bytes(dir / "robust.json"));
+    EXPECT_EQ(jr["pdf"]["standardise"], "median_mad");
+    // Identical up to the CSV's 9 digits, which third differences (jerk)
+    // amplify: z-scored by a MAD (narrower than σ for these long tails) a
+    // few more jerk samples cross a bin edge (E_jerk 0.096 measured).
+    EXPECT_GT(jr["score"].get<double>(), 0.97);
+    for (const auto& [name, m] : jr["metrics"].items())
+        EXPECT_LT(m["distance"].get<double>(), name == "jerk" ? 0.15 : 0.05) << name;
 }
 
 TEST_F(Cli, EvaluateIsDeterministicAndRefusesBadInput) {

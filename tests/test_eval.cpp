@@ -288,3 +288,66 @@ TEST(EvalTimeWindow, HalvesSplitTheSamplesByTimeAtTheMedianSampleTime) {
     EXPECT_THROW(time_window(set, -0.1, 0.5), Error);
     EXPECT_THROW(time_window(set, 0.0, NAN), Error);
 }
+
+// ---- physical scale and robust standardisation (issue 26, item 3) ----------
+
+TEST(EvalWasserstein, IsTheShiftBetweenShiftedSetsAndSeesScaleThatZScoresDoNot) {
+    std::mt19937 rng(11);
+    std::normal_distribution<double> g(0.5, 0.1);
+    std::vector<double> a(4000);
+    for (double& x : a) x = g(rng);
+    std::vector<double> shifted = a, ten = a;
+    for (double& x : shifted) x += 0.25;
+    for (double& x : ten) x *= 10.0;
+    // Same set: 0; a shift by c: exactly c; a set ten times faster: 9 mean speeds.
+    EXPECT_DOUBLE_EQ(wasserstein1(a, a), 0.0);
+    EXPECT_NEAR(wasserstein1(a, shifted), 0.25, 1e-12);
+    double mean = 0.0;
+    for (double x : a) mean += x / double(a.size());
+    EXPECT_NEAR(wasserstein1(a, ten), 9.0 * mean, 1e-9);
+    // ... while the z-scored distance cannot tell a from ten times a.
+    MetricSamples ra, rt;
+    ra[Metric::Speed] = a;
+    rt[Metric::Speed] = ten;
+    EXPECT_LT(metric_distances(ra, rt, PdfOptions{})[size_t(Metric::Speed)], 1e-9);
+    // Unequal sizes: W1 of {0} and {0, 1} is 1/2.
+    EXPECT_DOUBLE_EQ(wasserstein1({0.0}, {0.0, 1.0}), 0.5);
+    EXPECT_THROW(wasserstein1({}, a), Error);
+    EXPECT_THROW(wasserstein1(a, {1.0, NAN}), Error);
+}
+
+TEST(EvalRobust, MedianAndMadMatchHandValues) {
+    EXPECT_DOUBLE_EQ(median_of({3, 1, 2}), 2.0);
+    EXPECT_DOUBLE_EQ(median_of({4, 1, 3, 2}), 2.5);
+    // |x - 2.5| = 1.5, 0.5, 0.5, 1.5, 97.5: median 1.5.
+    EXPECT_DOUBLE_EQ(mad_of({1, 2, 3, 4, 100}, 2.5), 1.5);
+    const Moments r = location_scale({1, 2, 3, 4, 100}, Standardise::MedianMad);
+    EXPECT_DOUBLE_EQ(r.mean, 3.0);
+    EXPECT_DOUBLE_EQ(r.sigma, kMadToSigma * 1.0);
+    EXPECT_EQ(r.count, 5u);
+}
+
+TEST(EvalRobust, AFewGlitchesMoveTheZScoredDistanceButNotTheRobustOne) {
+    // One recording and the same with 1% of its samples replaced by tracking
+    // glitches 30σ out: σ grows about threefold, which squeezes the z-scored
+    // PDF; the median and MAD barely move.  (E_φ of a whole density against
+    // a disjoint one is 2M/(u2-u1) = 12.5; 1% of the mass moved is 0.125.)
+    std::mt19937 rng(5);
+    std::normal_distribution<double> g(2.0, 0.5);
+    MetricSamples clean, glitched;
+    for (int i = 0; i < 20000; ++i) {
+        const double x = g(rng);
+        clean[Metric::Acceleration].push_back(x);
+        glitched[Metric::Acceleration].push_back(i % 100 == 0 ? 2.0 + 30.0 * 0.5 : x);
+    }
+    PdfOptions robust;
+    robust.standardise = Standardise::MedianMad;
+    const size_t k = size_t(Metric::Acceleration);
+    const double plain = metric_distances(clean, glitched, PdfOptions{})[k];
+    const double rob = metric_distances(clean, glitched, robust)[k];
+    EXPECT_GT(plain, 4.0) << "the glitches should squeeze the z-scored PDF";
+    EXPECT_LT(rob, 0.4) << "the robust PDF should move by about the glitches' mass";
+    PdfOptions bad;
+    bad.standardise = Standardise(7);
+    EXPECT_THROW(metric_distances(clean, glitched, bad), Error);
+}

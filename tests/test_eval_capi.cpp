@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstddef>
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -113,6 +114,80 @@ TEST(EvalCapi, FramesGiveTheSameSamplesAsTheHostMetrics) {
     EXPECT_EQ(s, 1.0);
     EXPECT_EQ(swcl_metrics_destroy(m), SWCL_OK);
     EXPECT_EQ(swcl_metrics_destroy(m), SWCL_ERROR_INVALID_HANDLE);
+}
+
+// Physical scale and robust standardisation (issue 26): the median, MAD and
+// Wasserstein-1 of the C API are the host's on the same samples; an older
+// caller's smaller structs are read and written as far as they reach.
+TEST(EvalCapi, MedianMadWassersteinAndRobustPdfs) {
+    const size_t frames = 30, agents = 12;
+    std::vector<float> slow(frames * agents * 3), fast;
+    for (size_t f = 0; f < frames; ++f)
+        for (size_t i = 0; i < agents; ++i) {
+            const double a = 0.2 * f + 0.7 * i;
+            slow[3 * (f * agents + i) + 0] = float(std::cos(a) + 0.6 * i);
+            slow[3 * (f * agents + i) + 1] = float(std::sin(a));
+            slow[3 * (f * agents + i) + 2] = float(0.02 * f * (i % 3));
+        }
+    fast = slow;
+    for (float& v : fast) v *= 2.0f;  // twice the size: twice the speeds and distances
+    swcl_metrics a{}, b{};
+    ASSERT_EQ(swcl_metrics_from_frames(slow.data(), frames, agents, 0.05, &a), SWCL_OK);
+    ASSERT_EQ(swcl_metrics_from_frames(fast.data(), frames, agents, 0.05, &b), SWCL_OK);
+    const auto ra = swarmcl::frame_metrics(slow.data(), frames, agents, 0.05);
+    const auto rb = swarmcl::frame_metrics(fast.data(), frames, agents, 0.05);
+    for (int k = 0; k < SWCL_METRIC_COUNT; ++k) {
+        const auto& x = ra.values[k];
+        swcl_metric_info info;
+        info.struct_size = sizeof(info);
+        ASSERT_EQ(swcl_metrics_get_info(a, swcl_metric(k), &info), SWCL_OK);
+        const double med = swarmcl::median_of(x);
+        EXPECT_EQ(info.median, med);
+        EXPECT_EQ(info.mad, swarmcl::mad_of(x, med));
+        double w = -1;
+        ASSERT_EQ(swcl_metrics_wasserstein(a, b, swcl_metric(k), &w), SWCL_OK) << swcl_last_error();
+        EXPECT_EQ(w, swarmcl::wasserstein1(x, rb.values[k]));
+        swcl_pdf_options o = swcl_pdf_options_default();
+        EXPECT_EQ(o.standardise, SWCL_STANDARDISE_MEAN_SIGMA);
+        o.standardise = SWCL_STANDARDISE_MEDIAN_MAD;
+        std::vector<double> q(o.bins);
+        ASSERT_EQ(swcl_metrics_pdf(a, swcl_metric(k), &o, q.data(), q.size()), SWCL_OK);
+        swarmcl::PdfOptions ho;
+        ho.standardise = swarmcl::Standardise::MedianMad;
+        EXPECT_EQ(q, swarmcl::discrete_pdf(x, swarmcl::location_scale(x, ho.standardise), ho));
+    }
+    // Speeds twice as large: W1 is the mean speed (m/s), the unit says so.
+    double w = 0;
+    ASSERT_EQ(swcl_metrics_wasserstein(a, b, SWCL_METRIC_SPEED, &w), SWCL_OK);
+    EXPECT_NEAR(w, swarmcl::moments_of(ra.values[0]).mean, 1e-5 * w);
+    EXPECT_STREQ(swcl_metric_unit(SWCL_METRIC_SPEED), "m/s");
+    EXPECT_STREQ(swcl_metric_unit(SWCL_METRIC_NEAREST_DISTANCE), "m");
+    EXPECT_EQ(swcl_metric_unit(swcl_metric(7)), nullptr);
+    // An older caller: structs without the added fields.
+    swcl_pdf_options old = swcl_pdf_options_default();
+    old.struct_size = offsetof(swcl_pdf_options, standardise);
+    old.standardise = swcl_standardise(99);  // beyond its struct: not read
+    std::vector<double> q(old.bins);
+    EXPECT_EQ(swcl_metrics_pdf(a, SWCL_METRIC_SPEED, &old, q.data(), q.size()), SWCL_OK);
+    swcl_metric_info small;
+    small.struct_size = offsetof(swcl_metric_info, median);
+    small.median = -7;
+    ASSERT_EQ(swcl_metrics_get_info(a, SWCL_METRIC_SPEED, &small), SWCL_OK);
+    EXPECT_EQ(small.median, -7);  // not written
+    // Bad input: a bad standardise, a metric with no samples (one agent: no
+    // nearest distances), NULL out.
+    swcl_pdf_options bad = swcl_pdf_options_default();
+    bad.standardise = swcl_standardise(5);
+    EXPECT_EQ(swcl_metrics_pdf(a, SWCL_METRIC_SPEED, &bad, q.data(), q.size()), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("standardise"), std::string::npos) << swcl_last_error();
+    swcl_metrics one{};
+    ASSERT_EQ(swcl_metrics_from_frames(slow.data(), frames, 1, 0.05, &one), SWCL_OK);
+    EXPECT_EQ(swcl_metrics_wasserstein(a, one, SWCL_METRIC_NEAREST_DISTANCE, &w), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("nearest_distance has no samples in sim"), std::string::npos)
+        << swcl_last_error();
+    EXPECT_EQ(swcl_metrics_wasserstein(a, b, SWCL_METRIC_SPEED, nullptr), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_metrics_wasserstein(a, b, swcl_metric(9), &w), SWCL_ERROR_INVALID_ARGUMENT);
+    for (swcl_metrics m : {a, b, one}) swcl_metrics_destroy(m);
 }
 
 TEST(EvalCapi, HalvesOfARecordingSplitTheSamplesByTime) {

@@ -141,6 +141,40 @@ TEST(MetricAccumulator, PdfFromFineBinsIsCloseToTheRawSamplesPdfAndMergeIsAdd) {
     }
 }
 
+TEST(MetricAccumulator, MedianMadAndWassersteinFromFineBinsMatchTheSamples) {
+    std::mt19937 rng(3);
+    std::lognormal_distribution<double> ln(-0.5, 0.6);
+    std::normal_distribution<double> nd(0.2, 1.5);
+    MetricSamples a, b;
+    for (int i = 0; i < 30000; ++i) {
+        a[Metric::Speed].push_back(ln(rng));
+        b[Metric::Speed].push_back(1.3 * ln(rng) + 0.05);
+        a[Metric::AngularAcceleration].push_back(nd(rng));  // both signs, through zero
+        b[Metric::AngularAcceleration].push_back(nd(rng) - 0.4);
+    }
+    MetricAccumulator acc_a, acc_b;
+    acc_a.add(a);
+    acc_b.add(b);
+    for (Metric m : {Metric::Speed, Metric::AngularAcceleration}) {
+        const double med = median_of(a[m]), mad = mad_of(a[m], med);
+        // Within a fine bin's relative width (2^-9) of the samples' own.
+        EXPECT_NEAR(acc_a.median(m), med, 4e-3 * std::abs(med) + 1e-6) << metric_name(m);
+        EXPECT_NEAR(acc_a.mad(m), mad, 4e-3 * mad) << metric_name(m);
+        const double exact = wasserstein1(a[m], b[m]);
+        EXPECT_GT(exact, 0.05) << metric_name(m);
+        EXPECT_NEAR(acc_a.wasserstein1(m, acc_b), exact, 5e-3 * exact) << metric_name(m);
+        EXPECT_NEAR(acc_a.wasserstein1(m, acc_a), 0.0, 1e-12);
+    }
+    // No samples on a side: a clear error naming the metric.
+    try {
+        acc_a.wasserstein1(Metric::Jerk, acc_b);
+        FAIL() << "no error";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("jerk"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(acc_a.median(Metric::Jerk), 0.0);
+}
+
 TEST(MetricAccumulator, NonFiniteSamplesRefuseAPdf) {
     MetricSamples s;
     s[Metric::Speed] = {1.0, 2.0, std::numeric_limits<double>::quiet_NaN()};

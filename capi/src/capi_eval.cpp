@@ -2,6 +2,7 @@
 // docs/evaluation.md): metric sets from tracks or frames, their PDFs,
 // distances and scores, and entropy weights.
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <memory>
 #include <mutex>
@@ -35,6 +36,22 @@ struct MetricSet {
         if (samples) return moments_of((*samples)[m]);
         return stream_result().moments(m);
     }
+    // Median and MAD (unscaled) of the finite samples.
+    std::pair<double, double> median_mad(Metric m) const {
+        if (samples) {
+            const double med = median_of((*samples)[m]);
+            return {med, mad_of((*samples)[m], med)};
+        }
+        const MetricAccumulator a = stream_result();
+        return {a.median(m), a.mad(m)};
+    }
+    // The samples as fine histograms (a swarm's streamed result as it is).
+    MetricAccumulator accumulated() const {
+        if (!samples) return stream_result();
+        MetricAccumulator a;
+        a.add(*samples);
+        return a;
+    }
     uint64_t count(Metric m) const { return samples ? (*samples)[m].size() : stream_result().count(m); }
     std::vector<double> pdf(Metric m, const PdfOptions& o) const {
         if (samples) {
@@ -42,7 +59,7 @@ struct MetricSet {
             for (double v : x)
                 if (!std::isfinite(v))
                     fail(Status::InvalidArgument, std::string("pdf: a sample of ") + metric_name(m) + " is not finite");
-            return discrete_pdf(x, moments_of(x), o);
+            return discrete_pdf(x, location_scale(x, o.standardise), o);
         }
         return stream_result().discrete_pdf(m, o);
     }
@@ -79,9 +96,14 @@ Metric metric_from(swcl_metric m) {
 PdfOptions pdf_options_from(const swcl_pdf_options* o) {
     PdfOptions p;
     if (!o) return p;
-    check_struct_size(o, sizeof(swcl_pdf_options), "options");
+    check_struct_size(o, offsetof(swcl_pdf_options, standardise), "options");  // the first version's size
     p.bins = o->bins;
     p.half_width = o->half_width;
+    if (o->struct_size >= offsetof(swcl_pdf_options, standardise) + sizeof(o->standardise)) {
+        require(o->standardise == SWCL_STANDARDISE_MEAN_SIGMA || o->standardise == SWCL_STANDARDISE_MEDIAN_MAD,
+                "options->standardise must be SWCL_STANDARDISE_MEAN_SIGMA or SWCL_STANDARDISE_MEDIAN_MAD");
+        p.standardise = Standardise(uint32_t(o->standardise));
+    }
     return p;
 }
 
@@ -162,12 +184,45 @@ swcl_status swcl_metrics_frame_time(swcl_metrics metrics, double* out_seconds) {
 
 swcl_status swcl_metrics_get_info(swcl_metrics metrics, swcl_metric metric, swcl_metric_info* out) {
     return guarded(__func__, [&] {
-        check_struct_size(out, sizeof(swcl_metric_info), "out");
+        check_struct_size(out, offsetof(swcl_metric_info, median), "out");  // the first version's size
         const auto set = metric_sets().get(metrics.id);
         const Moments m = set->moments(metric_from(metric));
         out->count = m.count;
         out->mean = m.mean;
         out->sigma = m.sigma;
+        if (out->struct_size >= offsetof(swcl_metric_info, mad) + sizeof(out->mad)) {
+            const auto [median, mad] = set->median_mad(metric_from(metric));
+            out->median = median;
+            out->mad = mad;
+        }
+    });
+}
+
+const char* swcl_metric_unit(swcl_metric metric) {
+    return int(metric) >= 0 && int(metric) < SWCL_METRIC_COUNT ? metric_info(Metric(uint32_t(metric))).unit : nullptr;
+}
+
+swcl_status swcl_metrics_wasserstein(swcl_metrics real, swcl_metrics sim, swcl_metric metric, double* out_distance) {
+    return guarded(__func__, [&] {
+        require(out_distance != nullptr, "out_distance is NULL");
+        const Metric m = metric_from(metric);
+        const auto r = metric_sets().get(real.id);
+        const auto s = metric_sets().get(sim.id);
+        for (const auto& [set, side] : {std::pair{r.get(), "real"}, std::pair{s.get(), "sim"}})
+            if (set->count(m) == 0)
+                fail(Status::InvalidArgument,
+                     std::string(metric_name(m)) + " has no samples in " + side + " (wasserstein distance)");
+        for (const auto* set : {r.get(), s.get()})
+            if (set->samples)
+                for (double x : (*set->samples)[m])
+                    if (!std::isfinite(x))
+                        fail(Status::InvalidArgument, std::string("wasserstein: a sample of ") + metric_name(m) +
+                                                          " is not finite");
+        if (r->samples && s->samples) {  // both exact
+            *out_distance = wasserstein1((*r->samples)[m], (*s->samples)[m]);
+            return;
+        }
+        *out_distance = r->accumulated().wasserstein1(m, s->accumulated());
     });
 }
 

@@ -132,13 +132,103 @@ uint64_t MetricAccumulator::nonfinite_count(Metric m) const {
     return count(m) - moments_.at(size_t(m)).count;
 }
 
+void MetricAccumulator::require_finite(Metric m, const char* what) const {
+    require(nonfinite_count(m) == 0, std::string(what) + ": a sample of " + metric_name(m) + " is not finite");
+}
+
+std::vector<double> MetricAccumulator::prefix_counts(Metric m) const {
+    const auto& b = bins_.at(size_t(m));
+    std::vector<double> prefix(fine_bins::kNaN + 1, 0.0);
+    for (uint32_t i = 0; i < fine_bins::kNaN; ++i) prefix[i + 1] = prefix[i] + double(b[i]);
+    return prefix;
+}
+
+double MetricAccumulator::cdf_count(Metric m, const std::vector<double>& prefix, double x) const {
+    const uint32_t i = fine_bins::bin_of(float(x));
+    if (i >= fine_bins::kNaN) return prefix[fine_bins::kNaN];
+    double lo, hi;
+    fine_bins::bin_edges(i, lo, hi);
+    const double in = double(bins_[size_t(m)][i]);
+    double f = hi > lo ? (x - lo) / (hi - lo) : (x >= lo ? 1.0 : 0.0);
+    f = std::clamp(f, 0.0, 1.0);  // x rounded to float may sit in a neighbouring bin
+    return prefix[i] + in * f;
+}
+
+double MetricAccumulator::median(Metric m) const {
+    require_finite(m, "median");
+    const std::vector<double> prefix = prefix_counts(m);
+    const double total = prefix.back();
+    if (total == 0.0) return 0.0;
+    const double target = total / 2.0;
+    const auto& b = bins_[size_t(m)];
+    for (uint32_t i = 0; i < fine_bins::kNaN; ++i) {
+        if (b[i] == 0 || prefix[i + 1] < target) continue;
+        double lo, hi;
+        fine_bins::bin_edges(i, lo, hi);
+        return lo + (hi - lo) * (target - prefix[i]) / double(b[i]);
+    }
+    return fine_bins::bin_value(fine_bins::kPositiveOverflow);
+}
+
+double MetricAccumulator::mad(Metric m) const {
+    const double med = median(m);
+    const std::vector<double> prefix = prefix_counts(m);
+    const double total = prefix.back();
+    if (total == 0.0) return 0.0;
+    // The smallest t with half of the samples within [med - t, med + t]:
+    // the mass there grows with t, so bisect.
+    double lo = 0.0, hi = 1.0;
+    while (cdf_count(m, prefix, med + hi) - cdf_count(m, prefix, med - hi) < total / 2.0 && hi < 4.0 * (1u << 30))
+        hi *= 2.0;
+    for (int k = 0; k < 100 && hi - lo > 1e-12 * hi; ++k) {
+        const double t = lo + (hi - lo) / 2.0;
+        (cdf_count(m, prefix, med + t) - cdf_count(m, prefix, med - t) < total / 2.0 ? lo : hi) = t;
+    }
+    return hi;
+}
+
+Moments MetricAccumulator::location_scale(Metric m, Standardise how) const {
+    if (how == Standardise::MeanSigma) return moments(m);
+    Moments out;
+    out.count = moments(m).count;
+    if (out.count == 0) return out;
+    out.mean = median(m);
+    out.sigma = kMadToSigma * mad(m);
+    return out;
+}
+
+double MetricAccumulator::wasserstein1(Metric m, const MetricAccumulator& other) const {
+    for (const MetricAccumulator* a : {this, &other}) {
+        a->require_finite(m, "wasserstein");
+        require(a->moments(m).count > 0,
+                std::string("wasserstein: ") + metric_name(m) + " has no samples on the " +
+                    (a == this ? "first (real)" : "second (simulated)") + " side");
+    }
+    const std::vector<double> pa = prefix_counts(m), pb = other.prefix_counts(m);
+    const double na = pa.back(), nb = pb.back();
+    // Both CDFs are linear within each fine bin (the bins are shared), so
+    // ∫|F_a - F_b| over a bin is that of a linear function: exact for the
+    // piecewise-uniform densities.  Point bins (zero, overflow) only jump.
+    double w = 0.0;
+    for (uint32_t i = 0; i < fine_bins::kNaN; ++i) {
+        double lo, hi;
+        fine_bins::bin_edges(i, lo, hi);
+        if (!(hi > lo)) continue;
+        const double d0 = pa[i] / na - pb[i] / nb, d1 = pa[i + 1] / na - pb[i + 1] / nb;
+        const double width = hi - lo;
+        if ((d0 >= 0.0) == (d1 >= 0.0)) w += width * (std::abs(d0) + std::abs(d1)) / 2.0;
+        else w += width * (d0 * d0 + d1 * d1) / (2.0 * (std::abs(d0) + std::abs(d1)));
+    }
+    return w;
+}
+
 std::vector<double> MetricAccumulator::discrete_pdf(Metric m, const PdfOptions& options) const {
     require(options.bins >= 1 && options.bins <= (1u << 20), "pdf: bins must be in 1..1048576");
     require(std::isfinite(options.half_width) && options.half_width > 0.0, "pdf: half_width must be finite and > 0");
     require(nonfinite_count(m) == 0, std::string("pdf: a sample of ") + metric_name(m) + " is not finite");
     const uint32_t M = options.bins;
     const double u1 = -options.half_width, u2 = options.half_width;
-    const Moments mo = moments(m);
+    const Moments mo = location_scale(m, options.standardise);
     std::vector<double> counts(M, 0.0);
     if (mo.count == 0) return counts;
     // Position on the z-bin axis (bin i is [i, i + 1)) of a value.

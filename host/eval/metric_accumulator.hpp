@@ -63,6 +63,14 @@ public:
 
     // Mean and σ (population) of the finite samples.
     Moments moments(Metric m) const;
+    // The median and the (unscaled) median absolute deviation of the finite
+    // samples, from the fine bins, each bin's count spread uniformly over its
+    // range (within a bin's relative width, 0.2%, of the samples' own); 0
+    // for no samples.
+    double median(Metric m) const;
+    double mad(Metric m) const;
+    // The centre and scale of Step 2 under `how` (pdf_distance.hpp).
+    Moments location_scale(Metric m, Standardise how) const;
     // All samples counted, non-finite ones included.
     uint64_t count(Metric m) const;
     // Samples that were NaN or ±inf.
@@ -74,6 +82,12 @@ public:
     // non-finite sample: Error(InvalidArgument) naming the metric.
     std::vector<double> discrete_pdf(Metric m, const PdfOptions& options) const;
 
+    // Wasserstein-1 between this accumulator's samples of m and other's, in
+    // the metric's unit (pdf_distance.hpp, wasserstein1), from the fine bins
+    // as piecewise-uniform densities.  Error(InvalidArgument) naming the
+    // metric when a side has no samples or one is not finite.
+    double wasserstein1(Metric m, const MetricAccumulator& other) const;
+
     // Raw state, for tests and serialisation: the fine_bins::kCount counts of
     // a metric, and its moments; add_raw() merges such state in (counts may
     // be null: moments only).
@@ -82,6 +96,11 @@ public:
     void add_raw(Metric m, const uint64_t* counts, const RawMoments& moments);
 
 private:
+    // Samples of m at or below x (piecewise linear within a bin).
+    double cdf_count(Metric m, const std::vector<double>& prefix, double x) const;
+    std::vector<double> prefix_counts(Metric m) const;  // [i]: samples in bins below i
+    void require_finite(Metric m, const char* what) const;
+
     std::array<std::vector<uint64_t>, kMetricCount> bins_;
     std::array<RawMoments, kMetricCount> moments_;
 };

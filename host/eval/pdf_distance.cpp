@@ -20,9 +20,36 @@ Moments moments_of(const std::vector<double>& samples) {
     return m;
 }
 
+double median_of(std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    const size_t h = v.size() / 2;
+    std::nth_element(v.begin(), v.begin() + long(h), v.end());
+    const double upper = v[h];
+    if (v.size() % 2 == 1) return upper;
+    const double lower = *std::max_element(v.begin(), v.begin() + long(h));
+    return lower + (upper - lower) / 2.0;
+}
+
+double mad_of(const std::vector<double>& samples, double median) {
+    std::vector<double> d(samples.size());
+    for (size_t i = 0; i < samples.size(); ++i) d[i] = std::abs(samples[i] - median);
+    return median_of(std::move(d));
+}
+
+Moments location_scale(const std::vector<double>& samples, Standardise how) {
+    if (how == Standardise::MeanSigma) return moments_of(samples);
+    Moments m;
+    m.count = samples.size();
+    m.mean = median_of(samples);
+    m.sigma = kMadToSigma * mad_of(samples, m.mean);
+    return m;
+}
+
 static void check(const PdfOptions& o) {
     require(o.bins >= 1 && o.bins <= (1u << 20), "pdf: bins must be in 1..1048576");
     require(std::isfinite(o.half_width) && o.half_width > 0.0, "pdf: half_width must be finite and > 0");
+    require(o.standardise == Standardise::MeanSigma || o.standardise == Standardise::MedianMad,
+            "pdf: standardise must be 0 (mean and sigma) or 1 (median and MAD)");
 }
 
 std::vector<double> discrete_pdf(const std::vector<double>& samples, const Moments& m, const PdfOptions& options) {
@@ -66,7 +93,8 @@ std::array<double, kMetricCount> metric_distances(const MetricSamples& real, con
             e[k] = worst;
             continue;
         }
-        e[k] = pdf_l1(discrete_pdf(r, moments_of(r), options), discrete_pdf(s, moments_of(s), options));
+        e[k] = pdf_l1(discrete_pdf(r, location_scale(r, options.standardise), options),
+                      discrete_pdf(s, location_scale(s, options.standardise), options));
     }
     return e;
 }
@@ -84,6 +112,27 @@ double score(const std::array<double, kMetricCount>& distances, const ScoreWeigh
         sum += weights.w[k] * (distances[k] - weights.p1[k]) / weights.p2[k];
     }
     return 1.0 - sum;
+}
+
+double wasserstein1(const std::vector<double>& real, const std::vector<double>& sim) {
+    require(!real.empty() && !sim.empty(), "wasserstein: a side has no samples");
+    std::vector<double> a = real, b = sim;
+    for (const auto* v : {&a, &b})
+        for (double x : *v) require(std::isfinite(x), "wasserstein: a sample is not finite");
+    std::sort(a.begin(), a.end());
+    std::sort(b.begin(), b.end());
+    // Sweep the merged values: between consecutive ones both CDFs are flat.
+    const double na = double(a.size()), nb = double(b.size());
+    size_t i = 0, j = 0;
+    double w = 0.0, x = std::min(a[0], b[0]);
+    while (i < a.size() || j < b.size()) {
+        const double next = j == b.size() || (i < a.size() && a[i] <= b[j]) ? a[i] : b[j];
+        w += std::abs(double(i) / na - double(j) / nb) * (next - x);
+        x = next;
+        while (i < a.size() && a[i] == x) ++i;
+        while (j < b.size() && b[j] == x) ++j;
+    }
+    return w;
 }
 
 }  // namespace swarmcl

@@ -37,6 +37,32 @@ def test_a_set_against_itself_has_zero_distance_and_score_one(rng):
         assert abs(q.sum() * 6.0 / 20 - 1.0) < 1e-12  # a density: integrates to 1
 
 
+def test_wasserstein_sees_the_scale_that_z_scores_do_not(rng):
+    # The same walk twice as large: every z-scored PDF is the same (E_phi 0),
+    # while W1 of the speeds is their mean and of the distances the mean
+    # nearest distance, in m/s and m.
+    frames = random_walk(rng, 40, 15)
+    with swarmcl.Metrics.from_frames(frames, 0.05) as a, swarmcl.Metrics.from_frames(2 * frames, 0.05) as b:
+        assert np.all(swarmcl.distances(a, b) < 1e-9)
+        w = swarmcl.wasserstein(a, b)
+        assert set(w) == set(swarmcl.METRICS)
+        assert w["speed"] == pytest.approx(a.info("speed")["mean"], rel=1e-5)
+        assert w["nearest_distance"] == pytest.approx(a.info("nearest_distance")["mean"], rel=1e-5)
+        assert w["angular_velocity"] < 1e-9  # turning does not change with size
+        assert dict(zip(swarmcl.METRICS, swarmcl.METRIC_UNITS))["speed"] == "m/s"
+        info = a.info("speed")
+        assert info["median"] > 0 and info["mad"] > 0
+        assert b.info("speed")["median"] == pytest.approx(2 * info["median"], rel=1e-5)
+        # The robust standardisation: a distinct PDF, still zero against itself.
+        assert not np.array_equal(a.pdf("speed", robust=True), a.pdf("speed"))
+        assert np.all(swarmcl.distances(a, a, robust=True) == 0.0)
+    # One agent: no nearest distances, so no W1 for them (None), the rest there.
+    with swarmcl.Metrics.from_frames(frames[:, :1], 0.05) as one, swarmcl.Metrics.from_frames(frames, 0.05) as a:
+        w = swarmcl.wasserstein(a, one)
+        assert w["nearest_distance"] is None and w["velocity_difference"] is None
+        assert w["speed"] is not None and np.isfinite(w["speed"])
+
+
 def test_tracks_and_windows(rng):
     tracks = [(np.arange(100) * 0.01, random_walk(rng, 100, 1)[:, 0, :]) for _ in range(5)]
     with swarmcl.Metrics.from_tracks(tracks, frame_time=0.01) as whole, \

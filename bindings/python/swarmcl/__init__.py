@@ -16,7 +16,8 @@ from .descriptors import (Box, DeviceInfo, DeviceType, FieldModel, NoiseDesc, No
                           Sphere, StepStats)
 from .energy import (Dataset, EnergyModel, EnergyWeights, Stimulus, StimulusKind, TimeFormat,
                      write_mixed_csv)
-from .evaluation import METRICS, Metrics, distances, entropy_weights, evaluate, plot_pdfs, score
+from .evaluation import (METRICS, METRIC_UNITS, Metrics, distances, entropy_weights, evaluate, plot_pdfs, score,
+                         wasserstein)
 from .fitting import Parameter, fit, load_ranges
 from .params import model_parameters
 from .synthesis import mix_time_aligned, real_frames
@@ -36,7 +37,8 @@ __all__ = [
     "StepStats",
     "Dataset", "EnergyModel", "EnergyWeights", "Stimulus", "StimulusKind", "TimeFormat", "write_mixed_csv",
     "ForceModel", "Keyframe", "SHAPES", "PolicyModel", "SHIPPED_POLICY", "DDPG_POLICY", "mix_time_aligned", "real_frames",
-    "METRICS", "Metrics", "distances", "score", "entropy_weights", "evaluate", "plot_pdfs",
+    "METRICS", "METRIC_UNITS", "Metrics", "distances", "wasserstein", "score", "entropy_weights", "evaluate",
+    "plot_pdfs",
     "fit", "load_ranges", "Parameter", "model_parameters",
     "PathModel", "PathGroup", "PathInfo", "PathTarget", "Lamp", "Goal", "MeshObstacle", "ObjObstacle", "BoxObstacle",
     "SphereObstacle", "CylinderObstacle",

@@ -25,12 +25,18 @@ from ._native import ffi, lib
 from .energy import _dataset_desc, _track_arrays, _track_pointers
 from .errors import check
 
-__all__ = ["METRICS", "Metrics", "distances", "score", "entropy_weights", "evaluate", "plot_pdfs"]
+__all__ = ["METRICS", "METRIC_UNITS", "Metrics", "distances", "wasserstein", "score", "entropy_weights", "evaluate",
+           "plot_pdfs"]
 
 #: The metric names, in the order of the C enum swcl_metric (and of every array here): the
 #: library's metric table (swcl_metric_name; host/eval/metric_table.hpp), not written again here.
 METRICS: Tuple[str, ...] = tuple(ffi.string(lib.swcl_metric_name(k)).decode()
                                  for k in range(lib.SWCL_METRIC_COUNT))
+#: Each metric's SI unit ("m/s", ..., "m", "1/s"), from the same table (swcl_metric_unit).
+METRIC_UNITS: Tuple[str, ...] = tuple(ffi.string(lib.swcl_metric_unit(k)).decode()
+                                      for k in range(lib.SWCL_METRIC_COUNT))
+
+_STANDARDISE = {"mean_sigma": lib.SWCL_STANDARDISE_MEAN_SIGMA, "median_mad": lib.SWCL_STANDARDISE_MEDIAN_MAD}
 
 
 def _metric_index(metric) -> int:
@@ -45,10 +51,11 @@ def _metric_index(metric) -> int:
     return i
 
 
-def _pdf_options(bins: int, half_width: float):
+def _pdf_options(bins: int, half_width: float, robust: bool = False):
     o = ffi.new("swcl_pdf_options*", lib.swcl_pdf_options_default())
     o.bins = int(bins)
     o.half_width = float(half_width)
+    o.standardise = _STANDARDISE["median_mad" if robust else "mean_sigma"]
     return o
 
 
@@ -116,27 +123,50 @@ class Metrics(_Handle):
         return float(out[0])
 
     def info(self, metric) -> dict:
-        """count, mean and sigma of one metric's samples."""
+        """count, mean, sigma, median and MAD (unscaled) of one metric's
+        samples, in the metric's unit (METRIC_UNITS)."""
         out = ffi.new("swcl_metric_info*")
         out.struct_size = ffi.sizeof("swcl_metric_info")
         check(lib.swcl_metrics_get_info(self._h, _metric_index(metric), out))
-        return {"count": int(out.count), "mean": float(out.mean), "sigma": float(out.sigma)}
+        return {"count": int(out.count), "mean": float(out.mean), "sigma": float(out.sigma),
+                "median": float(out.median), "mad": float(out.mad)}
 
-    def pdf(self, metric, bins: int = 50, half_width: float = 4.0) -> np.ndarray:
+    def pdf(self, metric, bins: int = 50, half_width: float = 4.0, robust: bool = False) -> np.ndarray:
         """The discrete PDF Q (bins,) of the z-scored samples over
-        [-half_width, half_width] sigma (Step 3 of §3.1)."""
+        [-half_width, half_width] sigma (Step 3 of §3.1); ``robust``:
+        z-scored with the median and 1.4826 MAD instead of mean and sigma."""
         q = np.empty(int(bins), dtype=np.float64)
-        check(lib.swcl_metrics_pdf(self._h, _metric_index(metric), _pdf_options(bins, half_width),
+        check(lib.swcl_metrics_pdf(self._h, _metric_index(metric), _pdf_options(bins, half_width, robust),
                                    ffi.from_buffer("double[]", q), q.size))
         return q
 
 
-def distances(real: Metrics, sim: Metrics, bins: int = 50, half_width: float = 4.0) -> np.ndarray:
-    """E_phi = sum_i |Q_real,i - Q_sim,i| of every metric (Eq. 2), shape (7,)."""
+def distances(real: Metrics, sim: Metrics, bins: int = 50, half_width: float = 4.0,
+              robust: bool = False) -> np.ndarray:
+    """E_phi = sum_i |Q_real,i - Q_sim,i| of every metric (Eq. 2), shape (7,);
+    ``robust``: each side z-scored with its median and 1.4826 MAD."""
     e = np.empty(len(METRICS), dtype=np.float64)
-    check(lib.swcl_metrics_distances(real._h, sim._h, _pdf_options(bins, half_width),
+    check(lib.swcl_metrics_distances(real._h, sim._h, _pdf_options(bins, half_width, robust),
                                      ffi.from_buffer("double[]", e), e.size))
     return e
+
+
+def wasserstein(real: Metrics, sim: Metrics) -> dict:
+    """The Wasserstein-1 distance of every metric in its own unit
+    (METRIC_UNITS): {name: distance}, None for a metric without samples on a
+    side (e.g. nearest distances with one insect in view).  Unlike E_phi it
+    sees scale: a swarm twice as fast is its mean speed away."""
+    out = {}
+    d = ffi.new("double*")
+    for k, name in enumerate(METRICS):
+        status = lib.swcl_metrics_wasserstein(real._h, sim._h, k, d)
+        if status == lib.SWCL_OK:
+            out[name] = float(d[0])
+        elif status == lib.SWCL_ERROR_INVALID_ARGUMENT and real.info(k)["count"] * sim.info(k)["count"] == 0:
+            out[name] = None
+        else:
+            check(status)
+    return out
 
 
 def score(distances_, weights: Optional[Sequence[float]] = None, p1: Optional[Sequence[float]] = None,
@@ -188,13 +218,15 @@ def _simulate_frames(scenario: Scenario, context: Context, steps: int, every: in
 
 
 def evaluate(scenario, tracks, *, steps: Optional[int] = None, every: Optional[int] = None, warmup: int = 0,
-             bins: int = 50, half_width: float = 4.0, weights: Optional[Sequence[float]] = None,
+             bins: int = 50, half_width: float = 4.0, robust: bool = False,
+             weights: Optional[Sequence[float]] = None,
              p1: Optional[Sequence[float]] = None, p2: Optional[Sequence[float]] = None,
              context: Optional[Context] = None, out_dir=None, plots: bool = True) -> dict:
     """Runs ``scenario`` (a path, or a Scenario) and scores it against
     ``tracks`` (a Metrics, e.g. Metrics.from_csv(...)), as ``swarmcl
     evaluate`` does: samples every ``every`` steps (default: the tracks' frame
-    time over the scenario's dt) after ``warmup`` steps.  Returns the same
+    time over the scenario's dt) after ``warmup`` steps; ``robust``: the PDFs
+    z-scored with median and MAD (``--robust``).  Returns the same
     dictionary the CLI writes; with ``out_dir`` writes ``evaluation.json``
     there, and ``evaluation.png`` (the seven PDFs, real vs simulated) when
     ``plots`` and matplotlib is installed."""
@@ -218,12 +250,14 @@ def evaluate(scenario, tracks, *, steps: Optional[int] = None, every: Optional[i
             ctx.close()
     sample_dt = every * info["dt"]
     with Metrics.from_frames(frames, sample_dt) as sim:
-        e = distances(tracks, sim, bins, half_width)
+        e = distances(tracks, sim, bins, half_width, robust)
+        w1 = wasserstein(tracks, sim)
         w = ffi.new("swcl_score_weights*", lib.swcl_score_weights_default())
         result = {
             "scenario": info["name"], "agents": info["agents"], "dt": info["dt"], "warmup_steps": int(warmup),
             "steps": steps, "every": every, "frames": int(frames.shape[0]),
-            "tracks_frame_time": tracks.frame_time, "pdf": {"bins": int(bins), "half_width": float(half_width)},
+            "tracks_frame_time": tracks.frame_time, "pdf": {"bins": int(bins), "half_width": float(half_width),
+                                                       "standardise": "median_mad" if robust else "mean_sigma"},
             "weights": {"w": list(weights) if weights is not None else list(w.w),
                         "p1": list(p1) if p1 is not None else list(w.p1),
                         "p2": list(p2) if p2 is not None else list(w.p2)},
@@ -231,9 +265,9 @@ def evaluate(scenario, tracks, *, steps: Optional[int] = None, every: Optional[i
         }
         for k, name in enumerate(METRICS):
             result["metrics"][name] = {
-                "distance": float(e[k]),
-                "real": dict(tracks.info(k), pdf=tracks.pdf(k, bins, half_width).tolist()),
-                "sim": dict(sim.info(k), pdf=sim.pdf(k, bins, half_width).tolist()),
+                "distance": float(e[k]), "wasserstein": w1[name], "unit": METRIC_UNITS[k],
+                "real": dict(tracks.info(k), pdf=tracks.pdf(k, bins, half_width, robust).tolist()),
+                "sim": dict(sim.info(k), pdf=sim.pdf(k, bins, half_width, robust).tolist()),
             }
     result["seconds"] = time.perf_counter() - start
     if out_dir is not None:

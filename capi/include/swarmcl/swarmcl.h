@@ -970,16 +970,32 @@ typedef struct swcl_metric_info {
     uint64_t count;   /* samples */
     double mean;      /* of the samples (the z-score's shift) */
     double sigma;     /* their standard deviation (the z-score's scale) */
+    /* Added at the end (written only when out->struct_size covers them): */
+    double median;    /* in the metric's unit (swcl_metric_unit) */
+    double mad;       /* median absolute deviation about the median (unscaled) */
 } swcl_metric_info;
+/* The metric's SI unit ("m/s", "m/s^2", "rad/s", "rad/s^2", "m/s^3", "m",
+ * "1/s"), a static string; NULL for a value that is not a swcl_metric. */
+SWCL_API const char* swcl_metric_unit(swcl_metric metric);
 SWCL_API swcl_status swcl_metrics_get_info(swcl_metrics metrics, swcl_metric metric, swcl_metric_info* out);
 
 /* The discrete PDF of Step 3: samples z-scored with their own mean and
  * sigma, binned into `bins` equal bins over [-half_width, half_width] sigma
- * (samples beyond go to the end bins), Q_i = S_i M / (S (u2 - u1)). */
+ * (samples beyond go to the end bins), Q_i = S_i M / (S (u2 - u1)).
+ * standardise = SWCL_STANDARDISE_MEDIAN_MAD z-scores with the median and
+ * 1.4826 MAD instead (ours: robust to a few tracking glitches, which can
+ * triple sigma; 1.4826 MAD is sigma for normal data). */
+typedef enum swcl_standardise {
+    SWCL_STANDARDISE_MEAN_SIGMA = 0,  /* the paper's z-score (default) */
+    SWCL_STANDARDISE_MEDIAN_MAD = 1,
+    SWCL_STANDARDISE_MAX_ENUM = 0x7FFFFFFF
+} swcl_standardise;
 typedef struct swcl_pdf_options {
     uint32_t struct_size;
     uint32_t bins;       /* M (default 50) */
     double half_width;   /* u2 = -u1, in sigma (default 4) */
+    /* Added at the end (read only when struct_size covers it; else mean and sigma): */
+    swcl_standardise standardise;
 } swcl_pdf_options;
 SWCL_API swcl_pdf_options swcl_pdf_options_default(void);
 /* `count` must equal options->bins (NULL options: the defaults). */
@@ -990,6 +1006,17 @@ SWCL_API swcl_status swcl_metrics_pdf(swcl_metrics metrics, swcl_metric metric, 
  * largest distance, 2 M / (u2 - u1). */
 SWCL_API swcl_status swcl_metrics_distances(swcl_metrics real, swcl_metrics sim, const swcl_pdf_options* options,
                                             double* out, size_t count);
+
+/* The Wasserstein-1 (earth mover's) distance between real's and sim's
+ * samples of `metric`, in the metric's own unit (swcl_metric_unit): the
+ * integral of |F_real - F_sim| over their CDFs.  Ours, beside the z-scored
+ * E_phi, which ignores scale (a swarm ten times too fast can match every
+ * z-scored PDF).  Exact for samples from tracks or frames; from a swarm's
+ * streamed histograms, within their bins' relative width (0.2%).
+ * SWCL_ERROR_INVALID_ARGUMENT naming the metric and the side when a side
+ * has no samples of it (e.g. nearest distances of one insect in view). */
+SWCL_API swcl_status swcl_metrics_wasserstein(swcl_metrics real, swcl_metrics sim, swcl_metric metric,
+                                              double* out_distance);
 
 /* Weights w and normalisation parameters p1, p2 of Eq. 1 and 3 (defaults:
  * w = 1/7, p1 = 0, p2 = 1). */
