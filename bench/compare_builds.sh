@@ -4,6 +4,8 @@
 # time (docs/benchmarks.md).  Usage:
 #   bench/compare_builds.sh OLD_BUILD_DIR NEW_BUILD_DIR OUT_DIR
 # OUT_DIR gets {old,new}-<bench>-r<round>.json and machine.txt (CPU, load).
+# ROUNDS=k repeats the old, new, new, old sequence k times (default 1);
+# BENCHES=noise_bench,path_bench runs only those (default: all below).
 set -euo pipefail
 old=$1 new=$2 out=$3
 mkdir -p "$out"
@@ -19,10 +21,14 @@ benches=(
 run() {  # run LABEL BUILD ROUND
   for b in "${benches[@]}"; do
     IFS='|' read -r name args json <<< "$b"
+    [ -z "${BENCHES:-}" ] || [[ ",$BENCHES," == *",$name,"* ]] || continue
     echo "== $1 round $3: $name $args (load $(cut -d' ' -f1 /proc/loadavg))" | tee -a "$out/machine.txt"
     # shellcheck disable=SC2086
     (cd "$2/bench" && ./$name $args $json "$out/$1-$name-r$3.json" > "$out/$1-$name-r$3.txt" 2>&1) ||
       echo "   $name failed" | tee -a "$out/machine.txt"
   done
 }
-run old "$old" 1; run new "$new" 1; run new "$new" 2; run old "$old" 2
+for ((k = 0; k < ${ROUNDS:-1}; k++)); do
+  r1=$((2 * k + 1)) r2=$((2 * k + 2))
+  run old "$old" $r1; run new "$new" $r1; run new "$new" $r2; run old "$old" $r2
+done
