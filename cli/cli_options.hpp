@@ -60,6 +60,21 @@ inline std::vector<std::string> split_commas(const std::string& text) {
     return out;
 }
 
+// --delimiter C: a CSV's field separator, one character, or "tab" (a tab is
+// awkward to type in a shell).
+inline CLI::Option* add_delimiter(CLI::App& app, char& target) {
+    return app
+        .add_option_function<std::string>(
+            "--delimiter",
+            [&target](const std::string& text) {
+                if (text == "tab" || text == "\\t") target = '\t';
+                else if (text.size() == 1 && text[0] != '\n' && text[0] != '\r') target = text[0];
+                else throw Usage{"--delimiter: expected one character (',', ';') or 'tab', got '" + text + "'"};
+            },
+            "the tracks' field separator: one character, or tab (default ,)")
+        ->type_name("C");
+}
+
 // --device D, as every command that opens a device takes it.
 inline CLI::Option* add_device(CLI::App& app, std::string& target) {
     return app.add_option("--device", target, "device index or part of its name (swarmcl devices)")->type_name("D");

@@ -26,6 +26,7 @@ struct EvaluateArgs {
     std::string scenario, tracks, out, device;
     std::vector<std::string> columns = {"id", "time", "x", "y", "z"};
     double unit_scale = 1.0, window_from = 0.0, window_to = 1.0;
+    char delimiter = ',';
     std::optional<uint32_t> every, steps;
     uint32_t warmup = 0;
     swcl_pdf_options pdf = swcl_pdf_options_default();
@@ -46,6 +47,7 @@ void add_options(CLI::App& app, EvaluateArgs& a) {
            },
            "the tracks' columns (default id,time,x,y,z)")
         ->type_name("ID,T,X,Y,Z");
+    add_delimiter(app, a.delimiter);
     add_number(app, "--unit-scale", a.unit_scale, "the tracks' length unit in metres (default 1)");
     app.add_option_function<std::string>(
            "--window",
@@ -132,6 +134,7 @@ int evaluate(const EvaluateArgs& a) {
     td.column_y = a.columns[3].c_str();
     td.column_z = a.columns[4].c_str();
     td.unit_scale = a.unit_scale;
+    td.delimiter = a.delimiter;
     Owned<swcl_metrics, swcl_metrics_destroy> real;
     check(swcl_metrics_from_csv(a.tracks.c_str(), &td, a.window_from, a.window_to, &real.handle), "reading the tracks");
     double frame_time = 0.0;

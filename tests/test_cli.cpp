@@ -345,7 +345,7 @@ TEST_F(Cli, EveryCommandHasHelp) {
     const std::map<std::string, std::vector<std::string>> options = {
         {"run", {"SCENARIO.json", "--steps", "--out", "--format", "--every", "--device", "--quiet", "--checkpoint-every"}},
         {"resume", {"DIR", "--device", "--quiet"}},
-        {"evaluate", {"SCENARIO.json", "--tracks", "--columns", "--unit-scale", "--window", "--warmup", "--steps",
+        {"evaluate", {"SCENARIO.json", "--tracks", "--columns", "--delimiter", "--unit-scale", "--window", "--warmup", "--steps",
                       "--every", "--bins", "--half-width", "--robust", "--out", "--plot", "--device", "--quiet"}},
         {"fit", {"--tracks", "--ranges", "--method", "--generations"}},
         {"devices", {}},
@@ -404,6 +404,7 @@ TEST_F(Cli, BadArgumentsSayWhatIsWrong) {
         {"run tiny.json --checkpoint-every 0", "--checkpoint-every: expected an integer >= 1, got '0'"},
         {"evaluate tiny.json --tracks t.csv --window 0.5", "--window: expected FROM,TO"},
         {"evaluate tiny.json --tracks t.csv --columns id,t", "--columns: expected five names"},
+        {"evaluate tiny.json --tracks t.csv --delimiter ab", "--delimiter: expected one character"},
         {"evaluate tiny.json --tracks t.csv --unit-scale nan", "--unit-scale: expected a number, got 'nan'"},
         {"evaluate tiny.json --tracks t.csv --bins 0", "--bins: expected an integer >= 1, got '0'"},
         {"help nope", "unknown command 'nope'"},
@@ -681,6 +682,25 @@ TEST_F(Cli, EvaluateIsDeterministicAndRefusesBadInput) {
     EXPECT_EQ(ja["every"], 1);  // the tracks' 0.02 s frames over dt 0.02
     ja.erase("seconds"), jb.erase("seconds");
     EXPECT_EQ(ja, jb);
+    // The same tracks with ';' and with tabs between the fields.
+    std::string text = swarmcl::tracks_to_csv(tracks), semi = text, tabs = text;
+    std::replace(semi.begin(), semi.end(), ',', ';');
+    std::replace(tabs.begin(), tabs.end(), ',', '\t');
+    write_text(dir / "semi.csv", semi);
+    write_text(dir / "tabs.csv", tabs);
+    for (const auto& [file, flag] : {std::pair{"semi.csv", "';'"}, std::pair{"tabs.csv", "tab"}}) {
+        const Result r = cli(std::string("evaluate tiny.json --tracks ") + file + " --delimiter " + flag +
+                                 " --window 0.5,1 --warmup 10 --out other.json --quiet",
+                             dir.path());
+        ASSERT_EQ(r.status, 0) << file << r.err;
+        auto jo = nlohmann::json::parse(read_bytes(dir / "other.json"));
+        jo.erase("seconds");
+        jo["tracks"] = ja["tracks"];
+        EXPECT_EQ(jo, ja) << file;
+    }
+    const Result wrong = cli("evaluate tiny.json --tracks semi.csv --out w.json --quiet", dir.path());
+    EXPECT_EQ(wrong.status, 1);  // one column named "id;time;x;y;z": no "id"
+    EXPECT_FALSE(fs::exists(dir / "w.json"));
     const double score = ja["score"];
     EXPECT_TRUE(std::isfinite(score) && score < 1.0) << score;
 

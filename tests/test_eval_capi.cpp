@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstddef>
 #include <fstream>
 #include <regex>
@@ -188,6 +189,38 @@ TEST(EvalCapi, MedianMadWassersteinAndRobustPdfs) {
     EXPECT_EQ(swcl_metrics_wasserstein(a, b, SWCL_METRIC_SPEED, nullptr), SWCL_ERROR_INVALID_ARGUMENT);
     EXPECT_EQ(swcl_metrics_wasserstein(a, b, swcl_metric(9), &w), SWCL_ERROR_INVALID_ARGUMENT);
     for (swcl_metrics m : {a, b, one}) swcl_metrics_destroy(m);
+}
+
+// A CSV with ';' between its fields: read with desc.delimiter as the same
+// tracks with ','; an older descriptor (no delimiter field) reads ','.
+TEST(EvalCapi, TracksWithAnotherDelimiter) {
+    const auto set = swarmcl::synthetic_tracks(4, 30, 0.01, 0.5f, 2);
+    std::string comma = swarmcl::tracks_to_csv(set), semi = comma;
+    std::replace(semi.begin(), semi.end(), ',', ';');
+    const std::string dir = ::testing::TempDir();
+    const std::string pc = dir + "/swcl_delim_comma.csv", ps = dir + "/swcl_delim_semi.csv";
+    std::ofstream(pc) << comma;
+    std::ofstream(ps) << semi;
+    swcl_dataset_desc d = swcl_dataset_desc_default();
+    EXPECT_EQ(d.delimiter, ',');
+    swcl_metrics a{}, b{}, c{};
+    ASSERT_EQ(swcl_metrics_from_csv(pc.c_str(), &d, 0, 1, &a), SWCL_OK) << swcl_last_error();
+    d.delimiter = ';';
+    ASSERT_EQ(swcl_metrics_from_csv(ps.c_str(), &d, 0, 1, &b), SWCL_OK) << swcl_last_error();
+    double e[SWCL_METRIC_COUNT];
+    ASSERT_EQ(swcl_metrics_distances(a, b, nullptr, e, SWCL_METRIC_COUNT), SWCL_OK);
+    for (double v : e) EXPECT_EQ(v, 0.0);
+    d.struct_size = offsetof(swcl_dataset_desc, delimiter);  // an older caller: ','
+    EXPECT_EQ(swcl_metrics_from_csv(ps.c_str(), &d, 0, 1, &c), SWCL_ERROR_INVALID_ARGUMENT);  // no "id" column
+    d = swcl_dataset_desc_default();
+    d.delimiter = '\n';
+    EXPECT_EQ(swcl_metrics_from_csv(ps.c_str(), &d, 0, 1, &c), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("delimiter"), std::string::npos) << swcl_last_error();
+    EXPECT_EQ(c.id, 0u);
+    swcl_metrics_destroy(a);
+    swcl_metrics_destroy(b);
+    std::remove(pc.c_str());
+    std::remove(ps.c_str());
 }
 
 TEST(EvalCapi, HalvesOfARecordingSplitTheSamplesByTime) {

@@ -1,6 +1,7 @@
 // FASTSWARM through the C API: reference datasets (tracks in, files) and the
 // energy model on a swarm.
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 
 #include "capi_common.hpp"
@@ -93,6 +94,11 @@ TrackLoadOptions track_options(const swcl_dataset_desc& d) {
     o.unit_scale = d.unit_scale;
     o.gap_factor = d.gap_factor;
     o.smoothing = d.smoothing;
+    if (d.struct_size >= offsetof(swcl_dataset_desc, delimiter) + sizeof(d.delimiter)) {
+        require(d.delimiter != '\n' && d.delimiter != '\r' && d.delimiter != '\0',
+                "desc->delimiter must be a field separator such as ',', ';' or '\\t' (not a line end or NUL)");
+        o.delimiter = d.delimiter;
+    }
     return o;
 }
 
@@ -111,6 +117,7 @@ swcl_dataset_desc swcl_dataset_desc_default(void) {
     d.unit_scale = t.unit_scale;
     d.gap_factor = t.gap_factor;
     d.smoothing = t.smoothing;
+    d.delimiter = t.delimiter;
     d.k = o.k;
     d.groups = o.groups;
     d.seed = o.seed;
@@ -120,7 +127,7 @@ swcl_dataset_desc swcl_dataset_desc_default(void) {
 
 swcl_status swcl_dataset_from_csv(const char* path, const swcl_dataset_desc* desc, swcl_dataset* out) {
     return guarded(__func__, [&] {
-        check_struct_size(desc, sizeof(swcl_dataset_desc), "desc");
+        check_struct_size(desc, offsetof(swcl_dataset_desc, delimiter), "desc");
         require(path != nullptr && *path, "path is NULL or empty");
         add_dataset(out, [&] {
             const TrackSet set = load_tracks_csv(path, track_options(*desc));
@@ -132,7 +139,7 @@ swcl_status swcl_dataset_from_csv(const char* path, const swcl_dataset_desc* des
 swcl_status swcl_dataset_from_tracks(const uint32_t* counts, size_t track_count, const double* times,
                                      const float* xyz, const swcl_dataset_desc* desc, swcl_dataset* out) {
     return guarded(__func__, [&] {
-        check_struct_size(desc, sizeof(swcl_dataset_desc), "desc");
+        check_struct_size(desc, offsetof(swcl_dataset_desc, delimiter), "desc");
         add_dataset(out, [&] {
             const TrackSet set = tracks_from_arrays(counts, track_count, times, xyz, track_options(*desc));
             return build_dataset(track_kinematics(set), dataset_options(*desc), set.frame_time);
@@ -142,7 +149,7 @@ swcl_status swcl_dataset_from_tracks(const uint32_t* counts, size_t track_count,
 
 swcl_status swcl_dataset_synthetic(const swcl_dataset_desc* desc, swcl_dataset* out) {
     return guarded(__func__, [&] {
-        check_struct_size(desc, sizeof(swcl_dataset_desc), "desc");
+        check_struct_size(desc, offsetof(swcl_dataset_desc, delimiter), "desc");
         const double ft = desc->frame_time > 0.0 ? desc->frame_time : 0.01;
         require(std::isfinite(ft), "desc->frame_time must be finite");
         add_dataset(out, [&] { return synthetic_dataset(dataset_options(*desc), ft, desc->synthetic_mean_speed); });
@@ -274,7 +281,7 @@ swcl_status swcl_swarm_start_from_tracks(swcl_swarm swarm, const uint32_t* count
     return with_swarm(__func__, swarm, [&](Swarm& s) {
         swcl_dataset_desc d = swcl_dataset_desc_default();
         if (desc) {
-            check_struct_size(desc, sizeof(swcl_dataset_desc), "desc");
+            check_struct_size(desc, offsetof(swcl_dataset_desc, delimiter), "desc");
             d = *desc;
         }
         start_from_tracks(s, tracks_from_arrays(counts, track_count, times, xyz, track_options(d)));

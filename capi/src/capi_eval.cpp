@@ -84,7 +84,7 @@ void add_metrics(swcl_metrics* out, MetricSamples&& m) {
 
 TrackLoadOptions options_or_default(const swcl_dataset_desc* desc) {
     if (!desc) return track_options(swcl_dataset_desc_default());
-    check_struct_size(desc, sizeof(swcl_dataset_desc), "tracks");
+    check_struct_size(desc, offsetof(swcl_dataset_desc, delimiter), "tracks");
     return track_options(*desc);
 }
 

@@ -155,3 +155,34 @@ def test_attached_metrics_stream_a_running_swarm(ctx):
             assert np.all(swarmcl.distances(live, host) < 0.2)
     with swarmcl.Metrics.from_frames(np.stack(frames), 0.04) as host, pytest.raises(swarmcl.InvalidArgumentError):
         host.sample()
+
+
+def test_tracks_as_users_have_them(tmp_path, rng):
+    # One recording written with ',', ';' and tabs; columns given as the CLI
+    # gives them ("id,t,x,y,z"), as a list, or as a dict of some roles.
+    frames = random_walk(rng, 25, 6)
+    rows = [(i, f * 0.01, *frames[f, i]) for i in range(6) for f in range(25)]
+    for name, sep in (("comma.csv", ","), ("semi.csv", ";"), ("tabs.csv", "\t")):
+        lines = [sep.join(("insect", "t", "px", "py", "pz"))]
+        lines += [sep.join((str(i), f"{t:.2f}", *(f"{v:.7f}" for v in p))) for i, t, *p in rows]
+        (tmp_path / name).write_text("\n".join(lines) + "\n")
+    ref = swarmcl.Metrics.from_csv(tmp_path / "comma.csv", columns="insect,t,px,py,pz")
+    with ref:
+        for file, kw in (("semi.csv", dict(delimiter=";", columns=["insect", "t", "px", "py", "pz"])),
+                         ("tabs.csv", dict(delimiter="tab", columns="insect,t,px,py,pz")),
+                         ("tabs.csv", dict(delimiter="\t", columns={"id": "insect", "time": "t", "x": "px",
+                                                                    "y": "py", "z": "pz"}))):
+            with swarmcl.Metrics.from_csv(tmp_path / file, **kw) as m:
+                for k in range(len(swarmcl.METRICS)):
+                    assert m.info(k) == ref.info(k), (file, k)
+        with pytest.raises(TypeError, match="unknown option delimitter"):
+            swarmcl.Metrics.from_csv(tmp_path / "semi.csv", delimitter=";")
+        with pytest.raises(TypeError, match="unknown option k .*it takes columns, delimiter"):
+            swarmcl.Metrics.from_csv(tmp_path / "semi.csv", k=3)
+        with pytest.raises(ValueError, match="delimiter: one character"):
+            swarmcl.Metrics.from_csv(tmp_path / "semi.csv", delimiter=";;")
+        with pytest.raises(ValueError, match="columns: expected five names"):
+            swarmcl.Metrics.from_csv(tmp_path / "comma.csv", columns="insect,t,px")
+        # Without the delimiter the header is one column: an error naming it.
+        with pytest.raises(swarmcl.SwarmclError, match="insect"):
+            swarmcl.Metrics.from_csv(tmp_path / "semi.csv", columns="insect,t,px,py,pz")

@@ -49,16 +49,45 @@ class StimulusKind(enum.IntEnum):
     STARTLE = int(lib.SWCL_STIMULUS_STARTLE)
 
 
+_ROLES = ("id", "time", "x", "y", "z")
+_TRACK_OPTIONS = ("columns", "delimiter", "time_format", "frame_time", "unit_scale", "gap_factor", "smoothing", "k",
+                  "groups", "seed", "mean_speed")
+# What reading tracks for the evaluation takes (no dataset subsampling).
+_METRIC_TRACK_OPTIONS = ("columns", "delimiter", "time_format", "frame_time", "unit_scale", "gap_factor", "smoothing")
+
+
+def _columns(columns) -> dict:
+    """The track columns as {role: name or index}: a dict of some roles, or
+    all five in role order as "id,time,x,y,z" (the CLI's --columns) or a
+    sequence."""
+    if columns is None:
+        return {}
+    if isinstance(columns, str):
+        columns = columns.split(",")
+    if isinstance(columns, dict):
+        for role in columns:
+            if role not in _ROLES:
+                raise ValueError(f"columns: unknown role {role!r} (id, time, x, y, z)")
+        return dict(columns)
+    names = list(columns)
+    if len(names) != 5:
+        raise ValueError(f"columns: expected five names, id,time,x,y,z, got {len(names)}: {names!r}")
+    return dict(zip(_ROLES, names))
+
+
 def _dataset_desc(columns=None, time_format="auto", frame_time=None, unit_scale=None, gap_factor=None,
-                  smoothing=None, k=None, groups=None, seed=None, mean_speed=None):
+                  smoothing=None, k=None, groups=None, seed=None, mean_speed=None, delimiter=None):
     d = ffi.new("swcl_dataset_desc*", lib.swcl_dataset_desc_default())
     keep = []
-    for role, name in (columns or {}).items():
-        if role not in ("id", "time", "x", "y", "z"):
-            raise ValueError(f"columns: unknown role {role!r} (id, time, x, y, z)")
+    for role, name in _columns(columns).items():
         c = ffi.new("char[]", str(name).encode())
         keep.append(c)
         setattr(d, "column_" + role, c)
+    if delimiter is not None:
+        text = "\t" if delimiter == "tab" else delimiter
+        if not isinstance(text, str) or len(text) != 1 or text in "\r\n\0":
+            raise ValueError(f"delimiter: one character such as ',', ';' or '\\t', or 'tab', got {delimiter!r}")
+        d.delimiter = text.encode()
     if isinstance(time_format, str):
         try:
             time_format = TimeFormat[time_format.upper()]
@@ -71,6 +100,16 @@ def _dataset_desc(columns=None, time_format="auto", frame_time=None, unit_scale=
         if value is not None:
             setattr(d, name, value)
     return d, keep
+
+
+def _track_desc(what: str, options: dict, allowed=_TRACK_OPTIONS):
+    """_dataset_desc(**options) for the public function `what`, an unknown
+    option named with the ones it takes."""
+    unknown = sorted(set(options) - set(allowed))
+    if unknown:
+        raise TypeError(f"{what}: unknown option{'s' if len(unknown) > 1 else ''} {', '.join(unknown)} "
+                        f"(it takes {', '.join(allowed)})")
+    return _dataset_desc(**options)
 
 
 def _track_arrays(tracks, what):
@@ -114,9 +153,10 @@ class Dataset(_Handle):
     @classmethod
     def from_csv(cls, path, **options) -> "Dataset":
         """From a track CSV: ``columns={"id": "id", "time": "datetime", "x": "x_cm", ...}``
-        (names or 0-based indices), ``time_format``, ``frame_time``, ``unit_scale``,
-        ``gap_factor``, ``smoothing``, ``k``, ``groups``, ``seed``."""
-        d, _keep = _dataset_desc(**options)
+        (names or 0-based indices; or all five as "id,time,x,y,z" or a list),
+        ``delimiter`` (",", ";", "\\t" or "tab"), ``time_format``, ``frame_time``,
+        ``unit_scale``, ``gap_factor``, ``smoothing``, ``k``, ``groups``, ``seed``."""
+        d, _keep = _track_desc("Dataset.from_csv", options)
         return cls._make(lambda h: lib.swcl_dataset_from_csv(os.fsencode(path), d, h))
 
     @classmethod
@@ -124,7 +164,7 @@ class Dataset(_Handle):
                     **options) -> "Dataset":
         """From tracks given as ``[(times, positions), ...]`` (times in s, positions (n, 3))."""
         c, t, p = _track_arrays(tracks, "from_tracks")
-        d, _keep = _dataset_desc(**options)
+        d, _keep = _track_desc("Dataset.from_tracks", options)
         return cls._make(lambda h: lib.swcl_dataset_from_tracks(*_track_pointers(c, t, p), d, h))
 
     @classmethod
@@ -294,7 +334,7 @@ def goals(swarm) -> np.ndarray:
 
 def start_from_tracks(swarm, tracks, **options) -> None:
     c, t, p = _track_arrays(tracks, "start_from_tracks")
-    d, _keep = _dataset_desc(**options)
+    d, _keep = _track_desc("start_from_tracks", options)
     check(lib.swcl_swarm_start_from_tracks(swarm._h, *_track_pointers(c, t, p), d))
 
 

@@ -22,7 +22,7 @@ import numpy as np
 
 from ._core import Context, Scenario, _Handle
 from ._native import ffi, lib
-from .energy import _dataset_desc, _track_arrays, _track_pointers
+from .energy import _METRIC_TRACK_OPTIONS, _track_arrays, _track_desc, _track_pointers
 from .errors import check
 
 __all__ = ["METRICS", "METRIC_UNITS", "Metrics", "distances", "wasserstein", "score", "entropy_weights", "evaluate",
@@ -77,11 +77,12 @@ class Metrics(_Handle):
 
     @classmethod
     def from_csv(cls, path, window: Tuple[float, float] = (0.0, 1.0), **options) -> "Metrics":
-        """From a track CSV (``columns``, ``time_format``, ``frame_time``,
-        ``unit_scale``, ``gap_factor``, ``smoothing`` as for Dataset.from_csv),
-        keeping the samples in ``window``: fractions of all samples ordered by
-        time, e.g. ``(0, 0.5)`` for the first half of the data by time."""
-        d, _keep = _dataset_desc(**options)
+        """From a track CSV (``columns``, ``delimiter``, ``time_format``,
+        ``frame_time``, ``unit_scale``, ``gap_factor``, ``smoothing`` as for
+        Dataset.from_csv; ``columns`` also as "id,time,x,y,z"), keeping the
+        samples in ``window``: fractions of all samples ordered by time, e.g.
+        ``(0, 0.5)`` for the first half of the data by time."""
+        d, _keep = _track_desc("Metrics.from_csv", options, _METRIC_TRACK_OPTIONS)
         lo, hi = window
         return cls._make(lambda h: lib.swcl_metrics_from_csv(os.fsencode(path), d, float(lo), float(hi), h))
 
@@ -89,7 +90,7 @@ class Metrics(_Handle):
     def from_tracks(cls, tracks, window: Tuple[float, float] = (0.0, 1.0), **options) -> "Metrics":
         """From tracks given as ``[(times, positions), ...]`` (as Dataset.from_tracks)."""
         c, t, p = _track_arrays(tracks, "from_tracks")
-        d, _keep = _dataset_desc(**options)
+        d, _keep = _track_desc("Metrics.from_tracks", options, _METRIC_TRACK_OPTIONS)
         lo, hi = window
         return cls._make(lambda h: lib.swcl_metrics_from_tracks(*_track_pointers(c, t, p), d, float(lo), float(hi), h))
 

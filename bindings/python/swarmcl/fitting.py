@@ -512,6 +512,8 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--tracks", required=True, help="track CSV")
     p.add_argument("--ranges", required=True, help="JSON {\"scenario.path\": [low, high], ...}")
     p.add_argument("--columns", default="id,time,x,y,z", help="id,time,x,y,z column names (default %(default)s)")
+    p.add_argument("--delimiter", default=",", help="the tracks' field separator: one character, or tab "
+                   "(default %(default)s)")
     p.add_argument("--unit-scale", type=float, default=1.0, help="track position unit in metres (0.01: cm)")
     p.add_argument("--window", default="0,1", help="FROM,TO fractions of the samples by time (default all)")
     p.add_argument("--method", choices=("cmaes", "ga"), default="cmaes")
@@ -537,16 +539,13 @@ def main(argv=None) -> int:
         comm = MPI.COMM_WORLD
     rank = comm.Get_rank() if comm is not None else 0
     try:
-        columns = args.columns.split(",")
-        if len(columns) != 5:
-            raise ValueError("--columns: expected five names: id,time,x,y,z")
         window = tuple(float(x) for x in args.window.split(","))
         if len(window) != 2:
             raise ValueError("--window: expected FROM,TO")
         device = int(args.device) if args.device and args.device.isdigit() else args.device
         ctx = _context_for_rank(rank, device)
-        with ctx, Metrics.from_csv(args.tracks, window=window, unit_scale=args.unit_scale,
-                                   columns=dict(zip(("id", "time", "x", "y", "z"), columns))) as real:
+        with ctx, Metrics.from_csv(args.tracks, window=window, unit_scale=args.unit_scale, columns=args.columns,
+                                   delimiter=args.delimiter) as real:
             total = args.generations
             show = (not args.quiet) and rank == 0 and sys.stderr.isatty()
             result = fit(args.scenario, real, args.ranges, method=args.method, generations=args.generations,

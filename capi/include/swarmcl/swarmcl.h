@@ -588,6 +588,8 @@ typedef struct swcl_dataset_desc {
     uint32_t groups;               /* speed groups (default 10) */
     uint64_t seed;                 /* the subsampling draw */
     float synthetic_mean_speed;    /* swcl_dataset_synthetic only: m/s (default 0.5) */
+    /* Added at the end (read only when struct_size covers it; else ','): */
+    char delimiter;                /* the CSV's field separator: ',' (default), ';', '\t', ... */
 } swcl_dataset_desc;
 SWCL_API swcl_dataset_desc swcl_dataset_desc_default(void);
 /* From a track CSV file (errors name the line and column). */
