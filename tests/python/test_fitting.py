@@ -83,6 +83,34 @@ def test_the_true_parameters_score_one_and_the_population_is_scored_together(ctx
     assert s2[0] > max(s2[1:]) and s2 == streamed([u_true, [0.0, 0.0], [1.0, 1.0]])
 
 
+def test_the_scale_penalty_is_the_mean_wasserstein_distance_in_real_spreads(ctx, real, truth):
+    # Host path (exact): the penalised score is E - λ P, P recomputed here
+    # from the same run's frames; the true parameters are 0 away, a slower
+    # goal speed is not, and the robust option keeps E 1 for the true run.
+    params = swarmcl.load_ranges(RANGES, SCENARIO)
+    plain = swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, steps=40, streamed=False)
+    pen = swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, steps=40, streamed=False,
+                                              scale_penalty=2.0, robust=True)
+    u_true, u_slow = [(0.6 - 0.05) / 0.95, (0.9 - 0.1) / 1.4], [(0.6 - 0.05) / 0.95, 0.0]
+    e_plain, e_pen = plain([u_true, u_slow]), pen([u_true, u_slow])
+    # u maps back to 0.6 and 0.9 within a double's rounding, so the run may
+    # differ from the "real" one in the last float bits: W1 sees ~1e-8 where
+    # the binned PDFs see nothing.
+    assert e_pen[0] == pytest.approx(1.0, abs=1e-6)
+    slow = json.loads(json.dumps(SCENARIO))
+    slow["model"]["noise"]["gain"], slow["model"]["goal"]["speed"] = 0.6, 0.1
+    with swarmcl.Metrics.from_frames(frames_of(ctx, slow, 40), 0.02) as sim:
+        w = swarmcl.wasserstein(real, sim)
+        spread = [1.4826 * real.info(k)["mad"] for k in range(7)]
+        p = np.mean([w[n] / spread[k] for k, n in enumerate(swarmcl.METRICS) if w[n] is not None and spread[k] > 0])
+        e_robust = swarmcl.score(swarmcl.distances(real, sim, robust=True))
+    assert p > 0.1
+    assert e_pen[1] == pytest.approx(e_robust - 2.0 * p, abs=1e-6)  # the same last-bits caveat
+    assert e_plain[1] != pytest.approx(e_pen[1])
+    with pytest.raises(ValueError, match="scale_penalty"):
+        swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, scale_penalty=-1.0)
+
+
 @pytest.mark.parametrize("method", ["cmaes", "ga"])
 def test_fit_is_deterministic_for_a_seed_and_improves(ctx, real, method):
     kw = dict(method=method, generations=4, population=6, seed=3, steps=40, context=ctx)

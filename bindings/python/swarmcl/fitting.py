@@ -31,7 +31,7 @@ import numpy as np
 
 from ._core import Context, Scenario, devices
 from .errors import SwarmclError
-from .evaluation import METRICS, Metrics, distances, entropy_weights, score
+from .evaluation import METRICS, Metrics, distances, entropy_weights, score, wasserstein
 from .params import model_parameters
 
 __all__ = ["Parameter", "load_ranges", "PopulationEvaluator", "fit", "compare", "main"]
@@ -174,8 +174,19 @@ class PopulationEvaluator:
 
     def __init__(self, scenario: dict, params: Sequence[Parameter], real: Metrics, context: Context, *,
                  steps: Optional[int] = None, every: Optional[int] = None, warmup: int = 0, bins: int = 50,
-                 half_width: float = 4.0, weights=None, p1=None, p2=None, streamed: bool = True):
+                 half_width: float = 4.0, weights=None, p1=None, p2=None, streamed: bool = True,
+                 robust: bool = False, scale_penalty: float = 0.0):
         self.scenario, self.params, self.real, self.context = scenario, list(params), real, context
+        # robust: the PDFs z-scored with median and MAD (docs/evaluation.md).
+        # scale_penalty λ: the objective is E - λ P, P the mean over the
+        # metrics of W1(real, sim) / (1.4826 MAD of the real samples): how
+        # far the run is in physical units, in the data's own spreads (the
+        # z-scored E cannot see a swarm that is too fast or too dense).
+        self.robust = bool(robust)
+        self.scale_penalty = float(scale_penalty)
+        if not (self.scale_penalty >= 0.0 and np.isfinite(self.scale_penalty)):
+            raise ValueError(f"scale_penalty: a finite number >= 0, got {scale_penalty!r}")
+        self.spread = [1.4826 * real.info(k)["mad"] for k in range(len(METRICS))]
         # streamed: each swarm's metrics computed on the device into fine
         # histograms (Metrics.attach; nothing per frame is read back);
         # otherwise positions are read every sample and measured on the host
@@ -224,7 +235,7 @@ class PopulationEvaluator:
             metrics = [Metrics.attach(s, sample_dt) for s in swarms]
             try:
                 self._advance(swarms, lambda i: metrics[i].sample())
-                return [distances(self.real, m, self.bins, self.half_width) for m in metrics]
+                return [self._terms_of(m) for m in metrics]
             finally:
                 for m in metrics:
                     m.close()
@@ -233,8 +244,20 @@ class PopulationEvaluator:
         out = []
         for f in frames:
             with Metrics.from_frames(np.stack(f), sample_dt) as sim:
-                out.append(distances(self.real, sim, self.bins, self.half_width))
+                out.append(self._terms_of(sim))
         return out
+
+    def _terms_of(self, sim: Metrics):
+        """A run's seven E_phi and, with a scale penalty, its W1 per metric."""
+        e = distances(self.real, sim, self.bins, self.half_width, self.robust)
+        return e, (wasserstein(self.real, sim) if self.scale_penalty > 0.0 else None)
+
+    def penalty(self, w1: dict) -> float:
+        """P: the mean over the metrics with samples on both sides and a real
+        spread > 0 of W1 / (1.4826 MAD of the real samples)."""
+        ratios = [w1[name] / self.spread[k] for k, name in enumerate(METRICS)
+                  if w1[name] is not None and self.spread[k] > 0.0]
+        return float(np.mean(ratios)) if ratios else 0.0
 
     def _score(self, terms_or_error) -> float:
         # A run that blew up (non-finite positions, so non-finite metrics)
@@ -242,7 +265,9 @@ class PopulationEvaluator:
         if isinstance(terms_or_error, Exception):
             self.refused += 1
             return REFUSED_SCORE
-        return score(terms_or_error, self.weights, self.p1, self.p2)
+        e, w1 = terms_or_error
+        s = score(e, self.weights, self.p1, self.p2)
+        return s - self.scale_penalty * self.penalty(w1) if w1 is not None else s
 
     def __call__(self, population) -> List[float]:
         swarms = [self._swarm(u) for u in population]
@@ -272,7 +297,7 @@ class PopulationEvaluator:
     def terms(self, scenario: dict) -> np.ndarray:
         """The seven energy terms E_phi (Eq. 2) of one scenario, run as a population member is."""
         with Scenario.parse(json.dumps(scenario)).create_swarm(self.context) as s:
-            return self._all_terms([s])[0]
+            return self._all_terms([s])[0][0]
 
 
 class _Ranks:
@@ -392,7 +417,8 @@ def _context_for_rank(rank: int, device=None) -> Context:
 def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations: int = 10, population: int = 8,
         seed: int = 1, steps: Optional[int] = None, every: Optional[int] = None, warmup: int = 0, bins: int = 50,
         half_width: float = 4.0, weights=None, p1=None, p2=None, comm=None, context: Optional[Context] = None,
-        progress: Optional[Callable[[dict], None]] = None, streamed: bool = True) -> Optional[dict]:
+        progress: Optional[Callable[[dict], None]] = None, streamed: bool = True, robust: bool = False,
+        scale_penalty: float = 0.0) -> Optional[dict]:
     """Fits the ranged parameters of ``scenario`` (a path or a dict) to
     ``tracks`` (a Metrics) by maximising E.  ``method``: "cmaes" or "ga".
     With ``comm`` (an mpi4py communicator of R ranks), every rank must call
@@ -400,7 +426,10 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
     serve evaluations and return None.  The same seed gives the same result
     for any R.  ``streamed``: each run's metrics on the device (fine
     histograms, the default); False reads positions back and measures them
-    on the host (exact PDFs, slower)."""
+    on the host (exact PDFs, slower).  ``robust``: PDFs z-scored with median
+    and MAD; ``scale_penalty`` λ > 0 maximises E - λ P instead, P the mean
+    Wasserstein-1 distance in units of the real data's spread
+    (PopulationEvaluator, docs/evaluation.md)."""
     if method not in ("cmaes", "ga"):
         raise ValueError(f"method: 'cmaes' or 'ga', got {method!r}")
     if int(generations) < 1 or int(population) < 2:
@@ -417,7 +446,7 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
     try:
         evaluator = PopulationEvaluator(scenario, params, tracks, ctx, steps=steps, every=every, warmup=warmup,
                                         bins=bins, half_width=half_width, weights=weights, p1=p1, p2=p2,
-                                        streamed=streamed)
+                                        streamed=streamed, robust=robust, scale_penalty=scale_penalty)
         ranks = _Ranks(evaluator, comm)
         if rank != 0:
             ranks.serve()
@@ -432,7 +461,9 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
         return {
             "method": method, "seed": int(seed), "generations": int(generations), "population": int(population),
             "ranks": ranks.size, "steps": evaluator.steps, "every": evaluator.every, "warmup": evaluator.warmup,
-            "pdf": {"bins": evaluator.bins, "half_width": evaluator.half_width},
+            "pdf": {"bins": evaluator.bins, "half_width": evaluator.half_width,
+                    "standardise": "median_mad" if evaluator.robust else "mean_sigma"},
+            "scale_penalty": evaluator.scale_penalty,
             "parameters": {p.path: {"low": p.low, "high": p.high} for p in params},
             "best": {p.path: p.value(x) for p, x in zip(params, u)},
             "best_score": float(best), "history": history,
@@ -525,6 +556,9 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--warmup", type=int, default=0)
     p.add_argument("--bins", type=int, default=50)
     p.add_argument("--half-width", type=float, default=4.0)
+    p.add_argument("--robust", action="store_true", help="z-score the PDFs with median and MAD")
+    p.add_argument("--scale-penalty", type=float, default=0.0,
+                   help="maximise E - X * (mean Wasserstein-1 distance in the real data's spreads); default 0")
     p.add_argument("--out", default="fit.json", help="result JSON (default %(default)s)")
     p.add_argument("--device", help="device index or name part (default: SWARMCL_DEVICE, or round-robin by rank)")
     p.add_argument("--quiet", action="store_true")
@@ -551,6 +585,7 @@ def main(argv=None) -> int:
             result = fit(args.scenario, real, args.ranges, method=args.method, generations=args.generations,
                          population=args.population, seed=args.seed, steps=args.steps, every=args.every,
                          warmup=args.warmup, bins=args.bins, half_width=args.half_width, comm=comm, context=ctx,
+                         robust=args.robust, scale_penalty=args.scale_penalty,
                          progress=(lambda e: _bar(e, total)) if show else None)
     except (ValueError, OSError, SwarmclError) as e:
         print(f"swarmcl fit: {e}", file=sys.stderr)
