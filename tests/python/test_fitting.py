@@ -111,6 +111,37 @@ def test_the_scale_penalty_is_the_mean_wasserstein_distance_in_real_spreads(ctx,
         swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, scale_penalty=-1.0)
 
 
+def test_several_seeds_score_the_mean_of_their_runs(ctx, real):
+    params = swarmcl.load_ranges(RANGES, SCENARIO)
+    u = [0.3, 0.7]
+    two = swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, steps=40, streamed=False, seeds=2)
+    one = [swarmcl.fitting.PopulationEvaluator(dict(SCENARIO, seed=s), params, real, ctx, steps=40,
+                                               streamed=False)([u])[0] for s in (9, 10)]
+    assert one[0] != one[1]  # the placement seed matters
+    assert two([u]) == [pytest.approx(np.mean(one), abs=1e-12)]
+    assert two.evaluations == 1
+    with pytest.raises(ValueError, match="seeds"):
+        swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, seeds=0)
+
+
+def test_searches_stop_on_tolerance_and_say_so(ctx, real):
+    # A tolerance no gain can pass: the GA stops after `patience` stalled
+    # generations, CMA-ES on its own tolerance, both before the budget.
+    kw = dict(generations=30, population=6, seed=2, steps=40, context=ctx, tolerance=10.0)
+    ga = swarmcl.fit(SCENARIO, real, RANGES, method="ga", patience=2, **kw)
+    assert ga["converged"] and len(ga["history"]) == 2 and "no gain" in ga["stop"][0]
+    # Copies keep their score: fewer evaluations than scored slots.
+    assert ga["evaluations"] == 6 + sum(h["individuals"] for h in ga["history"])
+    es = swarmcl.fit(SCENARIO, real, RANGES, method="cmaes", restarts=1, **kw)
+    assert es["converged"] and any(k.startswith("tol") for k in es["stop"])
+    assert len(es["history"]) < 30
+    budget = swarmcl.fit(SCENARIO, real, RANGES, method="ga", generations=2, population=6, seed=2, steps=40,
+                         context=ctx, tolerance=0.0, patience=5)
+    assert not budget["converged"] and budget["stop"] == ["generations"]
+    with pytest.raises(ValueError, match="restarts"):
+        swarmcl.fit(SCENARIO, real, RANGES, restarts=-1, context=ctx)
+
+
 @pytest.mark.parametrize("method", ["cmaes", "ga"])
 def test_fit_is_deterministic_for_a_seed_and_improves(ctx, real, method):
     kw = dict(method=method, generations=4, population=6, seed=3, steps=40, context=ctx)

@@ -175,8 +175,16 @@ class PopulationEvaluator:
     def __init__(self, scenario: dict, params: Sequence[Parameter], real: Metrics, context: Context, *,
                  steps: Optional[int] = None, every: Optional[int] = None, warmup: int = 0, bins: int = 50,
                  half_width: float = 4.0, weights=None, p1=None, p2=None, streamed: bool = True,
-                 robust: bool = False, scale_penalty: float = 0.0):
+                 robust: bool = False, scale_penalty: float = 0.0, seeds: int = 1):
         self.scenario, self.params, self.real, self.context = scenario, list(params), real, context
+        # seeds S: each individual is run S times, with the scenario's seed
+        # replaced by seed, seed + 1, ..., seed + S - 1 (the same S for every
+        # individual: common random numbers), and scores the mean of its runs
+        # (a run that blows up refuses the individual).
+        if int(seeds) < 1:
+            raise ValueError(f"seeds: an integer >= 1, got {seeds!r}")
+        self.seeds = int(seeds)
+        self.base_seed = int(scenario.get("seed", 0))
         # robust: the PDFs z-scored with median and MAD (docs/evaluation.md).
         # scale_penalty λ: the objective is E - λ P, P the mean over the
         # metrics of W1(real, sim) / (1.4826 MAD of the real samples): how
@@ -204,12 +212,15 @@ class PopulationEvaluator:
         self.evaluations = 0
         self.refused = 0
 
-    def scenario_for(self, u) -> dict:
-        return _with_values(self.scenario, self.params, u)
+    def scenario_for(self, u, run: int = 0) -> dict:
+        doc = _with_values(self.scenario, self.params, u)
+        if self.seeds > 1:
+            doc["seed"] = self.base_seed + run
+        return doc
 
-    def _swarm(self, u):
+    def _swarm(self, u, run: int = 0):
         try:
-            return Scenario.parse(json.dumps(self.scenario_for(u))).create_swarm(self.context)
+            return Scenario.parse(json.dumps(self.scenario_for(u, run))).create_swarm(self.context)
         except SwarmclError:
             self.refused += 1
             return None
@@ -270,19 +281,21 @@ class PopulationEvaluator:
         return s - self.scale_penalty * self.penalty(w1) if w1 is not None else s
 
     def __call__(self, population) -> List[float]:
-        swarms = [self._swarm(u) for u in population]
+        # Every (individual, run) pair is one swarm, all stepped together.
+        runs = [(u, r) for u in population for r in range(self.seeds)]
+        swarms = [self._swarm(u, r) for u, r in runs]
         live = [s for s in swarms if s is not None]
         try:
             try:
                 terms = self._all_terms(live)
             except SwarmclError:
-                # A run blew up: run each individual again alone, from a
-                # fresh swarm, so only the one that fails is refused.
+                # A run blew up: run each again alone, from a fresh swarm, so
+                # only the one that fails is refused.
                 terms = []
-                for u, s in zip(population, swarms):
+                for (u, r), s in zip(runs, swarms):
                     if s is None:
                         continue
-                    with self._swarm(u) as fresh:
+                    with self._swarm(u, r) as fresh:
                         try:
                             terms.append(self._all_terms([fresh])[0])
                         except SwarmclError as e:
@@ -291,8 +304,13 @@ class PopulationEvaluator:
         finally:
             for s in live:
                 s.close()
+        per_run = [next(scores) if s is not None else REFUSED_SCORE for s in swarms]
         self.evaluations += len(population)
-        return [next(scores) if s is not None else REFUSED_SCORE for s in swarms]
+        out = []
+        for i in range(len(population)):
+            mine = per_run[i * self.seeds:(i + 1) * self.seeds]
+            out.append(REFUSED_SCORE if REFUSED_SCORE in mine else float(np.mean(mine)))
+        return out
 
     def terms(self, scenario: dict) -> np.ndarray:
         """The seven energy terms E_phi (Eq. 2) of one scenario, run as a population member is."""
@@ -334,7 +352,17 @@ class _Ranks:
             self.comm.bcast(("stop", None), root=0)
 
 
-def _cmaes(ranks: _Ranks, dim: int, generations: int, population: int, seed: int, report) -> tuple:
+# A search stops on tolerance: CMA-ES when cma's own tolerances say so
+# (tolfun: the scores of recent generations within `tolerance`; tolx: the
+# step size below 1e-3 of the unit box), the GA when its best has not
+# improved by more than `tolerance` in `patience` generations.  `generations`
+# is the budget per run (per restart for CMA-ES).  The result says whether
+# it converged and why it stopped.
+_CMA_CONVERGED = ("tolfun", "tolfunhist", "tolx", "tolstagnation", "tolflatfitness", "tolupsigma")
+
+
+def _cmaes(ranks: _Ranks, dim: int, generations: int, population: int, seed: int, report, *,
+           restarts: int = 0, tolerance: float = 1e-3) -> tuple:
     import cma
     history = []
     best = {"u": None, "score": -math.inf}
@@ -351,18 +379,27 @@ def _cmaes(ranks: _Ranks, dim: int, generations: int, population: int, seed: int
         return [-s for s in scores]  # cma minimises
 
     # cma takes seed 0 as "from the clock": shift so every seed is fixed.
+    # restarts > 0: BIPOP-CMA-ES (restarts with growing and small
+    # populations, Hansen 2009), pycma's own.
     options = {"bounds": [0.0, 1.0], "popsize": int(population), "maxiter": int(generations),
-               "seed": int(seed) + 1, "verbose": -9, "tolfun": 0.0, "tolx": 1e-12, "tolflatfitness": 1e9}
-    cma.fmin2(None, [0.5] * dim, 0.3, options=options, parallel_objective=objective)
-    return best["u"], best["score"], history
+               "seed": int(seed) + 1, "verbose": -9, "tolfun": float(tolerance), "tolfunhist": float(tolerance),
+               "tolx": 1e-3}
+    es = cma.fmin2(None, [0.5] * dim, 0.3, options=options, parallel_objective=objective,
+                   restarts=int(restarts), bipop=bool(restarts))[1]
+    stop = sorted(es.stop().keys())
+    converged = any(k in _CMA_CONVERGED for k in stop)
+    return best["u"], best["score"], history, {"converged": converged, "stop": stop}
 
 
-def _ga(ranks: _Ranks, dim: int, generations: int, population: int, seed: int, report) -> tuple:
-    # The paper's genetic algorithm (§3.3; its operators are not given): real
-    # genes in [0, 1], tournament selection (3), simulated binary crossover
-    # (eta 20, p 0.7), polynomial mutation (eta 20, 1/d per gene, p 0.3),
-    # the best individual always kept (elitism).
-    from deap import base, tools
+def _ga(ranks: _Ranks, dim: int, generations: int, population: int, seed: int, report, *,
+        tolerance: float = 1e-3, patience: int = 3) -> tuple:
+    # The paper's genetic algorithm (§3.3; its operators are not given), as
+    # DEAP's (mu + lambda) loop (algorithms.varOr, then the best mu of
+    # parents and offspring): real genes in [0, 1], simulated binary
+    # crossover (eta 20, p 0.6), polynomial mutation (eta 20, 1/d per gene,
+    # p 0.3), else a copy; only individuals without a fitness are scored
+    # (copies keep theirs); a hall of fame keeps the best ever.
+    from deap import algorithms, base, tools
 
     class Fitness(base.Fitness):
         weights = (1.0,)
@@ -372,36 +409,44 @@ def _ga(ranks: _Ranks, dim: int, generations: int, population: int, seed: int, r
             super().__init__(genes)
             self.fitness = Fitness()
 
+    toolbox = base.Toolbox()
+    toolbox.register("mate", tools.cxSimulatedBinaryBounded, eta=20.0, low=0.0, up=1.0)
+    toolbox.register("mutate", tools.mutPolynomialBounded, eta=20.0, low=0.0, up=1.0, indpb=1.0 / dim)
+    toolbox.register("select", tools.selBest)
+
     saved = random.getstate()
     random.seed(int(seed))
     try:
-        pop = [Individual([random.random() for _ in range(dim)]) for _ in range(int(population))]
-        history = []
+        hof = tools.HallOfFame(1)
 
         def evaluate(individuals):
-            scores = ranks.map([list(i) for i in individuals])
-            for ind, s in zip(individuals, scores):
+            fresh = [i for i in individuals if not i.fitness.valid]
+            scores = ranks.map([list(i) for i in fresh]) if fresh else []
+            for ind, s in zip(fresh, scores):
                 ind.fitness.values = (s,)
+            hof.update(individuals)
 
+        pop = [Individual([random.random() for _ in range(dim)]) for _ in range(int(population))]
         evaluate(pop)
-        elite = tools.selBest(pop, 1)[0]
+        history, stalled, converged = [], 0, False
         for g in range(int(generations)):
-            offspring = [Individual(list(i)) for i in tools.selTournament(pop, len(pop), tournsize=3)]
-            for a, b in zip(offspring[::2], offspring[1::2]):
-                if random.random() < 0.7:
-                    tools.cxSimulatedBinaryBounded(a, b, eta=20.0, low=0.0, up=1.0)
-            for ind in offspring:
-                if random.random() < 0.3:
-                    tools.mutPolynomialBounded(ind, eta=20.0, low=0.0, up=1.0, indpb=1.0 / dim)
+            before = hof[0].fitness.values[0]
+            offspring = algorithms.varOr(pop, toolbox, int(population), cxpb=0.6, mutpb=0.3)
+            scored = sum(1 for i in offspring if not i.fitness.valid)
             evaluate(offspring)
-            offspring[int(np.argmin([i.fitness.values[0] for i in offspring]))] = elite
-            pop = offspring
-            elite = tools.selBest(pop, 1)[0]
+            pop = toolbox.select(pop + offspring, int(population))
             scores = [i.fitness.values[0] for i in pop]
-            history.append({"generation": g + 1, "individuals": len(pop), "best": max(scores),
-                            "mean": float(np.mean(scores)), "best_so_far": elite.fitness.values[0]})
+            history.append({"generation": g + 1, "individuals": scored,
+                            "best": max(scores), "mean": float(np.mean(scores)),
+                            "best_so_far": hof[0].fitness.values[0]})
             report(history[-1])
-        return np.array(elite, dtype=np.float64), elite.fitness.values[0], history
+            stalled = stalled + 1 if hof[0].fitness.values[0] - before <= tolerance else 0
+            if stalled >= patience:
+                converged = True
+                break
+        stop = [f"no gain above {tolerance} in {patience} generations"] if converged else ["generations"]
+        return (np.array(hof[0], dtype=np.float64), hof[0].fitness.values[0], history,
+                {"converged": converged, "stop": stop})
     finally:
         random.setstate(saved)
 
@@ -418,7 +463,8 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
         seed: int = 1, steps: Optional[int] = None, every: Optional[int] = None, warmup: int = 0, bins: int = 50,
         half_width: float = 4.0, weights=None, p1=None, p2=None, comm=None, context: Optional[Context] = None,
         progress: Optional[Callable[[dict], None]] = None, streamed: bool = True, robust: bool = False,
-        scale_penalty: float = 0.0) -> Optional[dict]:
+        scale_penalty: float = 0.0, seeds: int = 1, restarts: int = 0, tolerance: float = 1e-3,
+        patience: int = 3) -> Optional[dict]:
     """Fits the ranged parameters of ``scenario`` (a path or a dict) to
     ``tracks`` (a Metrics) by maximising E.  ``method``: "cmaes" or "ga".
     With ``comm`` (an mpi4py communicator of R ranks), every rank must call
@@ -429,11 +475,19 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
     on the host (exact PDFs, slower).  ``robust``: PDFs z-scored with median
     and MAD; ``scale_penalty`` λ > 0 maximises E - λ P instead, P the mean
     Wasserstein-1 distance in units of the real data's spread
-    (PopulationEvaluator, docs/evaluation.md)."""
+    (PopulationEvaluator, docs/evaluation.md).  ``seeds``: each individual
+    scored as the mean of that many runs with consecutive scenario seeds (the
+    same for all: common random numbers).  Stopping: ``generations`` is the
+    budget (per restart); CMA-ES stops earlier on its tolerances (scores
+    within ``tolerance``, steps below 1e-3), with ``restarts`` BIPOP restarts;
+    the GA when its best gains at most ``tolerance`` in ``patience``
+    generations.  The result's ``converged`` and ``stop`` say which."""
     if method not in ("cmaes", "ga"):
         raise ValueError(f"method: 'cmaes' or 'ga', got {method!r}")
     if int(generations) < 1 or int(population) < 2:
         raise ValueError("generations must be >= 1 and population >= 2")
+    if int(restarts) < 0 or not (float(tolerance) >= 0.0) or int(patience) < 1:
+        raise ValueError("restarts must be >= 0, tolerance >= 0 and patience >= 1")
     if isinstance(scenario, (str, os.PathLike)):
         with open(scenario, encoding="utf-8") as f:
             scenario = json.load(f)
@@ -446,7 +500,8 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
     try:
         evaluator = PopulationEvaluator(scenario, params, tracks, ctx, steps=steps, every=every, warmup=warmup,
                                         bins=bins, half_width=half_width, weights=weights, p1=p1, p2=p2,
-                                        streamed=streamed, robust=robust, scale_penalty=scale_penalty)
+                                        streamed=streamed, robust=robust, scale_penalty=scale_penalty,
+                                        seeds=seeds)
         ranks = _Ranks(evaluator, comm)
         if rank != 0:
             ranks.serve()
@@ -454,8 +509,12 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
         start = time.perf_counter()
         report = progress or (lambda entry: None)
         try:
-            run = _cmaes if method == "cmaes" else _ga
-            u, best, history = run(ranks, len(params), generations, population, seed, report)
+            if method == "cmaes":
+                u, best, history, end = _cmaes(ranks, len(params), generations, population, seed, report,
+                                               restarts=restarts, tolerance=tolerance)
+            else:
+                u, best, history, end = _ga(ranks, len(params), generations, population, seed, report,
+                                            tolerance=tolerance, patience=patience)
         finally:
             ranks.stop()
         return {
@@ -463,7 +522,9 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
             "ranks": ranks.size, "steps": evaluator.steps, "every": evaluator.every, "warmup": evaluator.warmup,
             "pdf": {"bins": evaluator.bins, "half_width": evaluator.half_width,
                     "standardise": "median_mad" if evaluator.robust else "mean_sigma"},
-            "scale_penalty": evaluator.scale_penalty,
+            "scale_penalty": evaluator.scale_penalty, "seeds": evaluator.seeds,
+            "restarts": int(restarts) if method == "cmaes" else 0, "tolerance": float(tolerance),
+            "converged": bool(end["converged"]), "stop": end["stop"],
             "parameters": {p.path: {"low": p.low, "high": p.high} for p in params},
             "best": {p.path: p.value(x) for p, x in zip(params, u)},
             "best_score": float(best), "history": history,
@@ -557,6 +618,10 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--bins", type=int, default=50)
     p.add_argument("--half-width", type=float, default=4.0)
     p.add_argument("--robust", action="store_true", help="z-score the PDFs with median and MAD")
+    p.add_argument("--seeds", type=int, default=1, help="runs per individual, consecutive scenario seeds "
+                   "(common random numbers); default 1")
+    p.add_argument("--restarts", type=int, default=0, help="CMA-ES: BIPOP restarts (default 0)")
+    p.add_argument("--tolerance", type=float, default=1e-3, help="stop when the best gains no more (default 1e-3)")
     p.add_argument("--scale-penalty", type=float, default=0.0,
                    help="maximise E - X * (mean Wasserstein-1 distance in the real data's spreads); default 0")
     p.add_argument("--out", default="fit.json", help="result JSON (default %(default)s)")
@@ -585,7 +650,8 @@ def main(argv=None) -> int:
             result = fit(args.scenario, real, args.ranges, method=args.method, generations=args.generations,
                          population=args.population, seed=args.seed, steps=args.steps, every=args.every,
                          warmup=args.warmup, bins=args.bins, half_width=args.half_width, comm=comm, context=ctx,
-                         robust=args.robust, scale_penalty=args.scale_penalty,
+                         robust=args.robust, scale_penalty=args.scale_penalty, seeds=args.seeds,
+                         restarts=args.restarts, tolerance=args.tolerance,
                          progress=(lambda e: _bar(e, total)) if show else None)
     except (ValueError, OSError, SwarmclError) as e:
         print(f"swarmcl fit: {e}", file=sys.stderr)
