@@ -123,7 +123,15 @@ def main(argv=None) -> int:
     ap.add_argument("--method", choices=("cmaes", "ga"), default="cmaes")
     ap.add_argument("--warmup", type=int, default=200)
     ap.add_argument("--only", help="comma-separated variant names (default all)")
+    ap.add_argument("--doc-only", action="store_true",
+                    help="rewrite docs/evaluation-studies.md from bench/results/eval/studies.json, run nothing")
     args = ap.parse_args(argv)
+    if args.doc_only:
+        with open(os.path.join(ROOT, "bench", "results", "eval", "studies.json"), encoding="utf-8") as f:
+            results = json.load(f)
+        names = list(results["variants"])
+        write_doc(results, study_groups(), max(names, key=lambda n: results["variants"][n]["score"]["test"]))
+        return 0
     if not os.path.exists(DATA):
         print(f"skipped: no {DATA} (the real tracks are not in the repository)")
         return 0
@@ -159,7 +167,7 @@ def main(argv=None) -> int:
             }
             print(f"{name:22s} train E {results['variants'][name]['score']['train']:8.4f}   "
                   f"test E {results['variants'][name]['score']['test']:8.4f}   "
-                  f"test over seeds {np.mean(spread['test']):.3f} ± {np.std(spread['test']):.3f}   "
+                  f"test over seeds {np.mean(spread['test']):.3f} ± {sample_sd(spread['test']):.3f}   "
                   f"({results['variants'][name]['evaluations']} runs, {time.perf_counter() - t:.0f} s)", flush=True)
         names = list(results["variants"])
         if len(names) >= 3:
@@ -181,11 +189,7 @@ def main(argv=None) -> int:
         json.dump(results, f, indent=1)
     img = os.path.join(ROOT, "docs", "images")
     os.makedirs(img, exist_ok=True)
-    groups = {
-        "noise": ("Noise study (§4.2): force dynamics + each noise, fitted", [f"force+{n}" for n in NOISES]),
-        "model": ("Model study (§4.3)", ["force+curl", "force dynamics only", "force noise only"]),
-        "fidelity": ("Every model of the library, fitted", ["field", "path", "force+curl", "energy"]),
-    }
+    groups = study_groups()
     for key, (title, members) in groups.items():
         members = [m for m in members if m in results["variants"]]
         if members:
@@ -196,6 +200,19 @@ def main(argv=None) -> int:
     write_doc(results, groups, best)
     print(f"done in {results['seconds']:.0f} s: bench/results/eval/studies.json, docs/evaluation-studies.md")
     return 0
+
+
+def study_groups() -> dict:
+    return {
+        "noise": ("Noise study (§4.2): force dynamics + each noise, fitted", [f"force+{n}" for n in NOISES]),
+        "model": ("Model study (§4.3)", ["force+curl", "force dynamics only", "force noise only"]),
+        "fidelity": ("Every model of the library, fitted", ["field", "path", "force+curl", "energy"]),
+    }
+
+
+def sample_sd(x) -> float:
+    """The sample standard deviation (n - 1); 0 for one value."""
+    return float(np.std(x, ddof=1)) if len(x) > 1 else 0.0
 
 
 def write_doc(results, groups, best) -> None:
@@ -215,7 +232,8 @@ def write_doc(results, groups, best) -> None:
         if not members:
             continue
         lines += [f"## {title}", "", f"![{key}](images/eval_{key}.png)", "",
-                  "| variant | E train | E test | E test over seeds (mean ± sd) | E test, entropy weights | fitted parameters |",
+                  "| variant | E train | E test | E test over seeds (mean ± sample sd) | E test, entropy weights | "
+                  "fitted parameters |",
                   "|---|---|---|---|---|---|"]
         for m in members:
             v = results["variants"][m]
@@ -223,7 +241,7 @@ def write_doc(results, groups, best) -> None:
             params = ", ".join(f"{k.split('.', 1)[1]} {val:.3g}" for k, val in v["best"].items())
             seeds = v["seed_scores"]["test"]
             lines.append(f"| {m} | {v['score']['train']:.3f} | {v['score']['test']:.3f} | "
-                         f"{np.mean(seeds):.3f} ± {np.std(seeds):.3f} | "
+                         f"{np.mean(seeds):.3f} ± {sample_sd(seeds):.3f} | "
                          f"{'' if ws is None else f'{ws:.3f}'} | {params} |")
         lines.append("")
     if "entropy_weights" in results:
