@@ -392,7 +392,7 @@ def _cmaes(ranks: _Ranks, dim: int, generations: int, population: int, seed: int
 
 
 def _ga(ranks: _Ranks, dim: int, generations: int, population: int, seed: int, report, *,
-        tolerance: float = 1e-3, patience: int = 3) -> tuple:
+        tolerance: float = 1e-3, patience: int = 5) -> tuple:
     # The paper's genetic algorithm (§3.3; its operators are not given), as
     # DEAP's (mu + lambda) loop (algorithms.varOr, then the best mu of
     # parents and offspring): real genes in [0, 1], simulated binary
@@ -464,7 +464,7 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
         half_width: float = 4.0, weights=None, p1=None, p2=None, comm=None, context: Optional[Context] = None,
         progress: Optional[Callable[[dict], None]] = None, streamed: bool = True, robust: bool = False,
         scale_penalty: float = 0.0, seeds: int = 1, restarts: int = 0, tolerance: float = 1e-3,
-        patience: int = 3) -> Optional[dict]:
+        patience: int = 5) -> Optional[dict]:
     """Fits the ranged parameters of ``scenario`` (a path or a dict) to
     ``tracks`` (a Metrics) by maximising E.  ``method``: "cmaes" or "ga".
     With ``comm`` (an mpi4py communicator of R ranks), every rank must call
