@@ -121,6 +121,13 @@ def test_a_fit_recovers_known_parameters(ctx, real):
     assert r["best"]["model.goal.speed"] == pytest.approx(0.9, rel=0.10)
 
 
+def test_the_history_is_plotted_with_whether_it_converged(tmp_path, ctx, real):
+    pytest.importorskip("matplotlib")
+    r = swarmcl.fit(SCENARIO, real, RANGES, method="ga", generations=2, population=4, seed=1, steps=40, context=ctx)
+    swarmcl.fitting.plot_history(r, tmp_path / "fit.png")
+    assert (tmp_path / "fit.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
 def test_several_seeds_score_the_mean_of_their_runs(ctx, real):
     params = swarmcl.load_ranges(RANGES, SCENARIO)
     u = [0.3, 0.7]

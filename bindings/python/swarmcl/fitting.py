@@ -626,6 +626,7 @@ def _parser() -> argparse.ArgumentParser:
                    help="maximise E - X * (mean Wasserstein-1 distance in the real data's spreads); default 0")
     p.add_argument("--out", default="fit.json", help="result JSON (default %(default)s)")
     p.add_argument("--device", help="device index or name part (default: SWARMCL_DEVICE, or round-robin by rank)")
+    p.add_argument("--plot", action="store_true", help="draw the history beside the JSON (FILE.png; matplotlib)")
     p.add_argument("--quiet", action="store_true")
     return p
 
@@ -666,7 +667,45 @@ def main(argv=None) -> int:
         os.replace(tmp, args.out)
         if not args.quiet:
             best = ", ".join(f"{k} = {v:.6g}" for k, v in result["best"].items())
+            state = "converged" if result["converged"] else "did not converge"
             print(f"best E = {result['best_score']:.4f} after {result['evaluations']} evaluations on "
-                  f"{result['ranks']} rank(s) in {result['seconds']:.1f} s: {best}\nwritten to {args.out}")
+                  f"{result['ranks']} rank(s) in {result['seconds']:.1f} s ({state}: {', '.join(result['stop'])}): "
+                  f"{best}\nwritten to {args.out}")
+        if args.plot:
+            png = os.path.splitext(args.out)[0] + ".png"
+            try:
+                plot_history(result, png)
+            except ImportError:
+                print("swarmcl fit: --plot needs matplotlib (pip install 'swarmcl[plot]'); "
+                      f"{args.out} is complete", file=sys.stderr)
+                return 1
+            if not args.quiet:
+                print(f"plot: {png}")
     return 0
+
+
+def plot_history(result: dict, path) -> None:
+    """A fit's history as one PNG: each generation's best and mean score and
+    the best so far, with whether it converged and why it stopped.  Needs
+    matplotlib."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    h = result["history"]
+    g = [e["generation"] for e in h]
+    fig, ax = plt.subplots(figsize=(7, 4), constrained_layout=True)
+    ax.plot(g, [e["mean"] for e in h], color="0.6", label="generation mean")
+    ax.plot(g, [e["best"] for e in h], color="tab:blue", marker=".", lw=0.8, label="generation best")
+    ax.plot(g, [e["best_so_far"] for e in h], color="k", label="best so far")
+    ax.set_xlabel("generation (cma: one per call, restarts continue the count)")
+    ax.set_ylabel("objective (E, minus the scale penalty if any)")
+    state = "converged" if result.get("converged") else "did not converge"
+    ax.set_title(f"{result['method']}: {state} ({', '.join(result.get('stop', []))}), "
+                 f"{result['evaluations']} evaluations", fontsize=9)
+    ax.legend(fontsize=8)
+    tmp = str(path) + ".tmp.png"
+    fig.savefig(tmp, dpi=80)
+    plt.close(fig)
+    os.replace(tmp, path)
 
