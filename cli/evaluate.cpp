@@ -227,6 +227,20 @@ int evaluate(const EvaluateArgs& a) {
                {"sim", side_json(sim.handle, m, a.pdf)}};
     }
     out["score"] = score;
+    // The data's own floor (issue 26, item 4): the window's first half of
+    // the tracks (by time) scored against its second half, the same way, so
+    // a model's E reads against how close the data is to itself.
+    const double mid = a.window_from + (a.window_to - a.window_from) / 2.0;
+    Owned<swcl_metrics, swcl_metrics_destroy> first, second;
+    check(swcl_metrics_from_csv(a.tracks.c_str(), &td, a.window_from, mid, &first.handle), "reading the tracks");
+    check(swcl_metrics_from_csv(a.tracks.c_str(), &td, mid, a.window_to, &second.handle), "reading the tracks");
+    double ef[SWCL_METRIC_COUNT];
+    check(swcl_metrics_distances(first.handle, second.handle, &a.pdf, ef, SWCL_METRIC_COUNT), "comparing the halves");
+    double floor_score = 0.0;
+    check(swcl_score(ef, SWCL_METRIC_COUNT, &w, &floor_score), "scoring the halves");
+    out["data_floor"] = {{"score", floor_score},
+                         {"window_halves", {{a.window_from, mid}, {mid, a.window_to}}},
+                         {"distances", std::vector<double>(ef, ef + SWCL_METRIC_COUNT)}};
     out["seconds"] = seconds();
     const std::string path = a.out.empty() ? std::string(info.output_dir) + "/evaluation.json" : a.out;
     write_atomically(path, out.dump(2) + "\n");
@@ -243,7 +257,9 @@ int evaluate(const EvaluateArgs& a) {
                         swcl_metric_unit(swcl_metric(k)), row["real"]["median"].get<double>(),
                         row["sim"]["median"].get<double>());
         }
-        std::printf("score E = %.4f (equal weights; Eq. 1)   written to %s\n", score, path.c_str());
+        std::printf("score E = %.4f (equal weights; Eq. 1); the tracks' own halves score %.4f against each other "
+                    "(%.4f from that floor)   written to %s\n",
+                    score, floor_score, floor_score - score, path.c_str());
     }
     if (a.plot) {
         const std::string png = plot_beside(path);

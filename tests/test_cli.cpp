@@ -703,6 +703,22 @@ TEST_F(Cli, EvaluateIsDeterministicAndRefusesBadInput) {
     EXPECT_FALSE(fs::exists(dir / "w.json"));
     const double score = ja["score"];
     EXPECT_TRUE(std::isfinite(score) && score < 1.0) << score;
+    // The data's floor: the window's halves (0.5-0.75, 0.75-1) scored
+    // against each other, as the C API scores them.
+    {
+        swcl_dataset_desc d = swcl_dataset_desc_default();
+        const std::string csv = dir / "tracks.csv";
+        swcl_metrics h1{}, h2{};
+        ASSERT_EQ(swcl_metrics_from_csv(csv.c_str(), &d, 0.5, 0.75, &h1), SWCL_OK);
+        ASSERT_EQ(swcl_metrics_from_csv(csv.c_str(), &d, 0.75, 1.0, &h2), SWCL_OK);
+        double e[SWCL_METRIC_COUNT], floor_score = 0;
+        ASSERT_EQ(swcl_metrics_distances(h1, h2, nullptr, e, SWCL_METRIC_COUNT), SWCL_OK);
+        ASSERT_EQ(swcl_score(e, SWCL_METRIC_COUNT, nullptr, &floor_score), SWCL_OK);
+        EXPECT_EQ(ja["data_floor"]["score"].get<double>(), floor_score);
+        EXPECT_LT(floor_score, 1.0);
+        swcl_metrics_destroy(h1);
+        swcl_metrics_destroy(h2);
+    }
 
     const Result no_tracks = cli("evaluate tiny.json", dir.path());
     EXPECT_EQ(no_tracks.status, 2);

@@ -111,6 +111,14 @@ def test_evaluate_writes_json_and_the_pdf_plot_and_is_deterministic(tmp_path, rn
     written = json.loads((tmp_path / "out" / "evaluation.json").read_text())
     written.pop("seconds")
     assert written == json.loads(json.dumps(a))
+    assert "data_floor" not in a
+    # The data's floor: the tracks' halves given, scored against each other.
+    with swarmcl.Metrics.from_tracks(tracks, window=(0, 0.5), frame_time=0.02) as h1, \
+            swarmcl.Metrics.from_tracks(tracks, window=(0.5, 1), frame_time=0.02) as h2, \
+            swarmcl.Metrics.from_tracks(tracks, frame_time=0.02) as real:
+        c = swarmcl.evaluate(str(scenario), real, warmup=5, context=ctx, floor=(h1, h2), plots=False)
+        assert c["data_floor"]["score"] == swarmcl.score(swarmcl.distances(h1, h2))
+        assert c["score"] == a["score"]
     pytest.importorskip("matplotlib")
     png = (tmp_path / "out" / "evaluation.png").read_bytes()
     assert png[:8] == b"\x89PNG\r\n\x1a\n"

@@ -222,12 +222,15 @@ def evaluate(scenario, tracks, *, steps: Optional[int] = None, every: Optional[i
              bins: int = 50, half_width: float = 4.0, robust: bool = False,
              weights: Optional[Sequence[float]] = None,
              p1: Optional[Sequence[float]] = None, p2: Optional[Sequence[float]] = None,
-             context: Optional[Context] = None, out_dir=None, plots: bool = True) -> dict:
+             context: Optional[Context] = None, out_dir=None, plots: bool = True,
+             floor: Optional[Tuple[Metrics, Metrics]] = None) -> dict:
     """Runs ``scenario`` (a path, or a Scenario) and scores it against
     ``tracks`` (a Metrics, e.g. Metrics.from_csv(...)), as ``swarmcl
     evaluate`` does: samples every ``every`` steps (default: the tracks' frame
     time over the scenario's dt) after ``warmup`` steps; ``robust``: the PDFs
-    z-scored with median and MAD (``--robust``).  Returns the same
+    z-scored with median and MAD (``--robust``).  ``floor``: the tracks'
+    two halves (Metrics of each), scored against each other into
+    ``data_floor`` as the CLI does from its file.  Returns the same
     dictionary the CLI writes; with ``out_dir`` writes ``evaluation.json``
     there, and ``evaluation.png`` (the seven PDFs, real vs simulated) when
     ``plots`` and matplotlib is installed."""
@@ -270,6 +273,9 @@ def evaluate(scenario, tracks, *, steps: Optional[int] = None, every: Optional[i
                 "real": dict(tracks.info(k), pdf=tracks.pdf(k, bins, half_width, robust).tolist()),
                 "sim": dict(sim.info(k), pdf=sim.pdf(k, bins, half_width, robust).tolist()),
             }
+    if floor is not None:
+        ef = distances(floor[0], floor[1], bins, half_width, robust)
+        result["data_floor"] = {"score": score(ef, weights, p1, p2), "distances": ef.tolist()}
     result["seconds"] = time.perf_counter() - start
     if out_dir is not None:
         os.makedirs(out_dir, exist_ok=True)
