@@ -128,6 +128,23 @@ def test_the_history_is_plotted_with_whether_it_converged(tmp_path, ctx, real):
     assert (tmp_path / "fit.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+def test_a_nested_model_fitted_from_the_smaller_ones_best_scores_no_lower(ctx, real):
+    # The smaller model fits the gain alone (the goal speed stays 0.5); the
+    # nested one fits both, started from the smaller one's best: it can only
+    # gain (its start is scored first).
+    small = swarmcl.fit(SCENARIO, real, {"model.noise.gain": [0.05, 1.0]}, method="ga", generations=3,
+                        population=6, seed=4, steps=40, context=ctx)
+    nested = swarmcl.fit(SCENARIO, real, RANGES, method="cmaes", generations=3, population=6, seed=4, steps=40,
+                         context=ctx, start={"model.noise.gain": small["best"]["model.noise.gain"],
+                                             "model.goal.speed": 0.5})
+    assert nested["history"][0]["generation"] == 0
+    assert nested["history"][0]["best"] == small["best_score"]  # the same run, scored the same
+    assert nested["best_score"] >= small["best_score"]
+    for bad, msg in (({"model.noise.gain": 5.0}, "outside its range"), ({"model.nope": 1.0}, "not among")):
+        with pytest.raises(ValueError, match=msg):
+            swarmcl.fit(SCENARIO, real, RANGES, context=ctx, start=bad, generations=1, population=4)
+
+
 def test_several_seeds_score_the_mean_of_their_runs(ctx, real):
     params = swarmcl.load_ranges(RANGES, SCENARIO)
     u = [0.3, 0.7]

@@ -361,11 +361,25 @@ class _Ranks:
 _CMA_CONVERGED = ("tolfun", "tolfunhist", "tolx", "tolstagnation", "tolflatfitness", "tolupsigma")
 
 
+def _start_entry(ranks: _Ranks, start, report) -> tuple:
+    """Scores the start point alone (history's generation 0), so a search
+    from it never ends below it: a nested model fitted from the smaller
+    model's optimum scores at least as well as that model."""
+    s = ranks.map([start])[0]
+    entry = {"generation": 0, "individuals": 1, "best": s, "mean": s, "best_so_far": s}
+    report(entry)
+    return s, entry
+
+
 def _cmaes(ranks: _Ranks, dim: int, generations: int, population: int, seed: int, report, *,
-           restarts: int = 0, tolerance: float = 1e-3) -> tuple:
+           restarts: int = 0, tolerance: float = 1e-3, start=None) -> tuple:
     import cma
     history = []
     best = {"u": None, "score": -math.inf}
+    if start is not None:
+        best["score"], entry = _start_entry(ranks, start, report)
+        best["u"] = np.array(start, dtype=np.float64)
+        history.append(entry)
 
     def objective(xs):
         scores = ranks.map(xs)
@@ -384,7 +398,8 @@ def _cmaes(ranks: _Ranks, dim: int, generations: int, population: int, seed: int
     options = {"bounds": [0.0, 1.0], "popsize": int(population), "maxiter": int(generations),
                "seed": int(seed) + 1, "verbose": -9, "tolfun": float(tolerance), "tolfunhist": float(tolerance),
                "tolx": 1e-3}
-    es = cma.fmin2(None, [0.5] * dim, 0.3, options=options, parallel_objective=objective,
+    es = cma.fmin2(None, list(start) if start is not None else [0.5] * dim, 0.3, options=options,
+                   parallel_objective=objective,
                    restarts=int(restarts), bipop=bool(restarts))[1]
     stop = sorted(es.stop().keys())
     converged = any(k in _CMA_CONVERGED for k in stop)
@@ -392,7 +407,7 @@ def _cmaes(ranks: _Ranks, dim: int, generations: int, population: int, seed: int
 
 
 def _ga(ranks: _Ranks, dim: int, generations: int, population: int, seed: int, report, *,
-        tolerance: float = 1e-3, patience: int = 5) -> tuple:
+        tolerance: float = 1e-3, patience: int = 5, start=None) -> tuple:
     # The paper's genetic algorithm (§3.3; its operators are not given), as
     # DEAP's (mu + lambda) loop (algorithms.varOr, then the best mu of
     # parents and offspring): real genes in [0, 1], simulated binary
@@ -427,8 +442,13 @@ def _ga(ranks: _Ranks, dim: int, generations: int, population: int, seed: int, r
             hof.update(individuals)
 
         pop = [Individual([random.random() for _ in range(dim)]) for _ in range(int(population))]
-        evaluate(pop)
         history, stalled, converged = [], 0, False
+        if start is not None:  # the start point joins the first population, scored alone first
+            pop[0] = Individual(list(start))
+            s0, entry = _start_entry(ranks, start, report)
+            pop[0].fitness.values = (s0,)
+            history.append(entry)
+        evaluate(pop)
         for g in range(int(generations)):
             before = hof[0].fitness.values[0]
             offspring = algorithms.varOr(pop, toolbox, int(population), cxpb=0.6, mutpb=0.3)
@@ -451,6 +471,24 @@ def _ga(ranks: _Ranks, dim: int, generations: int, population: int, seed: int, r
         random.setstate(saved)
 
 
+def _start_point(params: Sequence[Parameter], start: Dict[str, float]) -> List[float]:
+    """The point in [0, 1]^d of {path: value}; a path not given: 0.5."""
+    known = {p.path for p in params}
+    unknown = sorted(set(start) - known)
+    if unknown:
+        raise ValueError(f"start: {', '.join(unknown)} not among the fitted parameters ({', '.join(sorted(known))})")
+    u = []
+    for p in params:
+        if p.path not in start:
+            u.append(0.5)
+            continue
+        v = float(start[p.path])
+        if not (p.low <= v <= p.high):
+            raise ValueError(f"start: {p.path} = {v} is outside its range [{p.low}, {p.high}]")
+        u.append((v - p.low) / (p.high - p.low) if p.high > p.low else 0.0)
+    return u
+
+
 def _context_for_rank(rank: int, device=None) -> Context:
     # SWARMCL_DEVICE (or `device`) chooses one device for every rank;
     # otherwise ranks take the devices round-robin.
@@ -464,7 +502,7 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
         half_width: float = 4.0, weights=None, p1=None, p2=None, comm=None, context: Optional[Context] = None,
         progress: Optional[Callable[[dict], None]] = None, streamed: bool = True, robust: bool = False,
         scale_penalty: float = 0.0, seeds: int = 1, restarts: int = 0, tolerance: float = 1e-3,
-        patience: int = 5) -> Optional[dict]:
+        patience: int = 5, start: Optional[Dict[str, float]] = None) -> Optional[dict]:
     """Fits the ranged parameters of ``scenario`` (a path or a dict) to
     ``tracks`` (a Metrics) by maximising E.  ``method``: "cmaes" or "ga".
     With ``comm`` (an mpi4py communicator of R ranks), every rank must call
@@ -481,7 +519,11 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
     budget (per restart); CMA-ES stops earlier on its tolerances (scores
     within ``tolerance``, steps below 1e-3), with ``restarts`` BIPOP restarts;
     the GA when its best gains at most ``tolerance`` in ``patience``
-    generations.  The result's ``converged`` and ``stop`` say which."""
+    generations.  The result's ``converged`` and ``stop`` say which.
+    ``start``: {path: value} to search from (CMA-ES's first mean, one of the
+    GA's first individuals; other parameters at their range's centre),
+    scored first, so the result is never below it: fit a model whose ranges
+    contain another's from that one's best, and it scores at least as well."""
     if method not in ("cmaes", "ga"):
         raise ValueError(f"method: 'cmaes' or 'ga', got {method!r}")
     if int(generations) < 1 or int(population) < 2:
@@ -506,15 +548,16 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
         if rank != 0:
             ranks.serve()
             return None
-        start = time.perf_counter()
+        began = time.perf_counter()
         report = progress or (lambda entry: None)
         try:
+            u0 = _start_point(params, start) if start is not None else None
             if method == "cmaes":
                 u, best, history, end = _cmaes(ranks, len(params), generations, population, seed, report,
-                                               restarts=restarts, tolerance=tolerance)
+                                               restarts=restarts, tolerance=tolerance, start=u0)
             else:
                 u, best, history, end = _ga(ranks, len(params), generations, population, seed, report,
-                                            tolerance=tolerance, patience=patience)
+                                            tolerance=tolerance, patience=patience, start=u0)
         finally:
             ranks.stop()
         return {
@@ -529,7 +572,7 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
             "best": {p.path: p.value(x) for p, x in zip(params, u)},
             "best_score": float(best), "history": history,
             "evaluations": evaluator.evaluations, "refused_on_rank0": evaluator.refused,
-            "seconds": time.perf_counter() - start,
+            "seconds": time.perf_counter() - began,
             "scenario": _with_values(scenario, params, u),
         }
     finally:
