@@ -39,6 +39,7 @@
 #include <noise.h>
 
 #include "bench_util.hpp"
+#include "roofline.hpp"
 #include "device/buffer.hpp"
 #include "device/context.hpp"
 #include "fields/noise_field.hpp"
@@ -184,6 +185,8 @@ struct Results {
     float grid_cell = 0;
     std::vector<StepRow> steps;
     uint32_t mde_moved_last = 0;
+    double copy_gbs = 0;
+    std::vector<swarmcl::bench::RooflineRow> roofline;
 
     const Row* find(const std::vector<Row>& v, const std::string& name, uint32_t n) const {
         for (const auto& r : v)
@@ -400,6 +403,19 @@ void run_field_model(const Options& o, const std::shared_ptr<swarmcl::Context>& 
     }
     for (int stage = 0; stage < 6; ++stage) add(names[stage], t[size_t(stage)]);
     std::printf("   (swarm has %u agents after %llu steps)\n", swarm.agent_count(), (unsigned long long)swarm.step_count());
+    // The roofline (issue 29): the bytes each stage must move at the least
+    // per agent, against a copy kernel's bandwidth on n float4 now.  The
+    // advance reads a position and writes a position and a velocity (48 B);
+    // the grid rebuild reads the positions for the keys and permutes
+    // positions, velocities and ids (16 + 2 x 36 B, the sort's own passes
+    // not counted); MDE reads a position and writes one (32 B; neighbours
+    // come from cache).
+    res.copy_gbs = swarmcl::bench::copy_bandwidth_gbs(*ctx, n);
+    const double bytes[6] = {48 + 88 + 32, 48, 48 + 88 + 32, 48, 88, 32};
+    for (int stage = 0; stage < 6; ++stage)
+        res.roofline.push_back(swarmcl::bench::roofline_row(names[stage], bytes[stage], n,
+                                                            median(t[size_t(stage)]) * 1e3, res.copy_gbs));
+    swarmcl::bench::print_roofline(res.roofline, res.copy_gbs);
 }
 
 // ---- JSON ---------------------------------------------------------------------------
@@ -459,7 +475,7 @@ void write_json(const Options& o, const swarmcl::DeviceEntry& dev, const Results
       << ", \"median_ms\": {";
     for (size_t i = 0; i < r.steps.size(); ++i)
         j << (i ? ", " : "") << "\"" << json_escape(r.steps[i].name) << "\": " << r.steps[i].median_ms;
-    j << "}},\n";
+    j << "}, \"roofline\": " << swarmcl::bench::roofline_json(r.roofline, r.copy_gbs) << "},\n";
     // Targets.
     const uint32_t n0 = o.sizes.front();
     const Row* walls = r.find(r.swarmcl, "curl_walls", n0);
