@@ -469,3 +469,46 @@ def test_world_env_renders_rgb_arrays(ctx):
         assert env.render().shape == (256, 256, 3)
     finally:
         env.close()
+
+
+def test_per_world_layout_is_the_flat_one_reshaped(ctx):
+    """RlEnv(per_world=True): observations (W, N, D), rewards (W, N), the
+    RAG's actions and the followers' state (W, N, 4): the same bits as the
+    flat layout of a twin env, reshaped; actions taken in either layout."""
+    W, N = 3, 4
+    with RlEnv(ctx, W, N, max_steps=30) as flat, RlEnv(ctx, W, N, max_steps=30, per_world=True) as shaped:
+        assert shaped.per_world and not flat.per_world
+        o_flat, o_shaped = flat.reset(7), shaped.reset(7)
+        assert o_shaped.shape == (W, N, 54) and o_flat.shape == (W * N, 54)
+        assert _bits(o_shaped) == _bits(o_flat)
+        np.testing.assert_array_equal(o_shaped[1, 2], o_flat[1 * N + 2])  # slot = world * N + agent
+        for t in range(5):
+            a_flat, a_shaped = flat.rag_actions(), shaped.rag_actions()
+            assert a_shaped.shape == (W, N, 4) and _bits(a_shaped) == _bits(a_flat)
+            # the shaped env takes (W, N, 4), the flat one (W*N, 4): the same step
+            o_flat, r_flat, te_f, tr_f = flat.step(a_flat)
+            o_shaped, r_shaped, te_s, tr_s = shaped.step(a_shaped if t % 2 else a_flat)
+            assert o_shaped.shape == (W, N, 54) and r_shaped.shape == (W, N) and r_shaped.dtype == np.float32
+            assert te_s.shape == (W,) and tr_s.shape == (W,)
+            assert _bits(o_shaped) == _bits(o_flat) and _bits(r_shaped) == _bits(r_flat)
+            np.testing.assert_array_equal(r_shaped[2], r_flat[2 * N:3 * N])
+        assert _bits(flat.step(a_flat.reshape(W, N, 4))[0]) == _bits(shaped.step(a_flat)[0])  # either layout, both
+        st_f, st_s = flat.read_state(), shaped.read_state()
+        assert st_s["positions"].shape == (W, N, 4) and st_s["velocities"].shape == (W, N, 4)
+        assert st_s["leader_positions"].shape == (W, 4)
+        assert _bits(st_s["positions"]) == _bits(st_f["positions"])
+        assert shaped.reset_seeds([1, 2, 3]).shape == (W, N, 54)
+        assert shaped.reset_worlds([True, False, True]).shape == (W, N, 54)
+    with RlEnv(ctx, 2, 3, efs=False, per_world=True) as e51:
+        assert e51.reset(1).shape == (2, 3, 51)
+        with pytest.raises(ValueError, match=r"\(worlds \* agents, 4\) or \(worlds, agents, 4\)"):
+            e51.step(np.zeros((3, 2, 4), np.float32))   # W and N swapped
+        assert e51.step(np.zeros((2, 3, 4), np.float32))[1].shape == (2, 3)  # still usable
+    with pytest.raises(TypeError, match="per_world must be True or False"):
+        RlEnv(ctx, 1, 2, per_world="yes")
+    # The wrappers' spaces have their own layout: refused there, naming RlEnv.
+    for make in (lambda: SwarmVectorEnv(2, 3, context=ctx, per_world=True),
+                 lambda: SwarmWorldEnv(3, context=ctx, per_world=True)):
+        with pytest.raises(ValueError, match=r"per_world=True is RlEnv's option"):
+            make()
+
