@@ -512,3 +512,51 @@ def test_per_world_layout_is_the_flat_one_reshaped(ctx):
         with pytest.raises(ValueError, match=r"per_world=True is RlEnv's option"):
             make()
 
+
+def test_policy_whose_layers_do_not_match_the_observation(ctx, tmp_path):
+    """swarmcl.rl.export.load_policy checks a file as the library's loader
+    does (a ValueError naming the tensor, what was expected and what the file
+    has), and policy_actions refuses observations of another width (a 54-input
+    EFS policy on an efs=False env's 51): the env is untouched and keeps
+    stepping, and the policy keeps working on observations of its width."""
+    from conftest import policy_bytes
+    from swarmcl.rl.export import load_policy, policy_actions
+
+    def loaded(name, data):
+        path = tmp_path / name
+        path.write_bytes(data)
+        return path
+
+    bad = [
+        (policy_bytes([(16, 51), (4, 16)], efs=True),
+         r"layers.0.weight' has shape \[16, 51\], expected \[out, 54\] \(the first layer takes the observation: 54 "
+         r"entries, as swarmcl.efs is \"1\""),
+        (policy_bytes([(16, 54), (4, 16)], efs=False), r"layers.0.weight' has shape \[16, 54\], expected \[out, 51\]"),
+        (policy_bytes([(16, 54), (8, 12), (4, 8)]), r"layers.1.weight' has shape \[8, 12\], expected \[out, 16\] "
+                                                    r"\(in = the previous layer's out\)"),
+        (policy_bytes([(16, 54), (3, 16)]), r"layers.1.weight' has shape \[3, 16\], expected \[4, 16\] \(the last "
+                                            r"layer gives the 4 actions; it has 3 outputs\)"),
+        (policy_bytes([(16, 54), (4, 16)], extra={"obs_std": np.ones(54)}), "obs_mean and obs_std must be given"),
+        (policy_bytes([(16, 54), (4, 16)], extra={"obs_mean": np.zeros(51), "obs_std": np.ones(51)}),
+         r"obs_mean has shape \[51\], expected \[54\]"),
+        (policy_bytes([(16, 54), (4, 16)])[:200], "beyond the end of the file"),
+    ]
+    for i, (data, what) in enumerate(bad):
+        path = loaded(f"bad{i}.safetensors", data)
+        with pytest.raises(ValueError, match=what) as err:
+            load_policy(path)
+        assert str(path) in str(err.value)
+    efs_policy = load_policy(loaded("efs.safetensors", policy_bytes([(16, 54), (4, 16)])))
+    assert efs_policy["obs_dim"] == 54 and efs_policy["efs"]
+    with RlEnv(ctx, 2, 3, efs=False) as env:
+        obs = env.reset(4)
+        with pytest.raises(ValueError, match=r"the policy takes 54 observations per agent \(with EFS\), got "
+                                             r"observations of shape \(6, 51\)"):
+            policy_actions(efs_policy, obs)
+        obs, rew, _, _ = env.step(env.rag_actions())  # the env is untouched and steps on
+        assert obs.shape == (6, 51) and np.isfinite(rew).all()
+    with RlEnv(ctx, 2, 3, per_world=True) as env:  # (W, N, D) observations: actions (W, N, 4)
+        obs = env.reset(4)
+        act = policy_actions(efs_policy, obs)
+        assert act.shape == (2, 3, 4)
+        assert np.isfinite(env.step(act)[1]).all()
