@@ -560,3 +560,21 @@ def test_policy_whose_layers_do_not_match_the_observation(ctx, tmp_path):
         act = policy_actions(efs_policy, obs)
         assert act.shape == (2, 3, 4)
         assert np.isfinite(env.step(act)[1]).all()
+
+
+def test_rag_leader_coupling_is_a_parameter(ctx):
+    """The RAG's leader coupling from Python: the defaults (PD, k_p 0.25,
+    k_d 1) in params, rag_leader_pd=False the first coupling (other
+    actions from the same state), bad gains refused naming them."""
+    from swarmcl.rl import default_params
+
+    d = default_params()
+    assert d["rag_leader_pd"] is True and d["rag_leader_kp"] == 0.25 and d["rag_leader_kd"] == 1.0
+    with RlEnv(ctx, 2, 20) as pd, RlEnv(ctx, 2, 20, rag_leader_pd=False) as zones, \
+            RlEnv(ctx, 2, 20, rag_leader_kp=0.25, rag_leader_kd=1.0) as same:
+        assert zones.params["rag_leader_pd"] is False
+        pd.reset(3), zones.reset(3), same.reset(3)
+        assert _bits(pd.rag_actions()) == _bits(same.rag_actions())
+        assert _bits(pd.rag_actions()) != _bits(zones.rag_actions())
+    with pytest.raises(swarmcl.InvalidArgumentError, match="rag_leader_kd = -0.5"):
+        RlEnv(ctx, 1, 2, rag_leader_kd=-0.5)

@@ -24,7 +24,8 @@ ACTION_DIM = 4  # {v, omega.xyz} (Eq. 2)
 # Descriptor fields a caller may set by keyword (the C names of swcl_rl_env_desc).
 _FLOAT_FIELDS = ("dt", "du_max", "dq_max_deg", "r_sep", "r_ali", "r_coh", "u_max", "body_radius",
                  "neighbor_radius", "rag_w_sep", "rag_w_ali", "rag_w_coh", "w_spd", "w_dir", "w_leader",
-                 "w_obs", "w_dist", "l_spd", "l_dir", "l_leader", "l_obs", "dist_target")
+                 "w_obs", "w_dist", "l_spd", "l_dir", "l_leader", "l_obs", "dist_target", "rag_leader_kp",
+                 "rag_leader_kd")
 
 
 def checked_actions(actions, shapes, what: str, meaning: str = "") -> np.ndarray:
@@ -57,7 +58,7 @@ def default_params() -> dict:
     """The C library's defaults (Table 1 and docs/rl-swarm.md's choices)."""
     d = lib.swcl_rl_env_desc_default()
     out = {name: float(getattr(d, name)) for name in _FLOAT_FIELDS}
-    out.update(max_steps=int(d.max_steps), efs=bool(d.efs))
+    out.update(max_steps=int(d.max_steps), efs=bool(d.efs), rag_leader_pd=bool(d.rag_leader_pd))
     return out
 
 
@@ -73,7 +74,9 @@ class RlEnv:
 
     ``scenario``: one of SCENARIOS; ``waypoints`` (K, 4) replaces its path,
     ``obstacles`` (B, 6) boxes are added; any name of _FLOAT_FIELDS plus
-    ``max_steps`` and ``efs`` overrides the default descriptor.
+    ``max_steps``, ``efs`` and ``rag_leader_pd`` (the RAG's leader coupling:
+    True, the PD pull, default; False, the leader as one more Eq. 8 term)
+    overrides the default descriptor.
 
     ``per_world``: observations come back as (W, N, D), rewards as (W, N),
     the RAG's actions as (W, N, 4) and the followers' state as (W, N, 4),
@@ -108,8 +111,8 @@ class RlEnv:
         for name, value in params.items():
             if name == "max_steps":
                 desc.max_steps = operator.index(value)
-            elif name == "efs":
-                desc.efs = 1 if value else 0
+            elif name in ("efs", "rag_leader_pd"):
+                setattr(desc, name, 1 if value else 0)
             elif name in _FLOAT_FIELDS:
                 setattr(desc, name, float(value))
             else:
@@ -121,7 +124,8 @@ class RlEnv:
         self._finalizer = weakref.finalize(self, _destroy, int(out[0].id))
         self.context = context
         self.scenario = str(scenario)
-        self.params = dict(default_params(), **{k: (bool(v) if k == "efs" else v) for k, v in params.items()})
+        self.params = dict(default_params(), **{k: (bool(v) if k in ("efs", "rag_leader_pd") else v)
+                                                for k, v in params.items()})
         w, n, d = ffi.new("uint32_t*"), ffi.new("uint32_t*"), ffi.new("uint32_t*")
         check(lib.swcl_rl_env_get_info(self._h, w, n, d))
         self.worlds, self.agents, self.obs_dim = int(w[0]), int(n[0]), int(d[0])
