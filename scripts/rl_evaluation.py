@@ -383,8 +383,12 @@ def plot_scalability(scal: dict, path: Path) -> None:
     fig, ax = plt.subplots(figsize=(6.5, 4))
     xs = [r["agents"] for r in scal["efs"]]
     for key, color in (("efs", "tab:blue"), ("no_efs", "tab:red")):
+        name = "with EFS" if key == "efs" else "without EFS"
         ax.plot(range(len(xs)), [r["mean_reward"] for r in scal[key]], "-o", color=color,
-                label="with EFS" if key == "efs" else "without EFS")
+                label=f"{name}, after settling")
+        if all("start_reward" in r for r in scal[key]):
+            ax.plot(range(len(xs)), [r["start_reward"] for r in scal[key]], ":", marker="x", color=color,
+                    label=f"{name}, at the placement")
     ax.set_xticks(range(len(xs)), [f"{x:,}" for x in xs])
     ax.set_xlabel("agents (policies trained at 200)")
     ax.set_ylabel("average reward per agent-step (Eq. 14)")
