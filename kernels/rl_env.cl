@@ -77,15 +77,21 @@ __kernel void rl_leader_step(__global float4* lpos, __global float4* lvel, __glo
 }
 
 // ---- rule-based action generator (§III-C3, Eq. 8-10) ---------------------------
-// The three-zone force over the world's followers within r_coh, plus the
-// leader at any distance (its zone by Eq. 9, beyond r_coh counted as
-// attraction), v' = v + F Δt, converted to {|v'| - |v|, q' - q} with q' the
-// heading of v' turned at most dq_max from q and |v'| - |v| clamped to
-// ±du_max: the action the kinematics then executes unchanged.
+// The three-zone force over the world's followers within r_coh; v' = v + F Δt,
+// converted to {|v'| - |v|, q' - q} with q' the heading of v' turned at most
+// dq_max from q and |v'| - |v| clamped to ±du_max: the action the kinematics
+// then executes unchanged.
+// The leader (the paper does not say how its RAG follows it; docs/rl-swarm.md):
+// leader_pd != 0 (ours, the default): a proportional-derivative pull of its
+// own, F += k_p max(|p_L - p| - r_ali, 0) (p_L - p)/|p_L - p| + k_d (v_L - v),
+// at any distance, and the leader counts in Eq. 8's sums only within r_sep
+// (separation); leader_pd == 0: the leader is one more Eq. 8 term at any
+// distance (its zone by Eq. 9, beyond r_coh counted as attraction), the
+// coupling that surges and brakes around r_ali.
 __kernel void rl_rag(__global const float4* pos, __global const float4* vel, __global const float4* lpos,
                      __global const float4* lvel, uint agents, uint n, float r_sep, float r_ali, float r_coh,
-                     float w_sep, float w_ali, float w_coh, float du_max, float dq_max, float dt,
-                     __global float* actions) {
+                     float w_sep, float w_ali, float w_coh, float du_max, float dq_max, float dt, int leader_pd,
+                     float k_p, float k_d, __global float* actions) {
     const uint s = get_global_id(0);
     if (s >= n) return;
     const uint w = s / agents;
@@ -103,6 +109,7 @@ __kernel void rl_rag(__global const float4* pos, __global const float4* vel, __g
         const float3 pij = pj - p;
         const float d = length(pij);
         if (!leader && d > r_coh) continue;
+        if (leader && leader_pd && d > r_sep) continue;
         if (!(d > 0.0f)) continue;
         const float T = rl_zone(d, r_sep, r_ali);
         const float3 vij = vj4.w * vj4.xyz - v;
@@ -117,6 +124,12 @@ __kernel void rl_rag(__global const float4* pos, __global const float4* vel, __g
     if (n_sep) F += (w_sep / (float)n_sep) * f_sep;
     if (n_ali) F += (w_ali / (float)n_ali) * f_ali;
     if (n_coh) F += (w_coh / (float)n_coh) * f_coh;
+    if (leader_pd) {
+        const float3 to_l = lpos[w].xyz - p;
+        const float dl = length(to_l);
+        if (dl > r_ali) F += (k_p * (dl - r_ali) / dl) * to_l;
+        F += k_d * (lvel[w].w * lvel[w].xyz - v);
+    }
     const float3 v1 = v + dt * F;
     const float u1 = length(v1);
     const float du = clamp(u1 - vs.w, -du_max, du_max);

@@ -25,6 +25,7 @@ from __future__ import annotations
 import argparse
 import datetime as dt
 import json
+import sys
 import time
 from pathlib import Path
 
@@ -32,8 +33,8 @@ import numpy as np
 
 import swarmcl
 from machine_info import cpu_model  # scripts/machine_info.py
-from result_paths import shown_value  # scripts/result_paths.py: no machine's absolute path in results
-from swarmcl.rl import RlEnv
+from result_paths import shown_command, shown_value  # scripts/result_paths.py: no machine's absolute path in results
+from swarmcl.rl import RlEnv, default_params
 from swarmcl.rl.evaluation import cohesion_repulsion, inter_agent_distance, speed_differential, swarm_rewards
 from swarmcl.rl.export import load_policy, policy_actions
 from swarmcl.rl.layout import boxes_to_obj
@@ -166,6 +167,94 @@ def navigation_test(ctx, policy, scenario, args) -> dict:
         env.close()
 
 
+def _turn(q: np.ndarray, dq: np.ndarray, max_angle: float) -> np.ndarray:
+    """Eq. 2's heading update (kernels/lib/rl_common.cl rl_turn) in NumPy."""
+    t0 = q + dq
+    n = np.linalg.norm(t0, axis=1, keepdims=True)
+    t = t0 / np.maximum(n, 1e-30)
+    c = np.clip(np.einsum("ik,ik->i", q, t), -1.0, 1.0)
+    w = t - c[:, None] * q
+    w /= np.maximum(np.linalg.norm(w, axis=1, keepdims=True), 1e-30)
+    bent = np.cos(max_angle) * q + np.sin(max_angle) * w
+    bent /= np.linalg.norm(bent, axis=1, keepdims=True)
+    out = np.where((np.arccos(c) <= max_angle)[:, None], t, bent)
+    return np.where(n > 1e-6, out, q)
+
+
+def _velocity_after(vel: np.ndarray, act: np.ndarray, p: dict) -> np.ndarray:
+    """The velocity u' q' an action gives (Eq. 2: the clamps of the kinematics)."""
+    u = np.clip(vel[:, 3] + np.clip(act[:, 0], -p["du_max"], p["du_max"]), 0.0, p["u_max"])
+    return u[:, None] * _turn(vel[:, :3].astype(np.float64), act[:, 1:].astype(np.float64),
+                              np.deg2rad(p["dq_max_deg"]))
+
+
+def eq19_by_scale(pos: np.ndarray, p: dict, scales) -> list:
+    """Eq. 19's term (w_dist - mean over the neighbours within r_coh of
+    (d - d_target)^2; 0 without neighbours) averaged over the followers of
+    one frame with the swarm scaled by s about its centroid, for each s."""
+    d_t = p["dist_target"] if p["dist_target"] > 0 else 0.5 * (p["r_ali"] - p["r_sep"])
+    x = pos - pos.mean(axis=0)
+    d = np.linalg.norm(x[:, None, :] - x[None, :, :], axis=2)
+    np.fill_diagonal(d, np.inf)
+    out = []
+    for sc in scales:
+        ds = d * sc
+        nb = ds <= p["r_coh"]
+        nn = nb.sum(1)
+        e = (np.where(nb, ds - d_t, 0.0) ** 2).sum(1)
+        out.append(float(np.where(nn > 0, p["w_dist"] - e / np.maximum(nn, 1), 0.0).mean()))
+    return out
+
+
+def crowding_test(ctx, policy, args) -> dict:
+    """Why learned swarms crowd (issue 28): `worlds` x `agents` followers
+    behind a straight joystick leader; every 10 steps after the warm-up, the
+    followers whose nearest neighbour is within r_sep ("crowded": Table 4's
+    repulsion occurrences are these) and, for them, how fast the action they
+    take moves them away from that neighbour, (v' - v) . e with e the unit
+    vector from the neighbour, beside the rule-based action at the same
+    state; at the last frame, Eq. 19's term of world 0 with the swarm scaled
+    about its centroid (does the reward ask for a denser or sparser swarm?)."""
+    W, N = args.worlds, args.agents
+    env = RlEnv(ctx, W, N, scenario="roaming", max_steps=10**6, efs=policy is None or policy["efs"])
+    try:
+        obs = env.reset(args.seed)
+        prm = env.params
+        crowded, own, rule, nearest = [], [], [], []
+        for t in range(args.warmup + args.record):
+            act = actions(env, obs, policy)
+            if t >= args.warmup and (t - args.warmup) % 10 == 0:
+                st = env.read_state()
+                rag = env.rag_actions()
+                for w in range(W):
+                    sl = slice(w * N, (w + 1) * N)
+                    x = st["positions"][sl, :3].astype(np.float64)
+                    d = np.linalg.norm(x[:, None, :] - x[None, :, :], axis=2)
+                    np.fill_diagonal(d, np.inf)
+                    j = d.argmin(axis=1)
+                    dn = d[np.arange(N), j]
+                    nearest.append(float(np.median(dn)))
+                    c = np.flatnonzero(dn <= prm["r_sep"])
+                    crowded.append(len(c) / N)
+                    if len(c):
+                        e = (x[c] - x[j[c]]) / dn[c, None]
+                        vel = st["velocities"][sl][c].astype(np.float64)
+                        v0 = vel[:, :3] * vel[:, 3:4]
+                        for a, out in ((act[sl][c], own), (rag[sl][c], rule)):
+                            out.extend(np.einsum("ik,ik->i", _velocity_after(vel, a, prm) - v0, e).tolist())
+            obs, _, _, _ = env.step(act)
+        st = env.read_state()
+        scales = [round(float(v), 2) for v in np.arange(0.5, 2.01, 0.1)]
+        r19 = eq19_by_scale(st["positions"][:N, :3].astype(np.float64), prm, scales)
+        best = int(np.argmax(r19))
+        return {"crowded": float(np.mean(crowded)), "nearest_median": float(np.mean(nearest)),
+                "away_own": float(np.mean(own)) if own else 0.0, "away_rule": float(np.mean(rule)) if rule else 0.0,
+                "samples": len(own), "eq19_scales": scales, "eq19": r19, "eq19_best_scale": scales[best],
+                "eq19_at_1": r19[scales.index(1.0)], "eq19_best": r19[best]}
+    finally:
+        env.close()
+
+
 def leader_plan(steps: int, seed: int) -> np.ndarray:
     """The joystick plan of the scalability runs: a new slow turn every 6 s
     (as in scripts/train_policy_bc.py's roaming data), constant speed."""
@@ -178,10 +267,23 @@ def leader_plan(steps: int, seed: int) -> np.ndarray:
     return plan
 
 
+def _sampled_reward(s, rows) -> float:
+    """Eq. 14-19 of the sampled followers of a policy-model swarm, averaged."""
+    p, v = s.read_positions(), s.read_velocities()
+    lp, _, _ = s.policy_leader()
+    u = np.linalg.norm(v, axis=1)
+    to_l = lp[None, :] - p
+    q = np.where(u[:, None] > 0, v / np.maximum(u, 1e-30)[:, None],
+                 to_l / np.maximum(np.linalg.norm(to_l, axis=1, keepdims=True), 1e-30))
+    return float(swarm_rewards(p, q, u, lp, rows=rows).mean())
+
+
 def scalability_run(ctx, weights: Path, n: int, args) -> dict:
     """A policy-model swarm of n agents behind a joystick leader; Eq. 14-19
-    rewards of up to `reward_rows` sampled followers every 10 steps after the
-    first 50, and their mean."""
+    rewards of up to `reward_rows` sampled followers at the placement (before
+    the first step), every 50 steps, and every 10 steps after the settling
+    time `settle_steps`; the measure is the mean of those after settling
+    (every size runs the same steps: `big_steps` above 10,000 agents)."""
     steps = args.big_steps if n > 10_000 else args.scal_steps
     radius = 15.0 * (n / 200.0) ** (1.0 / 3.0)  # a 200-agent swarm in a ball of 15 (~4 m spacing), same density
     rng = np.random.default_rng(args.seed)
@@ -196,19 +298,20 @@ def scalability_run(ctx, weights: Path, n: int, args) -> dict:
         s.set_policy_model(swarmcl.PolicyModel(weights=str(weights), leader_speed=0.75))
         plan = leader_plan(steps, args.seed)
         rows = None if n <= args.reward_rows else np.sort(rng.choice(n, args.reward_rows, replace=False))
-        rewards, t0 = [], time.perf_counter()
+        t0 = time.perf_counter()
+        start = _sampled_reward(s, rows)
+        series, settled = [], []
         for t in range(steps):
             s.set_policy_leader_controls(0.0, plan[t])
             s.step(1)
-            if t >= 50 and (t + 1) % 10 == 0:
-                p, v = s.read_positions(), s.read_velocities()
-                lp, _, _ = s.policy_leader()
-                u = np.linalg.norm(v, axis=1)
-                to_l = lp[None, :] - p
-                q = np.where(u[:, None] > 0, v / np.maximum(u, 1e-30)[:, None],
-                             to_l / np.maximum(np.linalg.norm(to_l, axis=1, keepdims=True), 1e-30))
-                rewards.append(float(swarm_rewards(p, q, u, lp, rows=rows).mean()))
-        return {"agents": n, "steps": steps, "mean_reward": float(np.mean(rewards)), "rewards": rewards,
+            after = t + 1 > args.settle_steps
+            if (t + 1) % 50 == 0 or (after and (t + 1) % 10 == 0):
+                r = _sampled_reward(s, rows)
+                series.append({"step": t + 1, "reward": r})
+                if after:
+                    settled.append(r)
+        return {"agents": n, "steps": steps, "settle_steps": args.settle_steps, "start_reward": start,
+                "mean_reward": float(np.mean(settled)), "rewards": series,
                 "sampled_rows": n if rows is None else len(rows), "seconds": time.perf_counter() - t0}
 
 
@@ -280,8 +383,12 @@ def plot_scalability(scal: dict, path: Path) -> None:
     fig, ax = plt.subplots(figsize=(6.5, 4))
     xs = [r["agents"] for r in scal["efs"]]
     for key, color in (("efs", "tab:blue"), ("no_efs", "tab:red")):
+        name = "with EFS" if key == "efs" else "without EFS"
         ax.plot(range(len(xs)), [r["mean_reward"] for r in scal[key]], "-o", color=color,
-                label="with EFS" if key == "efs" else "without EFS")
+                label=f"{name}, after settling")
+        if all("start_reward" in r for r in scal[key]):
+            ax.plot(range(len(xs)), [r["start_reward"] for r in scal[key]], ":", marker="x", color=color,
+                    label=f"{name}, at the placement")
     ax.set_xticks(range(len(xs)), [f"{x:,}" for x in xs])
     ax.set_xlabel("agents (policies trained at 200)")
     ax.set_ylabel("average reward per agent-step (Eq. 14)")
@@ -333,6 +440,100 @@ def scalability_summary(efs: list, no_efs: list) -> str:
     return f"{text}: {trend}{both}."
 
 
+def rag_coupling_text(rag) -> str:
+    """The RAG's leader coupling as the results recorded it."""
+    if not rag:
+        return "leader coupling not recorded"
+    if rag["rag_leader_pd"]:
+        return (f"with the PD leader coupling (k_p {rag['rag_leader_kp']:g}, k_d {rag['rag_leader_kd']:g}; "
+                "docs/rl-swarm.md, \"The leader coupling\")")
+    return "with the leader as one more Eq. 8 term (the first coupling)"
+
+
+def placement_summary(efs: list, no_efs: list) -> str:
+    """The sentence on what the policies changed from the placement, from the
+    numbers: the change per size, and at the largest size whether the settled
+    reward is within 5 % of the placement's."""
+    parts = []
+    for key, rows in (("EFS", efs), ("no EFS", no_efs)):
+        parts.append(f"{key} " + ", ".join(f"{r['mean_reward'] - r['start_reward']:+.1f} at {r['agents']:,}"
+                                            for r in rows))
+    text = "Settled reward minus the placement's: " + "; ".join(parts) + "."
+    big = max(efs, key=lambda r: r["agents"])
+    big_n = next(r for r in no_efs if r["agents"] == big["agents"])
+    rel = max(abs(r["mean_reward"] - r["start_reward"]) / max(abs(r["start_reward"]), 1e-9) for r in (big, big_n))
+    if rel < 0.05:
+        text += (f"  At {big['agents']:,} agents both settled rewards are within {100 * rel:.1f} % of the placement's "
+                 f"({big['start_reward']:.1f} / {big_n['start_reward']:.1f}): at that size the measure is still the "
+                 "placement's, not the policy's.")
+    else:
+        text += (f"  At {big['agents']:,} agents the policies moved the reward by up to {100 * rel:.0f} % of the "
+                 "placement's.")
+    return text
+
+
+def crowding_markdown(crowd: dict, a: dict) -> list:
+    """The crowding section (issue 28 item 5): the table and the sentences,
+    from the numbers."""
+    L = ["## Why the learned swarms crowd (Table 4)", "",
+         f"{a['worlds']} worlds × {a['agents']} followers behind a straight joystick leader, every 10 steps of the "
+         f"{a['record'] * 0.1:g} s after a {a['warmup'] * 0.1:g} s warm-up: the followers whose nearest neighbour "
+         "is within R_sep (crowded; Table 4's repulsion occurrences are these), and for them the speed at which "
+         "the action they take moves them away from that neighbour in one step, (v' − v) · e with e the unit "
+         "vector from the neighbour (Eq. 2's clamps applied), beside the rule-based action at the same states.  "
+         "Then Eq. 19's term (w_dist − mean over the neighbours within R_coh of (d − 4)²) of world 0's last "
+         "frame with the swarm scaled about its centroid: the scale at which it is highest says whether the "
+         "reward asks for a denser (< 1) or sparser (> 1) swarm.", "",
+         "| method | crowded followers | median nearest neighbour (m) | away speed, own action | away speed, "
+         "rule-based action | Eq. 19 highest at scale (there / at 1) |",
+         "|---|---|---|---|---|---|"]
+    for m, r in crowd.items():
+        L.append(f"| {label(m)} | {100 * r['crowded']:.1f} % | {r['nearest_median']:.2f} | "
+                 + (f"{r['away_own']:+.4f} | {r['away_rule']:+.4f}" if r["samples"] else "none crowded | –")
+                 + f" | {r['eq19_best_scale']:g} ({r['eq19_best']:.1f} / {r['eq19_at_1']:.1f}) |")
+    L.append("")
+    for m, r in crowd.items():
+        if m == "rule" or not r["samples"]:
+            continue
+        share = round(100 * r["away_own"] / r["away_rule"]) if r["away_rule"] > 0 else float("nan")
+        L.append(f"* {label(m)}: {100 * r['crowded']:.0f} % of its followers are crowded; their own actions move "
+                 f"them away from the nearest neighbour at {r['away_own']:+.4f} m/s per step, "
+                 f"{share + 0:.0f} % of what the rule-based action does at the same states "
+                 f"({r['away_rule']:+.4f}); Eq. 19 is highest at scale {r['eq19_best_scale']:g} of its swarm.")
+    rule = crowd.get("rule")
+    if rule:
+        L.append(f"* rule-based: {100 * rule['crowded']:.1f} % crowded; Eq. 19 is highest at scale "
+                 f"{rule['eq19_best_scale']:g} of its swarm ({rule['eq19_best']:.1f} against {rule['eq19_at_1']:.1f} "
+                 "as it is).")
+    learned = [(m, r) for m, r in crowd.items() if m != "rule" and r["samples"] and r["away_rule"] > 0]
+    if learned and rule:
+        if all(r["away_own"] < 0.5 * r["away_rule"] for _, r in learned):
+            ratios = [r["away_rule"] / r["away_own"] for _, r in learned if r["away_own"] > 0]
+            how = (f"{min(ratios):.0f}-{max(ratios):.0f} times as fast as the learned policies' own actions do"
+                   if len(ratios) == len(learned) else
+                   "where the own actions of " + ", ".join(label(m) for m, r in learned if r["away_own"] <= 0) +
+                   " do not move them apart at all (and the others' at under half the speed)")
+            kind = lambda x: "denser" if x < 1 else ("sparser" if x > 1 else "as it is")  # noqa: E731
+            scales = [r["eq19_best_scale"] for _, r in learned]
+            L += ["", f"Reading: at the same states the rule-based action moves crowded followers apart {how}: the "
+                  "learned policies have not learned Eq. 8's separation, and nothing in their training asks for it "
+                  "strongly.  Behaviour cloning fits the RAG's actions in mean square over all followers, of which "
+                  f"few are crowded in a rule-based swarm ({100 * rule['crowded']:.1f} % here; the actors in "
+                  "`models/` were trained with the RAG's first leader coupling); DDPG's rewards "
+                  "(Eq. 14-19) have no term within R_sep (r_obs is for obstacles), and Eq. 19 over the neighbours "
+                  "within R_coh is highest at scale " +
+                  ", ".join(f"{r['eq19_best_scale']:g} of {label(m)}'s swarm ({kind(r['eq19_best_scale'])})"
+                            for m, r in learned) +
+                  (": the reward does not push them apart." if all(x <= 1 for x in scales) else
+                   (": a pull apart that the policies do not follow." if all(x > 1 for x in scales) else
+                    ": it does not push all of them apart."))]
+        else:
+            L += ["", "Reading: at least one learned policy separates crowded followers at half the rule-based "
+                  "speed or more; the crowding is not explained by a missing separation response alone."]
+    L.append("")
+    return L
+
+
 def write_markdown(res: dict, path: Path) -> None:
     c, nav, sc = res["control"], res["navigation"], res["scalability"]
     a = res["args"]
@@ -340,8 +541,15 @@ def write_markdown(res: dict, path: Path) -> None:
     L = ["# Evaluation of the DRL swarm against the paper's §IV (issue 15 item 8)", "",
          f"Written by `scripts/rl_evaluation.py` on {res['date']} ({res['cpu']}, {res['device']}); "
          "every number is in `bench/results/rl/evaluation.json`.  Rule-based: the RAG's actions (Eq. 8-10) fed "
-         "to the environment.  Learned policies (files in `models/`):", ""]
+         f"to the environment, {rag_coupling_text(res.get('rag'))}.  Learned policies (files in `models/`):", ""]
     L += [f"* {label(m)}: {res['policies'][m]}" for m in learned]
+    if res.get("commands"):
+        L += ["", "Made by (from the repository root, after the build; each part merges its results into the JSON):",
+              ""]
+        by_command: dict = {}
+        for part, cmd in res["commands"].items():
+            by_command.setdefault(cmd, []).append(part)
+        L += [f"* {', '.join(parts)}: `{cmd}`" for cmd, parts in by_command.items()]
     L += ["", "Definitions and choices: docs/rl-swarm.md, \"Evaluation (§IV)\".", "",
           "## Control accuracy (Table 2): average speed differential |u_i − u_leader|", "",
           f"{a['worlds']} recordings per test (worlds with their own starts: leader speed in [0.5, 1], "
@@ -394,14 +602,24 @@ def write_markdown(res: dict, path: Path) -> None:
           f"Two policies trained at 200 agents ({sc['trained_by']}), one with EFS and one without, run by the "
           "library's policy model (`swcl_swarm_policy_set_model`, the neighbour grid) at each size: a ball of the "
           "same density (radius 15 m for 200), a joystick leader turning every 6 s; the Eq. 14-19 reward of "
-          f"up to {a['reward_rows']:,} sampled followers every 10 steps after the first 50 "
-          f"({a['scal_steps']} steps; {a['big_steps']} at 100,000).", "",
-          "| agents | reward, EFS | reward, no EFS | EFS − no EFS | seconds (EFS / no EFS) |",
-          "|---|---|---|---|---|"]
+          f"up to {a['reward_rows']:,} sampled followers.  Measured after a settling time: every size runs "
+          f"{a['scal_steps']} steps ({a['big_steps']} above 10,000 agents) and the reward is the mean of the "
+          f"samples every 10 steps after step {a.get('settle_steps', 50)} "
+          f"({a.get('settle_steps', 50) * 0.1:g} s); the reward of the placement itself (before the first step) "
+          "beside it, so the table shows what the policy changed.", "",
+          "| agents | reward, EFS | reward, no EFS | EFS − no EFS | at the placement (EFS / no EFS) | "
+          "seconds (EFS / no EFS) |",
+          "|---|---|---|---|---|---|"]
     for e, n in zip(sc["efs"], sc["no_efs"]):
+        start = (f"{e['start_reward']:.3f} / {n['start_reward']:.3f}" if "start_reward" in e else "not recorded")
         L.append(f"| {e['agents']:,} | {e['mean_reward']:.3f} | {n['mean_reward']:.3f} | "
-                 f"{e['mean_reward'] - n['mean_reward']:+.3f} | {e['seconds']:.0f} / {n['seconds']:.0f} |")
-    L += ["", "![scalability](images/rl_eval_scalability.png)", "",
+                 f"{e['mean_reward'] - n['mean_reward']:+.3f} | {start} | {e['seconds']:.0f} / {n['seconds']:.0f} |")
+    L += ["", "![scalability](images/rl_eval_scalability.png)", ""]
+    if all("start_reward" in r for r in sc["efs"] + sc["no_efs"]):
+        L += [placement_summary(sc["efs"], sc["no_efs"]), ""]
+    if "crowding" in res:
+        L += crowding_markdown(res["crowding"], a)
+    L += [
           "## Summary: does the paper's ordering hold?", "",
           "The paper's ordering: the learned policy beats the rule-based one on control accuracy (8 of 8 turns, "
           "3 of 3 scenarios)."]
@@ -430,10 +648,14 @@ def main() -> int:
     ap.add_argument("--nav-max-steps", type=int, default=4000)
     ap.add_argument("--sizes", type=int, nargs="+", default=[200, 600, 1000, 100_000])
     ap.add_argument("--scal-steps", type=int, default=300)
-    ap.add_argument("--big-steps", type=int, default=120)
+    ap.add_argument("--big-steps", type=int, default=300,
+                    help="steps of the runs above 10,000 agents (the same as --scal-steps by default)")
+    ap.add_argument("--settle-steps", type=int, default=200,
+                    help="scalability: the reward is averaged over the samples after this many steps")
     ap.add_argument("--reward-rows", type=int, default=2000)
     ap.add_argument("--seed", type=int, default=11)
-    ap.add_argument("--parts", nargs="+", default=["control", "navigation", "scalability"])
+    ap.add_argument("--parts", nargs="+", default=["control", "navigation", "scalability", "crowding"],
+                    choices=["control", "navigation", "scalability", "crowding"])
     ap.add_argument("--out-json", type=Path, default=ROOT / "bench" / "results" / "rl" / "evaluation.json")
     ap.add_argument("--out-md", type=Path, default=ROOT / "docs" / "rl-evaluation.md")
     ap.add_argument("--figures-dir", type=Path, default=ROOT / "docs" / "images")
@@ -441,6 +663,9 @@ def main() -> int:
     ap.add_argument("--markdown-only", action="store_true",
                     help="only rewrite --out-md from the results already in --out-json (runs nothing)")
     args = ap.parse_args()
+    if "scalability" in args.parts and not args.settle_steps + 10 <= min(args.scal_steps, args.big_steps):
+        ap.error(f"--settle-steps {args.settle_steps} leaves no reward sample: it must be at most "
+                 f"--scal-steps and --big-steps ({args.scal_steps}, {args.big_steps}) minus 10")
 
     if args.markdown_only:
         write_markdown(json.loads(args.out_json.read_text()), args.out_md)
@@ -455,6 +680,12 @@ def main() -> int:
     res.update(date=dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d"), cpu=cpu_model(),
                args=shown_value(vars(args)),
                policies={m: p["metadata"].get("swarmcl.trained_by", "?") for m, p in methods.items() if p})
+    command = ("PYTHONPATH=bindings/python SWARMCL_BUILD_DIR=$PWD/build python scripts/" +
+               shown_command([Path(__file__).name, *sys.argv[1:]]))
+    res["commands"] = {**res.get("commands", {}), **{part: command for part in args.parts}}
+    if {"control", "navigation", "crowding"} & set(args.parts):
+        d = default_params()
+        res["rag"] = {k: d[k] for k in ("rag_leader_pd", "rag_leader_kp", "rag_leader_kd")}
     with swarmcl.Context() as ctx:
         dev = ctx.device
         res["device"] = f"{dev.platform_name} {dev.device_name}, {dev.compute_units} compute units"
@@ -491,6 +722,17 @@ def main() -> int:
             for method in res["navigation"]:
                 for r in res["navigation"][method].values():
                     r.pop("_figure")
+        if "crowding" in args.parts:
+            res["crowding"] = {}
+            for method, policy in methods.items():
+                t0 = time.perf_counter()
+                r = crowding_test(ctx, policy, args)
+                res["crowding"][method] = r
+                print(f"crowding {method:20s}: crowded {r['crowded']:.3f}, nearest (median) {r['nearest_median']:.2f}, "
+                      f"away speed change own {r['away_own']:+.4f} / rule-based {r['away_rule']:+.4f} "
+                      f"({r['samples']} samples), Eq. 19 best at scale {r['eq19_best_scale']} "
+                      f"({r['eq19_best']:.1f} against {r['eq19_at_1']:.1f}) ({time.perf_counter() - t0:.0f} s)",
+                      flush=True)
         if "scalability" in args.parts:
             tb = load_policy(args.policy_efs)["metadata"].get("swarmcl.trained_by", "?")
             res["scalability"] = {"trained_by": tb, "efs": [], "no_efs": []}

@@ -99,7 +99,9 @@ inline State read_state(LeaderEnv& env) {
 
 inline V3 xyz(const std::array<float, 4>& a) { return {a[0], a[1], a[2]}; }
 
-// Eq. 8-10 for slot s (kernels/rl_env.cl rl_rag).
+// Eq. 8-10 for slot s (kernels/rl_env.cl rl_rag), with the leader coupling
+// of c.rag_leader_pd: a PD pull of its own (the leader in Eq. 8 only within
+// r_sep), or one more Eq. 8 term at any distance.
 inline std::array<float, 4> rag(const State& st, const RlEnvConfig& c, size_t s) {
     const size_t N = c.agents, w = s / N, first = w * N;
     const V3 p = xyz(st.pos[s]), q = xyz(st.vel[s]);
@@ -114,6 +116,7 @@ inline std::array<float, 4> rag(const State& st, const RlEnvConfig& c, size_t s)
         const V3 pij = sub(pj, p);
         const float d = len(pij);
         if (!leader && d > c.r_coh) continue;
+        if (leader && c.rag_leader_pd && d > c.r_sep) continue;
         if (!(d > 0)) continue;
         const float T = d <= c.r_sep ? -1.0f : (d <= c.r_ali ? 0.0f : 1.0f);
         const V3 vij = sub(mul(vj[3], xyz(vj)), v);
@@ -127,6 +130,12 @@ inline std::array<float, 4> rag(const State& st, const RlEnvConfig& c, size_t s)
     V3 F{0, 0, 0};
     for (int z = 0; z < 3; ++z)
         if (cnt[z]) F = add(F, mul(wz[z] / float(cnt[z]), f[z]));
+    if (c.rag_leader_pd) {
+        const V3 to_l = sub(xyz(st.lpos[w]), p);
+        const float dl = len(to_l);
+        if (dl > c.r_ali) F = add(F, mul(c.rag_leader_kp * (dl - c.r_ali) / dl, to_l));
+        F = add(F, mul(c.rag_leader_kd, sub(mul(st.lvel[w][3], xyz(st.lvel[w])), v)));
+    }
     const V3 v1 = add(v, mul(c.dt, F));
     const float u1 = len(v1);
     const float du = std::clamp(u1 - st.vel[s][3], -c.du_max, c.du_max);

@@ -117,14 +117,30 @@ TEST(PolicyWeights, WrongShapesAreNamed) {
     MlpFile a = random_mlp({16, 4}, "relu,tanh", 7);
     a.tensors["layers.0.weight"].shape = {16, 53};
     a.tensors["layers.0.weight"].data.resize(16 * 53);
-    EXPECT_TRUE(contains(parse_error(a.bytes()), "layers.0.weight' has shape [16, 53], expected [out, 54]"));
+    EXPECT_TRUE(contains(parse_error(a.bytes()),
+                         "layers.0.weight' has shape [16, 53], expected [out, 54] (the first layer takes the "
+                         "observation: 54 entries, as swarmcl.efs is \"1\""));
+    // A first layer of the other observation: 54 inputs in a file that says
+    // no EFS (51), and 51 in one that says EFS.
+    MlpFile a54 = random_mlp({16, 4}, "relu,tanh", 7, true);
+    a54.meta["swarmcl.efs"] = "0";
+    EXPECT_TRUE(contains(parse_error(a54.bytes()), "layers.0.weight' has shape [16, 54], expected [out, 51] (the "
+                                                   "first layer takes the observation: 51 entries, as "
+                                                   "swarmcl.efs is \"0\""));
+    MlpFile a51 = random_mlp({16, 4}, "relu,tanh", 7, false);
+    a51.meta["swarmcl.efs"] = "1";
+    EXPECT_TRUE(contains(parse_error(a51.bytes()), "layers.0.weight' has shape [16, 51], expected [out, 54]"));
     // A hidden layer that does not take the previous one's outputs.
     MlpFile b = random_mlp({16, 8, 4}, "relu,relu,tanh", 7);
     b.tensors["layers.1.weight"].shape = {8, 15};
     b.tensors["layers.1.weight"].data.resize(8 * 15);
     EXPECT_TRUE(contains(parse_error(b.bytes()), "layers.1.weight' has shape [8, 15], expected [out, 16]"));
     // Last layer without 4 outputs.
-    EXPECT_TRUE(contains(parse_error(random_mlp({16, 3}, "relu,tanh", 7).bytes()), "must have 4 outputs"));
+    EXPECT_TRUE(contains(parse_error(random_mlp({16, 3}, "relu,tanh", 7).bytes()),
+                         "layers.1.weight' has shape [3, 16], expected [4, 16]: the last layer must have 4 outputs "
+                         "(the actions), it has 3"));
+    EXPECT_TRUE(contains(parse_error(random_mlp({5}, "tanh", 7).bytes()),
+                         "layers.0.weight' has shape [5, 54], expected [4, 54]"));
     // Bias of the wrong length.
     MlpFile c = random_mlp({16, 4}, "relu,tanh", 7);
     c.tensors["layers.0.bias"].shape = {15};
@@ -610,12 +626,24 @@ TEST(PolicyCapi, BadWeightsGiveAParseErrorAndTheSwarmStaysUsable) {
     MlpFile shape = random_mlp({16, 4}, "relu,tanh", 73);
     shape.tensors["layers.0.weight"].shape = {16, 50};
     shape.tensors["layers.0.weight"].data.resize(800);
+    // Layer sizes that do not match the observation, each other or the
+    // actions: a parse error naming the tensor, what was expected and what
+    // the file has.
+    MlpFile no_efs = random_mlp({16, 4}, "relu,tanh", 74, true);  // 54 inputs ...
+    no_efs.meta["swarmcl.efs"] = "0";                              // ... in a 51-observation file
+    MlpFile chain = random_mlp({16, 8, 4}, "relu,relu,tanh", 75);
+    chain.tensors["layers.1.weight"].shape = {8, 12};
+    chain.tensors["layers.1.weight"].data.resize(8 * 12);
+    const std::string last = random_mlp({16, 6}, "relu,tanh", 76).bytes();
     const std::vector<std::pair<std::string, std::string>> bad{
         {good.substr(0, good.size() / 2), "truncated"},
         {good.substr(0, 5), "truncated"},
         {std::string("\x10\0\0\0\0\0\0\0{\"a\": [1, 2,,}   ", 24), "not valid JSON"},
         {dtype.bytes(), "dtype BF16"},
-        {shape.bytes(), "expected [out, 54]"},
+        {shape.bytes(), "layers.0.weight' has shape [16, 50], expected [out, 54]"},
+        {no_efs.bytes(), "layers.0.weight' has shape [16, 54], expected [out, 51]"},
+        {chain.bytes(), "layers.1.weight' has shape [8, 12], expected [out, 16]"},
+        {last, "layers.1.weight' has shape [6, 16], expected [4, 16]"},
     };
     for (const auto& [bytes, what] : bad) {
         swcl_policy_model_desc b = d;

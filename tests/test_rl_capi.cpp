@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -123,6 +124,14 @@ TEST_F(RlCApi, BadInputGivesAStatusAndAMessage) {
     EXPECT_TRUE(error_mentions("at least 2 waypoints")) << swcl_last_error();
     d.waypoints = nullptr;
     d.waypoint_count = 0;
+    d.rag_leader_kd = -1.0f;
+    EXPECT_EQ(swcl_rl_env_create(ctx, &d, &env), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_TRUE(error_mentions("rag_leader_kd = -1")) << swcl_last_error();
+    d.rag_leader_kd = 1.0f;
+    d.rag_leader_kp = NAN;
+    EXPECT_EQ(swcl_rl_env_create(ctx, &d, &env), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_TRUE(error_mentions("rag_leader_kp = nan")) << swcl_last_error();
+    d.rag_leader_kp = 0.25f;
     d.struct_size = 4;
     EXPECT_EQ(swcl_rl_env_create(ctx, &d, &env), SWCL_ERROR_INVALID_ARGUMENT);
     d = swcl_rl_env_desc_default();
@@ -159,6 +168,38 @@ TEST_F(RlCApi, BadInputGivesAStatusAndAMessage) {
     EXPECT_EQ(swcl_rl_env_destroy(env), SWCL_ERROR_INVALID_HANDLE);
     EXPECT_EQ(swcl_rl_env_step(env, act.data(), 80, nullptr, 0, nullptr, 0, nullptr, nullptr, 0),
               SWCL_ERROR_INVALID_HANDLE);
+}
+
+// The RAG's leader coupling through the C API: the defaults (PD, 0.25, 1);
+// a caller built before the coupling's fields (the smaller struct, garbage
+// after it) gets the defaults: the same actions as a default desc.
+TEST_F(RlCApi, LeaderCouplingFieldsAndTheFirstVersionOfTheDesc) {
+    const swcl_rl_env_desc def = swcl_rl_env_desc_default();
+    EXPECT_EQ(def.rag_leader_pd, 1);
+    EXPECT_EQ(def.rag_leader_kp, 0.25f);
+    EXPECT_EQ(def.rag_leader_kd, 1.0f);
+    auto rag_after_reset = [&](const swcl_rl_env_desc& d) {
+        swcl_rl_env env{};
+        EXPECT_EQ(swcl_rl_env_create(ctx, &d, &env), SWCL_OK) << swcl_last_error();
+        std::vector<float> a(4 * d.worlds * d.agents);
+        EXPECT_EQ(swcl_rl_env_reset(env, 5, nullptr, 0), SWCL_OK);
+        EXPECT_EQ(swcl_rl_env_rag_actions(env, a.data(), a.size()), SWCL_OK) << swcl_last_error();
+        swcl_rl_env_destroy(env);
+        return a;
+    };
+    swcl_rl_env_desc d = def;
+    d.worlds = 2;
+    d.agents = 30;
+    const std::vector<float> pd = rag_after_reset(d);
+    swcl_rl_env_desc old = d;
+    old.struct_size = uint32_t(offsetof(swcl_rl_env_desc, rag_leader_pd));
+    old.rag_leader_pd = 0;
+    old.rag_leader_kp = -7.0f;  // beyond the caller's struct: never read
+    old.rag_leader_kd = NAN;
+    EXPECT_EQ(rag_after_reset(old), pd);
+    swcl_rl_env_desc zones = d;
+    zones.rag_leader_pd = 0;
+    EXPECT_NE(rag_after_reset(zones), pd);
 }
 
 // The layout: the stairway's path and steps as the scenario made them; a

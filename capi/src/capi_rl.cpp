@@ -1,5 +1,6 @@
 // The deep-RL leader-following environment (issue 15): whole arrays in and
 // out of host/rl/leader_env, never one agent at a time.
+#include <cstddef>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -33,7 +34,8 @@ swcl_status with_env(const char* function, swcl_rl_env handle, F&& body) noexcep
     });
 }
 
-constexpr size_t kRlDescV1 = sizeof(swcl_rl_env_desc);
+// The first version ended at dist_target; the leader coupling came after.
+constexpr size_t kRlDescV1 = offsetof(swcl_rl_env_desc, rag_leader_pd);
 
 RlEnvConfig config_from(const swcl_rl_env_desc& d) {
     RlEnvConfig c;
@@ -71,6 +73,11 @@ RlEnvConfig config_from(const swcl_rl_env_desc& d) {
     c.rag_w_coh = d.rag_w_coh;
     c.reward = {d.w_spd, d.w_dir, d.w_leader, d.w_obs, d.w_dist, d.l_spd, d.l_dir, d.l_leader, d.l_obs,
                 d.dist_target};
+    if (d.struct_size >= offsetof(swcl_rl_env_desc, rag_leader_kd) + sizeof(d.rag_leader_kd)) {
+        c.rag_leader_pd = d.rag_leader_pd != 0;
+        c.rag_leader_kp = d.rag_leader_kp;
+        c.rag_leader_kd = d.rag_leader_kd;
+    }
     return c;
 }
 
@@ -104,6 +111,9 @@ swcl_rl_env_desc swcl_rl_env_desc_default(void) {
     d.rag_w_sep = c.rag_w_sep;
     d.rag_w_ali = c.rag_w_ali;
     d.rag_w_coh = c.rag_w_coh;
+    d.rag_leader_pd = c.rag_leader_pd ? 1 : 0;
+    d.rag_leader_kp = c.rag_leader_kp;
+    d.rag_leader_kd = c.rag_leader_kd;
     const RlRewardParams& r = c.reward;
     d.w_spd = r.w_spd;
     d.w_dir = r.w_dir;

@@ -38,6 +38,7 @@ void validate(const RlEnvConfig& c) {
     // The environment's own: time step, RAG weights, rewards, spawn.
     const std::pair<const char*, float> own[] = {
         {"dt", c.dt}, {"rag_w_sep", c.rag_w_sep}, {"rag_w_ali", c.rag_w_ali}, {"rag_w_coh", c.rag_w_coh},
+        {"rag_leader_kp", c.rag_leader_kp}, {"rag_leader_kd", c.rag_leader_kd},
         {"leader_u0_min", c.leader_u0_min}, {"leader_u0_max", c.leader_u0_max}, {"spawn_radius", c.spawn_radius},
         {"spawn_back", c.spawn_back}, {"reward.w_spd", c.reward.w_spd}, {"reward.w_dir", c.reward.w_dir},
         {"reward.w_leader", c.reward.w_leader}, {"reward.w_obs", c.reward.w_obs}, {"reward.w_dist", c.reward.w_dist},
@@ -47,6 +48,9 @@ void validate(const RlEnvConfig& c) {
         require(std::isfinite(v), std::string("rl env: ") + name + " = " + param_text(v) +
                                       ": every parameter must be finite");
     require(c.dt > 0, "rl env: dt = " + param_text(c.dt) + " must be > 0");
+    require(c.rag_leader_kp >= 0 && c.rag_leader_kd >= 0,
+            "rl env: rag_leader_kp = " + param_text(c.rag_leader_kp) + ", rag_leader_kd = " +
+                param_text(c.rag_leader_kd) + ": the leader coupling's gains must be >= 0");
     require(c.spawn_radius >= 0, "rl env: spawn_radius = " + param_text(c.spawn_radius) + " must be >= 0");
     require(0 <= c.leader_u0_min && c.leader_u0_min <= c.leader_u0_max && c.leader_u0_max <= c.u_max,
             "rl env: the leader's start speeds need 0 <= leader_u0_min <= leader_u0_max <= u_max (" +
@@ -241,7 +245,7 @@ void LeaderEnv::rag_actions(float* out, size_t count) {
                                                     std::to_string(count) + " given)");
     set_args(rag_k_, pos_.get(), vel_.get(), lpos_.get(), lvel_.get(), cl_uint(c_.agents), cl_uint(n()), c_.r_sep,
              c_.r_ali, c_.r_coh, c_.rag_w_sep, c_.rag_w_ali, c_.rag_w_coh, c_.du_max, c_.dq_max_deg * kDegToRad,
-             c_.dt, actions_.get());
+             c_.dt, cl_int(c_.rag_leader_pd ? 1 : 0), c_.rag_leader_kp, c_.rag_leader_kd, actions_.get());
     launch(ctx_, rag_k_, n());
     actions_.download(ctx_, out, count);
 }

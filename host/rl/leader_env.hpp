@@ -42,6 +42,13 @@ struct RlEnvConfig {
     float neighbor_radius = 0.0f; // EFS and reward neighbours; 0: r_coh
     bool efs = true;              // false: the ablation, 51 observations
     float rag_w_sep = 4.0f, rag_w_ali = 2.0f, rag_w_coh = 2.0f;  // Eq. 8's w_*
+    // The RAG's leader coupling (ours; the paper does not say how its RAG
+    // follows the leader): a proportional-derivative pull k_p (|p_L - p| -
+    // R_ali)+ toward the leader plus k_d (v_L - v), critically damped for
+    // k_d^2 = 4 k_p; false: the leader is one more Eq. 8 term in its zone
+    // (the coupling before, which surges and brakes around R_ali).
+    bool rag_leader_pd = true;
+    float rag_leader_kp = 0.25f, rag_leader_kd = 1.0f;
     RlRewardParams reward;
     // Leader: joystick (controls per world, set_leader_controls) or
     // navigation through waypoints (x, y, z, target speed).

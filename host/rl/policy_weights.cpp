@@ -220,10 +220,15 @@ PolicyWeights parse_policy_weights(const uint8_t* data, size_t size) {
         const Tensor tb = read_entry(bn, *layers[i].second, body_size);
         if (tw.shape.size() != 2 || tw.shape[1] != in || tw.shape[0] == 0)
             bad("tensor '" + wn + "' has shape " + shape_text(tw.shape) + ", expected [out, " + std::to_string(in) +
-                "]" + (i == 0 ? " (in = obs_dim: 54 with EFS, 51 without)" : " (in = the previous layer's out)"));
+                "]" +
+                (i == 0 ? std::string(" (the first layer takes the observation: ") + std::to_string(in) +
+                              " entries, as swarmcl.efs is \"" + efs + "\"; 54 with EFS, 51 without)"
+                        : std::string(" (in = the previous layer's out)")));
         const uint64_t out = tw.shape[0];
         if (i + 1 == count && out != kPolicyActions)
-            bad("tensor '" + wn + "' has shape " + shape_text(tw.shape) + ": the last layer must have 4 outputs");
+            bad("tensor '" + wn + "' has shape " + shape_text(tw.shape) + ", expected [" +
+                std::to_string(kPolicyActions) + ", " + std::to_string(in) + "]: the last layer must have " +
+                std::to_string(kPolicyActions) + " outputs (the actions), it has " + std::to_string(out));
         if (tb.shape.size() != 1 || tb.shape[0] != out)
             bad("tensor '" + bn + "' has shape " + shape_text(tb.shape) + ", expected [" + std::to_string(out) + "]");
         PolicyLayer L;

@@ -66,20 +66,33 @@ def follow_tour(s, weights=None, rounds=20, steps=25):
     return far, nearest
 
 
+def policy_bytes(weights, efs=True, activations=None, extra=None) -> bytes:
+    """A policy-mlp/1 file's bytes from a list of (out, in) weight shapes (or
+    arrays); biases zero, activations relu then tanh unless given, extra
+    tensors (obs_mean, ...) added as they are: to break one thing."""
+    tensors = {}
+    for i, w in enumerate(weights):
+        w = np.zeros(w, np.float32) if isinstance(w, tuple) else np.asarray(w, np.float32)
+        tensors[f"layers.{i}.weight"] = w
+        tensors[f"layers.{i}.bias"] = np.zeros(w.shape[0], np.float32)
+    tensors.update(extra or {})
+    acts = activations or ",".join(["relu"] * (len(weights) - 1) + ["tanh"])
+    header, blobs, at = {}, [], 0
+    for name, t in tensors.items():
+        b = np.asarray(t, np.float32).tobytes()
+        header[name] = {"dtype": "F32", "shape": list(np.shape(t)), "data_offsets": [at, at + len(b)]}
+        blobs.append(b)
+        at += len(b)
+    header["__metadata__"] = {"swarmcl.format": "policy-mlp/1", "swarmcl.activations": acts,
+                              "swarmcl.action_scale": "1,1,1,1", "swarmcl.efs": "1" if efs else "0"}
+    h = json.dumps(header).encode()
+    h += b" " * (-len(h) % 8)
+    return struct.pack("<Q", len(h)) + h + b"".join(blobs)
+
+
 def do_nothing_policy(path, obs_dim=54):
     """Writes a policy-mlp/1 file whose actions are all 0 (one linear layer,
     zero weights and bias): each follower keeps its speed and heading.  The
     baseline a following test must beat.  Returns path."""
-    tensors = {"layers.0.weight": np.zeros((4, obs_dim), np.float32), "layers.0.bias": np.zeros(4, np.float32)}
-    header, blobs, at = {}, [], 0
-    for name, t in tensors.items():
-        b = t.tobytes()
-        header[name] = {"dtype": "F32", "shape": list(t.shape), "data_offsets": [at, at + len(b)]}
-        blobs.append(b)
-        at += len(b)
-    header["__metadata__"] = {"swarmcl.format": "policy-mlp/1", "swarmcl.activations": "linear",
-                              "swarmcl.action_scale": "1,1,1,1", "swarmcl.efs": "1" if obs_dim == 54 else "0"}
-    h = json.dumps(header).encode()
-    h += b" " * (-len(h) % 8)
-    pathlib.Path(path).write_bytes(struct.pack("<Q", len(h)) + h + b"".join(blobs))
+    pathlib.Path(path).write_bytes(policy_bytes([(4, obs_dim)], efs=obs_dim == 54, activations="linear"))
     return path

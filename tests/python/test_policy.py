@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import swarmcl
-from conftest import do_nothing_policy, follow_tour, follower_swarm
+from conftest import do_nothing_policy, follow_tour, follower_swarm, policy_bytes
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
 
@@ -52,6 +52,37 @@ def test_bad_weights_raise_and_the_swarm_stays_usable(ctx, tmp_path):
             s.set_policy_model(swarmcl.PolicyModel(weights=str(path)))
         with pytest.raises(ValueError):
             swarmcl.PolicyModel(leader_mode="teleport").to_c()
+        assert np.isfinite(s.read_positions()).all()
+
+
+def test_layer_sizes_that_do_not_match_name_what_was_expected(ctx):
+    """A policy file whose first layer does not take the observation (54
+    with EFS, 51 without, by its swarmcl.efs), whose layers do not chain, or
+    whose last layer does not give the 4 actions: ParseError naming the
+    tensor, the shape expected and the shape found; the swarm keeps its
+    policy and keeps stepping."""
+    good = pathlib.Path(swarmcl.SHIPPED_POLICY).read_bytes()
+    cases = [
+        (policy_bytes([(16, 51), (4, 16)], efs=True),
+         r"layers.0.weight' has shape \[16, 51\], expected \[out, 54\] \(the first layer takes the observation: "
+         r"54 entries, as swarmcl.efs is \"1\""),
+        (policy_bytes([(16, 54), (4, 16)], efs=False),
+         r"layers.0.weight' has shape \[16, 54\], expected \[out, 51\]"),
+        (policy_bytes([(16, 54), (8, 12), (4, 8)]), r"layers.1.weight' has shape \[8, 12\], expected \[out, 16\]"),
+        (policy_bytes([(16, 54), (3, 16)]),
+         r"layers.1.weight' has shape \[3, 16\], expected \[4, 16\]: the last layer must have 4 outputs"),
+        (policy_bytes([(16, 54), (4, 16)], extra={"obs_mean": np.zeros(51), "obs_std": np.ones(51)}),
+         r"obs_mean has shape \[51\], expected \[54\]"),
+    ]
+    with follower_swarm(ctx, 30) as s:
+        s.set_policy_model(swarmcl.PolicyModel(weights=good))
+        before, _ = s.policy_observe()
+        for bad, what in cases:
+            with pytest.raises(swarmcl.ParseError, match=what):
+                s.set_policy_model(swarmcl.PolicyModel(weights=bad))
+            s.step(2)  # the previous policy still moves it
+            obs, act = s.policy_observe()
+            assert obs.shape == (30, 54) and act.shape == (30, 4)
         assert np.isfinite(s.read_positions()).all()
 
 

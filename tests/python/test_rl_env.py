@@ -469,3 +469,112 @@ def test_world_env_renders_rgb_arrays(ctx):
         assert env.render().shape == (256, 256, 3)
     finally:
         env.close()
+
+
+def test_per_world_layout_is_the_flat_one_reshaped(ctx):
+    """RlEnv(per_world=True): observations (W, N, D), rewards (W, N), the
+    RAG's actions and the followers' state (W, N, 4): the same bits as the
+    flat layout of a twin env, reshaped; actions taken in either layout."""
+    W, N = 3, 4
+    with RlEnv(ctx, W, N, max_steps=30) as flat, RlEnv(ctx, W, N, max_steps=30, per_world=True) as shaped:
+        assert shaped.per_world and not flat.per_world
+        o_flat, o_shaped = flat.reset(7), shaped.reset(7)
+        assert o_shaped.shape == (W, N, 54) and o_flat.shape == (W * N, 54)
+        assert _bits(o_shaped) == _bits(o_flat)
+        np.testing.assert_array_equal(o_shaped[1, 2], o_flat[1 * N + 2])  # slot = world * N + agent
+        for t in range(5):
+            a_flat, a_shaped = flat.rag_actions(), shaped.rag_actions()
+            assert a_shaped.shape == (W, N, 4) and _bits(a_shaped) == _bits(a_flat)
+            # the shaped env takes (W, N, 4), the flat one (W*N, 4): the same step
+            o_flat, r_flat, te_f, tr_f = flat.step(a_flat)
+            o_shaped, r_shaped, te_s, tr_s = shaped.step(a_shaped if t % 2 else a_flat)
+            assert o_shaped.shape == (W, N, 54) and r_shaped.shape == (W, N) and r_shaped.dtype == np.float32
+            assert te_s.shape == (W,) and tr_s.shape == (W,)
+            assert _bits(o_shaped) == _bits(o_flat) and _bits(r_shaped) == _bits(r_flat)
+            np.testing.assert_array_equal(r_shaped[2], r_flat[2 * N:3 * N])
+        assert _bits(flat.step(a_flat.reshape(W, N, 4))[0]) == _bits(shaped.step(a_flat)[0])  # either layout, both
+        st_f, st_s = flat.read_state(), shaped.read_state()
+        assert st_s["positions"].shape == (W, N, 4) and st_s["velocities"].shape == (W, N, 4)
+        assert st_s["leader_positions"].shape == (W, 4)
+        assert _bits(st_s["positions"]) == _bits(st_f["positions"])
+        assert shaped.reset_seeds([1, 2, 3]).shape == (W, N, 54)
+        assert shaped.reset_worlds([True, False, True]).shape == (W, N, 54)
+    with RlEnv(ctx, 2, 3, efs=False, per_world=True) as e51:
+        assert e51.reset(1).shape == (2, 3, 51)
+        with pytest.raises(ValueError, match=r"\(worlds \* agents, 4\) or \(worlds, agents, 4\)"):
+            e51.step(np.zeros((3, 2, 4), np.float32))   # W and N swapped
+        assert e51.step(np.zeros((2, 3, 4), np.float32))[1].shape == (2, 3)  # still usable
+    with pytest.raises(TypeError, match="per_world must be True or False"):
+        RlEnv(ctx, 1, 2, per_world="yes")
+    # The wrappers' spaces have their own layout: refused there, naming RlEnv.
+    for make in (lambda: SwarmVectorEnv(2, 3, context=ctx, per_world=True),
+                 lambda: SwarmWorldEnv(3, context=ctx, per_world=True)):
+        with pytest.raises(ValueError, match=r"per_world=True is RlEnv's option"):
+            make()
+
+
+def test_policy_whose_layers_do_not_match_the_observation(ctx, tmp_path):
+    """swarmcl.rl.export.load_policy checks a file as the library's loader
+    does (a ValueError naming the tensor, what was expected and what the file
+    has), and policy_actions refuses observations of another width (a 54-input
+    EFS policy on an efs=False env's 51): the env is untouched and keeps
+    stepping, and the policy keeps working on observations of its width."""
+    from conftest import policy_bytes
+    from swarmcl.rl.export import load_policy, policy_actions
+
+    def loaded(name, data):
+        path = tmp_path / name
+        path.write_bytes(data)
+        return path
+
+    bad = [
+        (policy_bytes([(16, 51), (4, 16)], efs=True),
+         r"layers.0.weight' has shape \[16, 51\], expected \[out, 54\] \(the first layer takes the observation: 54 "
+         r"entries, as swarmcl.efs is \"1\""),
+        (policy_bytes([(16, 54), (4, 16)], efs=False), r"layers.0.weight' has shape \[16, 54\], expected \[out, 51\]"),
+        (policy_bytes([(16, 54), (8, 12), (4, 8)]), r"layers.1.weight' has shape \[8, 12\], expected \[out, 16\] "
+                                                    r"\(in = the previous layer's out\)"),
+        (policy_bytes([(16, 54), (3, 16)]), r"layers.1.weight' has shape \[3, 16\], expected \[4, 16\] \(the last "
+                                            r"layer gives the 4 actions; it has 3 outputs\)"),
+        (policy_bytes([(16, 54), (4, 16)], extra={"obs_std": np.ones(54)}), "obs_mean and obs_std must be given"),
+        (policy_bytes([(16, 54), (4, 16)], extra={"obs_mean": np.zeros(51), "obs_std": np.ones(51)}),
+         r"obs_mean has shape \[51\], expected \[54\]"),
+        (policy_bytes([(16, 54), (4, 16)])[:200], "beyond the end of the file"),
+    ]
+    for i, (data, what) in enumerate(bad):
+        path = loaded(f"bad{i}.safetensors", data)
+        with pytest.raises(ValueError, match=what) as err:
+            load_policy(path)
+        assert str(path) in str(err.value)
+    efs_policy = load_policy(loaded("efs.safetensors", policy_bytes([(16, 54), (4, 16)])))
+    assert efs_policy["obs_dim"] == 54 and efs_policy["efs"]
+    with RlEnv(ctx, 2, 3, efs=False) as env:
+        obs = env.reset(4)
+        with pytest.raises(ValueError, match=r"the policy takes 54 observations per agent \(with EFS\), got "
+                                             r"observations of shape \(6, 51\)"):
+            policy_actions(efs_policy, obs)
+        obs, rew, _, _ = env.step(env.rag_actions())  # the env is untouched and steps on
+        assert obs.shape == (6, 51) and np.isfinite(rew).all()
+    with RlEnv(ctx, 2, 3, per_world=True) as env:  # (W, N, D) observations: actions (W, N, 4)
+        obs = env.reset(4)
+        act = policy_actions(efs_policy, obs)
+        assert act.shape == (2, 3, 4)
+        assert np.isfinite(env.step(act)[1]).all()
+
+
+def test_rag_leader_coupling_is_a_parameter(ctx):
+    """The RAG's leader coupling from Python: the defaults (PD, k_p 0.25,
+    k_d 1) in params, rag_leader_pd=False the first coupling (other
+    actions from the same state), bad gains refused naming them."""
+    from swarmcl.rl import default_params
+
+    d = default_params()
+    assert d["rag_leader_pd"] is True and d["rag_leader_kp"] == 0.25 and d["rag_leader_kd"] == 1.0
+    with RlEnv(ctx, 2, 20) as pd, RlEnv(ctx, 2, 20, rag_leader_pd=False) as zones, \
+            RlEnv(ctx, 2, 20, rag_leader_kp=0.25, rag_leader_kd=1.0) as same:
+        assert zones.params["rag_leader_pd"] is False
+        pd.reset(3), zones.reset(3), same.reset(3)
+        assert _bits(pd.rag_actions()) == _bits(same.rag_actions())
+        assert _bits(pd.rag_actions()) != _bits(zones.rag_actions())
+    with pytest.raises(swarmcl.InvalidArgumentError, match="rag_leader_kd = -0.5"):
+        RlEnv(ctx, 1, 2, rag_leader_kd=-0.5)

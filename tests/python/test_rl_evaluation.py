@@ -112,7 +112,7 @@ def test_the_evaluation_script_runs_every_part_small(tmp_path):
     out = tmp_path / "ev.json"
     cmd = [sys.executable, str(REPO / "scripts" / "rl_evaluation.py"), "--worlds", "2", "--agents", "12",
            "--warmup", "5", "--record", "50", "--nav-worlds", "1", "--nav-max-steps", "150", "--sizes", "30", "60",
-           "--scal-steps", "70", "--out-json", str(out), "--out-md", str(tmp_path / "ev.md"),
+           "--scal-steps", "70", "--settle-steps", "40", "--out-json", str(out), "--out-md", str(tmp_path / "ev.md"),
            "--figures-dir", str(tmp_path), "--meshes-dir", str(tmp_path)]
     run = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
     assert run.returncode == 0, run.stderr[-3000:]
@@ -124,8 +124,24 @@ def test_the_evaluation_script_runs_every_part_small(tmp_path):
             assert np.isfinite(r["speed_diff"]) and r["speed_diff"] >= 0
         assert res["control"][method]["180 left"]["leader_turned_deg"] == pytest.approx(180, abs=1)
     assert [r["agents"] for r in res["scalability"]["no_efs"]] == [30, 60]
+    for r in res["scalability"]["efs"] + res["scalability"]["no_efs"]:
+        # the placement's reward, and the mean of the samples after step 40 (steps 50, 60, 70)
+        assert np.isfinite(r["start_reward"]) and r["settle_steps"] == 40
+        settled = [e["reward"] for e in r["rewards"] if e["step"] > 40]
+        assert [e["step"] for e in r["rewards"] if e["step"] > 40] == [50, 60, 70]
+        assert r["mean_reward"] == pytest.approx(np.mean(settled))
+    assert set(res["crowding"]) == {"rule", "policy_roaming", "policy_roaming_ddpg"}
+    for r in res["crowding"].values():
+        assert 0 <= r["crowded"] <= 1 and len(r["eq19"]) == len(r["eq19_scales"])
+    assert res["rag"] == {"rag_leader_pd": True, "rag_leader_kp": 0.25, "rag_leader_kd": 1.0}
+    assert set(res["commands"]) == {"control", "navigation", "scalability", "crowding"}
+    assert res["commands"]["control"].startswith("PYTHONPATH=bindings/python SWARMCL_BUILD_DIR=$PWD/build python "
+                                                 "scripts/rl_evaluation.py --worlds 2")
     md = (tmp_path / "ev.md").read_text()
     assert "| 90° | top |" in md and "| 60 |" in md and "`policy_roaming_ddpg`" in md
+    assert "with the PD leader coupling (k_p 0.25, k_d 1" in md and "## Why the learned swarms crowd" in md
+    assert "Settled reward minus the placement's" in md
+    assert "* control, navigation, scalability, crowding: `PYTHONPATH=" in md
     for name in ("rl_eval_interagent.png", "rl_eval_scenarios.png", "rl_eval_scalability.png", "rl_maze.obj",
                  "rl_stairway.obj"):
         assert (tmp_path / name).stat().st_size > 0, name
@@ -157,7 +173,8 @@ def test_scalability_sentence_comes_from_the_numbers():
     not a fixed sentence (issue 28)."""
     summary = _rl_evaluation_script().scalability_summary
     sizes = [200, 600, 1000, 100_000]
-    # The committed results: the gap falls 14.3 -> 0.43 and both rewards fall.
+    # The results of 2026-11-25 (100,000 measured from step 50): the gap
+    # falls 14.3 -> 0.43 and both rewards fall.
     narrow = summary(_rows(sizes, [-6.5, -26.4, -40.7, -88.0]), _rows(sizes, [-20.8, -36.7, -42.6, -88.5]))
     assert "4 of 4 sizes" in narrow and "the gap narrows at every larger size" in narrow
     assert "widens" not in narrow and "both policies' rewards fall" in narrow

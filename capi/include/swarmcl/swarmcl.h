@@ -811,6 +811,12 @@ typedef struct swcl_rl_env_desc {
     float w_spd, w_dir, w_leader, w_obs, w_dist;  /* Table 1: 1.3, 1, 4.9, 16, 9.5 */
     float l_spd, l_dir, l_leader, l_obs;          /* λ (ours: 2, 1, 0.1, 0.5) */
     float dist_target;             /* Eq. 19's neighbour distance; 0: (r_ali - r_sep) / 2 */
+    /* The RAG's leader coupling (ours; docs/rl-swarm.md).  Callers built
+     * before these fields pass the smaller struct and get the defaults. */
+    int32_t rag_leader_pd;         /* 1: a PD pull of its own (default); 0: the leader is
+                                      one more Eq. 8 term in its zone */
+    float rag_leader_kp, rag_leader_kd;  /* k_p (|p_L - p| - r_ali)+ toward the leader
+                                            + k_d (v_L - v): 0.25, 1 */
 } swcl_rl_env_desc;
 
 SWCL_API swcl_rl_env_desc swcl_rl_env_desc_default(void);

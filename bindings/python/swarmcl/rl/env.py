@@ -32,7 +32,7 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from .._core import Context
-from .native_env import ACTION_DIM, RlEnv, checked_actions
+from .native_env import ACTION_DIM, RlEnv, checked_actions, flat_layout_only
 
 __all__ = ["SwarmVectorEnv", "SwarmWorldEnv", "SwarmSingleEnv", "ENV_ID", "register_envs"]
 
@@ -151,6 +151,7 @@ class SwarmVectorEnv(VectorEnv):
                                  f"{operator.index(worlds)} * {agents}")
             worlds = num_envs // agents
         worlds = 1 if worlds is None else worlds
+        flat_layout_only(env_kwargs, type(self).__name__)
         self._own_context = context is None
         ctx = Context() if context is None else context
         try:
@@ -270,6 +271,7 @@ class SwarmWorldEnv(gym.Env):
         if operator.index(render_size) < 16 or not float(render_extent) > 0:
             raise ValueError(f"{type(self).__name__}: render_size must be >= 16 and render_extent > 0, got "
                              f"{render_size}, {render_extent}")
+        flat_layout_only(env_kwargs, type(self).__name__)
         self._own_context = context is None
         ctx = Context() if context is None else context
         try:

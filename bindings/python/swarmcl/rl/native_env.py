@@ -16,7 +16,7 @@ from .._core import Context
 from .._native import ffi, lib
 from ..errors import check
 
-__all__ = ["RlEnv", "SCENARIOS", "ACTION_DIM", "checked_actions"]
+__all__ = ["RlEnv", "SCENARIOS", "ACTION_DIM", "checked_actions", "flat_layout_only"]
 
 SCENARIOS = ("roaming", "quadrilateral", "stairway", "maze")
 ACTION_DIM = 4  # {v, omega.xyz} (Eq. 2)
@@ -24,7 +24,8 @@ ACTION_DIM = 4  # {v, omega.xyz} (Eq. 2)
 # Descriptor fields a caller may set by keyword (the C names of swcl_rl_env_desc).
 _FLOAT_FIELDS = ("dt", "du_max", "dq_max_deg", "r_sep", "r_ali", "r_coh", "u_max", "body_radius",
                  "neighbor_radius", "rag_w_sep", "rag_w_ali", "rag_w_coh", "w_spd", "w_dir", "w_leader",
-                 "w_obs", "w_dist", "l_spd", "l_dir", "l_leader", "l_obs", "dist_target")
+                 "w_obs", "w_dist", "l_spd", "l_dir", "l_leader", "l_obs", "dist_target", "rag_leader_kp",
+                 "rag_leader_kd")
 
 
 def checked_actions(actions, shapes, what: str, meaning: str = "") -> np.ndarray:
@@ -44,11 +45,20 @@ def checked_actions(actions, shapes, what: str, meaning: str = "") -> np.ndarray
     return np.ascontiguousarray(a, dtype=np.float32)
 
 
+def flat_layout_only(env_kwargs: dict, who: str) -> None:
+    """The wrappers' spaces are fixed (Gymnasium's (num_envs, D), a world's
+    (N, D), PettingZoo's per agent): RlEnv's per_world layout is refused
+    there with a ValueError saying where it is."""
+    if env_kwargs.get("per_world"):
+        raise ValueError(f"{who}: per_world=True is RlEnv's option (observations (W, N, D), rewards (W, N)); "
+                         f"this wrapper's spaces have their own layout: use swarmcl.rl.RlEnv(..., per_world=True)")
+
+
 def default_params() -> dict:
     """The C library's defaults (Table 1 and docs/rl-swarm.md's choices)."""
     d = lib.swcl_rl_env_desc_default()
     out = {name: float(getattr(d, name)) for name in _FLOAT_FIELDS}
-    out.update(max_steps=int(d.max_steps), efs=bool(d.efs))
+    out.update(max_steps=int(d.max_steps), efs=bool(d.efs), rag_leader_pd=bool(d.rag_leader_pd))
     return out
 
 
@@ -64,12 +74,22 @@ class RlEnv:
 
     ``scenario``: one of SCENARIOS; ``waypoints`` (K, 4) replaces its path,
     ``obstacles`` (B, 6) boxes are added; any name of _FLOAT_FIELDS plus
-    ``max_steps`` and ``efs`` overrides the default descriptor."""
+    ``max_steps``, ``efs`` and ``rag_leader_pd`` (the RAG's leader coupling:
+    True, the PD pull, default; False, the leader as one more Eq. 8 term)
+    overrides the default descriptor.
+
+    ``per_world``: observations come back as (W, N, D), rewards as (W, N),
+    the RAG's actions as (W, N, 4) and the followers' state as (W, N, 4),
+    instead of the flat slot layout (W*N, ...); the same values in the same
+    order (slot = world * N + agent), a view of one array.  Actions are
+    taken in either layout, (W*N, 4) or (W, N, 4), whatever the flag."""
 
     def __init__(self, context: Context, worlds: int, agents: int, scenario: str = "roaming",
-                 waypoints=None, obstacles=None, **params):
+                 waypoints=None, obstacles=None, *, per_world: bool = False, **params):
         if not isinstance(context, Context):
             raise TypeError(f"RlEnv: context must be a swarmcl.Context, got {type(context).__name__}")
+        if not isinstance(per_world, (bool, np.bool_)):
+            raise TypeError(f"RlEnv: per_world must be True or False, got {per_world!r}")
         desc = ffi.new("swcl_rl_env_desc*", lib.swcl_rl_env_desc_default())
         for name, value in (("worlds", worlds), ("agents", agents)):
             value = operator.index(value)
@@ -91,8 +111,8 @@ class RlEnv:
         for name, value in params.items():
             if name == "max_steps":
                 desc.max_steps = operator.index(value)
-            elif name == "efs":
-                desc.efs = 1 if value else 0
+            elif name in ("efs", "rag_leader_pd"):
+                setattr(desc, name, 1 if value else 0)
             elif name in _FLOAT_FIELDS:
                 setattr(desc, name, float(value))
             else:
@@ -104,10 +124,12 @@ class RlEnv:
         self._finalizer = weakref.finalize(self, _destroy, int(out[0].id))
         self.context = context
         self.scenario = str(scenario)
-        self.params = dict(default_params(), **{k: (bool(v) if k == "efs" else v) for k, v in params.items()})
+        self.params = dict(default_params(), **{k: (bool(v) if k in ("efs", "rag_leader_pd") else v)
+                                                for k, v in params.items()})
         w, n, d = ffi.new("uint32_t*"), ffi.new("uint32_t*"), ffi.new("uint32_t*")
         check(lib.swcl_rl_env_get_info(self._h, w, n, d))
         self.worlds, self.agents, self.obs_dim = int(w[0]), int(n[0]), int(d[0])
+        self.per_world = bool(per_world)
 
     # ---- lifetime ------------------------------------------------------------
 
@@ -139,9 +161,15 @@ class RlEnv:
         w = 2.0 * np.sin(dq / 2.0)
         return np.array([self.params["du_max"], w, w, w], dtype=np.float32)
 
+    def _shaped(self, a: np.ndarray) -> np.ndarray:
+        """A flat per-slot array (W*N, ...) as the caller asked for it:
+        (W, N, ...) with per_world, else as it is."""
+        return a.reshape((self.worlds, self.agents) + a.shape[1:]) if self.per_world else a
+
     def _actions_in(self, actions, what: str) -> np.ndarray:
-        a = checked_actions(actions, ((self.slots, ACTION_DIM), (self.slots * ACTION_DIM,)), what,
-                            "(worlds * agents, 4)")
+        a = checked_actions(actions, ((self.slots, ACTION_DIM), (self.slots * ACTION_DIM,),
+                                      (self.worlds, self.agents, ACTION_DIM)), what,
+                            "(worlds * agents, 4) or (worlds, agents, 4)")
         if not np.isfinite(a).all():
             bad = int(np.flatnonzero((~np.isfinite(a.reshape(self.slots, ACTION_DIM))).any(axis=1))[0])
             raise ValueError(f"{what}: actions must be finite (NaN or Inf at slot {bad}, "
@@ -151,17 +179,19 @@ class RlEnv:
     # ---- calls ---------------------------------------------------------------
 
     def reset(self, seed: int) -> np.ndarray:
-        """Every world to its start (same seed: the same bits); returns (W*N, D) float32."""
+        """Every world to its start (same seed: the same bits); returns (W*N, D)
+        float32 ((W, N, D) with per_world)."""
         seed = operator.index(seed)
         if not 0 <= seed < 2**64:
             raise ValueError(f"RlEnv.reset: seed must be in [0, 2^64), got {seed}")
         obs = np.empty((self.slots, self.obs_dim), dtype=np.float32)
         check(lib.swcl_rl_env_reset(self._h, seed, ffi.from_buffer("float[]", obs), obs.size))
-        return obs
+        return self._shaped(obs)
 
     def reset_seeds(self, seeds) -> np.ndarray:
         """Every world to its start with its own seed (W integers in [0, 2^64)):
-        world w starts as ``reset(seeds[w])`` starts it; returns (W*N, D)."""
+        world w starts as ``reset(seeds[w])`` starts it; returns (W*N, D)
+        ((W, N, D) with per_world)."""
         seeds = [operator.index(s) for s in seeds]
         if len(seeds) != self.worlds:
             raise ValueError(f"RlEnv.reset_seeds: one seed per world: {self.worlds} expected, got {len(seeds)}")
@@ -172,22 +202,23 @@ class RlEnv:
         obs = np.empty((self.slots, self.obs_dim), dtype=np.float32)
         check(lib.swcl_rl_env_reset_seeds(self._h, ffi.from_buffer("uint64_t[]", arr), arr.size,
                                           ffi.from_buffer("float[]", obs), obs.size))
-        return obs
+        return self._shaped(obs)
 
     def reset_worlds(self, mask) -> np.ndarray:
         """The worlds with mask[w] set, each to its next episode; returns the
-        observations of all worlds, (W*N, D)."""
+        observations of all worlds, (W*N, D) ((W, N, D) with per_world)."""
         m = np.ascontiguousarray(np.asarray(mask).astype(bool), dtype=np.uint8)
         if m.shape != (self.worlds,):
             raise ValueError(f"RlEnv.reset_worlds: mask must have shape ({self.worlds},), got {m.shape}")
         obs = np.empty((self.slots, self.obs_dim), dtype=np.float32)
         check(lib.swcl_rl_env_reset_worlds(self._h, ffi.from_buffer("uint8_t[]", m), m.size,
                                            ffi.from_buffer("float[]", obs), obs.size))
-        return obs
+        return self._shaped(obs)
 
     def step(self, actions):
         """One step of every world.  Returns (obs (W*N, D) float32, rewards
-        (W*N,) float32, terminated (W,) bool, truncated (W,) bool)."""
+        (W*N,) float32, terminated (W,) bool, truncated (W,) bool); with
+        per_world obs (W, N, D) and rewards (W, N)."""
         a = self._actions_in(actions, "RlEnv.step")
         obs = np.empty((self.slots, self.obs_dim), dtype=np.float32)
         rew = np.empty(self.slots, dtype=np.float32)
@@ -198,13 +229,14 @@ class RlEnv:
                                    ffi.from_buffer("float[]", rew), rew.size,
                                    ffi.from_buffer("uint8_t[]", term), ffi.from_buffer("uint8_t[]", trunc),
                                    self.worlds))
-        return obs, rew, term.astype(bool), trunc.astype(bool)
+        return self._shaped(obs), self._shaped(rew), term.astype(bool), trunc.astype(bool)
 
     def rag_actions(self) -> np.ndarray:
-        """The rule-based action generator's actions (Eq. 8-10), (W*N, 4)."""
+        """The rule-based action generator's actions (Eq. 8-10), (W*N, 4)
+        ((W, N, 4) with per_world)."""
         out = np.empty((self.slots, ACTION_DIM), dtype=np.float32)
         check(lib.swcl_rl_env_rag_actions(self._h, ffi.from_buffer("float[]", out), out.size))
-        return out
+        return self._shaped(out)
 
     def set_leader_controls(self, controls) -> None:
         """Joystick leaders: (W, 4) {Δu, Δq.xyz}, applied every step until changed."""
@@ -226,11 +258,13 @@ class RlEnv:
         return {"waypoints": wp, "obstacles": ob}
 
     def read_state(self) -> dict:
-        """Positions / velocities (q.xyz, u) of followers (W*N, 4) and leaders (W, 4)."""
+        """Positions / velocities (q.xyz, u) of followers (W*N, 4), (W, N, 4)
+        with per_world, and leaders (W, 4)."""
         pos = np.empty((self.slots, 4), dtype=np.float32)
         vel = np.empty((self.slots, 4), dtype=np.float32)
         lpos = np.empty((self.worlds, 4), dtype=np.float32)
         lvel = np.empty((self.worlds, 4), dtype=np.float32)
         f = lambda a: ffi.from_buffer("float[]", a)  # noqa: E731
         check(lib.swcl_rl_env_read_state(self._h, f(pos), pos.size, f(vel), vel.size, f(lpos), f(lvel), lpos.size))
-        return {"positions": pos, "velocities": vel, "leader_positions": lpos, "leader_velocities": lvel}
+        return {"positions": self._shaped(pos), "velocities": self._shaped(vel), "leader_positions": lpos,
+                "leader_velocities": lvel}

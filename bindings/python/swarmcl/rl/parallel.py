@@ -19,7 +19,7 @@ from pettingzoo import ParallelEnv
 
 from .._core import Context
 from .env import _seed_from, _spaces
-from .native_env import ACTION_DIM, RlEnv, checked_actions
+from .native_env import ACTION_DIM, RlEnv, checked_actions, flat_layout_only
 
 __all__ = ["SwarmParallelEnv"]
 
@@ -35,6 +35,7 @@ class SwarmParallelEnv(ParallelEnv):
     metadata = {"name": "swarmcl_leader_follow_v0", "render_modes": [], "is_parallelizable": True}
 
     def __init__(self, agents: int = 2, context: Optional[Context] = None, **env_kwargs):
+        flat_layout_only(env_kwargs, type(self).__name__)
         self._own_context = context is None
         ctx = Context() if context is None else context
         try:
