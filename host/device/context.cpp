@@ -155,7 +155,34 @@ cl::Kernel Context::kernel(const std::string& file, const char* name, const std:
             message.insert(head.size(), std::string(" (kernel ") + name + ")");
         fail(Status::Build, message);
     }
-    return cl::Kernel(built, name);
+    try {
+        return cl::Kernel(built, name);
+    } catch (const cl::Error& e) {
+        // The program built but the kernel cannot be made from it: most often
+        // CL_INVALID_KERNEL_NAME (a driver or a define that left the kernel
+        // out).  Same first line as a build failure: the program, the kernel,
+        // the device, then what the driver said and the log's first line,
+        // which may say why; the kernels the program does have follow.
+        std::string have, log;
+        try {
+            have = built.getInfo<CL_PROGRAM_KERNEL_NAMES>();
+        } catch (const cl::Error&) {
+            have = "(the driver did not say)";
+        }
+        try {
+            log = built.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device_.device);
+        } catch (const cl::Error&) {
+            // No log: the error code is all there is.
+        }
+        const std::string why = e.err() == CL_INVALID_KERNEL_NAME
+                                    ? "CL_INVALID_KERNEL_NAME (-46): the built program has no such kernel"
+                                    : "OpenCL error " + std::to_string(e.err()) + " from " + e.what();
+        fail(Status::Build, "building kernels/" + file + " (kernel " + name + ") for device '" +
+                                device_.device_name + "' (" + device_.platform_name + ") failed: " + why +
+                                "; build log: " + first_error(log) + "\nkernels in the program: " +
+                                (have.empty() ? "none" : have) + "\nbuild options: " + options_ +
+                                (defines.empty() ? "" : " " + defines) + "\nbuild log:\n" + log);
+    }
 }
 
 }  // namespace swarmcl

@@ -33,7 +33,10 @@ public:
     // log's first error; then the options and the whole compiler log.
     cl::Program program(const std::string& file, const std::string& defines = "");
     // A fresh kernel object (kernels hold arguments, so callers keep their own).
-    // A build failure names the kernel too.
+    // A build failure names the kernel too, and so does a program without
+    // the kernel (CL_INVALID_KERNEL_NAME): Error(Build), the same first line
+    // (program, kernel, device, what the driver said), then the kernels the
+    // program has, the options and the log.
     cl::Kernel kernel(const std::string& file, const char* name, const std::string& defines = "");
 
     // Largest single allocation the device allows, in bytes.
