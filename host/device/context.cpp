@@ -160,9 +160,11 @@ cl::Kernel Context::kernel(const std::string& file, const char* name, const std:
     } catch (const cl::Error& e) {
         // The program built but the kernel cannot be made from it: most often
         // CL_INVALID_KERNEL_NAME (a driver or a define that left the kernel
-        // out).  Same first line as a build failure: the program, the kernel,
-        // the device, then what the driver said and the log's first line,
-        // which may say why; the kernels the program does have follow.
+        // out; Oclgrind says so too for a kernel it cannot run, e.g. one
+        // calling an LLVM intrinsic it lacks).  Same first line as a build
+        // failure: the program, the kernel, the device, then what the driver
+        // said and the log's first line, which may say why; the kernels the
+        // program lists follow.
         std::string have, log;
         try {
             have = built.getInfo<CL_PROGRAM_KERNEL_NAMES>();
@@ -175,11 +177,12 @@ cl::Kernel Context::kernel(const std::string& file, const char* name, const std:
             // No log: the error code is all there is.
         }
         const std::string why = e.err() == CL_INVALID_KERNEL_NAME
-                                    ? "CL_INVALID_KERNEL_NAME (-46): the built program has no such kernel"
+                                    ? "CL_INVALID_KERNEL_NAME (-46): no kernel of that name could be made from "
+                                      "the built program"
                                     : "OpenCL error " + std::to_string(e.err()) + " from " + e.what();
         fail(Status::Build, "building kernels/" + file + " (kernel " + name + ") for device '" +
                                 device_.device_name + "' (" + device_.platform_name + ") failed: " + why +
-                                "; build log: " + first_error(log) + "\nkernels in the program: " +
+                                "; build log: " + first_error(log) + "\nkernels the program lists: " +
                                 (have.empty() ? "none" : have) + "\nbuild options: " + options_ +
                                 (defines.empty() ? "" : " " + defines) + "\nbuild log:\n" + log);
     }
