@@ -1,5 +1,6 @@
 #include "device/context.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
@@ -82,6 +83,21 @@ void dump_program(const std::string& file, const std::string& options, const std
     std::rename(tmp.c_str(), path.c_str());
 }
 
+// The copies Context::oclgrind_copy() runs on Oclgrind (never elsewhere):
+// not a program of kernels/, a stand-in for clEnqueueWriteBuffer and
+// clEnqueueCopyBuffer that Oclgrind's shadow memory follows.  Work-item g of
+// G copies the words (bytes) g, g + G, ...
+const char* const kOclgrindCopySource = R"CLC(
+__kernel void swcl_oclgrind_copy_words(__global const uint* src, ulong src_at, __global uint* dst, ulong dst_at,
+                                       ulong count) {
+    for (ulong k = get_global_id(0); k < count; k += get_global_size(0)) dst[dst_at + k] = src[src_at + k];
+}
+__kernel void swcl_oclgrind_copy_bytes(__global const uchar* src, ulong src_at, __global uchar* dst, ulong dst_at,
+                                       ulong count) {
+    for (ulong k = get_global_id(0); k < count; k += get_global_size(0)) dst[dst_at + k] = src[src_at + k];
+}
+)CLC";
+
 }  // namespace
 
 Context::Context(const std::string& selector, const std::string& build_options)
@@ -92,7 +108,7 @@ Context::Context(const std::string& selector, const std::string& build_options)
     // the same on every run (docs/design.md, "Kernels").
     // SWCL_CPU_PROFILE: CPU-only constructs (x86 prefetch, lib/prefetch.cl)
     // compile only where the CPU paths run.
-    fills_by_write_ = device_.platform_name.find("Oclgrind") != std::string::npos ||
+    on_oclgrind_ = device_.platform_name.find("Oclgrind") != std::string::npos ||
                       device_.device_name.find("Oclgrind") != std::string::npos;
     options_ = std::string("-cl-std=CL1.2 -DSWCL_CPU_PROFILE=") + (device_.cpu_profile ? "1" : "0");
     if (!build_options.empty()) options_ += " " + build_options;
@@ -104,6 +120,40 @@ Context::~Context() {
     } catch (...) {
         // Nothing to report to: a failed wait leaves the release to OpenCL.
     }
+}
+
+void Context::keep(const cl::Buffer& buffer) {
+    if (!on_oclgrind_) return;
+    std::lock_guard<std::mutex> lock(kept_mutex_);
+    kept_.push_back(buffer);
+}
+
+cl::Buffer Context::oclgrind_staging(const void* data, size_t bytes) {
+    cl::Buffer staged(context_, CL_MEM_READ_WRITE, bytes ? bytes : 1);
+    keep(staged);
+    if (bytes) queue_.enqueueWriteBuffer(staged, CL_TRUE, 0, bytes, data);
+    return staged;
+}
+
+void Context::oclgrind_copy(const cl::Buffer& src, size_t src_offset, const cl::Buffer& dst, size_t dst_offset,
+                            size_t bytes) {
+    if (!bytes) return;
+    std::lock_guard<std::mutex> lock(kept_mutex_);
+    if (!oclgrind_copy_words_()) {
+        cl::Program p(context_, std::string(kOclgrindCopySource));
+        p.build({device_.device}, "-cl-std=CL1.2");
+        oclgrind_copy_words_ = cl::Kernel(p, "swcl_oclgrind_copy_words");
+        oclgrind_copy_bytes_ = cl::Kernel(p, "swcl_oclgrind_copy_bytes");
+    }
+    const bool words = src_offset % 4 == 0 && dst_offset % 4 == 0 && bytes % 4 == 0;
+    const size_t unit = words ? 4 : 1, count = bytes / unit;
+    cl::Kernel& k = words ? oclgrind_copy_words_ : oclgrind_copy_bytes_;
+    k.setArg(0, src);
+    k.setArg(1, cl_ulong(src_offset / unit));
+    k.setArg(2, dst);
+    k.setArg(3, cl_ulong(dst_offset / unit));
+    k.setArg(4, cl_ulong(count));
+    queue_.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(std::min<size_t>(count, 64)), cl::NullRange);
 }
 
 cl::Program Context::program(const std::string& file, const std::string& defines) {
