@@ -9,7 +9,7 @@ the 8/16-lane kernels.  Fails on any Oclgrind report (an out-of-bounds
 access, a data race, a use of uninitialised memory), on a test that fails or
 crashes under Oclgrind, and on a kernel of kernels/ that no case ran
 (Oclgrind's --inst-counts names every kernel it executed): every kernel runs.
-No report is suppressed.  136 s on 2 cores shared with other jobs.  What it
+No report is suppressed.  136-147 s on 2 cores shared with other jobs.  What it
 found in swarmcl: force_model_repulsion_w read the never-written pads of the
 fine grid's copy of the positions (now zeroed when allocated).
 
