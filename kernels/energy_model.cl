@@ -83,9 +83,11 @@ typedef float16 emv;
 #define EM_P_AL 9
 #define EM_LOAD(plane, c) vload16(0, ds + (size_t)(plane) * ds_stride + (c))
 
+#include "lib/halves.cl"
+
 // Sum of the 16 lanes in a fixed order (halves, recursively).
 static inline float em_hsum(emv v) {
-    const float8 a = v.lo + v.hi;
+    const float8 a = swcl_lo16f(v) + swcl_hi16f(v);
     const float4 b = a.lo + a.hi;
     const float2 c = b.lo + b.hi;
     return c.x + c.y;
@@ -94,7 +96,7 @@ static inline float em_hsum(emv v) {
 
 // any() by halving ORs (PoCL's any on int16 tests the 16 lanes one by one).
 static inline bool em_any(int16 m) {
-    const int8 a = m.lo | m.hi;
+    const int8 a = swcl_lo16i(m) | swcl_hi16i(m);
     const int4 b = a.lo | a.hi;
     const int2 c = b.lo | b.hi;
     return (c.x | c.y) < 0;

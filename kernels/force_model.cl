@@ -78,7 +78,7 @@
 // state and slot order are untouched.
 //
 // The copy's blocks are n + FM_SOA_PAD floats apart (vector loads may read
-// past a row's end).
+// past a row's end: the host zeroes the pads when it allocates the copy).
 #define FM_SOA_PAD 16u
 
 SWCL_INLINE Grid fm_fine_grid(__global const float4* geo, __global const uint* start) {

@@ -5,6 +5,7 @@
 // depend on the order agents are processed in.
 #include "lib/min_distance_common.cl"
 #include "lib/prefetch.cl"
+#include "lib/halves.cl"
 
 __kernel void min_distance_enforce(__global const float4* pos, __global const uint* ids, uint n,
                                    GRID_PARAMS, float d_min, ulong seed, __global float4* out,
@@ -84,15 +85,15 @@ typedef int16 mde_iw;
 #define MDE_EACH_LANE(E) E(0) E(1) E(2) E(3) E(4) E(5) E(6) E(7) \
                          E(8) E(9) E(a) E(b) E(c) E(d) E(e) E(f)
 static inline int mde_hmax(int16 v) {
-    const int8 a = max(v.lo, v.hi); const int4 b = max(a.lo, a.hi); const int2 c = max(b.lo, b.hi);
+    const int8 a = max(swcl_lo16i(v), swcl_hi16i(v)); const int4 b = max(a.lo, a.hi); const int2 c = max(b.lo, b.hi);
     return max(c.x, c.y);
 }
 static inline int mde_hmin(int16 v) {
-    const int8 a = min(v.lo, v.hi); const int4 b = min(a.lo, a.hi); const int2 c = min(b.lo, b.hi);
+    const int8 a = min(swcl_lo16i(v), swcl_hi16i(v)); const int4 b = min(a.lo, a.hi); const int2 c = min(b.lo, b.hi);
     return min(c.x, c.y);
 }
 static inline int mde_hsum(int16 v) {
-    const int8 a = v.lo + v.hi; const int4 b = a.lo + a.hi; const int2 c = b.lo + b.hi;
+    const int8 a = swcl_lo16i(v) + swcl_hi16i(v); const int4 b = a.lo + a.hi; const int2 c = b.lo + b.hi;
     return c.x + c.y;
 }
 #else

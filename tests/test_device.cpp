@@ -165,6 +165,46 @@ TEST(Kernels, KernelDirOverridesAndBuildErrorsCarryTheLog) {
     fs::remove_all(dir);
 }
 
+TEST(Kernels, AProgramWithoutTheKernelNamesTheKernelAndTheDevice) {
+    // A program that builds but lacks the kernel asked for (a new driver
+    // leaving a kernel out, or a define that compiles it away): clCreateKernel
+    // gives CL_INVALID_KERNEL_NAME, which alone names nothing.  Issue 27: the
+    // status is SWCL_ERROR_BUILD and the first line names the program, the
+    // kernel, the device and the driver's error; the kernels it has follow.
+    const fs::path dir = fs::temp_directory_path() / "swarmcl_kernel_dir_no_kernel_test";
+    fs::create_directories(dir);
+    std::ofstream(dir / "grid.cl") << "__kernel void not_the_one(__global float* x) { x[0] = 1.0f; }\n";
+    ScopedEnv env("SWARMCL_KERNEL_DIR", dir.string());
+    Context ctx("", "");
+    try {
+        ctx.kernel("grid.cl", "grid_keys_count");
+        FAIL() << "expected an error";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.status(), Status::Build);
+        const std::string what = e.what();
+        const std::string first_line = what.substr(0, what.find('\n'));
+        EXPECT_NE(first_line.find("kernels/grid.cl (kernel grid_keys_count)"), std::string::npos) << what;
+        EXPECT_NE(first_line.find("'" + ctx.device().device_name + "'"), std::string::npos) << what;
+        EXPECT_NE(first_line.find("CL_INVALID_KERNEL_NAME"), std::string::npos) << what;
+        EXPECT_NE(what.find("kernels the program lists: not_the_one"), std::string::npos) << what;
+        EXPECT_NE(what.find("build options: -cl-std=CL1.2"), std::string::npos) << what;
+    }
+    // Through the C API: SWCL_ERROR_BUILD (it was SWCL_ERROR_OPENCL, naming
+    // only clCreateKernel), the kernel in swcl_last_error()'s first line.
+    swcl_context c;
+    swcl_context_desc d = swcl_context_desc_default();
+    ASSERT_EQ(swcl_context_create(&d, &c), SWCL_OK);
+    swcl_swarm_desc sd = swcl_swarm_desc_default();
+    swcl_swarm s;
+    EXPECT_EQ(swcl_swarm_create(c, &sd, &s), SWCL_ERROR_BUILD);
+    const std::string last = swcl_last_error();
+    const std::string last_first_line = last.substr(0, last.find('\n'));
+    EXPECT_NE(last_first_line.find("kernels/grid.cl (kernel "), std::string::npos) << last;
+    EXPECT_NE(last_first_line.find("CL_INVALID_KERNEL_NAME"), std::string::npos) << last;
+    EXPECT_EQ(swcl_context_destroy(c), SWCL_OK);
+    fs::remove_all(dir);
+}
+
 TEST(Kernels, ABuildFailureLeavesOtherContextsUsable) {
     // One context's program fails (a driver refusing a kernel); a context
     // made before it and one made after, with the good sources, still work.

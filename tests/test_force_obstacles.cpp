@@ -173,6 +173,45 @@ TEST(ForceMeshObstacles, InsectsFlyingAtABoxMeshNeverEndUpInside) {
     EXPECT_GT(mean_x, 1.0);     // and they got past it
 }
 
+// Insects put just inside a box mesh (up to 10 cm deep behind one face) are
+// outside it after the next step (the push-out after each step), where the
+// kernels' sampled distance is within a cell of the exact one.  Small, for
+// scripts/oclgrind_check.py (the tests above take minutes under Oclgrind).
+TEST(ForceMeshObstacles, InsectsJustInsideABoxMeshAreOutsideAfterTheNextStep) {
+    const uint32_t n = 12;
+    auto swarm = make_swarm(n, 5, 0.05f);
+    const std::array<float, 3> centre{0.0f, 0.45f, 0.0f}, half{0.3f, 0.4f, 0.6f};
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> depth(0.02f, 0.1f), across(-0.6f, 0.6f);
+    std::vector<float> p(3 * size_t(n));
+    for (uint32_t i = 0; i < n; ++i) {
+        p[3 * i] = centre[0] - half[0] + depth(rng);  // behind the -x face
+        p[3 * i + 1] = centre[1] + across(rng) * half[1];
+        p[3 * i + 2] = centre[2] + across(rng) * half[2];
+    }
+    swarm->write(Attribute::Position, p.data(), n);
+    ForceModelConfig c = flight_config();
+    c.mesh_obstacles.push_back(box_mesh(centre, half));
+    auto model = std::make_shared<ForceModel>(*swarm, c);
+    swarm->set_behavior(model);
+    swarm->step(1);
+    swarm->read(Attribute::Position, p.data(), n);
+    // And the kernel's sampled distance there: within a cell of the exact one.
+    const std::vector<cl_float4> sampled = model->sample_mesh_obstacles(*swarm, p);
+    const double h = model->mesh_grid().h;
+    for (uint32_t i = 0; i < n; ++i) {
+        double inside = HUGE_VAL, out2 = 0.0;  // inside > 0: strictly inside the box
+        for (size_t a = 0; a < 3; ++a) {
+            ASSERT_TRUE(std::isfinite(p[3 * i + a]));
+            const double q = std::fabs(double(p[3 * i + a]) - centre[a]) - half[a];
+            inside = std::min(inside, -q);
+            out2 += std::max(q, 0.0) * std::max(q, 0.0);
+        }
+        EXPECT_LE(inside, 0.0) << "insect " << i;
+        EXPECT_NEAR(sampled[i].s[3], std::sqrt(out2), h) << "insect " << i;
+    }
+}
+
 TEST(ForceMeshObstacles, MeshSphereIsAvoidedLikeTheAnalyticSphere) {
     const uint32_t n = 120;
     const float r = 0.5f;

@@ -104,26 +104,28 @@ TEST(PathChasing, TheTargetIsABoundaryOfEq2) {
     }
 }
 
-// "When the position of the target (ball) is changed, the minimum cost field
-// is recomputed": moving a target gives bitwise the model built with it
-// there (cost field, and the first step from the same positions: the
-// rebaked mesh-aware noise and the global field).  Not moving recomputes nothing.
-TEST(PathChasing, MovingTheTargetMatchesAFreshBuild) {
+namespace {
+
+// Moving a target (set_target) against a model built with it there: the
+// cost fields, and the positions after `steps` steps of n agents, which are
+// returned.  bake: the noise bake's nodes per axis; res: the cost grid's.
+std::vector<float> expect_moving_the_target_matches_a_fresh_build(uint32_t bake, uint32_t res, uint32_t n,
+                                                                   int steps) {
     auto ctx = test::shared_context();
     PathModelConfig pc;
     pc.noise.scale = 0.5f;
     pc.noise.gain = 0.8f;
     pc.noise.boundary_distance = 0.2f;
     pc.noise.baked = true;
-    pc.noise.bake_resolution = {33, 33, 33};
+    pc.noise.bake_resolution = {bake, bake, bake};
     pc.obstacles.push_back(box_mesh({0, 0, 0}, {0.25f, 0.25f, 0.25f}));
-    pc.resolution = {28, 28, 28};
+    pc.resolution = {res, res, res};
     pc.goal_falloff = 0.3f;
     pc.groups.push_back({0, {}});
     const std::array<float, 3> to{0.55f, -0.5f, 0.3f};
     auto run = [&](bool move, std::vector<double>* cost) {
-        SwarmConfig sc = test::cube_config(300, -1, 1, 0.1f);
-        sc.agent_count = 300;
+        SwarmConfig sc = test::cube_config(n, -1, 1, 0.1f);
+        sc.agent_count = n;
         sc.seed = 6;
         Swarm swarm(ctx, sc);
         PathModelConfig c = pc;
@@ -138,15 +140,39 @@ TEST(PathChasing, MovingTheTargetMatchesAFreshBuild) {
             EXPECT_EQ(model->config().targets[0].center, to);
         }
         *cost = model->cost(0);
-        swarm.step(3);
-        std::vector<float> p(900);
-        swarm.read(Attribute::Position, p.data(), 300);
+        swarm.step(steps);
+        std::vector<float> p(3 * size_t(n));
+        swarm.read(Attribute::Position, p.data(), n);
         return p;
     };
     std::vector<double> moved_cost, fresh_cost;
     const auto moved = run(true, &moved_cost), fresh = run(false, &fresh_cost);
     EXPECT_EQ(moved_cost, fresh_cost);
     EXPECT_EQ(moved, fresh);
+    return moved;
+}
+
+}  // namespace
+
+// "When the position of the target (ball) is changed, the minimum cost field
+// is recomputed": moving a target gives bitwise the model built with it
+// there (cost field, and the first step from the same positions: the
+// rebaked mesh-aware noise and the global field).  Not moving recomputes nothing.
+TEST(PathChasing, MovingTheTargetMatchesAFreshBuild) {
+    expect_moving_the_target_matches_a_fresh_build(33, 28, 300, 3);
+}
+
+// The same on small grids, with the scalar kernels and the 16-lane ones
+// (bitwise the same run): what scripts/oclgrind_check.py runs under
+// Oclgrind, where the test above takes minutes.
+TEST(PathChasing, SmallGridsMovingTheTargetMatchesAFreshBuildAtWidths1And16) {
+    std::vector<std::vector<float>> by_width;
+    for (uint32_t w : {1u, 16u}) {
+        SCOPED_TRACE("width " + std::to_string(w));
+        test::ScopedKernelWidth scoped_width(w);
+        by_width.push_back(expect_moving_the_target_matches_a_fresh_build(9, 8, 21, 2));
+    }
+    EXPECT_EQ(by_width[0], by_width[1]);
 }
 
 // A target outside the grid or inside an obstacle, a NaN, a bad index or

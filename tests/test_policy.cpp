@@ -440,11 +440,15 @@ TEST(PolicyObserve, EveryWidthGivesTheScalarKernelsBits) {
 
 // ---- a step: the leader, then Eq. 2 with the observed actions ---------------------
 
-TEST(PolicyStep, AppliesTheActionsWithEquationTwo) {
-    const uint32_t n = 80;
+namespace {
+
+// One step of n placed agents with the net in `f`: each agent's velocity and
+// position follow Eq. 2 from the actions observe() gave before the step, and
+// the joystick leader (no controls) goes straight on at its speed.
+void expect_step_applies_the_actions(uint32_t n, const MlpFile& f) {
     Placed s = placed_swarm(n, 41);
     PolicyModelConfig pc = observed_config();
-    auto model = std::make_shared<PolicyModel>(*s.swarm, pc, std::make_shared<const std::string>(paper_mlp(42).bytes()));
+    auto model = std::make_shared<PolicyModel>(*s.swarm, pc, std::make_shared<const std::string>(f.bytes()));
     std::vector<float> act;
     model->observe(*s.swarm, nullptr, &act);
     s.swarm->set_behavior(model);
@@ -469,11 +473,25 @@ TEST(PolicyStep, AppliesTheActionsWithEquationTwo) {
             EXPECT_NEAR(p[3 * a + k], s.p[3 * a + k] + u1 * 0.1f * q1[k], 2e-5f) << a;
         }
     }
-    // The joystick leader (no controls): straight on at its speed.
     cl_float4 lp, lv;
     model->read_leader(&lp, &lv);
     EXPECT_NEAR(lp.s[0], 3.0f + 0.08f / std::sqrt(1.04f), 1e-5f);
     EXPECT_NEAR(lv.s[3], 0.8f, 1e-6f);
+}
+
+}  // namespace
+
+TEST(PolicyStep, AppliesTheActionsWithEquationTwo) { expect_step_applies_the_actions(80, paper_mlp(42)); }
+
+// The same with a small net and few agents, one agent per work-item and 16
+// (the wide observation and MLP kernels): what scripts/oclgrind_check.py
+// runs under Oclgrind, where the paper's net takes minutes.
+TEST(PolicyStep, SmallNetAppliesTheActionsWithEquationTwoAtWidths1And16) {
+    for (uint32_t w : {1u, 16u}) {
+        SCOPED_TRACE("width " + std::to_string(w));
+        test::ScopedKernelWidth scoped_width(w);
+        expect_step_applies_the_actions(21, random_mlp({12, 4}, "relu,tanh", 43));
+    }
 }
 
 TEST(PolicyStep, SameInputsGiveTheSameBits) {

@@ -13,26 +13,47 @@
 
 namespace swarmcl {
 
+// Writes `bytes` bytes from `src` at `offset` of `buffer`
+// (clEnqueueWriteBuffer).  On Oclgrind (Context::on_oclgrind()) a write of
+// anything but the whole buffer goes through a staging buffer and a kernel
+// copy: a host write of part of a buffer would replace its whole shadow
+// there.  Blocking on Oclgrind whatever `blocking` says (the staging write is).
+inline void write_buffer(Context& ctx, cl::Buffer& buffer, size_t offset, size_t bytes, const void* src,
+                         bool blocking = true) {
+    if (!bytes) return;
+    if (!ctx.on_oclgrind() || (offset == 0 && bytes == buffer.getInfo<CL_MEM_SIZE>())) {
+        ctx.queue().enqueueWriteBuffer(buffer, blocking ? CL_TRUE : CL_FALSE, offset, bytes, src);
+        return;
+    }
+    ctx.oclgrind_copy(ctx.oclgrind_staging(src, bytes), 0, buffer, offset, bytes);
+}
+
+// Copies `bytes` bytes from src at src_offset to dst at dst_offset
+// (clEnqueueCopyBuffer; a kernel copy on Oclgrind, as write_buffer()).
+inline void copy_buffer(Context& ctx, const cl::Buffer& src, cl::Buffer& dst, size_t src_offset, size_t dst_offset,
+                        size_t bytes) {
+    if (!bytes) return;
+    if (!ctx.on_oclgrind()) {
+        ctx.queue().enqueueCopyBuffer(src, dst, src_offset, dst_offset, bytes);
+        return;
+    }
+    ctx.oclgrind_copy(src, src_offset, dst, dst_offset, bytes);
+}
+
 // Fills `bytes` bytes of `buffer` from `offset` with copies of `value`
-// (clEnqueueFillBuffer).  On Oclgrind (Context::fills_by_write()) the same
-// bytes are written from the host instead: Oclgrind 21.10 keeps filled memory
-// marked uninitialised, and every kernel reading it would be reported.  And
-// since a write of part of a buffer there marks the rest uninitialised (an
-// 8-byte counter pair, the first word rewritten: the second reported), a
-// partial fill reads the whole buffer back and writes it whole.
+// (clEnqueueFillBuffer).  On Oclgrind the pattern is written with
+// write_buffer(): Oclgrind 21.10 gives a fill the shadow of one pattern
+// element, so every kernel reading filled memory would be reported.
 template <typename T>
 void fill_buffer(Context& ctx, cl::Buffer& buffer, const T& value, size_t offset, size_t bytes) {
     if (!bytes) return;
-    if (!ctx.fills_by_write()) {
+    if (!ctx.on_oclgrind()) {
         ctx.queue().enqueueFillBuffer(buffer, value, offset, bytes);
         return;
     }
-    const size_t size = buffer.getInfo<CL_MEM_SIZE>();
-    std::vector<unsigned char> whole(size);
-    ctx.queue().enqueueReadBuffer(buffer, CL_TRUE, 0, size, whole.data());
-    for (size_t at = offset; at + sizeof(T) <= offset + bytes; at += sizeof(T))
-        std::memcpy(whole.data() + at, &value, sizeof(T));
-    ctx.queue().enqueueWriteBuffer(buffer, CL_TRUE, 0, size, whole.data());
+    std::vector<unsigned char> pattern(bytes);
+    for (size_t at = 0; at + sizeof(T) <= bytes; at += sizeof(T)) std::memcpy(pattern.data() + at, &value, sizeof(T));
+    write_buffer(ctx, buffer, offset, bytes, pattern.data());
 }
 
 template <typename T>
@@ -50,6 +71,7 @@ public:
                                           " bytes exceed the device's largest allocation (" +
                                           std::to_string(ctx.max_allocation()) + ")");
         buffer_ = cl::Buffer(ctx.cl_context(), CL_MEM_READ_WRITE, bytes);
+        ctx.keep(buffer_);  // Oclgrind only: its id is never reused (Context::on_oclgrind())
         count_ = count;
     }
 
@@ -66,7 +88,7 @@ public:
         fill_buffer(ctx, buffer_, value, 0, count * sizeof(T));
     }
     void upload(Context& ctx, const T* src, size_t count, bool blocking = true) {
-        if (count) ctx.queue().enqueueWriteBuffer(buffer_, blocking ? CL_TRUE : CL_FALSE, 0, count * sizeof(T), src);
+        write_buffer(ctx, buffer_, 0, count * sizeof(T), src, blocking);
     }
     void download(Context& ctx, T* dst, size_t count) {
         if (count) ctx.queue().enqueueReadBuffer(buffer_, CL_TRUE, 0, count * sizeof(T), dst);

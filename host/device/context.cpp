@@ -1,5 +1,6 @@
 #include "device/context.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
@@ -82,6 +83,21 @@ void dump_program(const std::string& file, const std::string& options, const std
     std::rename(tmp.c_str(), path.c_str());
 }
 
+// The copies Context::oclgrind_copy() runs on Oclgrind (never elsewhere):
+// not a program of kernels/, a stand-in for clEnqueueWriteBuffer and
+// clEnqueueCopyBuffer that Oclgrind's shadow memory follows.  Work-item g of
+// G copies the words (bytes) g, g + G, ...
+const char* const kOclgrindCopySource = R"CLC(
+__kernel void swcl_oclgrind_copy_words(__global const uint* src, ulong src_at, __global uint* dst, ulong dst_at,
+                                       ulong count) {
+    for (ulong k = get_global_id(0); k < count; k += get_global_size(0)) dst[dst_at + k] = src[src_at + k];
+}
+__kernel void swcl_oclgrind_copy_bytes(__global const uchar* src, ulong src_at, __global uchar* dst, ulong dst_at,
+                                       ulong count) {
+    for (ulong k = get_global_id(0); k < count; k += get_global_size(0)) dst[dst_at + k] = src[src_at + k];
+}
+)CLC";
+
 }  // namespace
 
 Context::Context(const std::string& selector, const std::string& build_options)
@@ -92,7 +108,7 @@ Context::Context(const std::string& selector, const std::string& build_options)
     // the same on every run (docs/design.md, "Kernels").
     // SWCL_CPU_PROFILE: CPU-only constructs (x86 prefetch, lib/prefetch.cl)
     // compile only where the CPU paths run.
-    fills_by_write_ = device_.platform_name.find("Oclgrind") != std::string::npos ||
+    on_oclgrind_ = device_.platform_name.find("Oclgrind") != std::string::npos ||
                       device_.device_name.find("Oclgrind") != std::string::npos;
     options_ = std::string("-cl-std=CL1.2 -DSWCL_CPU_PROFILE=") + (device_.cpu_profile ? "1" : "0");
     if (!build_options.empty()) options_ += " " + build_options;
@@ -104,6 +120,40 @@ Context::~Context() {
     } catch (...) {
         // Nothing to report to: a failed wait leaves the release to OpenCL.
     }
+}
+
+void Context::keep(const cl::Buffer& buffer) {
+    if (!on_oclgrind_) return;
+    std::lock_guard<std::mutex> lock(kept_mutex_);
+    kept_.push_back(buffer);
+}
+
+cl::Buffer Context::oclgrind_staging(const void* data, size_t bytes) {
+    cl::Buffer staged(context_, CL_MEM_READ_WRITE, bytes ? bytes : 1);
+    keep(staged);
+    if (bytes) queue_.enqueueWriteBuffer(staged, CL_TRUE, 0, bytes, data);
+    return staged;
+}
+
+void Context::oclgrind_copy(const cl::Buffer& src, size_t src_offset, const cl::Buffer& dst, size_t dst_offset,
+                            size_t bytes) {
+    if (!bytes) return;
+    std::lock_guard<std::mutex> lock(kept_mutex_);
+    if (!oclgrind_copy_words_()) {
+        cl::Program p(context_, std::string(kOclgrindCopySource));
+        p.build({device_.device}, "-cl-std=CL1.2");
+        oclgrind_copy_words_ = cl::Kernel(p, "swcl_oclgrind_copy_words");
+        oclgrind_copy_bytes_ = cl::Kernel(p, "swcl_oclgrind_copy_bytes");
+    }
+    const bool words = src_offset % 4 == 0 && dst_offset % 4 == 0 && bytes % 4 == 0;
+    const size_t unit = words ? 4 : 1, count = bytes / unit;
+    cl::Kernel& k = words ? oclgrind_copy_words_ : oclgrind_copy_bytes_;
+    k.setArg(0, src);
+    k.setArg(1, cl_ulong(src_offset / unit));
+    k.setArg(2, dst);
+    k.setArg(3, cl_ulong(dst_offset / unit));
+    k.setArg(4, cl_ulong(count));
+    queue_.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(std::min<size_t>(count, 64)), cl::NullRange);
 }
 
 cl::Program Context::program(const std::string& file, const std::string& defines) {
@@ -155,7 +205,37 @@ cl::Kernel Context::kernel(const std::string& file, const char* name, const std:
             message.insert(head.size(), std::string(" (kernel ") + name + ")");
         fail(Status::Build, message);
     }
-    return cl::Kernel(built, name);
+    try {
+        return cl::Kernel(built, name);
+    } catch (const cl::Error& e) {
+        // The program built but the kernel cannot be made from it: most often
+        // CL_INVALID_KERNEL_NAME (a driver or a define that left the kernel
+        // out; Oclgrind says so too for a kernel it cannot run, e.g. one
+        // calling an LLVM intrinsic it lacks).  Same first line as a build
+        // failure: the program, the kernel, the device, then what the driver
+        // said and the log's first line, which may say why; the kernels the
+        // program lists follow.
+        std::string have, log;
+        try {
+            have = built.getInfo<CL_PROGRAM_KERNEL_NAMES>();
+        } catch (const cl::Error&) {
+            have = "(the driver did not say)";
+        }
+        try {
+            log = built.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device_.device);
+        } catch (const cl::Error&) {
+            // No log: the error code is all there is.
+        }
+        const std::string why = e.err() == CL_INVALID_KERNEL_NAME
+                                    ? "CL_INVALID_KERNEL_NAME (-46): no kernel of that name could be made from "
+                                      "the built program"
+                                    : "OpenCL error " + std::to_string(e.err()) + " from " + e.what();
+        fail(Status::Build, "building kernels/" + file + " (kernel " + name + ") for device '" +
+                                device_.device_name + "' (" + device_.platform_name + ") failed: " + why +
+                                "; build log: " + first_error(log) + "\nkernels the program lists: " +
+                                (have.empty() ? "none" : have) + "\nbuild options: " + options_ +
+                                (defines.empty() ? "" : " " + defines) + "\nbuild log:\n" + log);
+    }
 }
 
 }  // namespace swarmcl

@@ -5,6 +5,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include "device/device_list.hpp"
 #include "device/opencl.hpp"
@@ -33,26 +34,51 @@ public:
     // log's first error; then the options and the whole compiler log.
     cl::Program program(const std::string& file, const std::string& defines = "");
     // A fresh kernel object (kernels hold arguments, so callers keep their own).
-    // A build failure names the kernel too.
+    // A build failure names the kernel too, and so does a program without
+    // the kernel (CL_INVALID_KERNEL_NAME): Error(Build), the same first line
+    // (program, kernel, device, what the driver said), then the kernels the
+    // program has, the options and the log.
     cl::Kernel kernel(const std::string& file, const char* name, const std::string& defines = "");
 
     // Largest single allocation the device allows, in bytes.
     uint64_t max_allocation() const { return device_.max_allocation; }
 
-    // True on Oclgrind, whose --uninitialized check (21.10) does not count
-    // clEnqueueFillBuffer as writing the memory: fill_buffer() writes the
-    // pattern from the host there instead, so every report it gives is one
-    // of ours (docs/reliability.md, "Oclgrind").  False on every other device.
-    bool fills_by_write() const { return fills_by_write_; }
+    // True on Oclgrind (its platform or device named so).  Oclgrind 21.10's
+    // uninitialised-memory check keeps one shadow per buffer *id*, and gets
+    // two things wrong (docs/reliability.md, "Oclgrind"): a host write, fill
+    // or copy into a buffer replaces the buffer's whole shadow by one the
+    // size of that write (so the rest reads as uninitialised and later kernel
+    // stores there are dropped; at an offset above 0 the write itself is
+    // lost), and a released buffer's shadow stays for the next buffer given
+    // its id.  So on Oclgrind every buffer is kept until the context goes
+    // (keep(): ids are never reused), and write_buffer(), copy_buffer() and
+    // fill_buffer() (device/buffer.hpp) turn anything but a host write of a
+    // whole buffer into a kernel copy (oclgrind_copy()), whose stores mark
+    // exactly the bytes written.  Elsewhere none of this runs.
+    bool on_oclgrind() const { return on_oclgrind_; }
+    // On Oclgrind: holds `buffer` until the context is destroyed.  Elsewhere
+    // nothing.
+    void keep(const cl::Buffer& buffer);
+    // On Oclgrind only: a new buffer holding `bytes` bytes of `data`, written
+    // whole from the host (kept, as every buffer there).
+    cl::Buffer oclgrind_staging(const void* data, size_t bytes);
+    // On Oclgrind only: copies `bytes` bytes from src at src_offset to dst at
+    // dst_offset with a kernel (the copy's shadow is the source's).
+    void oclgrind_copy(const cl::Buffer& src, size_t src_offset, const cl::Buffer& dst, size_t dst_offset,
+                       size_t bytes);
 
 private:
     DeviceEntry device_;
     cl::Context context_;
     cl::CommandQueue queue_;
     std::string options_;
-    bool fills_by_write_ = false;
+    bool on_oclgrind_ = false;
     std::mutex programs_mutex_;
     std::map<std::string, cl::Program> programs_;
+    // Oclgrind only (on_oclgrind()): every buffer made, and the copy kernels.
+    std::mutex kept_mutex_;
+    std::vector<cl::Buffer> kept_;
+    cl::Kernel oclgrind_copy_words_, oclgrind_copy_bytes_;
 };
 
 }  // namespace swarmcl

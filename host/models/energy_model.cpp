@@ -262,7 +262,7 @@ void EnergyModel::advance(Swarm& swarm, uint64_t step) {
     select_.setArg(i++, vel_out_.get());
     check_arg_count(select_, i);
     launch_per_agent(select_, n);
-    if (n) ctx_.queue().enqueueCopyBuffer(vel_out_.get(), swarm.velocities().get(), 0, 0, size_t(n) * sizeof(cl_float4));
+    copy_buffer(ctx_, vel_out_.get(), swarm.velocities().get(), 0, 0, size_t(n) * sizeof(cl_float4));
     swarm.swap_positions_with_scratch();
 }
 

@@ -357,6 +357,10 @@ void ForceModel::build_fine_grid(Swarm& swarm) {
     if (n != fine_n_ || !fine_soa_.get()()) {
         fine_n_ = n;
         fine_soa_.allocate(ctx, 3 * (size_t(n) + kFineSoaPad), "force model fine grid positions");
+        // The pads are read, never written, by the explicit-width kernels'
+        // vector loads (lanes past n, masked): zeros rather than whatever the
+        // allocation held (Oclgrind reported the reads, docs/reliability.md).
+        fine_soa_.fill(ctx, 0.0f, fine_soa_.size());
     }
     if (n == 0) return;
     const auto& pos = swarm.positions();

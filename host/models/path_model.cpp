@@ -165,7 +165,7 @@ PathModel::LocalField PathModel::build_local(const std::vector<PathTarget>& targ
             // Copy the nodes, then rebake the boxes of nodes within d0 (+ one
             // node) of each changed ball: beyond d0 Eq. 2 leaves N unchanged.
             out.vl.allocate(ctx_, g.nodes(), "baked local field");
-            ctx_.queue().enqueueCopyBuffer(previous->vl.get(), out.vl.get(), 0, 0, g.nodes() * sizeof(cl_float4));
+            copy_buffer(ctx_, previous->vl.get(), out.vl.get(), 0, 0, g.nodes() * sizeof(cl_float4));
             const float d0 = nc.boundary_distance;
             for (const PathTarget& t : changed) {
                 cl_int4 lo{}, n{};
@@ -200,8 +200,8 @@ PathModel::LocalField PathModel::build_local(const std::vector<PathTarget>& targ
 void PathModel::upload_directions(uint32_t group) {
     std::vector<cl_float4> d(grid_.count());
     direction_field(grid_, costs_[group], phi_, reinterpret_cast<float*>(d.data()));
-    ctx_.queue().enqueueWriteBuffer(dirs_.get(), CL_TRUE, size_t(group) * grid_.count() * sizeof(cl_float4),
-                                    d.size() * sizeof(cl_float4), d.data());
+    write_buffer(ctx_, dirs_.get(), size_t(group) * grid_.count() * sizeof(cl_float4), d.size() * sizeof(cl_float4),
+                 d.data());
 }
 
 double PathModel::set_goals(uint32_t group, std::vector<Goal> goals) {
@@ -234,8 +234,8 @@ double PathModel::retarget(std::vector<PathTarget> targets, uint32_t group, cons
     LocalField local = build_local(targets, &local_, changed);
     std::vector<cl_float4> d(grid_.count());
     direction_field(grid_, cost, phi_, reinterpret_cast<float*>(d.data()));
-    ctx_.queue().enqueueWriteBuffer(dirs_.get(), CL_TRUE, size_t(group) * grid_.count() * sizeof(cl_float4),
-                                    d.size() * sizeof(cl_float4), d.data());
+    write_buffer(ctx_, dirs_.get(), size_t(group) * grid_.count() * sizeof(cl_float4), d.size() * sizeof(cl_float4),
+                 d.data());
     costs_[group] = std::move(cost);
     local_ = std::move(local);
     config_.targets = std::move(targets);

@@ -59,8 +59,11 @@
 #define SWCL_BEACH_LANE(E) SWCL_EACH_LANE(E)
 // The element of lane k from base on, clamped to n - 1 (the last work-item).
 #define SWCL_BLANE_ID(base, k, n) min((base) + (uint)SWCL_LANE_I(k), (n) - 1)
-// The lanes' elements i (a vector), clamped to n - 1.
-#define SWCL_BLAST(i, n) min((i), (n) - 1u)
+// The lanes' elements i (a vector), clamped to n - 1, the bound a vector too:
+// Oclgrind 21.10 runs min(ugentype, uint) (integer min/max/clamp with a
+// scalar argument) as if the scalar were a vector, reading past it (garbage
+// lanes; docs/reliability.md, "Oclgrind").
+#define SWCL_BLAST(i, n) min((i), (swcl_bu)((n) - 1u))
 #else
 #error "SWCL_BW must be 1 or SWCL_W"
 #endif
