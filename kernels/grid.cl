@@ -33,8 +33,11 @@ static inline uint chunk_size(uint n, uint nchunks) { return (n + nchunks - 1u) 
 // [0, dims-1]; below 0 and above dims-1 both clamp to the same bound; NaN
 // goes through the same clamp) and is several times faster on PoCL than the
 // scalar floor.
+// With worlds (grid_common.cl) the key is w cells + cell for the slots of
+// world w = s / world_agents (a swarm without worlds: world_agents >= n).
 __kernel void grid_keys_count(__global const float4* pos, uint n, GRID_PARAMS, __global const uint* old_key,
-                              uint nchunks, __global uint* keys, __global uint* counts) {
+                              uint nchunks, __global uint* keys, __global uint* counts, uint world_agents,
+                              uint world_cells) {
     const uint b = get_global_id(0);
     if (b >= nchunks) return;
     const uint size = chunk_size(n, nchunks);
@@ -45,7 +48,7 @@ __kernel void grid_keys_count(__global const float4* pos, uint n, GRID_PARAMS, _
     for (uint s = begin; s < end; ++s) {
         const float4 f = clamp((pos[s] - grid_origin) * grid_inv_cell, (float4)(0.0f), hi);
         const uint4 q = convert_uint4(f);
-        const uint key = q.x + dx * q.y + dxy * q.z;
+        const uint key = q.x + dx * q.y + dxy * q.z + (s / world_agents) * world_cells;
         keys[s] = key;
         count += key != old_key[s] ? 1u : 0u;
     }

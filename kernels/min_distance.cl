@@ -7,13 +7,28 @@
 #include "lib/prefetch.cl"
 #include "lib/halves.cl"
 
+// Worlds (lib/grid_common.cl): launched over (n, W), n agents a world; world
+// w's d_min and seed are d_mins[w], seeds[w], its counters moved[w] (agents
+// moved in this pass) and moved[W + w] (summed over passes).
+#define MDE_WORLD_VIEW()                                   \
+    const uint world = (uint)get_global_id(1);             \
+    const size_t world_base = (size_t)world * n;           \
+    pos += world_base;                                     \
+    ids += world_base;                                     \
+    out += world_base;                                     \
+    const float d_min = d_mins[world];                     \
+    const ulong seed = seeds[world];                       \
+    __global volatile uint* moved_now = moved + world;     \
+    __global volatile uint* moved_sum = moved + get_global_size(1) + world;
+
+#define MDE_WORLD_PARAMS GRID_WORLD_PARAMS, __global const float* d_mins, __global const ulong* seeds
+
 __kernel void min_distance_enforce(__global const float4* pos, __global const uint* ids, uint n,
-                                   GRID_PARAMS, float d_min, ulong seed, __global float4* out,
-                                   __global volatile uint* moved) {
-    // moved[0]: agents moved in this pass; moved[1]: summed over passes.
+                                   MDE_WORLD_PARAMS, __global float4* out, __global volatile uint* moved) {
     const uint i = get_global_id(0);
     if (i >= n) return;
-    const Grid g = GRID_MAKE();
+    MDE_WORLD_VIEW()
+    const Grid g = GRID_MAKE_WORLD(n);
     const float4 p = pos[i];
     const float d2_min = d_min * d_min;
     float3 push = (float3)(0.0f);
@@ -39,8 +54,8 @@ __kernel void min_distance_enforce(__global const float4* pos, __global const ui
     }
     out[i] = (float4)(p.xyz + push, 0.0f);
     if (touched) {
-        atomic_inc(&moved[0]);
-        atomic_inc(&moved[1]);
+        atomic_inc(moved_now);
+        atomic_inc(moved_sum);
     }
 }
 
@@ -158,10 +173,11 @@ static inline void mde_coincident(mde_iw coincident, mde_iw slot, mde_iw j, __gl
 }
 
 __kernel void min_distance_enforce_w(__global const float4* pos, __global const uint* ids, uint n,
-                                     GRID_PARAMS, float d_min, ulong seed, __global float4* out,
-                                     __global volatile uint* moved) {
+                                     MDE_WORLD_PARAMS, __global float4* out, __global volatile uint* moved) {
     const uint base = get_global_id(0) * MDE_WIDTH;
     if (base >= n) return;
+    MDE_WORLD_VIEW()
+    const int slot_base = (int)world_base;  // the world's cell ranges count from its first slot
     const mde_iw slot = (int)base + MDE_LANE_IDS;
     const mde_iw live = slot < (int)n;
     mde_fw px, py, pz;
@@ -178,7 +194,7 @@ __kernel void min_distance_enforce_w(__global const float4* pos, __global const 
     const float d2_min = d_min * d_min;
     mde_fw sx = (mde_fw)(0.0f), sy = (mde_fw)(0.0f), sz = (mde_fw)(0.0f);
     mde_iw touched = (mde_iw)(0);
-    __global const int* cs = (__global const int*)grid_cell_start;
+    __global const int* cs = (__global const int*)grid_cell_start + (size_t)world * grid_world_cells;
     {
         // The slots are in cell order, so the 4 rows' cell starts are read as
         // 4 forward streams through a start array far larger than the caches
@@ -203,8 +219,8 @@ __kernel void min_distance_enforce_w(__global const float4* pos, __global const 
             const mde_iw row_ok = live & (z <= z1) & (y <= y1);
             // grid_row_range (indices below 2^31: the host checks the cell count)
             const mde_iw row = grid_dims.x * (y + grid_dims.y * z);
-            const mde_iw j0 = mde_gather_i(cs, select((mde_iw)(0), row + x0, row_ok));
-            const mde_iw j1 = mde_gather_i(cs, select((mde_iw)(0), row + x1 + 1, row_ok));
+            const mde_iw j0 = mde_gather_i(cs, select((mde_iw)(0), row + x0, row_ok)) - slot_base;
+            const mde_iw j1 = mde_gather_i(cs, select((mde_iw)(0), row + x1 + 1, row_ok)) - slot_base;
             const mde_iw len = select((mde_iw)(0), j1 - j0, row_ok);
             const int steps = mde_hmax(len);
             // Lanes whose ranges lie close together in the slot order (the
@@ -239,8 +255,8 @@ __kernel void min_distance_enforce_w(__global const float4* pos, __global const 
 #undef MDE_STORE_
     const uint count = (uint)mde_hsum(touched & 1);
     if (count) {
-        atomic_add(&moved[0], count);
-        atomic_add(&moved[1], count);
+        atomic_add(moved_now, count);
+        atomic_add(moved_sum, count);
     }
 }
 #endif

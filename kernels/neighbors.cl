@@ -1,15 +1,24 @@
 // Neighbour queries over the grid, one work-item per agent slot (cell order,
 // so neighbouring work-items read the same cells).  Results are written in
-// agent-id order through ids[].
+// agent-id order through ids[].  Launched over (n, W) for W worlds of n
+// agents (lib/grid_common.cl): each world's queries see its own agents only,
+// ids and results are the world's (ids from 0), results at world w n + id.
 #include "lib/grid_common.cl"
+
+#define NB_WORLD_VIEW()                                 \
+    const size_t world_base = (size_t)get_global_id(1) * n;   \
+    pos += world_base;                                        \
+    ids += world_base;                                        \
+    const Grid g = GRID_MAKE_WORLD(n);
 
 #define NO_AGENT 0xFFFFFFFFu
 
 __kernel void neighbor_count(__global const float4* pos, __global const uint* ids, uint n,
-                             GRID_PARAMS, float radius, __global uint* out_counts) {
+                             GRID_WORLD_PARAMS, float radius, __global uint* out_counts) {
     const uint i = get_global_id(0);
     if (i >= n) return;
-    const Grid g = GRID_MAKE();
+    NB_WORLD_VIEW()
+    out_counts += world_base;
     const float4 p = pos[i];
     const float r2 = radius * radius;
     uint count = 0;
@@ -39,10 +48,12 @@ static inline void visit_nearest(__global const float4* pos, __global const uint
 // best distance found is below the distance to anything outside the box, or
 // the box is the whole grid.
 __kernel void nearest_neighbor(__global const float4* pos, __global const uint* ids, uint n,
-                               GRID_PARAMS, __global float* out_dist, __global uint* out_ids) {
+                               GRID_WORLD_PARAMS, __global float* out_dist, __global uint* out_ids) {
     const uint i = get_global_id(0);
     if (i >= n) return;
-    const Grid g = GRID_MAKE();
+    NB_WORLD_VIEW()
+    out_dist += world_base;
+    out_ids += world_base;
     const float4 p = pos[i];
     const int4 c = grid_cell_of(&g, p);
     const int4 last = g.dims - (int4)(1, 1, 1, 1);
@@ -86,11 +97,13 @@ __kernel void nearest_neighbor(__global const float4* pos, __global const uint* 
 // in the caller's output slice while scanning (insertion), holding slots; at
 // the end slots become ids.
 __kernel void neighbor_lists(__global const float4* pos, __global const uint* ids, uint n,
-                             GRID_PARAMS, float radius, uint cap, __global uint* out_list,
+                             GRID_WORLD_PARAMS, float radius, uint cap, __global uint* out_list,
                              __global uint* out_counts) {
     const uint i = get_global_id(0);
     if (i >= n) return;
-    const Grid g = GRID_MAKE();
+    NB_WORLD_VIEW()
+    out_counts += world_base;
+    out_list += world_base * cap;
     const float4 p = pos[i];
     const float r2 = radius * radius;
     const uint self = ids[i];

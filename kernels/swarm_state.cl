@@ -21,19 +21,22 @@ __kernel void scatter_xyz(__global const float* src, __global const uint* slot_o
     dst[slot_of[id]] = (float4)(src[3 * id], src[3 * id + 1], src[3 * id + 2], 0.0f);
 }
 
-// Agent id order: slot s holds agent s.
-__kernel void identity_layout(uint n, __global uint* ids, __global uint* slot_of) {
+// Agent id order: slot s holds agent s.  With worlds of world_agents agents
+// each (lib/grid_common.cl) ids count from 0 in every world: slot s holds
+// agent s mod world_agents of world s / world_agents.
+__kernel void identity_layout(uint n, uint world_agents, __global uint* ids, __global uint* slot_of) {
     const uint s = get_global_id(0);
     if (s >= n) return;
-    ids[s] = s;
+    ids[s] = s % world_agents;
     slot_of[s] = s;
 }
 
-// The inverse of ids: slot_of[ids[s]] = s (built on demand, before reads and
-// writes in id order).
-__kernel void slot_of_from_ids(__global const uint* ids, uint n, __global uint* slot_of) {
+// The inverse of ids: slot_of[w world_agents + ids[s]] = s for the slots s of
+// world w (built on demand, before reads and writes in id order).  The
+// worlds' slots stay apart in every order (their cells are).
+__kernel void slot_of_from_ids(__global const uint* ids, uint n, uint world_agents, __global uint* slot_of) {
     const uint s = get_global_id(0);
-    if (s < n) slot_of[ids[s]] = s;
+    if (s < n) slot_of[s / world_agents * world_agents + ids[s]] = s;
 }
 
 // Ballistic step (no behaviour model): p += v dt.

@@ -51,6 +51,7 @@ swcl_status swcl_recorder_add_frame(swcl_recorder recorder, swcl_swarm swarm, ui
         std::lock_guard<std::mutex> lock(r->mutex);
         {
             std::lock_guard<std::mutex> swarm_lock(s->mutex());
+            s->require_one_world("a recorder");
             const uint32_t n = s->agent_count();
             r->pos.resize(size_t(n) * 3);
             r->vel.resize(size_t(n) * 3);

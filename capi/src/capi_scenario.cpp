@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstring>
 
+#include <vector>
+
 #include "capi_common.hpp"
 #include "models/model_spec.hpp"
 #include "scenario/make_swarm.hpp"
@@ -76,6 +78,20 @@ swcl_status swcl_scenario_create_swarm(swcl_scenario scenario, swcl_context cont
         auto s = scenarios().get(scenario.id);
         auto ctx = contexts().get(context.id);
         auto swarm = make_swarm(ctx, *s);
+        out->id = swarms().add(std::move(swarm));
+    });
+}
+
+swcl_status swcl_scenario_create_world_swarm(swcl_scenario scenario, swcl_context context, uint32_t worlds,
+                                             const uint64_t* world_seeds, swcl_swarm* out) {
+    return guarded(__func__, [&] {
+        check_out(out, "out");
+        require(worlds > 0, "swcl_scenario_create_world_swarm: worlds must be >= 1");
+        auto s = scenarios().get(scenario.id);
+        auto ctx = contexts().get(context.id);
+        std::vector<uint64_t> seeds;
+        if (world_seeds) seeds.assign(world_seeds, world_seeds + worlds);
+        auto swarm = make_swarm(ctx, *s, worlds, seeds);
         out->id = swarms().add(std::move(swarm));
     });
 }

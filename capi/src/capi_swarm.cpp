@@ -1,6 +1,10 @@
 // Swarms: creation, state transfer, stepping, the model slot, step
 // statistics and neighbour queries.
+#include <algorithm>
+#include <cstddef>
 #include <cstring>
+#include <string>
+#include <vector>
 #include <mutex>
 #include <optional>
 
@@ -37,12 +41,14 @@ swcl_swarm_desc swcl_swarm_desc_default(void) {
     }
     d.interaction_radius = 0.1f;
     d.dt = 1.0f / 60.0f;
+    d.worlds = 1;
+    d.world_seeds = nullptr;
     return d;
 }
 
 swcl_status swcl_swarm_create(swcl_context context, const swcl_swarm_desc* desc, swcl_swarm* out) {
     return guarded(__func__, [&] {
-        check_struct_size(desc, sizeof(swcl_swarm_desc), "desc");
+        check_struct_size(desc, offsetof(swcl_swarm_desc, worlds), "desc");  // the first version's size
         check_out(out, "out");
         auto ctx = contexts().get(context.id);
         SwarmConfig c;
@@ -55,6 +61,11 @@ swcl_status swcl_swarm_create(swcl_context context, const swcl_swarm_desc* desc,
         }
         c.interaction_radius = desc->interaction_radius;
         c.dt = desc->dt;
+        if (desc->struct_size >= offsetof(swcl_swarm_desc, world_seeds) + sizeof(desc->world_seeds)) {
+            c.worlds = desc->worlds;
+            require(c.worlds > 0, "swcl_swarm_desc.worlds must be >= 1 (1: one swarm)");
+            if (desc->world_seeds) c.world_seeds.assign(desc->world_seeds, desc->world_seeds + c.worlds);
+        }
         out->id = swarms().add(std::make_shared<Swarm>(std::move(ctx), c));
     });
 }
@@ -67,6 +78,13 @@ swcl_status swcl_swarm_agent_count(swcl_swarm swarm, uint32_t* out_count) {
     return with_swarm(__func__, swarm, [&](Swarm& s) {
         check_out(out_count, "out_count");
         *out_count = s.agent_count();
+    });
+}
+
+swcl_status swcl_swarm_worlds(swcl_swarm swarm, uint32_t* out_worlds) {
+    return with_swarm(__func__, swarm, [&](Swarm& s) {
+        check_out(out_worlds, "out_worlds");
+        *out_worlds = s.worlds();
     });
 }
 
@@ -124,6 +142,52 @@ swcl_status swcl_swarm_take_step_stats(swcl_swarm swarm, swcl_step_stats* out) {
             r.steps = st->steps;
         }
         *out = r;
+    });
+}
+
+swcl_status swcl_swarm_take_world_step_stats(swcl_swarm swarm, swcl_step_stats* out, size_t count) {
+    return with_swarm(__func__, swarm, [&](Swarm& s) {
+        require(out != nullptr, "swcl_swarm_take_world_step_stats: out is NULL");
+        require(count == s.worlds(), "swcl_swarm_take_world_step_stats: count is " + std::to_string(count) +
+                                         " but the swarm has " + std::to_string(s.worlds()) + " worlds");
+        for (size_t k = 0; k < count; ++k) check_struct_size(&out[k], sizeof(swcl_step_stats), "out[k]");
+        const std::optional<std::vector<StepStats>> st = s.take_world_step_stats();
+        for (size_t k = 0; k < count; ++k) {
+            swcl_step_stats r;
+            std::memset(&r, 0, sizeof(r));
+            r.struct_size = sizeof(r);
+            r.agents = s.agent_count();
+            if (st) {
+                r.mde_moved_last = (*st)[k].mde_moved_last;
+                r.mde_moved_total = (*st)[k].mde_moved_total;
+                r.steps = (*st)[k].steps;
+            }
+            out[k] = r;
+        }
+    });
+}
+
+swcl_status swcl_swarm_set_world_param(swcl_swarm swarm, const char* name, const double* values, size_t count) {
+    return with_swarm(__func__, swarm, [&](Swarm& s) {
+        require(name != nullptr, "swcl_swarm_set_world_param: name is NULL");
+        require(s.behavior() != nullptr, "swcl_swarm_set_world_param: the swarm has no model");
+        s.behavior()->set_world_param(s, name, values, count);
+    });
+}
+
+swcl_status swcl_swarm_get_world_param(swcl_swarm swarm, const char* name, double* out_values, size_t count,
+                                       size_t* out_count) {
+    return with_swarm(__func__, swarm, [&](Swarm& s) {
+        require(name != nullptr, "swcl_swarm_get_world_param: name is NULL");
+        require(s.behavior() != nullptr, "swcl_swarm_get_world_param: the swarm has no model");
+        const std::vector<double> v = s.behavior()->world_param(name);
+        if (out_count) *out_count = v.size();
+        if (out_values == nullptr && count == 0) return;
+        require(out_values != nullptr, "swcl_swarm_get_world_param: out_values is NULL");
+        require(count == v.size(), "swcl_swarm_get_world_param: count is " + std::to_string(count) + " but '" +
+                                       std::string(name) + "' has " + std::to_string(v.size()) + " values (" +
+                                       std::to_string(s.worlds()) + " worlds)");
+        std::copy(v.begin(), v.end(), out_values);
     });
 }
 

@@ -154,3 +154,29 @@ inline void launch_chunks(Context& ctx, cl::Kernel& kernel, size_t n) {
 }
 
 }  // namespace swarmcl
+
+namespace swarmcl {
+
+// Enqueues a kernel over `n` work-items in each of `worlds` worlds: a 2-D
+// range (n, worlds), world get_global_id(1) (lib/grid_common.cl, "Worlds").
+// One world is launch()'s 1-D range exactly.  CPU devices: the local size of
+// launch() for all the worlds' work-items, shrunk (within the same set of
+// sizes, which PoCL compiles apart) while it still covers a world, so a small
+// world does not run as a mostly empty work-group.
+inline void launch_worlds(Context& ctx, cl::Kernel& kernel, size_t n, size_t worlds, size_t max_local = 4096) {
+    if (!n || !worlds) return;
+    if (worlds == 1) {
+        launch(ctx, kernel, n, max_local);
+        return;
+    }
+    if (!ctx.device().cpu_profile) {
+        ctx.queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(n, worlds), cl::NullRange);
+        return;
+    }
+    size_t local = cpu_local_size(n * worlds, ctx.device(), max_local);
+    while (local > 16 && local / 4 >= n) local /= 4;
+    ctx.queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange((n + local - 1) / local * local, worlds),
+                                     cl::NDRange(local, 1));
+}
+
+}  // namespace swarmcl

@@ -27,6 +27,7 @@ std::string metric_defines(uint32_t block, bool atomic) {
 SwarmMetrics::SwarmMetrics(Swarm& swarm, double dt_between_samples)
     : swarm_(swarm), ctx_(swarm.context()), dt_(dt_between_samples), n_(swarm.agent_count()),
       groups_(0), grid_(swarm.context()) {
+    swarm.require_one_world("metrics of a swarm");
     require(std::isfinite(dt_between_samples) && dt_between_samples > 0.0 &&
                 float(dt_between_samples) > 0.0f && std::isfinite(float(dt_between_samples)),
             "metrics: the time between samples must be finite and > 0");

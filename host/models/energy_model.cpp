@@ -55,6 +55,7 @@ void EnergyModel::validate(const EnergyModelConfig& c) {
 
 EnergyModel::EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr<const Dataset> dataset)
     : ctx_(swarm.context()), config_(std::move(config)), dataset_(std::move(dataset)) {
+    swarm.require_one_world("the energy model");
     require(dataset_ != nullptr, "energy model: no dataset");
     dataset_->validate("energy model dataset");
     validate(config_);

@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "fields/noise_field.hpp"
+#include "params/world_params.hpp"
 #include "swarm/behavior.hpp"
 
 namespace swarmcl {
@@ -29,11 +30,19 @@ const ParamTable& field_param_table();
 
 class FieldModel : public Behavior {
 public:
-    // Validates; the noise region defaults to the swarm's domain.
+    // Validates; the noise region defaults to the swarm's domain.  Every
+    // world of the swarm starts with `config`.
     FieldModel(Swarm& swarm, FieldModelConfig config);
 
     void advance(Swarm& swarm, uint64_t step) override;
-    const FieldModelConfig& config() const { return config_; }
+    // World 0's configuration (the swarm's, with one world).
+    const FieldModelConfig& config() const { return worlds_[0]; }
+
+    // Per world: any parameter of the table but those that choose the
+    // kernel (noise.type, a time scale of 0 or not, finite differences) or
+    // what is baked (a baked noise is the same in every world).
+    void set_world_param(Swarm& swarm, const std::string& key, const double* values, size_t count) override;
+    std::vector<double> world_param(const std::string& key) const override;
 
     // MDE at min_distance (keyed by the noise seed), and step statistics.
     StepStages stages() const override;
@@ -42,10 +51,15 @@ public:
     void restore_checkpoint(Swarm& swarm, ByteReader& state) override;
 
 private:
-    FieldModelConfig config_;
+    void upload_world_blocks(Context& ctx);
+
+    WorldConfigs<FieldModelConfig> worlds_;
     std::unique_ptr<NoiseField> noise_;
     cl::Kernel advance_;
-    DeviceBuffer<cl_float> params_;  // field_param_table()'s device block
+    DeviceBuffer<cl_float> params_;  // field_param_table()'s device block, one per world
+    DeviceBuffer<cl_float> noise_blocks_;  // NoiseField::block() of each world
+    std::vector<cl_float> noise_host_;     // noise_blocks_' contents
+    bool blocks_current_ = false;
     uint32_t width_ = 1;  // agents per work-item of advance_ (NoiseField::width)
 };
 

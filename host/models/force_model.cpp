@@ -110,6 +110,7 @@ SdfGrid force_mesh_sdf(Context& ctx, const ForceModelConfig& c) {
 
 ForceModel::ForceModel(Swarm& swarm, ForceModelConfig config)
     : config_(std::move(config)), fine_(swarm.context()) {
+    swarm.require_one_world("the force model");
     validate(config_);
     Context& ctx = swarm.context();
     noise_ = std::make_unique<NoiseField>(ctx, config_.noise, &swarm.config().domain_min, &swarm.config().domain_max);

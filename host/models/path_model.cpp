@@ -23,6 +23,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 PathModel::PathModel(Swarm& swarm, PathModelConfig config)
     : config_(std::move(config)), ctx_(swarm.context()),
       domain_min_(swarm.config().domain_min), domain_max_(swarm.config().domain_max) {
+    swarm.require_one_world("the path model");
     const auto t0 = std::chrono::steady_clock::now();
     auto& c = config_;
     // Each parameter's range: path_param_table() ("path model speed = -1 is

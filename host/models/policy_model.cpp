@@ -82,6 +82,7 @@ std::array<float, 4> policy_forward(const PolicyWeights& w, const float* obs) {
 
 PolicyModel::PolicyModel(Swarm& swarm, PolicyModelConfig config, std::shared_ptr<const std::string> bytes)
     : config_(std::move(config)), bytes_(std::move(bytes)), ctx_(swarm.context()) {
+    swarm.require_one_world("the policy model");
     require(bytes_ != nullptr, "policy model: no weights");
     weights_ = parse_policy_weights(reinterpret_cast<const uint8_t*>(bytes_->data()), bytes_->size());
     validate(config_);

@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "io/json_object.hpp"
+#include "params/world_params.hpp"
 
 namespace swarmcl {
 namespace {
@@ -389,6 +390,44 @@ std::string ParamTable::to_markdown() const {
              " | " + p.doc + " | " + p.ref + " |\n";
     }
     return s;
+}
+
+}  // namespace swarmcl
+
+// ---- per-world values (params/world_params.hpp) ------------------------------
+
+namespace swarmcl {
+
+const Param& world_param_row(const ParamTable& table, const std::string& key) {
+    const Param* p = table.find(key);
+    if (!p) p = table.find_c_field(key);
+    if (!p)
+        fail(Status::InvalidArgument, "the " + table.model() + " model has no parameter '" + key +
+                                          "'; its parameters: " + table.key_list());
+    return *p;
+}
+
+void check_world_values(const ParamTable& table, const Param& row, const double* values, size_t count,
+                        uint32_t worlds) {
+    const size_t want = size_t(worlds) * row.components();
+    if (values == nullptr && count > 0)
+        fail(Status::InvalidArgument, table.model() + " model " + row.key + ": values is NULL");
+    if (count != want)
+        fail(Status::InvalidArgument, table.model() + " model " + row.key + ": " + std::to_string(count) +
+                                          " values given for " + std::to_string(worlds) + " worlds (" +
+                                          std::to_string(want) + " expected" +
+                                          (row.components() > 1 ? ", 3 per world" : "") + ")");
+    for (size_t i = 0; i < count; ++i) {
+        if (row.type == ParamType::UInt64 && !std::isfinite(row.hi) && values[i] >= 0 &&
+            values[i] == std::floor(values[i]) && values[i] < 18446744073709551616.0)
+            continue;  // seeds: any integer
+        if (row.valid(values[i])) continue;
+        const std::string name = row.components() > 1 ? row.key + "[" + std::to_string(i % 3) + "]" : row.key;
+        fail(Status::InvalidArgument, table.model() + " model " + name + " = " + number_text(values[i]) +
+                                          " in world " + std::to_string(i / row.components()) + " is outside " +
+                                          row.range_text() + (row.unit.empty() ? "" : " (" + row.unit + ")") +
+                                          "; nothing was set");
+    }
 }
 
 }  // namespace swarmcl

@@ -7,13 +7,27 @@
 namespace swarmcl {
 
 std::shared_ptr<Swarm> make_swarm(std::shared_ptr<Context> ctx, const Scenario& s) {
+    return make_swarm(std::move(ctx), s, 1, {});
+}
+
+std::shared_ptr<Swarm> make_swarm(std::shared_ptr<Context> ctx, const Scenario& s, uint32_t worlds,
+                                  const std::vector<uint64_t>& world_seeds) {
     SwarmConfig config = s.swarm;
     config.agent_count = 0;  // placed from the scenario's distribution below
+    config.worlds = worlds;
+    config.world_seeds = world_seeds;
     auto swarm = std::make_shared<Swarm>(std::move(ctx), config);
-    const auto pos = s.initial_positions();
-    const uint32_t n = s.swarm.agent_count;
+    // World k placed as the scenario alone with its seed.
+    std::vector<float> pos;
+    for (uint32_t k = 0; k < worlds; ++k) {
+        Scenario world = s;
+        world.swarm.seed = swarm->world_seed(k);
+        const auto p = world.initial_positions();
+        pos.insert(pos.end(), p.begin(), p.end());
+    }
+    const size_t n = size_t(s.swarm.agent_count) * worlds;
     swarm->write(Attribute::Position, pos.data(), n);
-    std::vector<float> vel(size_t(n) * 3);
+    std::vector<float> vel(n * 3);
     for (size_t i = 0; i < vel.size(); ++i) vel[i] = s.initial.velocity[i % 3];
     swarm->write(Attribute::Velocity, vel.data(), n);
     if (auto behavior = make_behavior(*swarm, s.model)) swarm->set_behavior(std::move(behavior));

@@ -2,7 +2,9 @@
 // the C API (swcl_scenario_create_swarm, and through it the CLI and Python)
 // and the benchmarks.
 #pragma once
+#include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "scenario/scenario.hpp"
 
@@ -15,5 +17,10 @@ class Context;
 // velocity, and the behavior of its model (make_behavior; none for
 // Ballistic).  Error as Swarm and the model's constructor.
 std::shared_ptr<Swarm> make_swarm(std::shared_ptr<Context> ctx, const Scenario& scenario);
+// The same as `worlds` worlds (SwarmConfig::worlds): world k placed and
+// seeded as the scenario alone with seed world_seeds[k] (empty: the
+// scenario's seed + k), every world with the scenario's model.
+std::shared_ptr<Swarm> make_swarm(std::shared_ptr<Context> ctx, const Scenario& scenario, uint32_t worlds,
+                                  const std::vector<uint64_t>& world_seeds);
 
 }  // namespace swarmcl

@@ -22,10 +22,10 @@ constexpr uint32_t kMaxRadixBits = 11;
 uint32_t div_up(uint32_t a, uint32_t b) { return (a + b - 1) / b; }
 }  // namespace
 
-NeighborGrid::NeighborGrid(Context& ctx, const GridGeometry& geometry, uint32_t capacity)
-    : ctx_(ctx), geometry_(geometry), ncells_(geometry.cell_count()),
+NeighborGrid::NeighborGrid(Context& ctx, const GridGeometry& geometry, uint32_t capacity, uint32_t worlds)
+    : ctx_(ctx), geometry_(geometry), worlds_(worlds), ncells_(geometry.cell_count() * worlds),
       outputs_per_item_(ctx.device().cpu_profile ? kOutputsPerItemCpu : kOutputsPerItemGpu),
-      radix_(ctx, geometry.cell_count() - 1u, kRadixBlocks, kMaxRadixBits) {
+      radix_(ctx, geometry.cell_count() * worlds - 1u, kRadixBlocks, kMaxRadixBits) {
     capacity_ = capacity;
     keys_.allocate(ctx, capacity, "grid keys");
     perm_.allocate(ctx, capacity, "grid permutation");
@@ -58,6 +58,12 @@ cl_uint NeighborGrid::set_grid_args(cl::Kernel& kernel, cl_uint index) {
     return index;
 }
 
+cl_uint NeighborGrid::set_world_grid_args(cl::Kernel& kernel, cl_uint index) {
+    index = set_grid_args(kernel, index);
+    kernel.setArg(index++, cl_uint(geometry_.cell_count()));
+    return index;
+}
+
 void NeighborGrid::invalidate_layout() {
     // Every slot in "cell ncells", so every agent is a mover (an invalid
     // layout always has these contents).
@@ -73,6 +79,11 @@ void NeighborGrid::invalidate_layout() {
 
 void NeighborGrid::build(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<cl_uint>& ids, uint32_t n,
                          const StageHook& after_stage) {
+    build(pos, ids, n, 0, after_stage);
+}
+
+void NeighborGrid::build(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<cl_uint>& ids, uint32_t n,
+                         uint32_t world_agents, const StageHook& after_stage) {
     const auto stage = [&](const char* name) {
         if (after_stage) after_stage(name);
     };
@@ -93,7 +104,9 @@ void NeighborGrid::build(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<
     keys_k_.setArg(7, chunks);
     keys_k_.setArg(8, keys_.get());
     keys_k_.setArg(9, chunk_counts_.get());
-    check_arg_count(keys_k_, 10);
+    keys_k_.setArg(10, cl_uint(world_agents ? world_agents : 0xFFFFFFFFu));
+    keys_k_.setArg(11, cl_uint(geometry_.cell_count()));
+    check_arg_count(keys_k_, 12);
     launch_chunks(ctx_, keys_k_, chunks);
     stage("grid_keys_count");
 

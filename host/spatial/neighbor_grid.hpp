@@ -21,7 +21,9 @@ namespace swarmcl {
 
 class NeighborGrid {
 public:
-    NeighborGrid(Context& ctx, const GridGeometry& geometry, uint32_t capacity);
+    // `worlds` grids of `geometry` in one (lib/grid_common.cl, "Worlds"):
+    // the cells of world k are k * geometry.cell_count() + cell.
+    NeighborGrid(Context& ctx, const GridGeometry& geometry, uint32_t capacity, uint32_t worlds = 1);
 
     // Called after each stage of build() (for the benchmark's stage timings).
     using StageHook = std::function<void(const char* stage)>;
@@ -32,8 +34,13 @@ public:
     // each layout cell the slots are in increasing id order (true of any
     // layout reorder_state() made; invalidate_layout() otherwise).
     // Enqueued only; nothing waits.
+    // With worlds, n counts every world's agents, world_agents of each (world
+    // k in slots [k world_agents, (k + 1) world_agents) before and after);
+    // 0: one world of n.
     void build(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<cl_uint>& ids, uint32_t n,
                const StageHook& after_stage = {});
+    void build(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<cl_uint>& ids, uint32_t n,
+               uint32_t world_agents, const StageHook& after_stage = {});
 
     // x_out[s] = x[permutation[s]] for positions, velocities and ids, in one
     // pass, for the last build; changes nothing else (benchmarks time it).
@@ -55,13 +62,17 @@ public:
     DeviceBuffer<cl_uint>& cell_start() { return start_in_layout_ ? layout_start_ : start_; }
     DeviceBuffer<cl_uint>& permutation() { return perm_; }
 
-    // Appends the GRID_PARAMS arguments (grid_common.cl) from `index` on.
+    // Appends the GRID_PARAMS arguments (grid_common.cl) from `index` on;
+    // set_world_grid_args the GRID_WORLD_PARAMS (the cells of one world too).
     cl_uint set_grid_args(cl::Kernel& kernel, cl_uint index);
+    cl_uint set_world_grid_args(cl::Kernel& kernel, cl_uint index);
+    uint32_t worlds() const { return worlds_; }
 
 private:
     Context& ctx_;
     GridGeometry geometry_;
-    uint32_t ncells_;
+    uint32_t worlds_ = 1;
+    uint32_t ncells_;  // of all worlds
     uint32_t outputs_per_item_;  // grid_merge, grid_starts
     uint32_t capacity_ = 0;
     bool layout_valid_ = false;

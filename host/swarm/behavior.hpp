@@ -5,7 +5,10 @@
 // constraint stage (minimum distance enforcement, then the model's own
 // after_constraints()), then counts the step statistics.
 #pragma once
+#include <cstddef>
 #include <cstdint>
+#include <string>
+#include <vector>
 
 #include "device/buffer.hpp"
 
@@ -32,6 +35,11 @@ struct StepStages {
     // by `seed`.  0: off.
     float min_distance = 0.0f;
     uint64_t seed = 0;
+    // Per world (a swarm of worlds): world k's distance and seed, or empty
+    // for min_distance and seed in every world.  min_distance is then their
+    // largest (0: the pass is off in every world).
+    std::vector<float> world_min_distance;
+    std::vector<uint64_t> world_seed;
     // true: the model runs the pass on a spatial index of its own
     // (Behavior::enforce_min_distance); false: the swarm's MinDistance over
     // its neighbour grid.
@@ -57,6 +65,14 @@ public:
     virtual void enforce_min_distance(Swarm&, DeviceBuffer<cl_uint>& /*moved*/) {}
     // After the constraint stage (e.g. the force model's obstacle push-out).
     virtual void after_constraints(Swarm&, uint64_t /*step*/) {}
+
+    // Worlds (docs/architecture.md, "Worlds"): parameter `key` of the model's
+    // table in every world of the swarm, values[k * components + a] for
+    // world k; all checked before any is set (Error(InvalidArgument) naming
+    // the parameter, the world and the valid range).  The defaults refuse: a
+    // model that does not implement them runs one world only.
+    virtual void set_world_param(Swarm& swarm, const std::string& key, const double* values, size_t count);
+    virtual std::vector<double> world_param(const std::string& key) const;
 
     // Checkpoints (docs/checkpoint-format.md, host/models/model_checkpoint.hpp):
     // save_checkpoint writes the model's descriptor as it is now (section

@@ -1,42 +1,58 @@
 #include "swarm/min_distance.hpp"
 
+#include <algorithm>
 #include <string>
 
+#include "core/error.hpp"
 #include "fields/noise_field.hpp"
 #include "swarm/swarm.hpp"
 
 namespace swarmcl {
 
-StepCounters::StepCounters(Context& ctx) : moved_(ctx, 2, "MDE counters") { moved_.fill(ctx, 0u, 2); }
+StepCounters::StepCounters(Context& ctx, uint32_t worlds)
+    : moved_(ctx, size_t(2) * worlds, "MDE counters"), worlds_(worlds) {
+    moved_.fill(ctx, 0u, size_t(2) * worlds_);
+}
 
 void StepCounters::reset(Context& ctx) {
-    moved_.fill(ctx, 0u, 2);
+    moved_.fill(ctx, 0u, size_t(2) * worlds_);
     steps_ = 0;
 }
 
-StepStats StepCounters::take(Swarm& swarm) {
-    cl_uint counts[2] = {0, 0};
-    moved_.download(swarm.context(), counts, 2);
-    moved_.fill(swarm.context(), 0u, 2);
-    StepStats s;
-    s.agents = swarm.agent_count();
-    s.mde_moved_last = counts[0];
-    s.mde_moved_total = counts[1];
-    s.steps = steps_;
-    steps_ = 0;
-    return s;
+std::vector<StepStats> StepCounters::read(Swarm& swarm) {
+    std::vector<cl_uint> counts(size_t(2) * worlds_);
+    moved_.download(swarm.context(), counts.data(), counts.size());
+    std::vector<StepStats> out(worlds_);
+    for (uint32_t k = 0; k < worlds_; ++k) {
+        out[k].agents = swarm.agent_count();
+        out[k].mde_moved_last = counts[k];
+        out[k].mde_moved_total = counts[worlds_ + k];
+        out[k].steps = steps_;
+    }
+    return out;
 }
 
-StepStats StepCounters::peek(Swarm& swarm) {
-    cl_uint counts[2] = {0, 0};
-    moved_.download(swarm.context(), counts, 2);
-    StepStats s;
-    s.agents = swarm.agent_count();
-    s.mde_moved_last = counts[0];
-    s.mde_moved_total = counts[1];
-    s.steps = steps_;
+namespace {
+StepStats summed(const std::vector<StepStats>& worlds) {
+    StepStats s = worlds.at(0);
+    for (size_t k = 1; k < worlds.size(); ++k) {
+        s.agents += worlds[k].agents;
+        s.mde_moved_last += worlds[k].mde_moved_last;
+        s.mde_moved_total += worlds[k].mde_moved_total;
+    }
     return s;
 }
+}  // namespace
+
+std::vector<StepStats> StepCounters::take_worlds(Swarm& swarm) {
+    std::vector<StepStats> out = read(swarm);
+    reset(swarm.context());
+    return out;
+}
+
+StepStats StepCounters::take(Swarm& swarm) { return summed(take_worlds(swarm)); }
+
+StepStats StepCounters::peek(Swarm& swarm) { return summed(read(swarm)); }
 
 void StepCounters::restore(Context& ctx, const StepStats& stats) {
     // moved[1] is a 32-bit device counter (the total since the last read).
@@ -57,10 +73,38 @@ constexpr float kWideCellPerDistance = 5.0f;
 uint32_t mde_width(Context& ctx) { return preferred_noise_width(ctx.device()); }
 }  // namespace
 
-MinDistance::MinDistance(Context& ctx, float d_min, uint64_t seed)
-    : d_min_(d_min), seed_(seed), width_(mde_width(ctx)),
+namespace {
+StepStages one_world(float d_min, uint64_t seed) {
+    StepStages st;
+    st.min_distance = d_min;
+    st.seed = seed;
+    return st;
+}
+template <typename T>
+std::vector<T> per_world(const std::vector<T>& given, T all, uint32_t worlds) {
+    return given.empty() ? std::vector<T>(worlds, all) : given;
+}
+}  // namespace
+
+MinDistance::MinDistance(Context& ctx, float d_min, uint64_t seed) : MinDistance(ctx, one_world(d_min, seed), 1) {}
+
+MinDistance::MinDistance(Context& ctx, const StepStages& st, uint32_t worlds)
+    : d_min_(per_world(st.world_min_distance, st.min_distance, worlds)),
+      seed_(per_world(st.world_seed, st.seed, worlds)), width_(mde_width(ctx)),
       kernel_(ctx.kernel("min_distance.cl", "min_distance_enforce")) {
+    require(d_min_.size() == worlds && seed_.size() == worlds,
+            "minimum distance enforcement: one distance and seed per world expected");
+    d_min_smallest_ = *std::min_element(d_min_.begin(), d_min_.end());
     if (width_ > 1) wide_ = ctx.kernel("min_distance.cl", "min_distance_enforce_w", "-DMDE_WIDTH=" + std::to_string(width_));
+    d_min_buf_.allocate(ctx, worlds, "MDE distances");
+    d_min_buf_.upload(ctx, d_min_.data(), worlds);
+    seed_buf_.allocate(ctx, worlds, "MDE seeds");
+    seed_buf_.upload(ctx, reinterpret_cast<const cl_ulong*>(seed_.data()), worlds);
+}
+
+bool MinDistance::matches(const StepStages& st, uint32_t worlds) const {
+    return d_min_ == per_world(st.world_min_distance, st.min_distance, worlds) &&
+           seed_ == per_world(st.world_seed, st.seed, worlds);
 }
 
 bool MinDistance::uses_wide_kernel(const GridGeometry& g, uint32_t n) const {
@@ -68,27 +112,28 @@ bool MinDistance::uses_wide_kernel(const GridGeometry& g, uint32_t n) const {
     // cells of at most kWideCellPerDistance * d_min (the scalar kernel's long
     // loops over big cells predict well).  Its lanes index floats and cells
     // as 32-bit ints.
-    return width_ > 1 && g.cell <= kWideCellPerDistance * d_min_ && uint64_t(n) * 4 < (uint64_t(1) << 31) &&
+    return width_ > 1 && g.cell <= kWideCellPerDistance * d_min_smallest_ && uint64_t(n) * 4 < (uint64_t(1) << 31) &&
            uint64_t(g.cell_count()) + 1 < (uint64_t(1) << 31);
 }
 
 void MinDistance::apply(Swarm& swarm, DeviceBuffer<cl_uint>& moved) {
     swarm.ensure_grid();
-    const uint32_t n = swarm.agent_count();
-    const bool wide = uses_wide_kernel(swarm.grid().geometry(), n);
+    const uint32_t n = swarm.agent_count(), worlds = swarm.worlds();
+    require(worlds == d_min_.size(), "minimum distance enforcement: built for another number of worlds");
+    const bool wide = uses_wide_kernel(swarm.grid().geometry(), uint32_t(swarm.total_agents()));
     cl::Kernel& k = wide ? wide_ : kernel_;
     cl_uint i = 0;
     k.setArg(i++, swarm.positions().get());
     k.setArg(i++, swarm.ids().get());
     k.setArg(i++, n);
-    i = swarm.grid().set_grid_args(k, i);
-    k.setArg(i++, d_min_);
-    k.setArg(i++, cl_ulong(seed_));
+    i = swarm.grid().set_world_grid_args(k, i);
+    k.setArg(i++, d_min_buf_.get());
+    k.setArg(i++, seed_buf_.get());
     k.setArg(i++, swarm.scratch().get());
     k.setArg(i++, moved.get());
     check_arg_count(k, i);
-    fill_buffer(swarm.context(), moved.get(), cl_uint(0), 0, sizeof(cl_uint));
-    launch(swarm.context(), k, wide ? (n + width_ - 1) / width_ : n);
+    fill_buffer(swarm.context(), moved.get(), cl_uint(0), 0, sizeof(cl_uint) * worlds);
+    launch_worlds(swarm.context(), k, wide ? (n + width_ - 1) / width_ : n, worlds);
     swarm.swap_positions_with_scratch();
 }
 

@@ -16,6 +16,10 @@ bool finite(float x) { return std::isfinite(x); }
 
 void validate(const SwarmConfig& c) {
     require(c.capacity > 0, "swarm capacity must be > 0");
+    require(c.worlds > 0, "swarm worlds must be > 0 (1: a swarm of one world)");
+    require(c.world_seeds.empty() || c.world_seeds.size() == c.worlds,
+            "swarm world_seeds must be empty or hold one seed per world (" + std::to_string(c.worlds) + "), not " +
+                std::to_string(c.world_seeds.size()));
     require(c.agent_count <= c.capacity, "swarm agent_count " + std::to_string(c.agent_count) +
                                              " exceeds capacity " + std::to_string(c.capacity));
     for (int a = 0; a < 3; ++a) {
@@ -36,13 +40,26 @@ uint32_t max_cells_for(uint32_t capacity) {
 
 const SwarmConfig& checked(const SwarmConfig& c, Context& ctx) {
     validate(c);
+    const uint64_t cells = GridGeometry::cover(c.domain_min.data(), c.domain_max.data(), c.interaction_radius,
+                                               max_cells_for(c.capacity)).cell_count();
+    if (cells * c.worlds >= (uint64_t(1) << 31))
+        fail(Status::InvalidArgument, "swarm worlds: " + std::to_string(c.worlds) + " worlds of " +
+                                          std::to_string(cells) + " grid cells each exceed 2^31 cells; use fewer "
+                                          "worlds or a larger interaction_radius");
     // State, scratch and grid buffers per agent (float4 x4, uint x13, packed
     // xyz), and the grid's per-cell arrays (2 uints).
-    const double bytes = double(c.capacity) * (4 * 16 + 13 * 4 + 12) + double(max_cells_for(c.capacity)) * 8;
+    const double bytes =
+        (double(c.capacity) * (4 * 16 + 13 * 4 + 12) + double(max_cells_for(c.capacity)) * 8) * double(c.worlds);
     if (bytes > double(ctx.device().global_memory))
-        fail(Status::OutOfMemory, "a swarm of capacity " + std::to_string(c.capacity) + " needs about " +
-                                      std::to_string(uint64_t(bytes)) + " bytes; the device '" + ctx.device().device_name + "' has " +
+        fail(Status::OutOfMemory, "a swarm of capacity " + std::to_string(c.capacity) +
+                                      (c.worlds > 1 ? " in each of " + std::to_string(c.worlds) + " worlds" : std::string()) +
+                                      " needs about " + std::to_string(uint64_t(bytes)) + " bytes; the device '" +
+                                      ctx.device().device_name + "' has " +
                                       std::to_string(ctx.device().global_memory));
+    // Slots are 32-bit (the memory check above catches most such swarms first).
+    if (c.worlds > 1 && uint64_t(c.capacity) * c.worlds > (uint64_t(1) << 31))
+        fail(Status::InvalidArgument, "swarm capacity x worlds must be at most 2^31 agents (is " +
+                                          std::to_string(uint64_t(c.capacity) * c.worlds) + ")");
     return c;
 }
 
@@ -60,10 +77,11 @@ Swarm::Swarm(std::shared_ptr<Context> ctx, const SwarmConfig& config)
       config_(checked(config, *ctx_)),
       grid_(*ctx_, GridGeometry::cover(config.domain_min.data(), config.domain_max.data(),
                                        config.interaction_radius, max_cells_for(config.capacity)),
-            config.capacity),
-      stats_(*ctx_) {
+            config.capacity * config.worlds, config.worlds),
+      worlds_(config.worlds),
+      stats_(*ctx_, config.worlds) {
     Context& c = *ctx_;
-    const uint32_t cap = config_.capacity;
+    const uint32_t cap = config_.capacity * worlds_;
     pos_.allocate(c, cap, "positions");
     vel_.allocate(c, cap, "velocities");
     scratch_.allocate(c, cap, "reorder scratch");
@@ -91,24 +109,41 @@ Swarm::~Swarm() {
     }
 }
 
+uint64_t Swarm::world_seed(uint32_t k) const {
+    return config_.world_seeds.empty() ? config_.seed + k : config_.world_seeds[k];
+}
+
+void Swarm::require_one_world(const std::string& what) const {
+    if (worlds_ > 1)
+        fail(Status::InvalidArgument, what + " does not run on a swarm of several worlds yet (this one has " +
+                                          std::to_string(worlds_) + "); docs/architecture.md, \"Worlds\"");
+}
+
 void Swarm::place_uniformly(uint32_t count) {
     // Philox keyed by (seed, agent id, step 0, stream 0): the same seed gives
-    // the same swarm on every device.
-    std::vector<float> xyz(size_t(count) * 3);
-    for (uint32_t id = 0; id < count; ++id) {
-        const auto r = philox_for(config_.seed, id, 0, 0);
-        for (int a = 0; a < 3; ++a) {
-            const float lo = config_.domain_min[a], hi = config_.domain_max[a];
-            xyz[size_t(id) * 3 + a] = std::min(lo + uniform01(r[a]) * (hi - lo), std::nextafter(hi, lo));
+    // the same swarm on every device; world k's by its own seed.
+    std::vector<float> xyz(size_t(count) * 3 * worlds_);
+    for (uint32_t k = 0; k < worlds_; ++k) {
+        const uint64_t seed = world_seed(k);
+        float* out = xyz.data() + size_t(k) * count * 3;
+        for (uint32_t id = 0; id < count; ++id) {
+            const auto r = philox_for(seed, id, 0, 0);
+            for (int a = 0; a < 3; ++a) {
+                const float lo = config_.domain_min[a], hi = config_.domain_max[a];
+                out[size_t(id) * 3 + a] = std::min(lo + uniform01(r[a]) * (hi - lo), std::nextafter(hi, lo));
+            }
         }
     }
-    write(Attribute::Position, xyz.data(), count);
+    write(Attribute::Position, xyz.data(), xyz.size() / 3);
 }
 
 void Swarm::check_count(size_t count, const char* what) const {
-    if (count != n_)
+    if (count != total_agents())
         fail(Status::InvalidArgument, std::string(what) + ": count is " + std::to_string(count) +
-                                          " but the swarm has " + std::to_string(n_) + " agents");
+                                          " but the swarm has " + std::to_string(total_agents()) + " agents" +
+                                          (worlds_ > 1 ? " (" + std::to_string(worlds_) + " worlds of " +
+                                                             std::to_string(n_) + ")"
+                                                       : std::string()));
 }
 
 void Swarm::set_count(uint32_t n) {
@@ -118,14 +153,30 @@ void Swarm::set_count(uint32_t n) {
     // agents start at rest; the layout restarts in id order.
     const uint32_t keep = std::min(n, n_);
     ensure_slot_of();
-    set_args(gather_, vel_.get(), slot_of_.get(), keep, packed_.get());
-    launch(c, gather_, keep);
-    if (n > keep) fill_buffer(c, packed_.get(), 0.0f, size_t(keep) * 3 * sizeof(float), size_t(n - keep) * 3 * sizeof(float));
-    set_args(identity_, n, ids_.get(), slot_of_.get());
-    launch(c, identity_, n);
+    if (worlds_ == 1) {
+        set_args(gather_, vel_.get(), slot_of_.get(), keep, packed_.get());
+        launch(c, gather_, keep);
+        if (n > keep)
+            fill_buffer(c, packed_.get(), 0.0f, size_t(keep) * 3 * sizeof(float), size_t(n - keep) * 3 * sizeof(float));
+    } else {
+        // Each world's first `keep` agents move to their new ids (world k
+        // starts at k n): through the host, as a count change is rare.
+        std::vector<float> old(total_agents() * 3), fresh(size_t(n) * worlds_ * 3, 0.0f);
+        if (n_) {
+            set_args(gather_, vel_.get(), slot_of_.get(), cl_uint(total_agents()), packed_.get());
+            launch(c, gather_, total_agents());
+            packed_.download(c, old.data(), old.size());
+        }
+        for (uint32_t k = 0; k < worlds_; ++k)
+            std::copy_n(old.begin() + size_t(k) * n_ * 3, size_t(keep) * 3, fresh.begin() + size_t(k) * n * 3);
+        if (!fresh.empty()) packed_.upload(c, fresh.data(), fresh.size());
+    }
+    const cl_uint total = n * worlds_;
+    set_args(identity_, total, n ? n : 1u, ids_.get(), slot_of_.get());
+    launch(c, identity_, total);
     grid_.invalidate_layout();  // id order is no order a grid build made
-    set_args(scatter_, packed_.get(), slot_of_.get(), n, vel_.get());
-    launch(c, scatter_, n);
+    set_args(scatter_, packed_.get(), slot_of_.get(), total, vel_.get());
+    launch(c, scatter_, total);
     n_ = n;
     grid_current_ = false;
 }
@@ -134,14 +185,19 @@ void Swarm::write(Attribute attribute, const float* src, size_t count) {
     const char* what = attribute == Attribute::Position ? "swcl_swarm_write(POSITION)" : "swcl_swarm_write(VELOCITY)";
     require(src != nullptr || count == 0, std::string(what) + ": src is NULL");
     if (attribute == Attribute::Position) {
-        if (count > config_.capacity)
+        if (count % worlds_ != 0)
             fail(Status::InvalidArgument, std::string(what) + ": count " + std::to_string(count) +
-                                              " exceeds the swarm's capacity " + std::to_string(config_.capacity));
+                                              " is not a multiple of the swarm's " + std::to_string(worlds_) +
+                                              " worlds (every world has the same number of agents)");
+        if (count / worlds_ > config_.capacity)
+            fail(Status::InvalidArgument, std::string(what) + ": count " + std::to_string(count / worlds_) +
+                                              (worlds_ > 1 ? " a world" : "") + " exceeds the swarm's capacity " +
+                                              std::to_string(config_.capacity));
     } else {
         check_count(count, what);
     }
     check_finite(src, count, what);
-    if (attribute == Attribute::Position) set_count(uint32_t(count));
+    if (attribute == Attribute::Position) set_count(uint32_t(count / worlds_));
     ensure_slot_of();
     packed_.upload(*ctx_, src, count * 3);
     set_args(scatter_, packed_.get(), slot_of_.get(), uint32_t(count),
@@ -155,10 +211,11 @@ void Swarm::read(Attribute attribute, float* dst, size_t count) {
     require(dst != nullptr || count == 0, std::string(what) + ": dst is NULL");
     check_count(count, what);
     ensure_slot_of();
-    set_args(gather_, attribute == Attribute::Position ? pos_.get() : vel_.get(), slot_of_.get(), n_,
+    const cl_uint total = cl_uint(total_agents());
+    set_args(gather_, attribute == Attribute::Position ? pos_.get() : vel_.get(), slot_of_.get(), total,
              packed_.get());
-    launch(*ctx_, gather_, n_);
-    packed_.download(*ctx_, dst, size_t(n_) * 3);
+    launch(*ctx_, gather_, total);
+    packed_.download(*ctx_, dst, size_t(total) * 3);
 }
 
 void Swarm::set_behavior(std::shared_ptr<Behavior> behavior) {
@@ -173,14 +230,18 @@ void Swarm::set_behavior(std::shared_ptr<Behavior> behavior) {
 }
 
 MinDistance& Swarm::min_distance_pass(const StepStages& st) {
-    if (!mde_ || mde_->distance() != st.min_distance || mde_->seed() != st.seed)
-        mde_.emplace(*ctx_, st.min_distance, st.seed);
+    if (!mde_ || !mde_->matches(st, worlds_)) mde_.emplace(*ctx_, st, worlds_);
     return *mde_;
 }
 
 std::optional<StepStats> Swarm::take_step_stats() {
     if (!behavior_ || !behavior_->stages().stats) return std::nullopt;
     return stats_.take(*this);
+}
+
+std::optional<std::vector<StepStats>> Swarm::take_world_step_stats() {
+    if (!behavior_ || !behavior_->stages().stats) return std::nullopt;
+    return stats_.take_worlds(*this);
 }
 
 void Swarm::run_stages(uint64_t step) {
@@ -203,8 +264,8 @@ void Swarm::step(uint32_t steps) {
         if (behavior_) {
             run_stages(steps_);
         } else {
-            set_args(integrate_, pos_.get(), vel_.get(), n_, config_.dt);
-            launch(*ctx_, integrate_, n_);
+            set_args(integrate_, pos_.get(), vel_.get(), cl_uint(total_agents()), config_.dt);
+            launch(*ctx_, integrate_, total_agents());
         }
         grid_current_ = false;
         ++steps_;
@@ -212,6 +273,7 @@ void Swarm::step(uint32_t steps) {
 }
 
 SwarmState Swarm::export_state() {
+    require_one_world("a checkpoint");
     SwarmState st;
     st.steps = steps_;
     st.positions.resize(n_);
@@ -225,6 +287,7 @@ SwarmState Swarm::export_state() {
 }
 
 void Swarm::import_state(const SwarmState& st) {
+    require_one_world("a checkpoint");
     const size_t n = st.ids.size();
     auto bad = [](const std::string& why) { fail(Status::Parse, "checkpoint agent state: " + why); };
     if (n > config_.capacity)
@@ -278,17 +341,26 @@ void Swarm::swap_positions_with_scratch() {
 
 void Swarm::ensure_grid() {
     if (grid_current_) return;
-    grid_.build(pos_, ids_, n_);
-    grid_.reorder_state(pos_, vel_, ids_, scratch_, vel_scratch_, ids_scratch_, n_);
+    const uint32_t total = uint32_t(total_agents());
+    grid_.build(pos_, ids_, total, n_);
+    grid_.reorder_state(pos_, vel_, ids_, scratch_, vel_scratch_, ids_scratch_, total);
     slot_of_current_ = false;
     grid_current_ = true;
 }
 
 void Swarm::ensure_slot_of() {
     if (slot_of_current_) return;
-    set_args(slot_of_k_, ids_.get(), n_, slot_of_.get());
-    launch(*ctx_, slot_of_k_, n_);
+    set_args(slot_of_k_, ids_.get(), cl_uint(total_agents()), n_ ? n_ : 1u, slot_of_.get());
+    launch(*ctx_, slot_of_k_, total_agents());
     slot_of_current_ = true;
+}
+
+// Models that do not run worlds (swarm/behavior.hpp).
+void Behavior::set_world_param(Swarm&, const std::string& key, const double*, size_t) {
+    fail(Status::InvalidArgument, "this model has no per-world parameters yet (setting '" + key + "')");
+}
+std::vector<double> Behavior::world_param(const std::string& key) const {
+    fail(Status::InvalidArgument, "this model has no per-world parameters yet (reading '" + key + "')");
 }
 
 // Models that do not implement checkpoints (swarm/behavior.hpp).
@@ -311,17 +383,18 @@ void Swarm::neighbor_count(float radius, uint32_t* out_counts, size_t count) {
     require(out_counts != nullptr || count == 0, std::string(what) + ": out_counts is NULL");
     check_count(count, what);
     ensure_grid();
-    query_u32_.reserve(*ctx_, n_, "query results");
+    const size_t total = total_agents();
+    query_u32_.reserve(*ctx_, total, "query results");
     cl_uint i = 0;
     count_.setArg(i++, pos_.get());
     count_.setArg(i++, ids_.get());
     count_.setArg(i++, n_);
-    i = grid_.set_grid_args(count_, i);
+    i = grid_.set_world_grid_args(count_, i);
     count_.setArg(i++, radius);
     count_.setArg(i++, query_u32_.get());
     check_arg_count(count_, i);
-    launch(*ctx_, count_, n_);
-    query_u32_.download(*ctx_, out_counts, n_);
+    launch_worlds(*ctx_, count_, n_, worlds_);
+    query_u32_.download(*ctx_, out_counts, total);
 }
 
 void Swarm::nearest_neighbor(float* out_distances, uint32_t* out_ids, size_t count) {
@@ -329,19 +402,20 @@ void Swarm::nearest_neighbor(float* out_distances, uint32_t* out_ids, size_t cou
     require(out_distances != nullptr || count == 0, std::string(what) + ": out_distances is NULL");
     check_count(count, what);
     ensure_grid();
-    query_f32_.reserve(*ctx_, n_, "query results");
-    query_u32_.reserve(*ctx_, n_, "query results");
+    const size_t total = total_agents();
+    query_f32_.reserve(*ctx_, total, "query results");
+    query_u32_.reserve(*ctx_, total, "query results");
     cl_uint i = 0;
     nearest_.setArg(i++, pos_.get());
     nearest_.setArg(i++, ids_.get());
     nearest_.setArg(i++, n_);
-    i = grid_.set_grid_args(nearest_, i);
+    i = grid_.set_world_grid_args(nearest_, i);
     nearest_.setArg(i++, query_f32_.get());
     nearest_.setArg(i++, query_u32_.get());
     check_arg_count(nearest_, i);
-    launch(*ctx_, nearest_, n_);
-    query_f32_.download(*ctx_, out_distances, n_);
-    if (out_ids) query_u32_.download(*ctx_, out_ids, n_);
+    launch_worlds(*ctx_, nearest_, n_, worlds_);
+    query_f32_.download(*ctx_, out_distances, total);
+    if (out_ids) query_u32_.download(*ctx_, out_ids, total);
 }
 
 uint32_t Swarm::neighbor_lists(float radius, uint32_t cap, uint32_t* out_ids, uint32_t* out_counts,
@@ -352,28 +426,29 @@ uint32_t Swarm::neighbor_lists(float radius, uint32_t cap, uint32_t* out_ids, ui
     require(out_ids != nullptr || count == 0, std::string(what) + ": out_ids is NULL");
     require(out_counts != nullptr || count == 0, std::string(what) + ": out_counts is NULL");
     check_count(count, what);
-    const uint64_t entries = uint64_t(n_) * cap;
+    const size_t total = total_agents();
+    const uint64_t entries = uint64_t(total) * cap;
     if (entries * sizeof(cl_uint) > ctx_->max_allocation())
-        fail(Status::OutOfMemory, std::string(what) + ": " + std::to_string(n_) + " agents x " +
+        fail(Status::OutOfMemory, std::string(what) + ": " + std::to_string(total) + " agents x " +
                                       std::to_string(cap) + " neighbours exceed the device's largest allocation");
     ensure_grid();
     DeviceBuffer<cl_uint> lists(*ctx_, size_t(entries), "neighbour lists");
-    query_u32_.reserve(*ctx_, n_, "query results");
+    query_u32_.reserve(*ctx_, total, "query results");
     cl_uint i = 0;
     lists_.setArg(i++, pos_.get());
     lists_.setArg(i++, ids_.get());
     lists_.setArg(i++, n_);
-    i = grid_.set_grid_args(lists_, i);
+    i = grid_.set_world_grid_args(lists_, i);
     lists_.setArg(i++, radius);
     lists_.setArg(i++, cap);
     lists_.setArg(i++, lists.get());
     lists_.setArg(i++, query_u32_.get());
     check_arg_count(lists_, i);
-    launch(*ctx_, lists_, n_);
+    launch_worlds(*ctx_, lists_, n_, worlds_);
     lists.download(*ctx_, out_ids, size_t(entries));
-    query_u32_.download(*ctx_, out_counts, n_);
+    query_u32_.download(*ctx_, out_counts, total);
     uint32_t truncated = 0;
-    for (uint32_t a = 0; a < n_; ++a) truncated += out_counts[a] > cap ? 1u : 0u;
+    for (size_t a = 0; a < total; ++a) truncated += out_counts[a] > cap ? 1u : 0u;
     return truncated;
 }
 

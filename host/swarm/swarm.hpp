@@ -8,6 +8,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "device/buffer.hpp"
@@ -18,10 +19,17 @@
 
 namespace swarmcl {
 
+// Worlds (docs/architecture.md, "Worlds"): `worlds` independent swarms of
+// agent_count agents each (capacity each), stepped by the same launches.
+// World k is placed, seeded and stepped as a swarm alone with seed
+// world_seeds[k] (default: seed + k) would be, bitwise; all worlds share the
+// domain, the grid and the model's kernel, each has its own parameter block.
 struct SwarmConfig {
     uint32_t capacity = 1024;
     uint32_t agent_count = 0;
     uint64_t seed = 0;
+    uint32_t worlds = 1;
+    std::vector<uint64_t> world_seeds;  // empty, or one per world
     std::array<float, 3> domain_min{-1.0f, -1.0f, -1.0f};
     std::array<float, 3> domain_max{1.0f, 1.0f, 1.0f};
     float interaction_radius = 0.1f;
@@ -53,12 +61,19 @@ public:
     // the GPU profile on PoCL, after a last step nobody read).
     ~Swarm();
 
+    // Agents of each world (of the swarm when it has one world).
     uint32_t agent_count() const { return n_; }
+    uint32_t worlds() const { return worlds_; }
+    // Agents of all worlds (the count of write/read).
+    size_t total_agents() const { return size_t(n_) * worlds_; }
+    // World k's seed (SwarmConfig::world_seeds).
+    uint64_t world_seed(uint32_t k) const;
     uint64_t step_count() const { return steps_; }
     const SwarmConfig& config() const { return config_; }
     Context& context() { return *ctx_; }
 
-    // Packed xyz, agent-id order.  See swcl_swarm_write / swcl_swarm_read.
+    // Packed xyz, agent-id order, world by world (count = worlds x agents a
+    // world).  See swcl_swarm_write / swcl_swarm_read.
     void write(Attribute attribute, const float* src, size_t count);
     void read(Attribute attribute, float* dst, size_t count);
     void step(uint32_t steps);
@@ -97,8 +112,13 @@ public:
     void set_behavior(std::shared_ptr<Behavior> behavior);
     Behavior* behavior() const { return behavior_.get(); }
     // Reads and resets the step statistics (waits for the device); none
-    // without a model or for a model whose StepStages count none.
+    // without a model or for a model whose StepStages count none.  Summed
+    // over the worlds; take_world_step_stats gives one per world.
     std::optional<StepStats> take_step_stats();
+    std::optional<std::vector<StepStats>> take_world_step_stats();
+    // Error(InvalidArgument) naming `what` when the swarm has several worlds
+    // (for the parts that do not run worlds yet).
+    void require_one_world(const std::string& what) const;
 
     // Checkpoints: the state now (waits for the device), and a state put
     // back in place of this swarm's (validated first: Error(Parse) for a
@@ -124,7 +144,8 @@ private:
     std::shared_ptr<Context> ctx_;
     SwarmConfig config_;
     NeighborGrid grid_;
-    uint32_t n_ = 0;
+    uint32_t n_ = 0;  // agents a world
+    uint32_t worlds_ = 1;
     uint64_t steps_ = 0;
     bool grid_current_ = false;
     bool slot_of_current_ = true;  // slot_of_ is the inverse of ids_

@@ -19,7 +19,8 @@ typedef struct {
     float4 origin;        // domain minimum corner (w unused)
     float inv_cell;       // 1 / cell edge
     int4 dims;            // cells per axis (w unused)
-    __global const uint* cell_start;  // agent range of cell c: [start[c], start[c+1])
+    __global const uint* cell_start;  // agent range of cell c: [start[c], start[c+1]) - slot_base
+    uint slot_base;       // first slot of the grid's world (0 without worlds)
 } Grid;
 
 #define GRID_PARAMS float4 grid_origin, float grid_inv_cell, int4 grid_dims, \
@@ -32,6 +33,24 @@ static inline Grid grid_make(float4 origin, float inv_cell, int4 dims, __global 
     g.inv_cell = inv_cell;
     g.dims = dims;
     g.cell_start = cell_start;
+    g.slot_base = 0u;
+    return g;
+}
+
+// Worlds (docs/architecture.md, "Worlds"): a swarm of W worlds of n agents
+// each keeps world w's agents in slots [w n, (w + 1) n) and its cells at
+// [w cells, (w + 1) cells) of one cell_start array of W cells + 1 entries
+// (the grid's keys are w cells + cell, kernels/grid.cl).  A kernel launched
+// over (work-items, W) works on world get_global_id(1): it offsets its
+// per-agent pointers by w n, and sees its world's cells through this view,
+// whose ranges are slots of the world (from 0), so the kernel body is the one
+// of a swarm alone, and world w gives bitwise that swarm's run.
+#define GRID_WORLD_PARAMS GRID_PARAMS, uint grid_world_cells
+#define GRID_MAKE_WORLD(n) grid_world_view(GRID_MAKE(), grid_world_cells, (n))
+static inline Grid grid_world_view(Grid g, uint world_cells, uint n) {
+    const uint w = (uint)get_global_id(1);
+    g.cell_start += (size_t)w * world_cells;
+    g.slot_base = w * n;
     return g;
 }
 
@@ -62,7 +81,7 @@ static inline void grid_search_box(const Grid* g, float4 p, float r, int4* lo, i
 // Agent slots of the cells x0..x1 of row (y, z): [range.x, range.y).
 static inline uint2 grid_row_range(const Grid* g, int x0, int x1, int y, int z) {
     const uint row = (uint)g->dims.x * ((uint)y + (uint)g->dims.y * (uint)z);
-    return (uint2)(g->cell_start[row + (uint)x0], g->cell_start[row + (uint)x1 + 1u]);
+    return (uint2)(g->cell_start[row + (uint)x0], g->cell_start[row + (uint)x1 + 1u]) - g->slot_base;
 }
 
 // Iterates the slots j of every agent that may lie within r of p:

@@ -180,13 +180,27 @@ typedef struct swcl_swarm_desc {
     float domain_max[3];           /* them, the grid only covers them */
     float interaction_radius;      /* neighbour-grid cell size, metres (> 0) */
     float dt;                      /* time step, seconds (> 0) */
+    /* Worlds (added in 0.x; older struct sizes mean 1): independent swarms of
+     * capacity / agent_count agents each, stepped by the same launches.  World
+     * k is seeded with world_seeds[k] (NULL: seed + k) and runs bitwise as a
+     * swarm alone with that seed and its own model parameters
+     * (swcl_swarm_set_world_param).  All worlds share the domain, the grid's
+     * cells and the model's kernel.  Reads and writes hold every world, world
+     * by world (count = worlds x agents a world).  The field model and
+     * ballistic motion run worlds; the other models, checkpoints, recorders
+     * and metrics of a swarm refuse worlds > 1 with
+     * SWCL_ERROR_INVALID_ARGUMENT for now. */
+    uint32_t worlds;               /* >= 1 */
+    const uint64_t* world_seeds;   /* NULL or `worlds` seeds (copied) */
 } swcl_swarm_desc;
 
 SWCL_API swcl_swarm_desc swcl_swarm_desc_default(void);
 SWCL_API swcl_status swcl_swarm_create(swcl_context context, const swcl_swarm_desc* desc,
                                        swcl_swarm* out);
 SWCL_API swcl_status swcl_swarm_destroy(swcl_swarm swarm);
+/* Agents of each world (of the swarm, with one world). */
 SWCL_API swcl_status swcl_swarm_agent_count(swcl_swarm swarm, uint32_t* out_count);
+SWCL_API swcl_status swcl_swarm_worlds(swcl_swarm swarm, uint32_t* out_worlds);
 /* Steps simulated so far. */
 SWCL_API swcl_status swcl_swarm_step_count(swcl_swarm swarm, uint64_t* out_steps);
 
@@ -218,6 +232,24 @@ typedef struct swcl_step_stats {
 /* Statistics of the swarm's minimum distance enforcement stage since the
  * last call (waits for the device); zeros where the model runs none. */
 SWCL_API swcl_status swcl_swarm_take_step_stats(swcl_swarm swarm, swcl_step_stats* out);
+/* The same per world (summed above): out[k] for world k, count = worlds;
+ * each out[k].struct_size set by the caller. */
+SWCL_API swcl_status swcl_swarm_take_world_step_stats(swcl_swarm swarm, swcl_step_stats* out, size_t count);
+
+/* Worlds: parameter `name` of the swarm's model in every world, values[k] for
+ * world k (3 values per world, x y z, for a 3-vector); count = worlds x
+ * components.  `name` is a key of the model's table (swcl_model_parameters:
+ * "noise.scale", "goal.speed", "min_distance", ...) or its descriptor field.
+ * Every value is checked before any is set: a value outside its range, NaN,
+ * a wrong count or an unknown name give SWCL_ERROR_INVALID_ARGUMENT naming
+ * the parameter, the world and the valid range, and nothing changes.  A
+ * model set later starts every world from its descriptor again. */
+SWCL_API swcl_status swcl_swarm_set_world_param(swcl_swarm swarm, const char* name, const double* values,
+                                                size_t count);
+/* Reads it back: *out_count (if not NULL) = worlds x components; with
+ * out_values NULL and count 0 only the count is asked for. */
+SWCL_API swcl_status swcl_swarm_get_world_param(swcl_swarm swarm, const char* name, double* out_values,
+                                                size_t count, size_t* out_count);
 
 /* ---- neighbour search ----------------------------------------------------
  * Queries run on the device over the swarm's uniform grid (cell size =
@@ -290,6 +322,14 @@ SWCL_API swcl_status swcl_scenario_get_info(swcl_scenario scenario, swcl_scenari
  * attached. */
 SWCL_API swcl_status swcl_scenario_create_swarm(swcl_scenario scenario, swcl_context context,
                                                 swcl_swarm* out);
+/* The same as `worlds` worlds (swcl_swarm_desc.worlds): world k placed and
+ * seeded as the scenario alone with seed world_seeds[k] (NULL: the
+ * scenario's seed + k), each with the scenario's model; then
+ * swcl_swarm_set_world_param varies its parameters per world.  Models that
+ * do not run worlds refuse worlds > 1 (SWCL_ERROR_INVALID_ARGUMENT). */
+SWCL_API swcl_status swcl_scenario_create_world_swarm(swcl_scenario scenario, swcl_context context,
+                                                      uint32_t worlds, const uint64_t* world_seeds,
+                                                      swcl_swarm* out);
 
 /* ---- recording trajectories -------------------------------------------------
  * Writes frames of a swarm to `dir` (created if missing) in the chosen formats.

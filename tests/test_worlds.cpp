@@ -1,0 +1,263 @@
+// Worlds (issue 25; docs/architecture.md, "Worlds"): a swarm of W worlds
+// stepped by the same launches gives, world by world, bitwise the runs of
+// the same swarms alone (positions, velocities, neighbour queries, step
+// statistics), with per-world seeds and model parameters; and bad input
+// (0 worlds, wrong counts, NaN and out-of-range values, unknown names,
+// models without worlds) gets a status naming what is wrong and changes
+// nothing.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstddef>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "swarmcl/swarmcl.h"
+
+namespace {
+
+constexpr uint32_t kWorlds = 4;
+constexpr uint32_t kAgents = 301;  // not a multiple of any lane count: worlds straddle work-items
+const uint64_t kSeeds[kWorlds] = {11, 22, 33, 0x1234567890ull};
+
+// Per world: noise.scale, noise.seed, goal.speed, min_distance, max_speed.
+const double kScale[kWorlds] = {0.3, 0.4, 0.5, 0.6};
+const double kNoiseSeed[kWorlds] = {1, 2, 3, 4000000000.0};
+const double kGoalSpeed[kWorlds] = {0.5, 0.8, 1.1, 0.2};
+const double kMinDistance[kWorlds] = {0.04, 0.02, 0.0, 0.05};
+const double kMaxSpeed[kWorlds] = {0.0, 0.9, 0.7, 0.0};
+
+class Worlds : public ::testing::Test {
+protected:
+    void SetUp() override {
+        swcl_context_desc d = swcl_context_desc_default();
+        ASSERT_EQ(swcl_context_create(&d, &ctx_), SWCL_OK) << swcl_last_error();
+    }
+    void TearDown() override {
+        for (swcl_swarm s : swarms_) swcl_swarm_destroy(s);
+        swcl_context_destroy(ctx_);
+    }
+    static swcl_swarm_desc desc(uint32_t worlds, uint64_t seed, const uint64_t* seeds) {
+        swcl_swarm_desc d = swcl_swarm_desc_default();
+        d.capacity = 512;
+        d.agent_count = kAgents;
+        d.seed = seed;
+        for (int a = 0; a < 3; ++a) {
+            d.domain_min[a] = -1.0f;
+            d.domain_max[a] = 1.0f;
+        }
+        d.interaction_radius = 0.1f;
+        d.dt = 0.02f;
+        d.worlds = worlds;
+        d.world_seeds = seeds;
+        return d;
+    }
+    swcl_swarm make(const swcl_swarm_desc& d) {
+        swcl_swarm s{};
+        EXPECT_EQ(swcl_swarm_create(ctx_, &d, &s), SWCL_OK) << swcl_last_error();
+        swarms_.push_back(s);
+        return s;
+    }
+    static swcl_field_model_desc model(uint32_t k) {
+        swcl_field_model_desc m = swcl_field_model_desc_default();
+        m.noise.scale = float(kScale[k]);
+        m.noise.seed = uint64_t(kNoiseSeed[k]);
+        m.has_goal = 1;
+        m.goal[0] = 0.3f;
+        m.goal[1] = -0.2f;
+        m.goal[2] = 0.1f;
+        m.goal_radius = 0.2f;
+        m.goal_speed = float(kGoalSpeed[k]);
+        m.min_distance = float(kMinDistance[k]);
+        m.max_speed = float(kMaxSpeed[k]);
+        return m;
+    }
+    static void set(swcl_swarm s, const char* name, const double* v, size_t count) {
+        ASSERT_EQ(swcl_swarm_set_world_param(s, name, v, count), SWCL_OK) << swcl_last_error();
+    }
+    static std::vector<float> read(swcl_swarm s, swcl_attribute a, size_t agents) {
+        std::vector<float> out(3 * agents);
+        EXPECT_EQ(swcl_swarm_read(s, a, out.data(), agents), SWCL_OK) << swcl_last_error();
+        return out;
+    }
+    // The ensemble: world k gets model(k) through the per-world setters.
+    swcl_swarm ensemble() {
+        swcl_swarm s = make(desc(kWorlds, 0, kSeeds));
+        const swcl_field_model_desc m0 = model(0);
+        EXPECT_EQ(swcl_swarm_field_set_model(s, &m0), SWCL_OK) << swcl_last_error();
+        set(s, "noise.scale", kScale, kWorlds);
+        set(s, "noise.seed", kNoiseSeed, kWorlds);
+        set(s, "goal.speed", kGoalSpeed, kWorlds);
+        set(s, "min_distance", kMinDistance, kWorlds);
+        set(s, "max_speed", kMaxSpeed, kWorlds);
+        return s;
+    }
+    swcl_swarm alone(uint32_t k) {
+        swcl_swarm s = make(desc(1, kSeeds[k], nullptr));
+        const swcl_field_model_desc m = model(k);
+        EXPECT_EQ(swcl_swarm_field_set_model(s, &m), SWCL_OK) << swcl_last_error();
+        return s;
+    }
+
+    swcl_context ctx_{};
+    std::vector<swcl_swarm> swarms_;
+};
+
+// Bitwise equality of world k's slice of `all` with `one`.
+template <typename T>
+void expect_world_equal(const std::vector<T>& all, const std::vector<T>& one, uint32_t k, const char* what) {
+    ASSERT_EQ(all.size() % kWorlds, 0u);
+    const size_t per = all.size() / kWorlds;
+    ASSERT_EQ(per, one.size());
+    size_t differ = 0;
+    for (size_t i = 0; i < per; ++i) differ += std::memcmp(&all[k * per + i], &one[i], sizeof(T)) != 0;
+    EXPECT_EQ(differ, 0u) << what << " of world " << k << " differ from the swarm alone in " << differ << " of "
+                          << per << " values";
+}
+
+TEST_F(Worlds, FieldModelWorldsAreBitwiseTheSwarmsAlone) {
+    swcl_swarm all = ensemble();
+    uint32_t worlds = 0, agents = 0;
+    ASSERT_EQ(swcl_swarm_worlds(all, &worlds), SWCL_OK);
+    ASSERT_EQ(swcl_swarm_agent_count(all, &agents), SWCL_OK);
+    EXPECT_EQ(worlds, kWorlds);
+    EXPECT_EQ(agents, kAgents);
+    const size_t total = size_t(kWorlds) * kAgents;
+    ASSERT_EQ(swcl_swarm_step(all, 40), SWCL_OK) << swcl_last_error();
+    const std::vector<float> pos = read(all, SWCL_ATTRIBUTE_POSITION, total);
+    const std::vector<float> vel = read(all, SWCL_ATTRIBUTE_VELOCITY, total);
+    std::vector<uint32_t> counts(total), nearest_ids(total);
+    std::vector<float> nearest(total);
+    ASSERT_EQ(swcl_swarm_neighbor_count(all, 0.15f, counts.data(), total), SWCL_OK) << swcl_last_error();
+    ASSERT_EQ(swcl_swarm_nearest_neighbor(all, nearest.data(), nearest_ids.data(), total), SWCL_OK);
+    std::vector<swcl_step_stats> st(kWorlds);
+    for (auto& s : st) s.struct_size = sizeof(swcl_step_stats);
+    ASSERT_EQ(swcl_swarm_take_world_step_stats(all, st.data(), kWorlds), SWCL_OK) << swcl_last_error();
+
+    uint64_t moved_somewhere = 0;
+    for (uint32_t k = 0; k < kWorlds; ++k) {
+        swcl_swarm one = alone(k);
+        ASSERT_EQ(swcl_swarm_step(one, 40), SWCL_OK) << swcl_last_error();
+        expect_world_equal(pos, read(one, SWCL_ATTRIBUTE_POSITION, kAgents), k, "positions");
+        expect_world_equal(vel, read(one, SWCL_ATTRIBUTE_VELOCITY, kAgents), k, "velocities");
+        std::vector<uint32_t> c(kAgents), ids(kAgents);
+        std::vector<float> d(kAgents);
+        ASSERT_EQ(swcl_swarm_neighbor_count(one, 0.15f, c.data(), kAgents), SWCL_OK);
+        ASSERT_EQ(swcl_swarm_nearest_neighbor(one, d.data(), ids.data(), kAgents), SWCL_OK);
+        expect_world_equal(counts, c, k, "neighbour counts");
+        expect_world_equal(nearest, d, k, "nearest distances");
+        expect_world_equal(nearest_ids, ids, k, "nearest ids");
+        swcl_step_stats s1{};
+        s1.struct_size = sizeof(s1);
+        ASSERT_EQ(swcl_swarm_take_step_stats(one, &s1), SWCL_OK);
+        EXPECT_EQ(st[k].mde_moved_total, s1.mde_moved_total) << "world " << k;
+        EXPECT_EQ(st[k].mde_moved_last, s1.mde_moved_last) << "world " << k;
+        EXPECT_EQ(st[k].steps, s1.steps);
+        moved_somewhere += s1.mde_moved_total;
+    }
+    // The comparison covers the MDE stage: it moved agents (and in world 2,
+    // min_distance 0, none).
+    EXPECT_GT(moved_somewhere, 0u);
+    EXPECT_EQ(st[2].mde_moved_total, 0u);
+    // The worlds differ from each other (their parameters and seeds do).
+    EXPECT_NE(std::memcmp(pos.data(), pos.data() + 3 * kAgents, 3 * kAgents * sizeof(float)), 0);
+}
+
+TEST_F(Worlds, BallisticWorldsAreSeededSeedPlusK) {
+    swcl_swarm all = make(desc(3, 100, nullptr));
+    const size_t total = 3 * size_t(kAgents);
+    std::vector<float> v(3 * total);
+    for (size_t i = 0; i < v.size(); ++i) v[i] = float(int(i % 7) - 3) * 0.1f;
+    ASSERT_EQ(swcl_swarm_write(all, SWCL_ATTRIBUTE_VELOCITY, v.data(), total), SWCL_OK) << swcl_last_error();
+    ASSERT_EQ(swcl_swarm_step(all, 5), SWCL_OK);
+    const std::vector<float> pos = read(all, SWCL_ATTRIBUTE_POSITION, total);
+    for (uint32_t k = 0; k < 3; ++k) {
+        swcl_swarm one = make(desc(1, 100 + k, nullptr));
+        ASSERT_EQ(swcl_swarm_write(one, SWCL_ATTRIBUTE_VELOCITY, v.data() + 3 * size_t(k) * kAgents, kAgents),
+                  SWCL_OK);
+        ASSERT_EQ(swcl_swarm_step(one, 5), SWCL_OK);
+        const std::vector<float> p1 = read(one, SWCL_ATTRIBUTE_POSITION, kAgents);
+        EXPECT_EQ(std::memcmp(pos.data() + 3 * size_t(k) * kAgents, p1.data(), p1.size() * sizeof(float)), 0)
+            << "world " << k;
+    }
+}
+
+TEST_F(Worlds, WritingPositionsSetsEveryWorldsCount) {
+    swcl_swarm all = make(desc(3, 5, nullptr));
+    std::vector<float> p(3 * 3 * 10);
+    for (size_t i = 0; i < p.size(); ++i) p[i] = float(i % 17) * 0.05f - 0.4f;
+    ASSERT_EQ(swcl_swarm_write(all, SWCL_ATTRIBUTE_POSITION, p.data(), 30), SWCL_OK) << swcl_last_error();
+    uint32_t agents = 0;
+    ASSERT_EQ(swcl_swarm_agent_count(all, &agents), SWCL_OK);
+    EXPECT_EQ(agents, 10u);
+    EXPECT_EQ(read(all, SWCL_ATTRIBUTE_POSITION, 30), p);
+    // 31 agents cannot be shared by 3 worlds; 3 x 513 exceed the capacity.
+    std::vector<float> q(3 * 3 * 513, 0.0f);
+    EXPECT_EQ(swcl_swarm_write(all, SWCL_ATTRIBUTE_POSITION, q.data(), 31), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("multiple"), std::string::npos) << swcl_last_error();
+    EXPECT_EQ(swcl_swarm_write(all, SWCL_ATTRIBUTE_POSITION, q.data(), 3 * 513), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(read(all, SWCL_ATTRIBUTE_POSITION, 30), p);  // nothing changed
+}
+
+TEST_F(Worlds, BadInputNamesTheParameterAndWorldAndChangesNothing) {
+    swcl_swarm_desc d = desc(0, 1, nullptr);
+    swcl_swarm s{};
+    EXPECT_EQ(swcl_swarm_create(ctx_, &d, &s), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("worlds"), std::string::npos) << swcl_last_error();
+
+    swcl_swarm all = ensemble();
+    const auto expect_error = [&](const char* name, const std::vector<double>& v, const char* says) {
+        EXPECT_EQ(swcl_swarm_set_world_param(all, name, v.data(), v.size()), SWCL_ERROR_INVALID_ARGUMENT) << name;
+        EXPECT_NE(std::string(swcl_last_error()).find(says), std::string::npos) << swcl_last_error();
+    };
+    expect_error("noise.scale", {0.1, 0.2, 0.3}, "3 values given for 4 worlds");
+    expect_error("noise.scale", {0.1, 0.2, std::nan(""), 0.3}, "in world 2");
+    expect_error("goal.speed", {0.1, -1.0, 0.2, 0.3}, "goal.speed = -1 in world 1 is outside [0, inf)");
+    expect_error("no_such_parameter", {1, 2, 3, 4}, "no parameter 'no_such_parameter'");
+    expect_error("noise.type", {0, 1, 0, 0}, "selects the noise kernel");
+    // Nothing half-applied: the values are those set before.
+    std::vector<double> scale(kWorlds), speed(kWorlds);
+    size_t count = 0;
+    ASSERT_EQ(swcl_swarm_get_world_param(all, "noise.scale", nullptr, 0, &count), SWCL_OK) << swcl_last_error();
+    EXPECT_EQ(count, size_t(kWorlds));
+    ASSERT_EQ(swcl_swarm_get_world_param(all, "noise.scale", scale.data(), kWorlds, nullptr), SWCL_OK)
+        << swcl_last_error();
+    ASSERT_EQ(swcl_swarm_get_world_param(all, "goal_speed", speed.data(), kWorlds, nullptr), SWCL_OK)
+        << swcl_last_error();
+    for (uint32_t k = 0; k < kWorlds; ++k) {
+        EXPECT_EQ(float(scale[k]), float(kScale[k]));
+        EXPECT_EQ(float(speed[k]), float(kGoalSpeed[k]));
+    }
+    // A vector: three values a world.
+    std::vector<double> goals(3 * kWorlds, 0.25);
+    set(all, "goal.center", goals.data(), goals.size());
+    ASSERT_EQ(swcl_swarm_get_world_param(all, "goal.center", nullptr, 0, &count), SWCL_OK);
+    EXPECT_EQ(count, size_t(3 * kWorlds));
+    EXPECT_EQ(swcl_swarm_set_world_param(all, "goal.center", goals.data(), kWorlds), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("3 per world"), std::string::npos) << swcl_last_error();
+
+    // Models that do not run worlds yet say so.
+    swcl_force_model_desc fm = swcl_force_model_desc_default();
+    EXPECT_EQ(swcl_swarm_force_set_model(all, &fm), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("worlds"), std::string::npos) << swcl_last_error();
+    // The field model is still in place and steps.
+    EXPECT_EQ(swcl_swarm_step(all, 1), SWCL_OK) << swcl_last_error();
+
+    // A swarm without a model has no per-world parameters.
+    swcl_swarm bare = make(desc(2, 1, nullptr));
+    double v[2] = {1, 2};
+    EXPECT_EQ(swcl_swarm_set_world_param(bare, "noise.scale", v, 2), SWCL_ERROR_INVALID_ARGUMENT);
+}
+
+TEST_F(Worlds, OlderDescriptorsAreOneWorld) {
+    swcl_swarm_desc d = desc(7, 3, nullptr);
+    d.struct_size = uint32_t(offsetof(swcl_swarm_desc, worlds));  // a caller built before worlds
+    swcl_swarm s = make(d);
+    uint32_t worlds = 0;
+    ASSERT_EQ(swcl_swarm_worlds(s, &worlds), SWCL_OK);
+    EXPECT_EQ(worlds, 1u);
+}
+
+}  // namespace
