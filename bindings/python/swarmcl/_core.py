@@ -152,12 +152,19 @@ class Swarm(_Handle):
     Arguments left at None take swcl_swarm_desc_default()'s values, except that
     ``capacity`` grows to ``agent_count`` when only the latter is given.
     ``domain`` is ((x0, y0, z0), (x1, y1, z1)) in metres.  Swarms stay usable
-    after their context is closed."""
+    after their context is closed.
+
+    ``worlds=W`` holds W independent swarms of ``agent_count`` agents each,
+    stepped by the same launches (docs/architecture.md, "Worlds"): world k is
+    seeded with ``world_seeds[k]`` (default ``seed + k``) and runs bitwise as
+    the same swarm alone; positions, velocities and query results are then
+    shaped (W, N, ...), and ``set_world_param`` gives the model's parameters
+    one value per world."""
 
     def __init__(self, context: Context, capacity: Optional[int] = None,
                  agent_count: Optional[int] = None, seed: Optional[int] = None,
                  domain=None, interaction_radius: Optional[float] = None,
-                 dt: Optional[float] = None):
+                 dt: Optional[float] = None, worlds: Optional[int] = None, world_seeds=None):
         if not isinstance(context, Context):
             raise TypeError(f"context must be a swarmcl.Context, got {type(context).__name__}")
         desc = ffi.new("swcl_swarm_desc*", _SWARM_DEFAULT)
@@ -178,6 +185,21 @@ class Swarm(_Handle):
             desc.interaction_radius = interaction_radius
         if dt is not None:
             desc.dt = dt
+        keep = None
+        if worlds is not None:
+            w = operator.index(worlds)
+            if not 1 <= w < 2**32:
+                raise ValueError(f"Swarm: worlds must be in [1, 2**32), got {w}")
+            desc.worlds = w
+        if world_seeds is not None:
+            seeds = np.asarray(world_seeds)
+            if seeds.ndim != 1 or seeds.shape[0] != int(desc.worlds) or not np.issubdtype(seeds.dtype, np.integer):
+                raise ValueError(f"Swarm: world_seeds must be {int(desc.worlds)} integers (one per world), "
+                                 f"got shape {seeds.shape} of {seeds.dtype}")
+            if (seeds < 0).any():
+                raise ValueError("Swarm: world_seeds must be >= 0")
+            keep = np.ascontiguousarray(seeds, dtype=np.uint64)
+            desc.world_seeds = ffi.cast("const uint64_t*", keep.ctypes.data)
         out = ffi.new("swcl_swarm*")
         check(lib.swcl_swarm_create(context._h, desc, out))
         self._init_handle(out, context)
@@ -199,8 +221,21 @@ class Swarm(_Handle):
 
     @property
     def agent_count(self) -> int:
+        """Agents of each world (of the swarm, with one world)."""
         check(lib.swcl_swarm_agent_count(self._h, self._u32))
         return int(self._u32[0])
+
+    @property
+    def worlds(self) -> int:
+        """Independent worlds in the swarm (1 unless created with ``worlds``)."""
+        check(lib.swcl_swarm_worlds(self._h, self._u32))
+        return int(self._u32[0])
+
+    def _shape(self, *tail):
+        """(N, *tail) with one world, (W, N, *tail) with several, and the
+        total count of agents."""
+        n, w = self.agent_count, self.worlds
+        return ((n, *tail) if w == 1 else (w, n, *tail)), n * w
 
     def __len__(self) -> int:
         return self.agent_count
@@ -214,13 +249,16 @@ class Swarm(_Handle):
     # ---- state -----------------------------------------------------------------
 
     def _read(self, attribute: int, out, what: str) -> np.ndarray:
-        n = self.agent_count
-        out = _out_array(out, (n, 3), np.float32, what)
-        check(lib.swcl_swarm_read(self._h, attribute, _fptr(out), n))
+        shape, total = self._shape(3)
+        out = _out_array(out, shape, np.float32, what)
+        check(lib.swcl_swarm_read(self._h, attribute, _fptr(out), total))
         return out
 
     def _write(self, attribute: int, values, what: str) -> None:
-        a = _xyz_in(values, what)
+        v = np.asarray(values)
+        if v.ndim == 3:  # (W, N, 3): the worlds one after another
+            v = v.reshape(-1, 3) if v.shape[2] == 3 else v
+        a = _xyz_in(v, what)
         check(lib.swcl_swarm_write(self._h, attribute, _fptr(a), a.shape[0]))
 
     def read_positions(self, out: Optional[np.ndarray] = None) -> np.ndarray:
@@ -454,40 +492,77 @@ class Swarm(_Handle):
         return energy.goals(self)
 
     def take_step_stats(self) -> StepStats:
-        """Model statistics since the last call (waits for the device)."""
+        """Model statistics since the last call (waits for the device), summed
+        over the worlds."""
         out = ffi.new("swcl_step_stats*")
         out.struct_size = ffi.sizeof("swcl_step_stats")
         check(lib.swcl_swarm_take_step_stats(self._h, out))
         return StepStats(agents=int(out.agents), mde_moved_last=int(out.mde_moved_last),
                          mde_moved_total=int(out.mde_moved_total), steps=int(out.steps))
 
+    def take_world_step_stats(self) -> list:
+        """The same per world: a list of W StepStats."""
+        w = self.worlds
+        out = ffi.new("swcl_step_stats[]", w)
+        for k in range(w):
+            out[k].struct_size = ffi.sizeof("swcl_step_stats")
+        check(lib.swcl_swarm_take_world_step_stats(self._h, out, w))
+        return [StepStats(agents=int(o.agents), mde_moved_last=int(o.mde_moved_last),
+                          mde_moved_total=int(o.mde_moved_total), steps=int(o.steps)) for o in out]
+
+    # ---- worlds ----------------------------------------------------------------------
+
+    def set_world_param(self, name: str, values) -> None:
+        """Parameter ``name`` of the swarm's model (a key of its table, e.g.
+        "noise.scale", "goal.speed"; swarmcl.model_parameters lists them) in
+        every world: W values, or (W, 3) for a vector.  All are checked before
+        any is set; a bad one raises InvalidArgumentError naming the
+        parameter, the world and the valid range, and nothing changes."""
+        if not isinstance(name, str):
+            raise TypeError(f"set_world_param: name must be a str, got {type(name).__name__}")
+        v = np.ascontiguousarray(np.asarray(values, dtype=np.float64).reshape(-1))
+        check(lib.swcl_swarm_set_world_param(self._h, name.encode(), ffi.cast("const double*", v.ctypes.data),
+                                             v.shape[0]))
+
+    def world_param(self, name: str) -> np.ndarray:
+        """Parameter ``name`` in every world: (W,) or (W, 3) float64."""
+        if not isinstance(name, str):
+            raise TypeError(f"world_param: name must be a str, got {type(name).__name__}")
+        count = ffi.new("size_t*")
+        check(lib.swcl_swarm_get_world_param(self._h, name.encode(), ffi.NULL, 0, count))
+        out = np.zeros(int(count[0]), np.float64)
+        check(lib.swcl_swarm_get_world_param(self._h, name.encode(), ffi.cast("double*", out.ctypes.data),
+                                             out.shape[0], ffi.NULL))
+        w = self.worlds
+        return out if out.shape[0] == w else out.reshape(w, -1)
+
     # ---- neighbour queries -----------------------------------------------------------
 
     def neighbor_count(self, radius: float, out: Optional[np.ndarray] = None) -> np.ndarray:
         """Number of other agents within ``radius`` of each agent, uint32 (N,)."""
-        n = self.agent_count
-        out = _out_array(out, (n,), np.uint32, "neighbor_count")
+        shape, n = self._shape()
+        out = _out_array(out, shape, np.uint32, "neighbor_count")
         check(lib.swcl_swarm_neighbor_count(self._h, radius, _uptr(out), n))
         return out
 
     def nearest_neighbor(self):
         """(distances float32 (N,), ids uint32 (N,)) of each agent's nearest
         other agent; alone: (inf, NO_AGENT)."""
-        n = self.agent_count
-        dist = np.empty(n, np.float32)
-        ids = np.empty(n, np.uint32)
+        shape, n = self._shape()
+        dist = np.empty(shape, np.float32)
+        ids = np.empty(shape, np.uint32)
         check(lib.swcl_swarm_nearest_neighbor(self._h, _fptr(dist), _uptr(ids), n))
         return dist, ids
 
     def neighbor_lists(self, radius: float, max_neighbors: int):
         """(ids uint32 (N, max_neighbors) nearest first, padded with NO_AGENT;
         counts uint32 (N,) full neighbour counts; number of truncated lists)."""
-        n = self.agent_count
+        shape, n = self._shape()
         cap = operator.index(max_neighbors)
         if cap < 0:
             raise ValueError(f"neighbor_lists: max_neighbors must be >= 0, got {cap}")
-        ids = np.empty((n, cap), np.uint32)
-        counts = np.empty(n, np.uint32)
+        ids = np.empty((*shape, cap), np.uint32)
+        counts = np.empty(shape, np.uint32)
         truncated = ffi.new("uint32_t*")
         check(lib.swcl_swarm_neighbor_lists(self._h, radius, cap, _uptr(ids), _uptr(counts), n, truncated))
         return ids, counts, int(truncated[0])
@@ -576,6 +651,27 @@ class Scenario(_Handle):
             raise TypeError(f"context must be a swarmcl.Context, got {type(context).__name__}")
         out = ffi.new("swcl_swarm*")
         check(lib.swcl_scenario_create_swarm(self._h, context._h, out))
+        return Swarm._wrap(out, context)
+
+    def create_world_swarm(self, context: Context, worlds: int, world_seeds=None) -> "Swarm":
+        """The scenario as ``worlds`` worlds of one swarm (Swarm's ``worlds``):
+        world k placed and seeded as the scenario alone with seed
+        ``world_seeds[k]`` (default: the scenario's seed + k), each with the
+        scenario's model; ``Swarm.set_world_param`` then varies it per world."""
+        if not isinstance(context, Context):
+            raise TypeError(f"context must be a swarmcl.Context, got {type(context).__name__}")
+        w = operator.index(worlds)
+        if not 1 <= w < 2**32:
+            raise ValueError(f"create_world_swarm: worlds must be in [1, 2**32), got {w}")
+        seeds = ffi.NULL
+        if world_seeds is not None:
+            arr = np.asarray(world_seeds)
+            if arr.shape != (w,) or not np.issubdtype(arr.dtype, np.integer) or (arr < 0).any():
+                raise ValueError(f"create_world_swarm: world_seeds must be {w} integers >= 0")
+            keep = np.ascontiguousarray(arr, dtype=np.uint64)
+            seeds = ffi.cast("const uint64_t*", keep.ctypes.data)
+        out = ffi.new("swcl_swarm*")
+        check(lib.swcl_scenario_create_world_swarm(self._h, context._h, w, seeds, out))
         return Swarm._wrap(out, context)
 
 

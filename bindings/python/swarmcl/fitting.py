@@ -175,7 +175,7 @@ class PopulationEvaluator:
     def __init__(self, scenario: dict, params: Sequence[Parameter], real: Metrics, context: Context, *,
                  steps: Optional[int] = None, every: Optional[int] = None, warmup: int = 0, bins: int = 50,
                  half_width: float = 4.0, weights=None, p1=None, p2=None, streamed: bool = True,
-                 robust: bool = False, scale_penalty: float = 0.0, seeds: int = 1):
+                 robust: bool = False, scale_penalty: float = 0.0, seeds: int = 1, worlds: bool = True):
         self.scenario, self.params, self.real, self.context = scenario, list(params), real, context
         # seeds S: each individual is run S times, with the scenario's seed
         # replaced by seed, seed + 1, ..., seed + S - 1 (the same S for every
@@ -211,6 +211,32 @@ class PopulationEvaluator:
         self.weights, self.p1, self.p2 = weights, p1, p2
         self.evaluations = 0
         self.refused = 0
+        # worlds: a generation's runs as the worlds of one swarm (one launch
+        # per stage for all of them; docs/architecture.md, "Worlds") where
+        # the scenario's model runs worlds and every fitted parameter is a
+        # row of its table.  Each world gives bitwise the run of its
+        # scenario alone; its metrics are measured exactly on the host from
+        # the frames read back (as streamed=False does), so a score equals
+        # the streamed=False score of the run alone (tested), not the
+        # streamed histograms' (per-world device metrics are not there yet).
+        self.world_keys = self._world_keys() if worlds else None
+
+    #: The models whose swarms run worlds.
+    WORLD_MODELS = ("field",)
+
+    def _world_keys(self) -> Optional[List[str]]:
+        """The table key of each fitted parameter when the generation can run
+        as worlds; None otherwise."""
+        model = self.scenario.get("model", {}) if isinstance(self.scenario, dict) else {}
+        if not isinstance(model, dict) or model.get("type", "field") not in self.WORLD_MODELS:
+            return None
+        keys = []
+        for p in self.params:
+            m, row = _table_row(self.scenario, p.path)
+            if row is None:
+                return None
+            keys.append(row["key"])
+        return keys
 
     def scenario_for(self, u, run: int = 0) -> dict:
         doc = _with_values(self.scenario, self.params, u)
@@ -280,9 +306,46 @@ class PopulationEvaluator:
         s = score(e, self.weights, self.p1, self.p2)
         return s - self.scale_penalty * self.penalty(w1) if w1 is not None else s
 
+    def _world_terms(self, runs) -> list:
+        """Every (individual, run) pair as one world of one swarm: the seven
+        E_phi of each (or the error of a world that blew up or was refused)."""
+        seeds = [self.base_seed + r if self.seeds > 1 else self.base_seed for _, r in runs]
+        try:
+            swarm = Scenario.parse(json.dumps(self.scenario)).create_world_swarm(self.context, len(runs), seeds)
+        except SwarmclError as e:
+            return [e] * len(runs)
+        frames = []
+        try:
+            try:
+                for k, p in enumerate(self.params):
+                    swarm.set_world_param(self.world_keys[k], [p.value(u[k]) for u, _ in runs])
+            except SwarmclError:
+                # A value the model refuses (a cross-parameter rule): each
+                # run alone then, so only the refused ones are refused.
+                return None
+            self._advance([swarm], lambda i: frames.append(swarm.read_positions().reshape(len(runs), -1, 3)))
+        finally:
+            swarm.close()
+        stacked = np.stack(frames, axis=1)  # (worlds, frames, agents, 3)
+        sample_dt = self.every * self.dt
+        out = []
+        for k in range(len(runs)):
+            try:
+                with Metrics.from_frames(stacked[k], sample_dt) as sim:
+                    out.append(self._terms_of(sim))
+            except SwarmclError as e:
+                out.append(e)
+        return out
+
     def __call__(self, population) -> List[float]:
-        # Every (individual, run) pair is one swarm, all stepped together.
         runs = [(u, r) for u in population for r in range(self.seeds)]
+        if self.world_keys is not None:
+            terms = self._world_terms(runs)
+            if terms is not None:
+                per_run = [self._score(t) for t in terms]
+                self.evaluations += len(population)
+                return self._per_individual(population, per_run)
+        # Every (individual, run) pair is one swarm, all stepped together.
         swarms = [self._swarm(u, r) for u, r in runs]
         live = [s for s in swarms if s is not None]
         try:
@@ -306,6 +369,10 @@ class PopulationEvaluator:
                 s.close()
         per_run = [next(scores) if s is not None else REFUSED_SCORE for s in swarms]
         self.evaluations += len(population)
+        return self._per_individual(population, per_run)
+
+    def _per_individual(self, population, per_run) -> List[float]:
+        """The mean over each individual's runs (refused if one is)."""
         out = []
         for i in range(len(population)):
             mine = per_run[i * self.seeds:(i + 1) * self.seeds]

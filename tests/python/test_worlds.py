@@ -1,0 +1,78 @@
+"""Worlds through Python (issue 25): Swarm(..., worlds=W), per-world
+parameters as arrays of length W, (W, N, 3) views, each world bitwise the
+swarm alone; bad input names the parameter and the world."""
+
+import numpy as np
+import pytest
+
+import swarmcl
+
+DOMAIN = ((-1.0, -1.0, -1.0), (1.0, 1.0, 1.0))
+SEEDS = [7, 8, 90, 2**40]
+SCALES = [0.3, 0.45, 0.6, 0.35]
+NOISE_SEEDS = [1, 2, 3, 4]
+MIN_DISTANCE = [0.03, 0.0, 0.05, 0.02]
+
+
+def model(k=0):
+    return swarmcl.FieldModel(
+        noise=swarmcl.NoiseDesc(type="curl", seed=NOISE_SEEDS[k], scale=SCALES[k], time_scale=1.5),
+        goal=(0.2, 0.0, -0.1), goal_radius=0.3, min_distance=MIN_DISTANCE[k])
+
+
+def test_worlds_are_bitwise_the_swarms_alone(ctx):
+    n, steps = 250, 30
+    with swarmcl.Swarm(ctx, agent_count=n, domain=DOMAIN, interaction_radius=0.1, dt=0.02,
+                       worlds=len(SEEDS), world_seeds=SEEDS) as s:
+        assert s.worlds == 4 and s.agent_count == n
+        s.set_field_model(model(0))
+        s.set_world_param("noise.scale", SCALES)
+        s.set_world_param("noise.seed", NOISE_SEEDS)
+        s.set_world_param("min_distance", MIN_DISTANCE)
+        np.testing.assert_allclose(s.world_param("noise.scale"), SCALES, rtol=1e-6)
+        s.step(steps)
+        pos, vel = s.positions, s.velocities
+        counts = s.neighbor_count(0.12)
+        stats = s.take_world_step_stats()
+    assert pos.shape == (4, n, 3) and vel.shape == (4, n, 3) and counts.shape == (4, n)
+    for k, seed in enumerate(SEEDS):
+        with swarmcl.Swarm(ctx, agent_count=n, seed=seed, domain=DOMAIN, interaction_radius=0.1, dt=0.02) as one:
+            one.set_field_model(model(k))
+            one.step(steps)
+            np.testing.assert_array_equal(pos[k], one.positions)
+            np.testing.assert_array_equal(vel[k], one.velocities)
+            np.testing.assert_array_equal(counts[k], one.neighbor_count(0.12))
+            assert stats[k].mde_moved_total == one.take_step_stats().mde_moved_total
+    assert stats[1].mde_moved_total == 0 and sum(x.mde_moved_total for x in stats) > 0
+
+
+def test_world_views_round_trip(ctx):
+    with swarmcl.Swarm(ctx, agent_count=10, worlds=3, domain=DOMAIN) as s:
+        p = np.random.default_rng(0).uniform(-0.5, 0.5, size=(3, 12, 3)).astype(np.float32)
+        s.positions = p
+        assert s.agent_count == 12
+        np.testing.assert_array_equal(s.positions, p)
+        s.set_field_model(model())
+        s.set_world_param("goal.center", [[0, 0, 0], [0.1, 0.2, 0.3], [1, 1, 1]])
+        np.testing.assert_allclose(s.world_param("goal.center")[1], [0.1, 0.2, 0.3], rtol=1e-6)
+
+
+def test_bad_world_input_names_parameter_and_world(ctx):
+    with pytest.raises(ValueError, match="worlds"):
+        swarmcl.Swarm(ctx, agent_count=10, worlds=0)
+    with pytest.raises(ValueError, match="world_seeds"):
+        swarmcl.Swarm(ctx, agent_count=10, worlds=3, world_seeds=[1, 2])
+    with swarmcl.Swarm(ctx, agent_count=10, worlds=3, domain=DOMAIN) as s:
+        s.set_field_model(model())
+        before = s.world_param("noise.scale").copy()
+        with pytest.raises(swarmcl.InvalidArgumentError, match="2 values given for 3 worlds"):
+            s.set_world_param("noise.scale", [0.2, 0.3])
+        with pytest.raises(swarmcl.InvalidArgumentError, match="in world 1"):
+            s.set_world_param("noise.scale", [0.2, float("nan"), 0.3])
+        with pytest.raises(swarmcl.InvalidArgumentError, match=r"world 2 is outside \[0, inf\)"):
+            s.set_world_param("min_distance", [0.1, 0.2, -1.0])
+        with pytest.raises(swarmcl.InvalidArgumentError, match="no parameter 'nope'"):
+            s.set_world_param("nope", [1, 2, 3])
+        np.testing.assert_array_equal(s.world_param("noise.scale"), before)
+        with pytest.raises(swarmcl.InvalidArgumentError, match="worlds"):
+            s.set_force_model(swarmcl.ForceModel())
