@@ -1,0 +1,169 @@
+// Worlds (issue 25): agent-steps per second of W worlds x N agents stepped
+// as one swarm of worlds, against one swarm of W x N agents of the same model
+// at the same density (its domain W^(1/3) times as wide) in the same run,
+// rounds alternated.  And W swarms of N stepped one after another (what a fit
+// did before worlds), timed over fewer steps.
+//   worlds_bench [--worlds 1000] [--agents 300] [--steps 20] [--rounds 3]
+//                [--alone-worlds 64] [--json PATH]
+// The model: the field model (curl noise, a goal, MDE), the only one that
+// runs worlds so far.  Writes bench/results/worlds.json.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bench_util.hpp"
+#include "device/context.hpp"
+#include "models/field_model.hpp"
+#include "swarm/swarm.hpp"
+
+using namespace swarmcl;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+constexpr float kHalfSide = 1.5f;  // m: one world's domain is [-1.5, 1.5]^3
+
+FieldModelConfig model() {
+    FieldModelConfig m;
+    m.noise.type = NoiseType::Curl;
+    m.noise.scale = 0.4f;
+    m.noise.gain = 0.25f;
+    m.noise.seed = 3;
+    m.has_goal = true;
+    m.goal = {0.3f, 0.0f, 0.0f};
+    m.goal_radius = 0.3f;
+    m.goal_speed = 0.5f;
+    m.min_distance = 0.03f;
+    return m;
+}
+
+std::unique_ptr<Swarm> make(std::shared_ptr<Context> ctx, uint32_t worlds, uint32_t agents, float half,
+                            uint64_t seed) {
+    SwarmConfig c;
+    c.capacity = agents;
+    c.agent_count = agents;
+    c.seed = seed;
+    c.worlds = worlds;
+    c.domain_min = {-half, -half, -half};
+    c.domain_max = {half, half, half};
+    c.interaction_radius = 0.2f;
+    c.dt = 0.01f;
+    auto s = std::make_unique<Swarm>(std::move(ctx), c);
+    FieldModelConfig m = model();
+    m.noise.region_min = c.domain_min;
+    m.noise.region_max = c.domain_max;
+    s->set_behavior(std::make_shared<FieldModel>(*s, m));
+    return s;
+}
+
+// Seconds per step of `s` over `steps` steps (after one warm-up step).
+double time_steps(Context& ctx, Swarm& s, int steps) {
+    s.step(1);
+    ctx.queue().finish();
+    const auto t0 = Clock::now();
+    s.step(uint32_t(steps));
+    ctx.queue().finish();
+    return seconds_since(t0) / steps;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    uint32_t worlds = 1000, agents = 300, alone_worlds = 64;
+    int steps = 20, rounds = 3;
+    std::string json = std::string(SWARMCL_BENCH_RESULTS_DIR) + "/worlds.json";
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        const auto next = [&]() -> const char* {
+            if (i + 1 >= argc) {
+                std::fprintf(stderr, "worlds_bench: %s needs a value\n", a.c_str());
+                std::exit(2);
+            }
+            return argv[++i];
+        };
+        if (a == "--worlds") worlds = uint32_t(std::atoi(next()));
+        else if (a == "--agents") agents = uint32_t(std::atoi(next()));
+        else if (a == "--steps") steps = std::atoi(next());
+        else if (a == "--rounds") rounds = std::atoi(next());
+        else if (a == "--alone-worlds") alone_worlds = uint32_t(std::atoi(next()));
+        else if (a == "--json") json = next();
+        else {
+            std::fprintf(stderr, "usage: worlds_bench [--worlds W] [--agents N] [--steps S] [--rounds R] "
+                                 "[--alone-worlds K] [--json PATH]\n");
+            return 2;
+        }
+    }
+    if (!worlds || !agents || steps < 1 || rounds < 1) {
+        std::fprintf(stderr, "worlds_bench: worlds, agents, steps and rounds must be > 0\n");
+        return 2;
+    }
+    auto ctx = std::make_shared<Context>("", "");
+    const auto& dev = ctx->device();
+    std::printf("device: %s (%s; %u compute units); load %.1f\n", dev.device_name.c_str(), dev.platform_name.c_str(),
+                dev.compute_units, bench::load_average());
+    const size_t total = size_t(worlds) * agents;
+    const float big_half = kHalfSide * std::cbrt(float(worlds));
+    std::printf("field model (curl noise, goal, MDE 0.03 m): %u worlds x %u agents in [-%.1f, %.1f]^3 each, "
+                "against one swarm of %zu agents in [-%.1f, %.1f]^3 (the same density); %d steps, %d rounds\n",
+                worlds, agents, kHalfSide, kHalfSide, total, big_half, big_half, steps, rounds);
+
+    auto ensemble = make(ctx, worlds, agents, kHalfSide, 1);
+    auto single = make(ctx, 1, uint32_t(total), big_half, 1);
+    std::vector<double> t_worlds, t_single;
+    for (int r = 0; r < rounds; ++r) {
+        t_worlds.push_back(time_steps(*ctx, *ensemble, steps));
+        t_single.push_back(time_steps(*ctx, *single, steps));
+        std::printf("  round %d: worlds %8.2f ms/step   one swarm %8.2f ms/step  (load %.1f)\n", r + 1,
+                    1e3 * t_worlds.back(), 1e3 * t_single.back(), bench::load_average());
+    }
+    ensemble.reset();
+    single.reset();
+    // Before worlds: K swarms of N stepped one after another, each its own
+    // launches (the fit's way), per agent-step.
+    std::vector<std::unique_ptr<Swarm>> alone;
+    for (uint32_t k = 0; k < alone_worlds; ++k) alone.push_back(make(ctx, 1, agents, kHalfSide, k + 1));
+    for (auto& s : alone) s->step(1);
+    ctx->queue().finish();
+    const int alone_steps = std::max(1, steps / 2);
+    const auto t0 = Clock::now();
+    for (int i = 0; i < alone_steps; ++i)
+        for (auto& s : alone) s->step(1);
+    ctx->queue().finish();
+    const double alone_rate = double(alone_worlds) * agents * alone_steps / seconds_since(t0);
+    alone.clear();
+
+    const double w = bench::median(t_worlds), s = bench::median(t_single);
+    const double rate_w = double(total) / w, rate_s = double(total) / s;
+    std::printf("worlds:        %8.2f ms/step  %6.2f M agent-steps/s\n", 1e3 * w, rate_w / 1e6);
+    std::printf("one swarm:     %8.2f ms/step  %6.2f M agent-steps/s\n", 1e3 * s, rate_s / 1e6);
+    std::printf("swarms alone:  %u x %u stepped one after another: %6.2f M agent-steps/s\n", alone_worlds, agents,
+                alone_rate / 1e6);
+    std::printf("worlds / one swarm = %.2f (target >= 0.70: %s); worlds / swarms alone = %.1fx\n", rate_w / rate_s,
+                rate_w / rate_s >= 0.70 ? "met" : "missed", rate_w / alone_rate);
+
+    std::ofstream f(json);
+    if (!f) {
+        std::fprintf(stderr, "worlds_bench: cannot write %s\n", json.c_str());
+        return 1;
+    }
+    f << "{\n  \"benchmark\": \"worlds_bench\",\n  \"date\": \"" << bench::utc_now() << "\",\n"
+      << "  \"device\": \"" << bench::json_escape(dev.device_name) << "\",\n  \"load_average\": "
+      << bench::load_average() << ",\n  \"model\": \"field (curl noise, goal, MDE 0.03 m)\",\n"
+      << "  \"worlds\": " << worlds << ",\n  \"agents_per_world\": " << agents << ",\n  \"steps\": " << steps
+      << ",\n  \"rounds\": " << rounds << ",\n  \"worlds_s_per_step\": " << bench::json_array(t_worlds, 1.0)
+      << ",\n  \"one_swarm_s_per_step\": " << bench::json_array(t_single, 1.0)
+      << ",\n  \"worlds_agent_steps_per_s\": " << rate_w << ",\n  \"one_swarm_agent_steps_per_s\": " << rate_s
+      << ",\n  \"ratio\": " << rate_w / rate_s << ",\n  \"target_ratio\": 0.7,\n  \"alone_swarms\": " << alone_worlds
+      << ",\n  \"alone_agent_steps_per_s\": " << alone_rate << ",\n  \"worlds_over_alone\": " << rate_w / alone_rate
+      << "\n}\n";
+    std::printf("wrote %s\n", json.c_str());
+    return 0;
+}
