@@ -22,6 +22,7 @@ Command add_run(CLI::App& program);       // run.cpp
 Command add_resume(CLI::App& program);    // run.cpp
 Command add_evaluate(CLI::App& program);  // evaluate.cpp
 Command add_fit(CLI::App& program);       // fit.cpp
+Command add_sweep(CLI::App& program);     // fit.cpp
 Command add_devices(CLI::App& program);   // devices.cpp
 Command add_validate(CLI::App& program);  // validate.cpp
 

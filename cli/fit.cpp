@@ -1,4 +1,5 @@
-// `swarmcl fit`: parameter estimation runs in the Python package (CMA-ES and
+// `swarmcl fit` and `swarmcl sweep`: parameter estimation and sweeps run in
+// the Python package.  Fit: parameter estimation runs in the Python package (CMA-ES and
 // the GA come from cma and DEAP, the ranks from mpi4py), so this command
 // hands its arguments to `python -m swarmcl fit`, in place: under
 // `mpirun -np R swarmcl fit ...` each rank becomes that Python process.
@@ -36,25 +37,20 @@ std::vector<char*> raw_args(std::vector<std::string>& args) {
     return raw;
 }
 
-}  // namespace
-
-Command add_fit(CLI::App& program) {
-    CLI::App* app = program.add_subcommand(
-        "fit", "Fit a scenario's parameters to real tracks (CMA-ES or a GA; runs in the Python package)");
-    // Everything after `fit` goes to Python as it is.
+// A command that runs `python -m swarmcl NAME` with its arguments, in place.
+Command python_command(CLI::App& program, const std::string& name, const std::string& description,
+                       const std::string& footer) {
+    CLI::App* app = program.add_subcommand(name, description);
+    // Everything after the command's name goes to Python as it is.
     app->prefix_command();
     app->allow_extras();
-    app->footer("swarmcl fit SCENARIO.json --tracks FILE.csv --ranges RANGES.json [--method cmaes|ga]\n"
-                "            [--generations G] [--population P] [--seed S] [...]\n"
-                "runs $SWARMCL_PYTHON -m swarmcl fit with the same arguments (python3 by default;\n"
-                "pip install 'swarmcl[fit]'), so under mpirun each rank is one Python process\n"
-                "(docs/evaluation.md).  Its options, from Python:");
+    app->footer(footer);
     Command command;
     command.app = app;
-    command.more_help = [] {
+    command.more_help = [name] {
         // The Python program's own --help: its options are declared there.
         const std::string python = python_program();
-        std::vector<std::string> args = {python, "-m", "swarmcl", "fit", "--help"};
+        std::vector<std::string> args = {python, "-m", "swarmcl", name, "--help"};
         std::vector<char*> raw = raw_args(args);
         std::fflush(stdout);
         pid_t pid = 0;
@@ -62,22 +58,44 @@ Command add_fit(CLI::App& program) {
         if (posix_spawnp(&pid, python.c_str(), nullptr, nullptr, raw.data(), environ) == 0)
             waitpid(pid, &status, 0);
         if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-            std::printf("\n(the options could not be listed: '%s -m swarmcl fit --help' failed; "
+            std::printf("\n(the options could not be listed: '%s -m swarmcl %s --help' failed; "
                         "pip install 'swarmcl[fit]' and set SWARMCL_PYTHON to that interpreter)\n",
-                        python.c_str());
+                        python.c_str(), name.c_str());
     };
-    command.run = [app]() -> int {
-                const std::string python = python_program();
-                std::vector<std::string> args = {python, "-m", "swarmcl", "fit"};
-                for (const std::string& a : app->remaining()) args.push_back(a);
-                std::vector<char*> raw = raw_args(args);
-                std::fflush(stdout);
-                execvp(python.c_str(), raw.data());
-                throw Failure{"fit runs in the Python package: cannot start '" + python + "' (" +
-                              std::strerror(errno) +
-                              "); pip install 'swarmcl[fit]' and set SWARMCL_PYTHON to that interpreter"};
+    command.run = [app, name]() -> int {
+        const std::string python = python_program();
+        std::vector<std::string> args = {python, "-m", "swarmcl", name};
+        for (const std::string& a : app->remaining()) args.push_back(a);
+        std::vector<char*> raw = raw_args(args);
+        std::fflush(stdout);
+        execvp(python.c_str(), raw.data());
+        throw Failure{name + " runs in the Python package: cannot start '" + python + "' (" + std::strerror(errno) +
+                      "); pip install 'swarmcl[fit]' and set SWARMCL_PYTHON to that interpreter"};
     };
     return command;
+}
+
+}  // namespace
+
+Command add_fit(CLI::App& program) {
+    return python_command(
+        program, "fit", "Fit a scenario's parameters to real tracks (CMA-ES or a GA; runs in the Python package)",
+        "swarmcl fit SCENARIO.json --tracks FILE.csv --ranges RANGES.json [--method cmaes|ga]\n"
+        "            [--generations G] [--population P] [--seed S] [...]\n"
+        "runs $SWARMCL_PYTHON -m swarmcl fit with the same arguments (python3 by default;\n"
+        "pip install 'swarmcl[fit]'), so under mpirun each rank is one Python process\n"
+        "(docs/evaluation.md).  Its options, from Python:");
+}
+
+Command add_sweep(CLI::App& program) {
+    return python_command(
+        program, "sweep",
+        "Run a grid or list of parameter values as the worlds of one swarm, a row per world (runs in the Python "
+        "package)",
+        "swarmcl sweep SCENARIO.json --grid GRID.json [--tracks FILE.csv] [--out sweep.json|sweep.csv] [...]\n"
+        "runs $SWARMCL_PYTHON -m swarmcl sweep with the same arguments (python3 by default), so\n"
+        "under mpirun each rank is one Python process running its share of the rows\n"
+        "(docs/evaluation.md, \"Sweeps\").  Its options, from Python:");
 }
 
 }  // namespace swarmcl_cli

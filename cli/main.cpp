@@ -72,7 +72,7 @@ int main(int argc, char** argv) {
     program.footer("'swarmcl COMMAND --help' lists a command's options (docs/scenarios.md, docs/evaluation.md).");
 
     std::vector<Command> commands = {add_run(program),     add_resume(program), add_evaluate(program),
-                                     add_fit(program),     add_devices(program), add_validate(program)};
+                                     add_fit(program),     add_sweep(program),   add_devices(program), add_validate(program)};
     // `swarmcl help [COMMAND]`: the same as `swarmcl [COMMAND] --help`.
     CLI::App* help = program.add_subcommand("help", "Show the help of swarmcl or of one command");
     std::string help_topic;

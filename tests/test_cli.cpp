@@ -348,6 +348,7 @@ TEST_F(Cli, EveryCommandHasHelp) {
         {"evaluate", {"SCENARIO.json", "--tracks", "--columns", "--delimiter", "--unit-scale", "--window", "--warmup", "--steps",
                       "--every", "--bins", "--half-width", "--robust", "--out", "--plot", "--device", "--quiet"}},
         {"fit", {"--tracks", "--ranges", "--method", "--generations"}},
+        {"sweep", {"SCENARIO.json", "--grid", "--tracks", "--out"}},
         {"devices", {}},
         {"validate", {"SCENARIO.json"}},
     };

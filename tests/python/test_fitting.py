@@ -77,10 +77,28 @@ def test_the_true_parameters_score_one_and_the_population_is_scored_together(ctx
     # parameters within the fine histograms' error of 1 (their PDFs spread
     # each fine bin over its z-range: with 600 samples per metric a few
     # hundredths of E_phi, docs/evaluation.md).
-    streamed = swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, steps=40)
+    streamed = swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, steps=40, streamed=True)
     s2 = streamed([u_true, [0.0, 0.0], [1.0, 1.0]])
     assert s2[0] == pytest.approx(1.0, abs=0.05)
     assert s2[0] > max(s2[1:]) and s2 == streamed([u_true, [0.0, 0.0], [1.0, 1.0]])
+
+
+def test_a_generation_as_worlds_scores_as_its_runs_alone(ctx, real):
+    # The default evaluator runs a field-model generation as the worlds of
+    # one swarm (issue 25): every score equals the one of the same run as a
+    # swarm of its own (host metrics), over several seeds too.
+    params = swarmcl.load_ranges(RANGES, SCENARIO)
+    worlds = swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, steps=40, seeds=2)
+    alone = swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, steps=40, seeds=2, streamed=False,
+                                                worlds=False)
+    assert worlds.world_keys == ["noise.gain", "goal.speed"] and alone.world_keys is None
+    pop = [list(u) for u in np.random.default_rng(3).uniform(size=(5, 2))]
+    a, b = worlds(pop), alone(pop)
+    assert a == b and len(set(a)) == 5
+    # A parameter outside the table (agents.count) keeps one swarm a run.
+    other = swarmcl.fitting.PopulationEvaluator(
+        SCENARIO, swarmcl.load_ranges({"agents.count": [8, 20]}, SCENARIO), real, ctx, steps=40)
+    assert other.world_keys is None
 
 
 def test_the_scale_penalty_is_the_mean_wasserstein_distance_in_real_spreads(ctx, real, truth):

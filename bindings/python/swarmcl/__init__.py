@@ -19,6 +19,7 @@ from .energy import (Dataset, EnergyModel, EnergyWeights, Stimulus, StimulusKind
 from .evaluation import (METRICS, METRIC_UNITS, Metrics, distances, entropy_weights, evaluate, plot_pdfs, score,
                          wasserstein)
 from .fitting import Parameter, fit, load_ranges
+from .sweep import load_grid, sweep
 from .params import model_parameters
 from .synthesis import mix_time_aligned, real_frames
 from .force import SHAPES, ForceModel, Keyframe
@@ -39,7 +40,7 @@ __all__ = [
     "ForceModel", "Keyframe", "SHAPES", "PolicyModel", "SHIPPED_POLICY", "DDPG_POLICY", "mix_time_aligned", "real_frames",
     "METRICS", "METRIC_UNITS", "Metrics", "distances", "wasserstein", "score", "entropy_weights", "evaluate",
     "plot_pdfs",
-    "fit", "load_ranges", "Parameter", "model_parameters",
+    "fit", "load_ranges", "Parameter", "model_parameters", "sweep", "load_grid",
     "PathModel", "PathGroup", "PathInfo", "PathTarget", "Lamp", "Goal", "MeshObstacle", "ObjObstacle", "BoxObstacle",
     "SphereObstacle", "CylinderObstacle",
     "SwarmclError", "InvalidArgumentError", "InvalidHandleError", "NoDeviceError", "BuildError",

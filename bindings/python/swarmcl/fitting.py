@@ -24,6 +24,7 @@ import os
 import random
 import sys
 import time
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Callable, Dict, List, Optional, Sequence
 
@@ -174,8 +175,9 @@ class PopulationEvaluator:
 
     def __init__(self, scenario: dict, params: Sequence[Parameter], real: Metrics, context: Context, *,
                  steps: Optional[int] = None, every: Optional[int] = None, warmup: int = 0, bins: int = 50,
-                 half_width: float = 4.0, weights=None, p1=None, p2=None, streamed: bool = True,
-                 robust: bool = False, scale_penalty: float = 0.0, seeds: int = 1, worlds: bool = True):
+                 half_width: float = 4.0, weights=None, p1=None, p2=None,
+                 streamed: Optional[bool] = None, robust: bool = False, scale_penalty: float = 0.0,
+                 seeds: int = 1, worlds: bool = True):
         self.scenario, self.params, self.real, self.context = scenario, list(params), real, context
         # seeds S: each individual is run S times, with the scenario's seed
         # replaced by seed, seed + 1, ..., seed + S - 1 (the same S for every
@@ -197,9 +199,10 @@ class PopulationEvaluator:
         self.spread = [1.4826 * real.info(k)["mad"] for k in range(len(METRICS))]
         # streamed: each swarm's metrics computed on the device into fine
         # histograms (Metrics.attach; nothing per frame is read back);
-        # otherwise positions are read every sample and measured on the host
-        # (exact PDFs, slower).
-        self.streamed = bool(streamed)
+        # False: positions are read every sample and measured on the host
+        # (exact PDFs, slower).  None (the default): worlds where the model
+        # runs them (below), else streamed.
+        self.streamed = True if streamed is None else bool(streamed)
         info = Scenario.parse(json.dumps(scenario)).info
         self.dt = info["dt"]
         self.steps = info["steps"] if steps is None else int(steps)
@@ -211,15 +214,19 @@ class PopulationEvaluator:
         self.weights, self.p1, self.p2 = weights, p1, p2
         self.evaluations = 0
         self.refused = 0
-        # worlds: a generation's runs as the worlds of one swarm (one launch
+        # Worlds: a generation's runs as the worlds of one swarm (one launch
         # per stage for all of them; docs/architecture.md, "Worlds") where
         # the scenario's model runs worlds and every fitted parameter is a
         # row of its table.  Each world gives bitwise the run of its
         # scenario alone; its metrics are measured exactly on the host from
-        # the frames read back (as streamed=False does), so a score equals
-        # the streamed=False score of the run alone (tested), not the
-        # streamed histograms' (per-world device metrics are not there yet).
-        self.world_keys = self._world_keys() if worlds else None
+        # the frames read back (as streamed=False does; per-world device
+        # metrics are not there yet), so a score equals the streamed=False
+        # score of the run alone (tested).  streamed=True keeps one swarm a
+        # run with device metrics, and so does worlds=False.
+        self.world_keys = self._world_keys() if worlds and streamed is not True else None
+        # Threads measuring the worlds' metrics on the host (the C calls run
+        # without the GIL); fit() gives each MPI rank its share of the cores.
+        self.threads = os.cpu_count() or 1
 
     #: The models whose swarms run worlds.
     WORLD_MODELS = ("field",)
@@ -328,17 +335,22 @@ class PopulationEvaluator:
             swarm.close()
         stacked = np.stack(frames, axis=1)  # (worlds, frames, agents, 3)
         sample_dt = self.every * self.dt
-        out = []
-        for k in range(len(runs)):
+
+        def measure(k):
             try:
                 with Metrics.from_frames(stacked[k], sample_dt) as sim:
-                    out.append(self._terms_of(sim))
+                    return self._terms_of(sim)
             except SwarmclError as e:
-                out.append(e)
-        return out
+                return e
+        if self.threads > 1 and len(runs) > 1:
+            with ThreadPoolExecutor(max_workers=min(self.threads, len(runs))) as pool:
+                return list(pool.map(measure, range(len(runs))))
+        return [measure(k) for k in range(len(runs))]
 
     def __call__(self, population) -> List[float]:
         runs = [(u, r) for u in population for r in range(self.seeds)]
+        if not runs:  # a rank's share of a small generation may be empty
+            return []
         if self.world_keys is not None:
             terms = self._world_terms(runs)
             if terms is not None:
@@ -567,7 +579,7 @@ def _context_for_rank(rank: int, device=None) -> Context:
 def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations: int = 10, population: int = 8,
         seed: int = 1, steps: Optional[int] = None, every: Optional[int] = None, warmup: int = 0, bins: int = 50,
         half_width: float = 4.0, weights=None, p1=None, p2=None, comm=None, context: Optional[Context] = None,
-        progress: Optional[Callable[[dict], None]] = None, streamed: bool = True, robust: bool = False,
+        progress: Optional[Callable[[dict], None]] = None, streamed: Optional[bool] = None, robust: bool = False,
         scale_penalty: float = 0.0, seeds: int = 1, restarts: int = 0, tolerance: float = 1e-3,
         patience: int = 5, start: Optional[Dict[str, float]] = None) -> Optional[dict]:
     """Fits the ranged parameters of ``scenario`` (a path or a dict) to
@@ -575,9 +587,11 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
     With ``comm`` (an mpi4py communicator of R ranks), every rank must call
     fit() with the same arguments: rank 0 returns the result, the others
     serve evaluations and return None.  The same seed gives the same result
-    for any R.  ``streamed``: each run's metrics on the device (fine
-    histograms, the default); False reads positions back and measures them
-    on the host (exact PDFs, slower).  ``robust``: PDFs z-scored with median
+    for any R.  ``streamed``: True, each run its own swarm with its metrics
+    on the device (fine histograms); False reads positions back and measures
+    them on the host (exact PDFs, slower); None (the default): a
+    generation's runs as the worlds of one swarm, measured on the host, where
+    the model runs worlds (the field model), else as True.  ``robust``: PDFs z-scored with median
     and MAD; ``scale_penalty`` λ > 0 maximises E - λ P instead, P the mean
     Wasserstein-1 distance in units of the real data's spread
     (PopulationEvaluator, docs/evaluation.md).  ``seeds``: each individual
@@ -611,6 +625,8 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
                                         bins=bins, half_width=half_width, weights=weights, p1=p1, p2=p2,
                                         streamed=streamed, robust=robust, scale_penalty=scale_penalty,
                                         seeds=seeds)
+        if comm is not None:
+            evaluator.threads = max(1, (os.cpu_count() or 1) // comm.Get_size())
         ranks = _Ranks(evaluator, comm)
         if rank != 0:
             ranks.serve()

@@ -1,0 +1,325 @@
+"""Parameter sweeps (issue 25): a grid or a list of parameter values of a
+scenario, each row run as one world of one swarm where the model runs worlds
+(docs/architecture.md, "Worlds"; otherwise one swarm a row), split over MPI
+ranks; one result row per world with its statistics and, given tracks, its
+score E against them (Eq. 1 of the noise paper, docs/evaluation.md).
+
+    python -m swarmcl sweep SCENARIO.json --grid GRID.json [--tracks FILE.csv] [--out sweep.json|sweep.csv]
+
+GRID.json is either a grid, ``{"model.noise.scale": [0.2, 0.4], "model.goal.speed": [0.5, 1.0]}``
+(every combination, the first key slowest), or a list,
+``{"runs": [{"model.noise.scale": 0.2, "model.goal.speed": 0.5}, ...]}``.
+Keys are scenario paths as in a fit's ranges file; each value is checked
+against the scenario and the model's parameter table before anything runs.
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import itertools
+import json
+import math
+import os
+import sys
+import time
+from typing import Dict, List, Optional, Sequence, Tuple
+
+import numpy as np
+
+from ._core import Context, Scenario
+from .errors import SwarmclError
+from .evaluation import METRICS, Metrics, distances, score, wasserstein
+from .fitting import PopulationEvaluator, _check_against_table, _context_for_rank, _table_row, _walk
+from .params import model_parameters
+
+__all__ = ["load_grid", "sweep"]
+
+#: The statistics of each row, from the world's last state.
+STATISTICS = ("mean_speed", "median_nearest_distance", "radius_of_gyration", "mde_moved_total")
+
+
+def _number(path: str, v, integer: bool):
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+        raise ValueError(f"grid: {path!r}: {v!r} is not a finite number")
+    if integer and float(v) != int(v):
+        raise ValueError(f"grid: {path!r}: {v!r} is not an integer (the parameter is one)")
+    return int(v) if integer else float(v)
+
+
+def _key_info(scenario: dict, path: str) -> Tuple[bool, Optional[dict], Optional[str]]:
+    """(integer, table row, model) of a grid key, or ValueError naming it."""
+    model, row = _table_row(scenario, path)
+    try:
+        node, key = _walk(scenario, path)
+        current = node[key]
+    except ValueError:
+        if row is None:
+            if model is not None:
+                known = ", ".join("model." + r["key"] for r in model_parameters(model) if r["scenario"])
+                raise ValueError(f"grid: {path!r} is neither in the scenario nor a parameter of the {model} model; "
+                                 f"its parameters: {known}") from None
+            raise ValueError(f"grid: {path!r}: the scenario has no such field") from None
+        current = row["default"]
+    if row is not None and row["type"] not in ("float", "uint32", "uint64"):
+        raise ValueError(f"grid: {path!r} is a {row['type']} parameter of the {model} model, not a number")
+    if isinstance(current, bool) or not isinstance(current, (int, float)):
+        raise ValueError(f"grid: {path!r} is {type(current).__name__}, not a number")
+    integer = row["type"] in ("uint32", "uint64") if row is not None else isinstance(current, int)
+    return integer, row, model
+
+
+def load_grid(grid, scenario: dict) -> Tuple[List[str], List[List[float]]]:
+    """(keys, rows) of a grid file (path) or dict: a grid of value lists
+    (every combination, the first key slowest) or {"runs": [{key: value}]}.
+    Every key and value is checked (the scenario, the model's table and its
+    valid range) before anything runs: ValueError naming the key."""
+    if isinstance(grid, (str, os.PathLike)):
+        with open(grid, encoding="utf-8") as f:
+            try:
+                grid = json.load(f)
+            except json.JSONDecodeError as e:
+                raise ValueError(f"grid: not JSON: {e}") from None
+    if not isinstance(grid, dict) or not grid:
+        raise ValueError('grid: expected {"scenario.path": [values], ...} or {"runs": [{...}, ...]}')
+    if "runs" in grid:
+        runs = grid["runs"]
+        if len(grid) != 1 or not isinstance(runs, list) or not runs or not all(isinstance(r, dict) for r in runs):
+            raise ValueError('grid: "runs" must be the only key, a non-empty list of {"scenario.path": value} objects')
+        keys = list(runs[0])
+        if not keys:
+            raise ValueError("grid: a run sets no parameter")
+        for i, r in enumerate(runs):
+            if list(r) != keys:
+                raise ValueError(f"grid: run {i} sets {sorted(r)}, run 0 sets {sorted(keys)}: every run sets the same keys")
+        columns = [[r[k] for r in runs] for k in keys]
+        combine = False
+    else:
+        keys = list(grid)
+        columns = []
+        for k in keys:
+            v = grid[k]
+            if not isinstance(v, list) or not v:
+                raise ValueError(f"grid: {k!r}: expected a non-empty list of values, got {v!r}")
+            columns.append(v)
+        combine = True
+    checked = []
+    for k, values in zip(keys, columns):
+        integer, row, model = _key_info(scenario, k)
+        vals = [_number(k, v, integer) for v in values]
+        if row is not None:
+            _check_against_table(k, model, row, min(vals), max(vals))
+        checked.append(vals)
+    rows = [list(r) for r in itertools.product(*checked)] if combine else [list(r) for r in zip(*checked)]
+    return keys, rows
+
+
+def _statistics(positions: np.ndarray, velocities: np.ndarray, nearest: np.ndarray, moved: int) -> dict:
+    """One world's statistics (None where its state is not finite)."""
+    if not (np.isfinite(positions).all() and np.isfinite(velocities).all()):
+        return {"finite": False, **{k: None for k in STATISTICS}}
+    centre = positions.mean(axis=0)
+    finite_nn = nearest[np.isfinite(nearest)]
+    return {"finite": True,
+            "mean_speed": float(np.linalg.norm(velocities, axis=1).mean()),
+            "median_nearest_distance": float(np.median(finite_nn)) if finite_nn.size else None,
+            "radius_of_gyration": float(np.sqrt(((positions - centre) ** 2).sum(axis=1).mean())),
+            "mde_moved_total": int(moved)}
+
+
+class _Runner:
+    """Runs rows of a sweep on one context: as the worlds of one swarm where
+    the model runs them, else one swarm a row."""
+
+    def __init__(self, scenario: dict, keys: Sequence[str], context: Context, tracks: Optional[Metrics], *,
+                 steps=None, every=None, warmup=0, bins=50, half_width=4.0, robust=False):
+        from .fitting import Parameter
+        integer = [_key_info(scenario, k)[0] for k in keys]
+        # Parameters whose value at u is u itself (low 0, high 1): a row's
+        # values go through the evaluator's scenario and world paths as they are.
+        self.params = [Parameter(k, 0.0, 1.0, i) for k, i in zip(keys, integer)]
+        self.tracks = tracks
+        self.scenario, self.context = scenario, context
+        info = Scenario.parse(json.dumps(scenario)).info
+        self.dt = info["dt"]
+        self.steps = info["steps"] if steps is None else int(steps)
+        self.every = (max(1, round(tracks.frame_time / self.dt)) if tracks is not None else self.steps) \
+            if every is None else int(every)
+        self.warmup = int(warmup)
+        self.bins, self.half_width, self.robust = bins, half_width, robust
+        model = scenario.get("model", {})
+        self.worlds = (isinstance(model, dict) and model.get("type", "field") in PopulationEvaluator.WORLD_MODELS
+                       and all(_table_row(scenario, k)[1] is not None for k in keys))
+
+    def run(self, rows: List[List[float]]) -> List[dict]:
+        if not rows:
+            return []
+        if self.worlds:
+            return self._run_worlds(rows)
+        out = []
+        for r in rows:
+            out.extend(self._run_worlds([r], alone=True))
+        return out
+
+    def _run_worlds(self, rows, alone: bool = False) -> List[dict]:
+        parsed = Scenario.parse(json.dumps(self.scenario if not alone else self._scenario_for(rows[0])))
+        # Every world with the scenario's seed: a row is the scenario alone
+        # with its values, wherever it falls in the swarm or the ranks.
+        seed = int(self.scenario.get("seed", 0))
+        swarm = (parsed.create_swarm(self.context) if alone
+                 else parsed.create_world_swarm(self.context, len(rows), [seed] * len(rows)))
+        frames = []
+        try:
+            if not alone:
+                for k, p in enumerate(self.params):
+                    swarm.set_world_param(_table_row(self.scenario, p.path)[1]["key"], [p.value(r[k]) for r in rows])
+            w = len(rows)
+
+            def sample():
+                if self.tracks is not None:
+                    frames.append(swarm.read_positions().reshape(w, -1, 3))
+            for done in range(0, self.warmup, self.every):
+                swarm.step(min(self.every, self.warmup - done))
+            sample()
+            for _ in range(self.steps // self.every):
+                swarm.step(self.every)
+                sample()
+            pos = swarm.read_positions().reshape(w, -1, 3)
+            vel = swarm.read_velocities().reshape(w, -1, 3)
+            nn, _ = swarm.nearest_neighbor()
+            nn = nn.reshape(w, -1)
+            stats = swarm.take_world_step_stats() if not alone else [swarm.take_step_stats()]
+        finally:
+            swarm.close()
+        out = []
+        for k, r in enumerate(rows):
+            row = {p.path: p.value(v) for p, v in zip(self.params, r)}
+            row.update(_statistics(pos[k], vel[k], nn[k], stats[k].mde_moved_total))
+            if self.tracks is not None:
+                row.update(self._score(np.stack([f[k] for f in frames]), row["finite"]))
+            out.append(row)
+        return out
+
+    def _scenario_for(self, row) -> dict:
+        from .fitting import _with_values
+        return _with_values(self.scenario, self.params, row)
+
+    def _score(self, frames: np.ndarray, finite: bool) -> dict:
+        if not finite or not np.isfinite(frames).all():
+            return {"score": None, **{f"E_{m}": None for m in METRICS}}
+        with Metrics.from_frames(frames, self.every * self.dt) as sim:
+            e = distances(self.tracks, sim, self.bins, self.half_width, self.robust)
+            w1 = wasserstein(self.tracks, sim)
+        out = {"score": float(score(e)), **{f"E_{m}": float(x) for m, x in zip(METRICS, e)}}
+        out.update({f"W1_{m}": (None if w1[m] is None else float(w1[m])) for m in METRICS})
+        return out
+
+
+def sweep(scenario, grid, *, tracks: Optional[Metrics] = None, context: Optional[Context] = None, comm=None,
+          steps: Optional[int] = None, every: Optional[int] = None, warmup: int = 0, bins: int = 50,
+          half_width: float = 4.0, robust: bool = False) -> Optional[dict]:
+    """Runs every row of ``grid`` (load_grid) on ``scenario`` (a path or a
+    dict): a dict with the keys, one row per world (the parameter values,
+    the statistics of its last state and, with ``tracks``, its score E and
+    the seven E_phi and W1), whether the rows ran as worlds, the ranks and
+    the seconds.  With ``comm`` (mpi4py, R ranks) every rank calls it with
+    the same arguments: the rows are split into R contiguous blocks and rank
+    0 returns the result, the others None."""
+    if isinstance(scenario, (str, os.PathLike)):
+        with open(scenario, encoding="utf-8") as f:
+            scenario = json.load(f)
+    keys, rows = load_grid(grid, scenario)
+    rank, size = (comm.Get_rank(), comm.Get_size()) if comm is not None else (0, 1)
+    own = context is None
+    ctx = _context_for_rank(rank) if own else context
+    began = time.perf_counter()
+    try:
+        runner = _Runner(scenario, keys, ctx, tracks, steps=steps, every=every, warmup=warmup, bins=bins,
+                         half_width=half_width, robust=robust)
+        per = -(-len(rows) // size)
+        mine = runner.run(rows[rank * per:(rank + 1) * per])
+    finally:
+        if own:
+            ctx.close()
+    parts = comm.gather(mine, root=0) if comm is not None else [mine]
+    if rank != 0:
+        return None
+    out_rows = [r for part in parts for r in part]
+    return {"scenario": scenario.get("name", ""), "keys": keys, "rows": out_rows, "worlds": bool(runner.worlds),
+            "ranks": size, "steps": runner.steps, "seconds": time.perf_counter() - began,
+            "scored": tracks is not None}
+
+
+def _write(result: dict, path: str) -> None:
+    """JSON, or CSV for a .csv path; atomically (nothing partial at path)."""
+    tmp = path + ".tmp"
+    with open(tmp, "w", encoding="utf-8", newline="") as f:
+        if path.lower().endswith(".csv"):
+            columns = list(result["rows"][0]) if result["rows"] else result["keys"]
+            w = csv.writer(f)
+            w.writerow(columns)
+            for r in result["rows"]:
+                w.writerow(["" if r.get(c) is None else r.get(c) for c in columns])
+        else:
+            json.dump(result, f, indent=1)
+            f.write("\n")
+    os.replace(tmp, path)
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="swarmcl sweep", description=__doc__.splitlines()[0])
+    p.add_argument("scenario")
+    p.add_argument("--grid", required=True, help='JSON {"scenario.path": [values], ...} or {"runs": [{...}, ...]}')
+    p.add_argument("--tracks", help="track CSV: score each row against it")
+    p.add_argument("--columns", default="id,time,x,y,z", help="id,time,x,y,z column names (default %(default)s)")
+    p.add_argument("--delimiter", default=",", help="the tracks' field separator: one character, or tab")
+    p.add_argument("--unit-scale", type=float, default=1.0, help="track position unit in metres (0.01: cm)")
+    p.add_argument("--window", default="0,1", help="FROM,TO fractions of the samples by time (default all)")
+    p.add_argument("--steps", type=int)
+    p.add_argument("--every", type=int)
+    p.add_argument("--warmup", type=int, default=0)
+    p.add_argument("--bins", type=int, default=50)
+    p.add_argument("--half-width", type=float, default=4.0)
+    p.add_argument("--robust", action="store_true", help="z-score the PDFs with median and MAD")
+    p.add_argument("--out", default="sweep.json", help="JSON, or CSV for a .csv name (default %(default)s)")
+    p.add_argument("--device", help="device index or name part (default: SWARMCL_DEVICE, or round-robin by rank)")
+    p.add_argument("--quiet", action="store_true")
+    return p
+
+
+def main(argv=None) -> int:
+    args = _parser().parse_args(argv)
+    comm = None
+    if int(os.environ.get("OMPI_COMM_WORLD_SIZE", os.environ.get("PMI_SIZE", "1"))) > 1:
+        from mpi4py import MPI  # started by mpirun: spread over its ranks
+        comm = MPI.COMM_WORLD
+    rank = comm.Get_rank() if comm is not None else 0
+    try:
+        device = int(args.device) if args.device and args.device.isdigit() else args.device
+        ctx = _context_for_rank(rank, device)
+        with ctx:
+            real = None
+            if args.tracks:
+                window = tuple(float(x) for x in args.window.split(","))
+                if len(window) != 2:
+                    raise ValueError("--window: expected FROM,TO")
+                real = Metrics.from_csv(args.tracks, window=window, unit_scale=args.unit_scale,
+                                        columns=args.columns, delimiter=args.delimiter)
+            try:
+                result = sweep(args.scenario, args.grid, tracks=real, context=ctx, comm=comm, steps=args.steps,
+                               every=args.every, warmup=args.warmup, bins=args.bins, half_width=args.half_width,
+                               robust=args.robust)
+            finally:
+                if real is not None:
+                    real.close()
+    except (ValueError, OSError, SwarmclError) as e:
+        print(f"swarmcl sweep: {e}", file=sys.stderr)
+        if comm is not None:
+            comm.Abort(1)
+        return 1
+    if rank == 0:
+        _write(result, args.out)
+        if not args.quiet:
+            how = "as the worlds of one swarm" if result["worlds"] else "one swarm a row"
+            print(f"{len(result['rows'])} rows ({how}) on {result['ranks']} rank(s) in {result['seconds']:.1f} s; "
+                  f"written to {args.out}")
+    return 0

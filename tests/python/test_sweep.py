@@ -1,0 +1,128 @@
+"""Parameter sweeps (issue 25): every row of a grid or list run as one world
+of one swarm gives the statistics and score of the same scenario run alone;
+a model without worlds runs one swarm a row; MPI ranks give the same rows;
+bad grids are refused before anything runs or is written."""
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import swarmcl
+
+SCENARIO = {
+    "name": "sweep_tiny", "seed": 4, "dt": 0.02, "steps": 30,
+    "domain": {"min": [0, 0, 0], "max": [2, 2, 2]}, "interaction_radius": 0.2,
+    "agents": {"count": 24, "initial": {"type": "uniform", "min": [0.5, 0.5, 0.5], "max": [1.5, 1.5, 1.5]}},
+    "model": {"type": "field", "noise": {"type": "curl", "scale": 0.5, "gain": 0.3, "seed": 1, "domain_walls": True},
+              "goal": {"center": [1, 1, 1.5], "speed": 0.5}, "min_distance": 0.05},
+    "output": {"dir": "results", "formats": ["npy"], "every": 5},
+}
+GRID = {"model.noise.gain": [0.1, 0.6], "model.goal.speed": [0.2, 0.7, 1.2]}
+
+
+def alone(ctx, values, steps=30, frames=False):
+    doc = json.loads(json.dumps(SCENARIO))
+    for path, v in values.items():
+        node = doc
+        *parts, last = path.split(".")
+        for p in parts:
+            node = node[p]
+        node[last] = v
+    with swarmcl.Scenario.parse(json.dumps(doc)).create_swarm(ctx) as s:
+        out = [s.read_positions()]
+        for _ in range(steps):
+            s.step(1)
+            out.append(s.read_positions())
+        return s.read_velocities(), s.nearest_neighbor()[0], s.take_step_stats(), np.stack(out)
+
+
+def test_grid_rows_are_the_runs_alone(ctx):
+    keys, rows = swarmcl.load_grid(GRID, SCENARIO)
+    assert keys == list(GRID) and len(rows) == 6 and rows[1] == [0.1, 0.7]  # first key slowest
+    r = swarmcl.sweep(SCENARIO, GRID, context=ctx)
+    assert r["worlds"] and len(r["rows"]) == 6
+    for row in r["rows"]:
+        vel, nn, stats, frames = alone(ctx, {k: row[k] for k in keys})
+        assert row["finite"]
+        assert row["mean_speed"] == float(np.linalg.norm(vel, axis=1).mean())
+        assert row["median_nearest_distance"] == float(np.median(nn))
+        assert row["mde_moved_total"] == stats.mde_moved_total
+    assert len({row["mean_speed"] for row in r["rows"]}) == 6
+
+
+def test_scores_against_tracks_are_those_of_the_runs_alone(ctx):
+    _, _, _, frames = alone(ctx, {"model.noise.gain": 0.4, "model.goal.speed": 0.9})
+    with swarmcl.Metrics.from_frames(frames, 0.02) as real:
+        runs = {"runs": [{"model.noise.gain": 0.4, "model.goal.speed": 0.9},
+                         {"model.noise.gain": 0.1, "model.goal.speed": 0.2}]}
+        r = swarmcl.sweep(SCENARIO, runs, tracks=real, context=ctx)
+        assert r["rows"][0]["score"] == pytest.approx(1.0, abs=1e-12)  # the run the tracks came from
+        _, _, _, other = alone(ctx, {"model.noise.gain": 0.1, "model.goal.speed": 0.2})
+        with swarmcl.Metrics.from_frames(other, 0.02) as sim:
+            e = swarmcl.distances(real, sim)
+        assert r["rows"][1]["score"] == pytest.approx(swarmcl.score(e), abs=1e-12) and r["rows"][1]["score"] < 0.99
+
+
+def test_a_model_without_worlds_runs_one_swarm_a_row(ctx):
+    force = {"name": "f", "seed": 2, "dt": 0.01, "steps": 10, "domain": {"min": [-1, -1, -1], "max": [1, 1, 1]},
+             "interaction_radius": 0.2, "agents": {"count": 20, "initial": {"type": "sphere", "center": [0, 0, 0],
+                                                                             "radius": 0.5}},
+             "model": {"type": "force", "w_att": 2.0, "eta": 0.2}}
+    r = swarmcl.sweep(force, {"model.eta": [0.1, 0.8]}, context=ctx)
+    assert not r["worlds"] and len(r["rows"]) == 2 and all(row["finite"] for row in r["rows"])
+    assert r["rows"][0]["mean_speed"] != r["rows"][1]["mean_speed"]
+
+
+@pytest.mark.parametrize("grid, says", [
+    ({"model.noise.nope": [1, 2]}, "neither in the scenario nor a parameter of the field model"),
+    ({"model.goal.speed": [0.5, -1.0]}, "leaves the parameter's valid range"),
+    ({"model.goal.speed": []}, "non-empty list"),
+    ({"model.goal.speed": [0.5, float("nan")]}, "not a finite number"),
+    ({"runs": [{"model.goal.speed": 0.5}, {"model.noise.gain": 0.5}]}, "every run sets the same keys"),
+    ({"model.noise.type": [0, 1]}, "not a number"),
+    ({}, "expected"),
+])
+def test_bad_grids_are_refused(ctx, grid, says):
+    with pytest.raises(ValueError, match=says):
+        swarmcl.sweep(SCENARIO, grid, context=ctx)
+
+
+def test_cli_writes_csv_and_nothing_on_error(tmp_path):
+    (tmp_path / "s.json").write_text(json.dumps(SCENARIO))
+    (tmp_path / "g.json").write_text(json.dumps(GRID))
+    (tmp_path / "bad.json").write_text(json.dumps({"model.goal.speed": [-1.0]}))
+    package_root = os.path.dirname(os.path.dirname(os.path.abspath(swarmcl.__file__)))
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in (package_root, os.environ.get("PYTHONPATH", "")) if p))
+    cmd = [sys.executable, "-m", "swarmcl", "sweep", "s.json", "--quiet"]
+    p = subprocess.run(cmd + ["--grid", "g.json", "--out", "out.csv"], cwd=tmp_path, env=env, capture_output=True,
+                       text=True, timeout=300)
+    assert p.returncode == 0, p.stderr
+    lines = (tmp_path / "out.csv").read_text().splitlines()
+    assert lines[0].startswith("model.noise.gain,model.goal.speed,finite,mean_speed") and len(lines) == 7
+    p = subprocess.run(cmd + ["--grid", "bad.json", "--out", "bad.csv"], cwd=tmp_path, env=env, capture_output=True,
+                       text=True, timeout=300)
+    assert p.returncode == 1 and "valid range" in p.stderr and not (tmp_path / "bad.csv").exists()
+
+
+def test_two_mpi_ranks_give_the_same_rows(tmp_path, ctx):
+    mpirun = shutil.which("mpirun")
+    if mpirun is None or subprocess.run([sys.executable, "-c", "import mpi4py"]).returncode != 0:
+        if os.environ.get("SWARMCL_REQUIRE_MPI") == "1":
+            pytest.fail("mpirun or mpi4py missing but SWARMCL_REQUIRE_MPI=1 (scripts/test.sh installs them)")
+        pytest.skip("no mpirun / mpi4py")
+    (tmp_path / "s.json").write_text(json.dumps(SCENARIO))
+    (tmp_path / "g.json").write_text(json.dumps(GRID))
+    package_root = os.path.dirname(os.path.dirname(os.path.abspath(swarmcl.__file__)))
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in (package_root, os.environ.get("PYTHONPATH", "")) if p),
+               OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1")
+    cmd = [mpirun, "-np", "2", sys.executable, "-m", "swarmcl", "sweep", "s.json", "--grid", "g.json",
+           "--out", "two.json", "--quiet"]
+    p = subprocess.run(cmd, cwd=tmp_path, env=env, capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stdout + p.stderr
+    two = json.loads((tmp_path / "two.json").read_text())
+    one = swarmcl.sweep(SCENARIO, GRID, context=ctx)
+    assert two["ranks"] == 2 and two["rows"] == one["rows"]
