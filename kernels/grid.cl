@@ -48,7 +48,11 @@ __kernel void grid_keys_count(__global const float4* pos, uint n, GRID_PARAMS, _
     for (uint s = begin; s < end; ++s) {
         const float4 f = clamp((pos[s] - grid_origin) * grid_inv_cell, (float4)(0.0f), hi);
         const uint4 q = convert_uint4(f);
+#ifdef SWCL_WORLDS
         const uint key = q.x + dx * q.y + dxy * q.z + (s / world_agents) * world_cells;
+#else
+        const uint key = q.x + dx * q.y + dxy * q.z;
+#endif
         keys[s] = key;
         count += key != old_key[s] ? 1u : 0u;
     }

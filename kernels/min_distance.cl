@@ -10,6 +10,7 @@
 // Worlds (lib/grid_common.cl): launched over (n, W), n agents a world; world
 // w's d_min and seed are d_mins[w], seeds[w], its counters moved[w] (agents
 // moved in this pass) and moved[W + w] (summed over passes).
+#ifdef SWCL_WORLDS
 #define MDE_WORLD_VIEW()                                   \
     const uint world = (uint)get_global_id(1);             \
     const size_t world_base = (size_t)world * n;           \
@@ -20,6 +21,15 @@
     const ulong seed = seeds[world];                       \
     __global volatile uint* moved_now = moved + world;     \
     __global volatile uint* moved_sum = moved + get_global_size(1) + world;
+#else  // one world (lib/grid_common.cl)
+#define MDE_WORLD_VIEW()                                   \
+    const uint world = 0u;                                 \
+    const size_t world_base = 0;                           \
+    const float d_min = d_mins[0];                         \
+    const ulong seed = seeds[0];                           \
+    __global volatile uint* moved_now = moved;             \
+    __global volatile uint* moved_sum = moved + 1;
+#endif
 
 #define MDE_WORLD_PARAMS GRID_WORLD_PARAMS, __global const float* d_mins, __global const ulong* seeds
 

@@ -5,11 +5,17 @@
 // ids and results are the world's (ids from 0), results at world w n + id.
 #include "lib/grid_common.cl"
 
-#define NB_WORLD_VIEW()                                 \
+#ifdef SWCL_WORLDS
+#define NB_WORLD_VIEW()                                       \
     const size_t world_base = (size_t)get_global_id(1) * n;   \
     pos += world_base;                                        \
     ids += world_base;                                        \
     const Grid g = GRID_MAKE_WORLD(n);
+#else  // one world (lib/grid_common.cl)
+#define NB_WORLD_VIEW()                                       \
+    const size_t world_base = 0;                              \
+    const Grid g = GRID_MAKE();
+#endif
 
 #define NO_AGENT 0xFFFFFFFFu
 

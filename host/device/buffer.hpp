@@ -163,6 +163,10 @@ namespace swarmcl {
 // launch() for all the worlds' work-items, shrunk (within the same set of
 // sizes, which PoCL compiles apart) while it still covers a world, so a small
 // world does not run as a mostly empty work-group.
+// The build option of the kernels a swarm of `worlds` worlds launches: the
+// world offsets are compiled in for several worlds only (lib/grid_common.cl).
+inline std::string world_defines(uint32_t worlds) { return worlds > 1 ? " -DSWCL_WORLDS=1" : ""; }
+
 inline void launch_worlds(Context& ctx, cl::Kernel& kernel, size_t n, size_t worlds, size_t max_local = 4096) {
     if (!n || !worlds) return;
     if (worlds == 1) {

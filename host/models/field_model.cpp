@@ -24,7 +24,7 @@ FieldModel::FieldModel(Swarm& swarm, FieldModelConfig config)
     // work-item).
     width_ = noise_->width();
     advance_ = noise_->kernel("field_model.cl", width_ > 1 ? "field_model_advance_w" : "field_model_advance",
-                              table.device_defines("FIELD"));
+                              table.device_defines("FIELD") + world_defines(swarm.worlds()));
     const std::vector<cl_float> block = noise_->block();
     noise_host_.reserve(block.size() * worlds_.worlds());
     for (uint32_t k = 0; k < worlds_.worlds(); ++k) noise_host_.insert(noise_host_.end(), block.begin(), block.end());
@@ -97,9 +97,8 @@ StepStages FieldModel::stages() const {
 
 // The field model keeps nothing that changes over steps: its field is
 // rebuilt from the descriptor (the noise bake is deterministic).
-void FieldModel::save_checkpoint(Swarm& swarm, ByteWriter& descriptor, ByteWriter&) {
-    swarm.require_one_world("a checkpoint");
-    write_model_descriptor(descriptor, worlds_[0]);
+void FieldModel::save_checkpoint(Swarm&, ByteWriter& descriptor, ByteWriter&) {
+    write_model_descriptor(descriptor, worlds_[0]);  // the other worlds: their varied parameters (WRLD)
 }
 void FieldModel::restore_checkpoint(Swarm&, ByteReader& state) { state.expect_end(); }
 

@@ -43,6 +43,7 @@ public:
     // what is baked (a baked noise is the same in every world).
     void set_world_param(Swarm& swarm, const std::string& key, const double* values, size_t count) override;
     std::vector<double> world_param(const std::string& key) const override;
+    std::vector<std::string> varied_world_params() const override { return worlds_.varied_keys(); }
 
     // MDE at min_distance (keyed by the noise seed), and step statistics.
     StepStages stages() const override;

@@ -1,5 +1,6 @@
 #include "models/swarm_checkpoint.hpp"
 
+#include <algorithm>
 #include <utility>
 
 namespace swarmcl {
@@ -59,6 +60,27 @@ std::string swarm_checkpoint_bytes(Swarm& swarm) {
     stats.u64(st.stats.steps);
 
     std::vector<CheckpointSection> sections;
+    if (swarm.worlds() > 1) {
+        // Worlds: their seeds, statistics and the parameters that differ
+        // (older readers refuse the unknown section, as they should).
+        ByteWriter w;
+        w.u32(swarm.worlds());
+        for (uint32_t k = 0; k < swarm.worlds(); ++k) w.u64(swarm.world_seed(k));
+        for (const StepStats& s : st.world_stats) {
+            w.u32(s.mde_moved_last);
+            w.u64(s.mde_moved_total);
+        }
+        const Behavior* b = swarm.behavior();
+        const std::vector<std::string> keys = b ? b->varied_world_params() : std::vector<std::string>{};
+        w.u32(uint32_t(keys.size()));
+        for (const std::string& key : keys) {
+            const std::vector<double> v = b->world_param(key);
+            w.string(key);
+            w.u64(v.size());
+            for (double x : v) w.f64(x);
+        }
+        sections.push_back(section("WRLD", kWorldsSectionVersion, w.take()));
+    }
     sections.push_back(section("SWRM", kSwarmSectionVersion, cfg.take()));
     sections.push_back(section("AGNT", kAgentSectionVersion, agents.take()));
     sections.push_back(section("STAT", kStatsSectionVersion, stats.take()));
@@ -71,7 +93,7 @@ SwarmCheckpoint decode_swarm_checkpoint(const std::string& bytes, bool verify_ch
     const std::vector<CheckpointSection> sections = parse_checkpoint(bytes, verify_checksum);
     for (const CheckpointSection& s : sections) {
         bool known = false;
-        for (const char* t : {"SWRM", "AGNT", "STAT", "MODL", "MDST"}) known |= s.tag_name() == t;
+        for (const char* t : {"SWRM", "AGNT", "STAT", "MODL", "MDST", "WRLD"}) known |= s.tag_name() == t;
         // Every section holds state a step depends on: one this reader does
         // not know cannot be skipped.
         if (!known) fail(Status::Parse, "checkpoint: unknown section " + s.tag_name() + " (written by a newer swarmcl?)");
@@ -90,13 +112,43 @@ SwarmCheckpoint decode_swarm_checkpoint(const std::string& bytes, bool verify_ch
         c.dt = r.f32();
         r.expect_end();
     }
+    const bool has_worlds = std::any_of(sections.begin(), sections.end(),
+                                        [](const CheckpointSection& s) { return s.tag_name() == "WRLD"; });
+    std::vector<StepStats> world_stats;
+    if (has_worlds) {
+        const CheckpointSection& s = find_section(sections, "WRLD", kWorldsSectionVersion);
+        ByteReader r(s.bytes, "section WRLD (worlds)");
+        SwarmConfig& c = cp.config;
+        c.worlds = r.u32();
+        if (c.worlds < 2) r.bad("a swarm of worlds holds 2 or more, not " + std::to_string(c.worlds));
+        if (uint64_t(c.worlds) * (8 + 4 + 8) > r.remaining())  // a seed and the counters per world
+            r.bad(std::to_string(c.worlds) + " worlds do not fit in the " + std::to_string(r.remaining()) + " bytes left");
+        if (uint64_t(c.worlds) * c.capacity > (uint64_t(1) << 31)) r.bad("too many worlds for the capacity");
+        c.world_seeds.resize(c.worlds);
+        for (uint64_t& seed : c.world_seeds) seed = r.u64();
+        world_stats.resize(c.worlds);
+        for (StepStats& w : world_stats) {
+            w.mde_moved_last = r.u32();
+            w.mde_moved_total = r.u64();
+        }
+        const uint32_t keys = r.u32();
+        for (uint32_t i = 0; i < keys; ++i) {
+            std::string key = r.string();
+            const uint64_t count = r.count(8);
+            std::vector<double> v(static_cast<size_t>(count));
+            for (double& x : v) x = r.f64();
+            cp.world_params.emplace_back(std::move(key), std::move(v));
+        }
+        r.expect_end();
+    }
     {
         const CheckpointSection& s = find_section(sections, "AGNT", kAgentSectionVersion);
         ByteReader r(s.bytes, "section AGNT (agent state)");
         cp.state.steps = r.u64();
         const uint64_t n = r.count(2 * 16 + 4);  // a position, a velocity and an id per agent
-        if (n > cp.config.capacity)
-            r.bad(std::to_string(n) + " agents exceed the capacity " + std::to_string(cp.config.capacity));
+        if (n > uint64_t(cp.config.capacity) * cp.config.worlds)
+            r.bad(std::to_string(n) + " agents exceed the capacity " + std::to_string(cp.config.capacity) +
+                  (cp.config.worlds > 1 ? " x " + std::to_string(cp.config.worlds) + " worlds" : std::string()));
         cp.state.positions = read_float4s(r, n);
         cp.state.velocities = read_float4s(r, n);
         cp.state.ids.resize(size_t(n));
@@ -111,6 +163,11 @@ SwarmCheckpoint decode_swarm_checkpoint(const std::string& bytes, bool verify_ch
         cp.state.stats.mde_moved_total = r.u64();
         cp.state.stats.steps = r.u64();
         r.expect_end();
+        for (StepStats& w : world_stats) {
+            w.agents = cp.config.worlds ? uint32_t(cp.state.ids.size() / cp.config.worlds) : 0;
+            w.steps = cp.state.stats.steps;
+        }
+        cp.state.world_stats = std::move(world_stats);
     }
     {
         const CheckpointSection& s = find_section(sections, "MODL", kModelSectionVersion);
@@ -130,11 +187,19 @@ std::shared_ptr<Swarm> swarm_from_checkpoint(std::shared_ptr<Context> ctx, const
         ByteReader r(cp.model_state, "section MDST (model state)");
         if (behavior) {
             behavior->restore_checkpoint(*swarm, r);
+            for (const auto& [key, values] : cp.world_params)
+                behavior->set_world_param(*swarm, key, values.data(), values.size());
         } else {
             r.expect_end();
+            if (!cp.world_params.empty()) fail(Status::Parse, "checkpoint: world parameters without a model");
         }
         swarm->set_behavior(std::move(behavior));
-        swarm->restore_step_stats(cp.state.stats);  // which set_behavior zeroed
+        // Which set_behavior zeroed.
+        if (cp.state.world_stats.empty()) {
+            swarm->restore_step_stats(cp.state.stats);
+        } else {
+            swarm->restore_world_step_stats(cp.state.world_stats);
+        }
         return swarm;
     } catch (const Error& e) {
         if (e.status() == Status::InvalidArgument) fail(Status::Parse, std::string("checkpoint: ") + e.what());

@@ -18,6 +18,7 @@ constexpr uint32_t kSwarmSectionVersion = 1;   // SWRM: the SwarmConfig
 constexpr uint32_t kAgentSectionVersion = 1;   // AGNT: steps, state in slot order
 constexpr uint32_t kStatsSectionVersion = 1;   // STAT: step statistics counters
 constexpr uint32_t kStateSectionVersion = 1;   // MDST: the model's state
+constexpr uint32_t kWorldsSectionVersion = 1;  // WRLD: worlds (only in a swarm of several)
 
 // A checkpoint decoded without a device: everything but the model's state,
 // which the rebuilt model reads (Behavior::restore_checkpoint).
@@ -26,6 +27,10 @@ struct SwarmCheckpoint {
     SwarmState state;
     CheckpointModel model;
     std::string model_state;
+    // WRLD: the parameters that differ between worlds, every world's values
+    // (key, worlds x components values), set after the model is rebuilt
+    // from the first world's descriptor.
+    std::vector<std::pair<std::string, std::vector<double>>> world_params;
 };
 
 // The checkpoint's bytes (waits for the device).  Error(InvalidArgument) for

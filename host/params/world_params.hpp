@@ -4,6 +4,7 @@
 // and their device blocks laid out one after another (world k's block at
 // k * device_floats(), the offset the kernels add).
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -60,6 +61,21 @@ public:
         std::vector<double> out;
         for (const Config& c : configs_)
             for (int a = 0; a < row.components(); ++a) out.push_back(row.get(const_cast<Config*>(&c), a));
+        return out;
+    }
+
+    // The keys of the parameters that differ between the worlds (what a
+    // checkpoint keeps beside the first world's descriptor).
+    std::vector<std::string> varied_keys() const {
+        std::vector<std::string> out;
+        for (const Param& p : table_->params()) {
+            const std::vector<double> v = get(p.key);
+            for (size_t i = p.components(); i < v.size(); ++i)
+                if (v[i] != v[i % p.components()] && !(std::isnan(v[i]) && std::isnan(v[i % p.components()]))) {
+                    out.push_back(p.key);
+                    break;
+                }
+        }
         return out;
     }
 

@@ -41,7 +41,7 @@ NeighborGrid::NeighborGrid(Context& ctx, const GridGeometry& geometry, uint32_t 
     // An invalid layout (see invalidate_layout).
     layout_key_.fill(ctx, ncells_, capacity);
 
-    keys_k_ = ctx.kernel("grid.cl", "grid_keys_count");
+    keys_k_ = ctx.kernel("grid.cl", "grid_keys_count", world_defines(worlds));
     movers_write_ = ctx.kernel("grid.cl", "grid_movers_write");
     sort_runs_ = ctx.kernel("grid.cl", "grid_sort_runs");
     merge_ = ctx.kernel("grid.cl", "grid_merge");

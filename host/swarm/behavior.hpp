@@ -73,6 +73,9 @@ public:
     // model that does not implement them runs one world only.
     virtual void set_world_param(Swarm& swarm, const std::string& key, const double* values, size_t count);
     virtual std::vector<double> world_param(const std::string& key) const;
+    // The parameters whose values differ between worlds (checkpoints keep
+    // them beside the descriptor, which is the first world's).
+    virtual std::vector<std::string> varied_world_params() const { return {}; }
 
     // Checkpoints (docs/checkpoint-format.md, host/models/model_checkpoint.hpp):
     // save_checkpoint writes the model's descriptor as it is now (section

@@ -54,11 +54,16 @@ StepStats StepCounters::take(Swarm& swarm) { return summed(take_worlds(swarm)); 
 
 StepStats StepCounters::peek(Swarm& swarm) { return summed(read(swarm)); }
 
-void StepCounters::restore(Context& ctx, const StepStats& stats) {
-    // moved[1] is a 32-bit device counter (the total since the last read).
-    const cl_uint counts[2] = {stats.mde_moved_last, cl_uint(stats.mde_moved_total)};
-    moved_.upload(ctx, counts, 2);
-    steps_ = stats.steps;
+void StepCounters::restore(Context& ctx, const std::vector<StepStats>& stats) {
+    require(stats.size() == worlds_, "step statistics: one per world expected");
+    // moved[W + k] is a 32-bit device counter (the total since the last read).
+    std::vector<cl_uint> counts(size_t(2) * worlds_);
+    for (uint32_t k = 0; k < worlds_; ++k) {
+        counts[k] = stats[k].mde_moved_last;
+        counts[worlds_ + k] = cl_uint(stats[k].mde_moved_total);
+    }
+    moved_.upload(ctx, counts.data(), counts.size());
+    steps_ = stats[0].steps;
 }
 
 namespace {
@@ -91,11 +96,13 @@ MinDistance::MinDistance(Context& ctx, float d_min, uint64_t seed) : MinDistance
 MinDistance::MinDistance(Context& ctx, const StepStages& st, uint32_t worlds)
     : d_min_(per_world(st.world_min_distance, st.min_distance, worlds)),
       seed_(per_world(st.world_seed, st.seed, worlds)), width_(mde_width(ctx)),
-      kernel_(ctx.kernel("min_distance.cl", "min_distance_enforce")) {
+      kernel_(ctx.kernel("min_distance.cl", "min_distance_enforce", world_defines(worlds))) {
     require(d_min_.size() == worlds && seed_.size() == worlds,
             "minimum distance enforcement: one distance and seed per world expected");
     d_min_smallest_ = *std::min_element(d_min_.begin(), d_min_.end());
-    if (width_ > 1) wide_ = ctx.kernel("min_distance.cl", "min_distance_enforce_w", "-DMDE_WIDTH=" + std::to_string(width_));
+    if (width_ > 1)
+        wide_ = ctx.kernel("min_distance.cl", "min_distance_enforce_w",
+                           "-DMDE_WIDTH=" + std::to_string(width_) + world_defines(worlds));
     d_min_buf_.allocate(ctx, worlds, "MDE distances");
     d_min_buf_.upload(ctx, d_min_.data(), worlds);
     seed_buf_.allocate(ctx, worlds, "MDE seeds");

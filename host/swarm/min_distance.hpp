@@ -30,7 +30,9 @@ public:
     std::vector<StepStats> take_worlds(Swarm& swarm);
     // Checkpoints: the counters without resetting them, and set back.
     StepStats peek(Swarm& swarm);
-    void restore(Context& ctx, const StepStats& stats);
+    std::vector<StepStats> peek_worlds(Swarm& swarm) { return read(swarm); }
+    // One per world (steps from the first).
+    void restore(Context& ctx, const std::vector<StepStats>& stats);
 
 private:
     std::vector<StepStats> read(Swarm& swarm);

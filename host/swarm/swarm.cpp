@@ -95,9 +95,10 @@ Swarm::Swarm(std::shared_ptr<Context> ctx, const SwarmConfig& config)
     identity_ = c.kernel("swarm_state.cl", "identity_layout");
     integrate_ = c.kernel("swarm_state.cl", "integrate_ballistic");
     slot_of_k_ = c.kernel("swarm_state.cl", "slot_of_from_ids");
-    count_ = c.kernel("neighbors.cl", "neighbor_count");
-    nearest_ = c.kernel("neighbors.cl", "nearest_neighbor");
-    lists_ = c.kernel("neighbors.cl", "neighbor_lists");
+    const std::string worlds = world_defines(worlds_);
+    count_ = c.kernel("neighbors.cl", "neighbor_count", worlds);
+    nearest_ = c.kernel("neighbors.cl", "nearest_neighbor", worlds);
+    lists_ = c.kernel("neighbors.cl", "neighbor_lists", worlds);
     place_uniformly(config_.agent_count);
 }
 
@@ -273,52 +274,76 @@ void Swarm::step(uint32_t steps) {
 }
 
 SwarmState Swarm::export_state() {
-    require_one_world("a checkpoint");
     SwarmState st;
+    const size_t total = total_agents();
     st.steps = steps_;
-    st.positions.resize(n_);
-    st.velocities.resize(n_);
-    st.ids.resize(n_);
-    pos_.download(*ctx_, st.positions.data(), n_);
-    vel_.download(*ctx_, st.velocities.data(), n_);
-    ids_.download(*ctx_, st.ids.data(), n_);
+    st.positions.resize(total);
+    st.velocities.resize(total);
+    st.ids.resize(total);
+    pos_.download(*ctx_, st.positions.data(), total);
+    vel_.download(*ctx_, st.velocities.data(), total);
+    ids_.download(*ctx_, st.ids.data(), total);
     st.stats = stats_.peek(*this);
+    if (worlds_ > 1) st.world_stats = stats_.peek_worlds(*this);
     return st;
 }
 
 void Swarm::import_state(const SwarmState& st) {
-    require_one_world("a checkpoint");
-    const size_t n = st.ids.size();
+    const size_t total = st.ids.size();
     auto bad = [](const std::string& why) { fail(Status::Parse, "checkpoint agent state: " + why); };
+    if (total % worlds_ != 0)
+        bad(std::to_string(total) + " agents cannot be shared by " + std::to_string(worlds_) + " worlds");
+    const size_t n = total / worlds_;
     if (n > config_.capacity)
         bad(std::to_string(n) + " agents exceed the swarm's capacity " + std::to_string(config_.capacity));
-    if (st.positions.size() != n || st.velocities.size() != n) bad("positions, velocities and ids differ in count");
-    // ids index slot_of on the device: a permutation of 0..n-1 or nothing.
-    std::vector<bool> seen(n, false);
-    for (cl_uint id : st.ids) {
-        if (id >= n || seen[id]) bad("the agent ids are not a permutation of 0.." + std::to_string(n) + "-1");
-        seen[id] = true;
+    if (st.positions.size() != total || st.velocities.size() != total) bad("positions, velocities and ids differ in count");
+    // ids index slot_of on the device: in each world a permutation of 0..n-1.
+    std::vector<bool> seen(total, false);
+    for (size_t s = 0; s < total; ++s) {
+        const cl_uint id = st.ids[s];
+        const size_t at = s / (n ? n : 1) * n + id;
+        if (id >= n || seen[at])
+            bad("the agent ids are not a permutation of 0.." + std::to_string(n) + "-1" +
+                (worlds_ > 1 ? " in world " + std::to_string(s / n) : std::string()));
+        seen[at] = true;
     }
-    for (size_t i = 0; i < n; ++i)
+    for (size_t i = 0; i < total; ++i)
         for (int a = 0; a < 3; ++a)  // xyz: w is the models' to use
             if (!std::isfinite(st.positions[i].s[a]) || !std::isfinite(st.velocities[i].s[a]))
                 bad("agent " + std::to_string(st.ids[i]) + " has a value that is not finite");
     if (st.stats.mde_moved_total > 0xFFFFFFFFu) bad("the MDE counter exceeds 32 bits");
-    if (n) {
-        pos_.upload(*ctx_, st.positions.data(), n);
-        vel_.upload(*ctx_, st.velocities.data(), n);
-        ids_.upload(*ctx_, st.ids.data(), n);
+    if (!st.world_stats.empty() && st.world_stats.size() != worlds_)
+        bad("step statistics for " + std::to_string(st.world_stats.size()) + " worlds, the swarm has " +
+            std::to_string(worlds_));
+    for (const StepStats& w : st.world_stats)
+        if (w.mde_moved_total > 0xFFFFFFFFu) bad("the MDE counter exceeds 32 bits");
+    if (total) {
+        pos_.upload(*ctx_, st.positions.data(), total);
+        vel_.upload(*ctx_, st.velocities.data(), total);
+        ids_.upload(*ctx_, st.ids.data(), total);
     }
     n_ = uint32_t(n);
     steps_ = st.steps;
     grid_.invalidate_layout();  // the next build sorts every agent, to the same (cell, id) order
     grid_current_ = false;
     slot_of_current_ = false;
-    restore_step_stats(st.stats);
+    if (st.world_stats.empty()) {
+        restore_step_stats(st.stats);
+    } else {
+        restore_world_step_stats(st.world_stats);
+    }
 }
 
 void Swarm::restore_step_stats(const StepStats& stats) {
     require(stats.mde_moved_total <= 0xFFFFFFFFu, "step statistics: the MDE counter exceeds 32 bits");
+    require(worlds_ == 1, "step statistics of one world for a swarm of " + std::to_string(worlds_));
+    stats_.restore(*ctx_, {stats});
+}
+
+void Swarm::restore_world_step_stats(const std::vector<StepStats>& stats) {
+    require(stats.size() == worlds_, "step statistics: one per world expected");
+    for (const StepStats& w : stats)
+        require(w.mde_moved_total <= 0xFFFFFFFFu, "step statistics: the MDE counter exceeds 32 bits");
     stats_.restore(*ctx_, stats);
 }
 

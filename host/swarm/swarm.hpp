@@ -47,8 +47,9 @@ enum class Attribute { Position, Velocity };
 struct SwarmState {
     uint64_t steps = 0;
     std::vector<cl_float4> positions, velocities;  // agent_count each, slot order
-    std::vector<cl_uint> ids;                      // slot -> agent id, a permutation of 0..n-1
-    StepStats stats;                               // counters since the last take_step_stats
+    std::vector<cl_uint> ids;                      // slot -> agent id, a permutation of 0..n-1 per world
+    StepStats stats;                               // counters since the last take_step_stats (summed)
+    std::vector<StepStats> world_stats;            // the same per world (several worlds only)
 };
 
 class Swarm {
@@ -126,8 +127,11 @@ public:
     // values; nothing changes then).  Put back after set_behavior, which
     // zeroes the statistics: restore_step_stats puts them back after it.
     SwarmState export_state();
+    // With worlds, positions, velocities and ids hold every world's slots
+    // (world k's at [k n, (k + 1) n), ids from 0 in each world).
     void import_state(const SwarmState& state);
     void restore_step_stats(const StepStats& stats);
+    void restore_world_step_stats(const std::vector<StepStats>& stats);
 
     // Held by the C API around every call on this swarm.
     std::mutex& mutex() { return mutex_; }

@@ -44,9 +44,16 @@ static inline Grid grid_make(float4 origin, float inv_cell, int4 dims, __global 
 // over (work-items, W) works on world get_global_id(1): it offsets its
 // per-agent pointers by w n, and sees its world's cells through this view,
 // whose ranges are slots of the world (from 0), so the kernel body is the one
-// of a swarm alone, and world w gives bitwise that swarm's run.
+// of a swarm alone, and world w gives bitwise that swarm's run.  The world
+// offsets are compiled in with -DSWCL_WORLDS only (a swarm of several
+// worlds): on sm_90 they cost the field model's kernel 42 registers, so a
+// swarm of one world keeps the kernels as they were (the same arguments).
 #define GRID_WORLD_PARAMS GRID_PARAMS, uint grid_world_cells
+#ifdef SWCL_WORLDS
 #define GRID_MAKE_WORLD(n) grid_world_view(GRID_MAKE(), grid_world_cells, (n))
+#else
+#define GRID_MAKE_WORLD(n) GRID_MAKE()
+#endif
 static inline Grid grid_world_view(Grid g, uint world_cells, uint n) {
     const uint w = (uint)get_global_id(1);
     g.cell_start += (size_t)w * world_cells;

@@ -9,6 +9,7 @@ __kernel void SWCL_KERNEL(field_model_advance)(__global float4* pos, __global fl
                                                __global const float* params) {
     const uint base = get_global_id(0) * SWCL_BW;
     if (base >= n) return;
+#ifdef SWCL_WORLDS
     // World get_global_id(1) of a swarm of worlds, n agents each
     // (lib/grid_common.cl): its agents, its parameter and noise blocks.
     const size_t world = get_global_id(1), world_base = world * n;
@@ -17,6 +18,7 @@ __kernel void SWCL_KERNEL(field_model_advance)(__global float4* pos, __global fl
     ids += world_base;
     params += world * FIELD_FLOATS;
     noise_block += world * NOISE_BLOCK_FLOATS;
+#endif
     // The model's parameter block (models/field_params.cpp lays it out; the
     // host defines FIELD_<KEY> as each parameter's slot).  goal.w: the goal
     // radius, negative when there is no goal.
