@@ -283,15 +283,16 @@ TEST(Launch, CpuLocalSizeComesFromAFixedSetWithEnoughGroups) {
     EXPECT_EQ(cpu_local_size(1000000, d), 1u);
 }
 
-// launch() in the GPU profile: an explicit local size of at most 128 (and at
-// most max_local and the kernel's limit) instead of the driver's choice, the
-// global size padded.  Left to itself PoCL made one work-group of 4000 for
+// launch() in the GPU profile: an explicit local size, a power of two of at
+// most 128 (and at most max_local and the kernel's limit) instead of the
+// driver's choice, the global size padded.  Left to itself PoCL made one work-group of 4000 for
 // 20,000 work-items, and energy_select's private state for it overflowed the
 // thread's stack (docs/benchmarks.md, "Rehearsal").
 TEST(Launch, GpuLocalSizeIsSmallAndExplicit) {
     EXPECT_EQ(gpu_local_size(4096), 128u);
     EXPECT_EQ(gpu_local_size(1024, 64), 64u);
-    EXPECT_EQ(gpu_local_size(96), 96u);  // a kernel with a lower limit
+    EXPECT_EQ(gpu_local_size(96), 64u);  // a kernel with a lower limit: a power of two
+    EXPECT_EQ(gpu_local_size(1024, 100), 64u);
     EXPECT_EQ(gpu_local_size(0), 1u);
 
     ScopedEnv env("SWARMCL_DEVICE_PROFILE", "gpu");

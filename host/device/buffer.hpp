@@ -126,10 +126,12 @@ inline size_t cpu_local_size(size_t n, const DeviceEntry& device, size_t max_loc
     return std::min<size_t>(16, std::max<size_t>(1, device.max_work_group_size));
 }
 
-// The local size launch() asks for on other devices (the GPU profile):
-// kGpuLocalSize, at most max_local and at most `kernel_limit` (the kernel's
-// CL_KERNEL_WORK_GROUP_SIZE on the device, which is at most the device's
-// CL_DEVICE_MAX_WORK_GROUP_SIZE).  Left to the driver (a NULL local size),
+// The local size launch() asks for on other devices (the GPU profile): the
+// largest power of two up to kGpuLocalSize, max_local and `kernel_limit`
+// (the kernel's CL_KERNEL_WORK_GROUP_SIZE on the device, which is at most
+// the device's CL_DEVICE_MAX_WORK_GROUP_SIZE).  A power of two, so a launch
+// of a multiple of 128 work-items is never padded (the policy MLP's chunks
+// of 1024 tiles rely on it: policy_model.cpp).  Left to the driver (a NULL local size),
 // PoCL in the GPU profile made one work-group of 4000 for 20,000 agents, and
 // energy_select's private state for 4000 work-items overflowed its thread's
 // stack (docs/benchmarks.md, "Rehearsal"); a driver may also pick a poor
@@ -138,7 +140,10 @@ inline size_t cpu_local_size(size_t n, const DeviceEntry& device, size_t max_loc
 // the size changes no result.
 inline constexpr size_t kGpuLocalSize = 128;
 inline size_t gpu_local_size(size_t kernel_limit, size_t max_local = 4096) {
-    return std::max<size_t>(1, std::min({kGpuLocalSize, max_local, kernel_limit}));
+    const size_t cap = std::min({kGpuLocalSize, max_local, kernel_limit});
+    size_t local = 1;
+    while (local * 2 <= cap) local *= 2;
+    return local;
 }
 
 // Enqueues a 1-D kernel over `n` work-items, the global size rounded up to a
