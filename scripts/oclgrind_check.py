@@ -3,7 +3,7 @@
 
 Runs a fixed list of small GoogleTest cases, one test per process, two at a
 time, under `oclgrind --data-races --uninitialized`, mostly in the GPU
-profile (one agent per work-item, the driver's local sizes: what a GPU runs)
+profile (one agent per work-item, gpu_local_size(): what a GPU runs)
 and a few in the CPU profile and at explicit widths (ScopedKernelWidth) for
 the 8/16-lane kernels.  Fails on any Oclgrind report (an out-of-bounds
 access, a data race, a use of uninitialised memory), on a test that fails or

@@ -283,8 +283,45 @@ TEST(Launch, CpuLocalSizeComesFromAFixedSetWithEnoughGroups) {
     EXPECT_EQ(cpu_local_size(1000000, d), 1u);
 }
 
-// launch() pads the global size to a multiple of the local size on CPU
-// devices, so every kernel must return for ids past its count before it
+// launch() in the GPU profile: an explicit local size, a power of two of at
+// most 128 (and at most max_local and the kernel's limit) instead of the
+// driver's choice, the global size padded.  Left to itself PoCL made one work-group of 4000 for
+// 20,000 work-items, and energy_select's private state for it overflowed the
+// thread's stack (docs/benchmarks.md, "Rehearsal").
+TEST(Launch, GpuLocalSizeIsSmallAndExplicit) {
+    EXPECT_EQ(gpu_local_size(4096), 128u);
+    EXPECT_EQ(gpu_local_size(1024, 64), 64u);
+    EXPECT_EQ(gpu_local_size(96), 64u);  // a kernel with a lower limit: a power of two
+    EXPECT_EQ(gpu_local_size(1024, 100), 64u);
+    EXPECT_EQ(gpu_local_size(0), 1u);
+
+    ScopedEnv env("SWARMCL_DEVICE_PROFILE", "gpu");
+    Context ctx("", "");
+    static const char* src =
+        "__kernel void report_local(__global uint* out, uint n) {\n"
+        "    const uint i = get_global_id(0);\n"
+        "    if (i >= n) return;\n"
+        "    out[i] = (uint)get_local_size(0);\n"
+        "}\n";
+    cl::Program program(ctx.cl_context(), std::string(src));
+    program.build();
+    cl::Kernel k(program, "report_local");
+    const size_t limit = k.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(ctx.device().device);
+    for (size_t max_local : {size_t(4096), size_t(64)}) {
+        const size_t n = 20001;
+        DeviceBuffer<cl_uint> out(ctx, n, "out");
+        set_args(k, out.get(), cl_uint(n));
+        launch(ctx, k, n, max_local);
+        std::vector<cl_uint> got(n);
+        out.download(ctx, got.data(), n);
+        const cl_uint want = cl_uint(gpu_local_size(limit, max_local));
+        EXPECT_LE(want, 128u);
+        for (size_t i = 0; i < n; ++i) ASSERT_EQ(got[i], want) << "work-item " << i << ", max_local " << max_local;
+    }
+}
+
+// launch() pads the global size to a multiple of the local size (every
+// device), so every kernel must return for ids past its count before it
 // touches memory.  Checked on the sources: each kernel body opens with an
 // early return.
 TEST(Kernels, EveryKernelReturnsForWorkItemsPastItsCount) {

@@ -115,10 +115,9 @@ void set_args(cl::Kernel& kernel, const Args&... args) {
 // together.  Left to itself, PoCL 3.1 makes one work-group of any global size
 // up to ~1000 (one thread runs it all: the force model's 625 work-items of
 // 16 agents at 10k) and 5 groups of 2000 for 10000 (one of 2 cores runs 3);
-// measured with a kernel that reports get_local_size.  GPUs keep the
-// driver's choice (docs/design.md, "Devices").  max_local caps it for kernels with much
-// private memory per work-item (PoCL keeps a work-group's private data
-// together).
+// measured with a kernel that reports get_local_size.  Other devices:
+// gpu_local_size().  max_local caps it for kernels with much private memory
+// per work-item (PoCL keeps a work-group's private data together).
 inline size_t cpu_local_size(size_t n, const DeviceEntry& device, size_t max_local = 4096) {
     const size_t groups = 16 * size_t(std::max<uint32_t>(1, device.compute_units));
     for (size_t local : {4096, 1024, 256, 64})
@@ -127,17 +126,37 @@ inline size_t cpu_local_size(size_t n, const DeviceEntry& device, size_t max_loc
     return std::min<size_t>(16, std::max<size_t>(1, device.max_work_group_size));
 }
 
-// Enqueues a 1-D kernel over `n` work-items.  GPUs: the local size left to
-// the driver.  CPU devices: cpu_local_size(), the global size rounded up to a
-// multiple of it, so every kernel launched here returns at once for ids >= n
-// (each checks its own count).
+// The local size launch() asks for on other devices (the GPU profile): the
+// largest power of two up to kGpuLocalSize, max_local and `kernel_limit`
+// (the kernel's CL_KERNEL_WORK_GROUP_SIZE on the device, which is at most
+// the device's CL_DEVICE_MAX_WORK_GROUP_SIZE).  A power of two, so a launch
+// of a multiple of 128 work-items is never padded (the policy MLP's chunks
+// of 1024 tiles rely on it: policy_model.cpp).  Left to the driver (a NULL local size),
+// PoCL in the GPU profile made one work-group of 4000 for 20,000 agents, and
+// energy_select's private state for 4000 work-items overflowed its thread's
+// stack (docs/benchmarks.md, "Rehearsal"); a driver may also pick a poor
+// divisor of an awkward global size.  128 work-items is 4 warps on NVIDIA,
+// 2 wavefronts on AMD; the kernels use no local memory and no barriers, so
+// the size changes no result.
+inline constexpr size_t kGpuLocalSize = 128;
+inline size_t gpu_local_size(size_t kernel_limit, size_t max_local = 4096) {
+    const size_t cap = std::min({kGpuLocalSize, max_local, kernel_limit});
+    size_t local = 1;
+    while (local * 2 <= cap) local *= 2;
+    return local;
+}
+
+// Enqueues a 1-D kernel over `n` work-items, the global size rounded up to a
+// multiple of the local size, so every kernel launched here returns at once
+// for ids >= n (each checks its own count).  CPU devices: cpu_local_size().
+// Other devices: gpu_local_size() (one clGetKernelWorkGroupInfo per launch).
 inline void launch(Context& ctx, cl::Kernel& kernel, size_t n, size_t max_local = 4096) {
     if (!n) return;
-    if (!ctx.device().cpu_profile) {
-        ctx.queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(n), cl::NullRange);
-        return;
-    }
-    const size_t local = cpu_local_size(n, ctx.device(), max_local);
+    const DeviceEntry& device = ctx.device();
+    const size_t local =
+        device.cpu_profile
+            ? cpu_local_size(n, device, max_local)
+            : gpu_local_size(kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(device.device), max_local);
     ctx.queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange((n + local - 1) / local * local),
                                      cl::NDRange(local));
 }

@@ -27,7 +27,7 @@ struct DeviceEntry {
     // The code paths the library takes on the device (docs/architecture.md,
     // "Device profiles"): true on CPU devices: explicit-width kernels, the
     // CPU launch policy, x86 prefetch; false elsewhere: one agent per
-    // work-item, the driver's local size.  $SWARMCL_DEVICE_PROFILE ("cpu" or
+    // work-item, gpu_local_size().  $SWARMCL_DEVICE_PROFILE ("cpu" or
     // "gpu") overrides it per context, so the GPU path is tested on PoCL.
     bool cpu_profile = false;
 

@@ -16,8 +16,13 @@ namespace {
 
 constexpr float kDegToRad = 0.017453292519943295f;
 // Tiles of the MLP per launch: its scratch is 2 * max_width * lanes floats
-// per tile (at most 64 MiB for 512-wide layers and 16 lanes).
+// per tile (at most 64 MiB for 512-wide layers and 16 lanes).  A multiple of
+// every local size launch() gives this kernel (powers of two, at most its
+// max_local of 64), so only the last chunk's launch is padded, past the last
+// tile (those work-items return): work-item t uses scratch row t, and a
+// padded work-item of an earlier chunk would take a row past the scratch.
 constexpr uint32_t kMlpChunkTiles = 1024;
+static_assert(kMlpChunkTiles % 64 == 0, "kMlpChunkTiles: a multiple of launch()'s local sizes");
 
 bool finite_all(const float* v, size_t n) {
     for (size_t i = 0; i < n; ++i)
