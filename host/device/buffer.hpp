@@ -181,7 +181,8 @@ namespace swarmcl {
 // One world is launch()'s 1-D range exactly.  CPU devices: the local size of
 // launch() for all the worlds' work-items, shrunk (within the same set of
 // sizes, which PoCL compiles apart) while it still covers a world, so a small
-// world does not run as a mostly empty work-group.
+// world does not run as a mostly empty work-group; other devices:
+// gpu_local_size(), as launch().
 // The build option of the kernels a swarm of `worlds` worlds launches: the
 // world offsets are compiled in for several worlds only (lib/grid_common.cl).
 inline std::string world_defines(uint32_t worlds) { return worlds > 1 ? " -DSWCL_WORLDS=1" : ""; }
@@ -192,12 +193,14 @@ inline void launch_worlds(Context& ctx, cl::Kernel& kernel, size_t n, size_t wor
         launch(ctx, kernel, n, max_local);
         return;
     }
-    if (!ctx.device().cpu_profile) {
-        ctx.queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(n, worlds), cl::NullRange);
-        return;
+    const DeviceEntry& device = ctx.device();
+    size_t local = 0;
+    if (device.cpu_profile) {
+        local = cpu_local_size(n * worlds, device, max_local);
+        while (local > 16 && local / 4 >= n) local /= 4;
+    } else {
+        local = gpu_local_size(kernel.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(device.device), max_local);
     }
-    size_t local = cpu_local_size(n * worlds, ctx.device(), max_local);
-    while (local > 16 && local / 4 >= n) local /= 4;
     ctx.queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange((n + local - 1) / local * local, worlds),
                                      cl::NDRange(local, 1));
 }
