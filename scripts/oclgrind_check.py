@@ -84,6 +84,9 @@ CASES = [
     ("test_field_model", "FieldModelTest.MinimumDistanceSeparatesIsolatedPairsExactly", CPU),
     ("test_noise", "BakedNoise.SmallBakeIsTheProceduralFieldAtNodesAndItsInterpolationBetween", GPU),
     ("test_noise", "BakedNoise.SmallBakeIsTheProceduralFieldAtNodesAndItsInterpolationBetween", CPU),
+    # Worlds: the -DSWCL_WORLDS kernels (grid keys, MDE, queries, field model).
+    ("test_worlds", "Worlds.SmallWorldsAreBitwiseTheSwarmsAlone", GPU),
+    ("test_worlds", "Worlds.SmallWorldsAreBitwiseTheSwarmsAlone", CPU),
     # The force model: its terms, the 16-lane kernels and MDE, mesh obstacles
     # (their signed distance, push-out and sampled distance).
     ("test_force_model", "ForceTerms.InteractionZonesMatchBruteForce", GPU),

@@ -2,6 +2,7 @@
 // program cache, embedded versus $SWARMCL_KERNEL_DIR sources, and build
 // failures reported with the compiler log.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -20,6 +21,14 @@ using namespace swarmcl;
 namespace fs = std::filesystem;
 
 namespace {
+
+// A temporary folder of this process: ctest runs each test of this file twice
+// at once (plain and gpu_profile.), and a shared name let one run remove the
+// other's kernel folder mid-test.
+fs::path own_temp_dir(const std::string& name) {
+    return fs::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
+}
+
 
 // Sets an environment variable for one scope.
 class ScopedEnv {
@@ -91,7 +100,7 @@ TEST(Kernels, EmbeddedSourcesExpandIncludesOnce) {
 // Files in kernels/ subfolders are named by their path; a per-width body
 // (*.inc.cl) is expanded at every #include, any other file once.
 TEST(Kernels, IncludesResolveSubfoldersAndRepeatPerWidthBodies) {
-    const fs::path dir = fs::temp_directory_path() / "swarmcl_kernel_dir_inc_test";
+    const fs::path dir = own_temp_dir("swarmcl_kernel_dir_inc_test");
     fs::create_directories(dir / "lib");
     fs::create_directories(dir / "wide");
     std::ofstream(dir / "top.cl") << "#include \"lib/helper.cl\"\n#define W 1\n#include \"wide/body.inc.cl\"\n"
@@ -128,7 +137,7 @@ TEST(Kernels, ProgramsAreBuiltOncePerContext) {
 }
 
 TEST(Kernels, KernelDirOverridesAndBuildErrorsCarryTheLog) {
-    const fs::path dir = fs::temp_directory_path() / "swarmcl_kernel_dir_test";
+    const fs::path dir = own_temp_dir("swarmcl_kernel_dir_test");
     fs::create_directories(dir);
     std::ofstream(dir / "grid.cl") << "__kernel void broken(__global float* x) { x[0] = undefined_name; }\n";
     ScopedEnv env("SWARMCL_KERNEL_DIR", dir.string());
@@ -171,7 +180,7 @@ TEST(Kernels, AProgramWithoutTheKernelNamesTheKernelAndTheDevice) {
     // gives CL_INVALID_KERNEL_NAME, which alone names nothing.  Issue 27: the
     // status is SWCL_ERROR_BUILD and the first line names the program, the
     // kernel, the device and the driver's error; the kernels it has follow.
-    const fs::path dir = fs::temp_directory_path() / "swarmcl_kernel_dir_no_kernel_test";
+    const fs::path dir = own_temp_dir("swarmcl_kernel_dir_no_kernel_test");
     fs::create_directories(dir);
     std::ofstream(dir / "grid.cl") << "__kernel void not_the_one(__global float* x) { x[0] = 1.0f; }\n";
     ScopedEnv env("SWARMCL_KERNEL_DIR", dir.string());
@@ -211,7 +220,7 @@ TEST(Kernels, ABuildFailureLeavesOtherContextsUsable) {
     swcl_context before;
     swcl_context_desc d = swcl_context_desc_default();
     ASSERT_EQ(swcl_context_create(&d, &before), SWCL_OK);
-    const fs::path dir = fs::temp_directory_path() / "swarmcl_kernel_dir_usable_test";
+    const fs::path dir = own_temp_dir("swarmcl_kernel_dir_usable_test");
     fs::create_directories(dir);
     std::ofstream(dir / "grid.cl") << "__kernel void broken(__global float* x) { x[0] = undefined_name; }\n";
     {
@@ -238,7 +247,7 @@ TEST(Kernels, ABuildFailureLeavesOtherContextsUsable) {
 }
 
 TEST(Kernels, KernelDirWithAMissingFileSaysWhere) {
-    const fs::path dir = fs::temp_directory_path() / "swarmcl_empty_kernel_dir";
+    const fs::path dir = own_temp_dir("swarmcl_empty_kernel_dir");
     fs::create_directories(dir);
     ScopedEnv env("SWARMCL_KERNEL_DIR", dir.string());
     try {

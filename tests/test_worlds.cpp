@@ -40,10 +40,10 @@ protected:
         for (swcl_swarm s : swarms_) swcl_swarm_destroy(s);
         swcl_context_destroy(ctx_);
     }
-    static swcl_swarm_desc desc(uint32_t worlds, uint64_t seed, const uint64_t* seeds) {
+    static swcl_swarm_desc desc(uint32_t worlds, uint64_t seed, const uint64_t* seeds, uint32_t agents = kAgents) {
         swcl_swarm_desc d = swcl_swarm_desc_default();
         d.capacity = 512;
-        d.agent_count = kAgents;
+        d.agent_count = agents;
         d.seed = seed;
         for (int a = 0; a < 3; ++a) {
             d.domain_min[a] = -1.0f;
@@ -84,8 +84,8 @@ protected:
         return out;
     }
     // The ensemble: world k gets model(k) through the per-world setters.
-    swcl_swarm ensemble() {
-        swcl_swarm s = make(desc(kWorlds, 0, kSeeds));
+    swcl_swarm ensemble(uint32_t agents = kAgents) {
+        swcl_swarm s = make(desc(kWorlds, 0, kSeeds, agents));
         const swcl_field_model_desc m0 = model(0);
         EXPECT_EQ(swcl_swarm_field_set_model(s, &m0), SWCL_OK) << swcl_last_error();
         set(s, "noise.scale", kScale, kWorlds);
@@ -95,12 +95,14 @@ protected:
         set(s, "max_speed", kMaxSpeed, kWorlds);
         return s;
     }
-    swcl_swarm alone(uint32_t k) {
-        swcl_swarm s = make(desc(1, kSeeds[k], nullptr));
+    swcl_swarm alone(uint32_t k, uint32_t agents = kAgents) {
+        swcl_swarm s = make(desc(1, kSeeds[k], nullptr, agents));
         const swcl_field_model_desc m = model(k);
         EXPECT_EQ(swcl_swarm_field_set_model(s, &m), SWCL_OK) << swcl_last_error();
         return s;
     }
+
+    void check_bitwise(uint32_t agents, uint32_t steps, bool expect_mde);
 
     swcl_context ctx_{};
     std::vector<swcl_swarm> swarms_;
@@ -118,15 +120,16 @@ void expect_world_equal(const std::vector<T>& all, const std::vector<T>& one, ui
                           << per << " values";
 }
 
-TEST_F(Worlds, FieldModelWorldsAreBitwiseTheSwarmsAlone) {
-    swcl_swarm all = ensemble();
+// Every world of the ensemble against its swarm alone after `steps` steps.
+void Worlds::check_bitwise(uint32_t n, uint32_t steps, bool expect_mde) {
+    swcl_swarm all = ensemble(n);
     uint32_t worlds = 0, agents = 0;
     ASSERT_EQ(swcl_swarm_worlds(all, &worlds), SWCL_OK);
     ASSERT_EQ(swcl_swarm_agent_count(all, &agents), SWCL_OK);
     EXPECT_EQ(worlds, kWorlds);
-    EXPECT_EQ(agents, kAgents);
-    const size_t total = size_t(kWorlds) * kAgents;
-    ASSERT_EQ(swcl_swarm_step(all, 40), SWCL_OK) << swcl_last_error();
+    EXPECT_EQ(agents, n);
+    const size_t total = size_t(kWorlds) * n;
+    ASSERT_EQ(swcl_swarm_step(all, steps), SWCL_OK) << swcl_last_error();
     const std::vector<float> pos = read(all, SWCL_ATTRIBUTE_POSITION, total);
     const std::vector<float> vel = read(all, SWCL_ATTRIBUTE_VELOCITY, total);
     std::vector<uint32_t> counts(total), nearest_ids(total);
@@ -139,14 +142,14 @@ TEST_F(Worlds, FieldModelWorldsAreBitwiseTheSwarmsAlone) {
 
     uint64_t moved_somewhere = 0;
     for (uint32_t k = 0; k < kWorlds; ++k) {
-        swcl_swarm one = alone(k);
-        ASSERT_EQ(swcl_swarm_step(one, 40), SWCL_OK) << swcl_last_error();
-        expect_world_equal(pos, read(one, SWCL_ATTRIBUTE_POSITION, kAgents), k, "positions");
-        expect_world_equal(vel, read(one, SWCL_ATTRIBUTE_VELOCITY, kAgents), k, "velocities");
-        std::vector<uint32_t> c(kAgents), ids(kAgents);
-        std::vector<float> d(kAgents);
-        ASSERT_EQ(swcl_swarm_neighbor_count(one, 0.15f, c.data(), kAgents), SWCL_OK);
-        ASSERT_EQ(swcl_swarm_nearest_neighbor(one, d.data(), ids.data(), kAgents), SWCL_OK);
+        swcl_swarm one = alone(k, n);
+        ASSERT_EQ(swcl_swarm_step(one, steps), SWCL_OK) << swcl_last_error();
+        expect_world_equal(pos, read(one, SWCL_ATTRIBUTE_POSITION, n), k, "positions");
+        expect_world_equal(vel, read(one, SWCL_ATTRIBUTE_VELOCITY, n), k, "velocities");
+        std::vector<uint32_t> c(n), ids(n);
+        std::vector<float> d(n);
+        ASSERT_EQ(swcl_swarm_neighbor_count(one, 0.15f, c.data(), n), SWCL_OK);
+        ASSERT_EQ(swcl_swarm_nearest_neighbor(one, d.data(), ids.data(), n), SWCL_OK);
         expect_world_equal(counts, c, k, "neighbour counts");
         expect_world_equal(nearest, d, k, "nearest distances");
         expect_world_equal(nearest_ids, ids, k, "nearest ids");
@@ -160,11 +163,17 @@ TEST_F(Worlds, FieldModelWorldsAreBitwiseTheSwarmsAlone) {
     }
     // The comparison covers the MDE stage: it moved agents (and in world 2,
     // min_distance 0, none).
-    EXPECT_GT(moved_somewhere, 0u);
+    if (expect_mde) EXPECT_GT(moved_somewhere, 0u);
     EXPECT_EQ(st[2].mde_moved_total, 0u);
     // The worlds differ from each other (their parameters and seeds do).
-    EXPECT_NE(std::memcmp(pos.data(), pos.data() + 3 * kAgents, 3 * kAgents * sizeof(float)), 0);
+    EXPECT_NE(std::memcmp(pos.data(), pos.data() + 3 * n, 3 * size_t(n) * sizeof(float)), 0);
 }
+
+TEST_F(Worlds, FieldModelWorldsAreBitwiseTheSwarmsAlone) { check_bitwise(kAgents, 40, true); }
+
+// Small, for the Oclgrind check (scripts/oclgrind_check.py): every world
+// kernel at a few dozen agents.
+TEST_F(Worlds, SmallWorldsAreBitwiseTheSwarmsAlone) { check_bitwise(37, 3, false); }
 
 TEST_F(Worlds, BallisticWorldsAreSeededSeedPlusK) {
     swcl_swarm all = make(desc(3, 100, nullptr));
