@@ -723,27 +723,49 @@ def _bar(entry: dict, total: int) -> None:
     sys.stderr.flush()
 
 
-def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="swarmcl fit", description="Fit a scenario's parameters to real tracks "
-                                "(the noise paper's Par-Est); under mpirun the individuals are spread over ranks.")
-    p.add_argument("scenario")
-    p.add_argument("--tracks", required=True, help="track CSV")
-    p.add_argument("--ranges", required=True, help="JSON {\"scenario.path\": [low, high], ...}")
+def add_track_options(p: argparse.ArgumentParser, tracks_required: bool) -> None:
+    """The options of the commands that score runs against tracks (fit,
+    sweep): the track file and how to read it, the run's sampling, the PDFs."""
+    p.add_argument("--tracks", required=tracks_required, help="track CSV")
     p.add_argument("--columns", default="id,time,x,y,z", help="id,time,x,y,z column names (default %(default)s)")
     p.add_argument("--delimiter", default=",", help="the tracks' field separator: one character, or tab "
                    "(default %(default)s)")
     p.add_argument("--unit-scale", type=float, default=1.0, help="track position unit in metres (0.01: cm)")
     p.add_argument("--window", default="0,1", help="FROM,TO fractions of the samples by time (default all)")
-    p.add_argument("--method", choices=("cmaes", "ga"), default="cmaes")
-    p.add_argument("--generations", type=int, default=10)
-    p.add_argument("--population", type=int, default=8)
-    p.add_argument("--seed", type=int, default=1)
     p.add_argument("--steps", type=int)
     p.add_argument("--every", type=int)
     p.add_argument("--warmup", type=int, default=0)
     p.add_argument("--bins", type=int, default=50)
     p.add_argument("--half-width", type=float, default=4.0)
     p.add_argument("--robust", action="store_true", help="z-score the PDFs with median and MAD")
+
+
+def mpi_comm():
+    """MPI.COMM_WORLD when started by mpirun with several ranks, else None."""
+    if int(os.environ.get("OMPI_COMM_WORLD_SIZE", os.environ.get("PMI_SIZE", "1"))) > 1:
+        from mpi4py import MPI  # started by mpirun: spread over its ranks
+        return MPI.COMM_WORLD
+    return None
+
+
+def track_window(text: str) -> tuple:
+    """--window FROM,TO as two floats."""
+    window = tuple(float(x) for x in text.split(","))
+    if len(window) != 2:
+        raise ValueError("--window: expected FROM,TO")
+    return window
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="swarmcl fit", description="Fit a scenario's parameters to real tracks "
+                                "(the noise paper's Par-Est); under mpirun the individuals are spread over ranks.")
+    p.add_argument("scenario")
+    p.add_argument("--ranges", required=True, help="JSON {\"scenario.path\": [low, high], ...}")
+    p.add_argument("--method", choices=("cmaes", "ga"), default="cmaes")
+    p.add_argument("--generations", type=int, default=10)
+    p.add_argument("--population", type=int, default=8)
+    p.add_argument("--seed", type=int, default=1)
+    add_track_options(p, tracks_required=True)
     p.add_argument("--seeds", type=int, default=1, help="runs per individual, consecutive scenario seeds "
                    "(common random numbers); default 1")
     p.add_argument("--restarts", type=int, default=0, help="CMA-ES: BIPOP restarts (default 0)")
@@ -759,15 +781,10 @@ def _parser() -> argparse.ArgumentParser:
 
 def main(argv=None) -> int:
     args = _parser().parse_args(argv)
-    comm = None
-    if int(os.environ.get("OMPI_COMM_WORLD_SIZE", os.environ.get("PMI_SIZE", "1"))) > 1:
-        from mpi4py import MPI  # started by mpirun: spread over its ranks
-        comm = MPI.COMM_WORLD
+    comm = mpi_comm()
     rank = comm.Get_rank() if comm is not None else 0
     try:
-        window = tuple(float(x) for x in args.window.split(","))
-        if len(window) != 2:
-            raise ValueError("--window: expected FROM,TO")
+        window = track_window(args.window)
         device = int(args.device) if args.device and args.device.isdigit() else args.device
         ctx = _context_for_rank(rank, device)
         with ctx, Metrics.from_csv(args.tracks, window=window, unit_scale=args.unit_scale, columns=args.columns,

@@ -29,7 +29,8 @@ import numpy as np
 from ._core import Context, Scenario
 from .errors import SwarmclError
 from .evaluation import METRICS, Metrics, distances, score, wasserstein
-from .fitting import PopulationEvaluator, _check_against_table, _context_for_rank, _table_row, _walk
+from .fitting import (PopulationEvaluator, _check_against_table, _context_for_rank, _table_row, _walk,
+                      add_track_options, mpi_comm, track_window)
 from .params import model_parameters
 
 __all__ = ["load_grid", "sweep"]
@@ -269,17 +270,7 @@ def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="swarmcl sweep", description=__doc__.splitlines()[0])
     p.add_argument("scenario")
     p.add_argument("--grid", required=True, help='JSON {"scenario.path": [values], ...} or {"runs": [{...}, ...]}')
-    p.add_argument("--tracks", help="track CSV: score each row against it")
-    p.add_argument("--columns", default="id,time,x,y,z", help="id,time,x,y,z column names (default %(default)s)")
-    p.add_argument("--delimiter", default=",", help="the tracks' field separator: one character, or tab")
-    p.add_argument("--unit-scale", type=float, default=1.0, help="track position unit in metres (0.01: cm)")
-    p.add_argument("--window", default="0,1", help="FROM,TO fractions of the samples by time (default all)")
-    p.add_argument("--steps", type=int)
-    p.add_argument("--every", type=int)
-    p.add_argument("--warmup", type=int, default=0)
-    p.add_argument("--bins", type=int, default=50)
-    p.add_argument("--half-width", type=float, default=4.0)
-    p.add_argument("--robust", action="store_true", help="z-score the PDFs with median and MAD")
+    add_track_options(p, tracks_required=False)  # --tracks: score each row against them
     p.add_argument("--out", default="sweep.json", help="JSON, or CSV for a .csv name (default %(default)s)")
     p.add_argument("--device", help="device index or name part (default: SWARMCL_DEVICE, or round-robin by rank)")
     p.add_argument("--quiet", action="store_true")
@@ -288,10 +279,7 @@ def _parser() -> argparse.ArgumentParser:
 
 def main(argv=None) -> int:
     args = _parser().parse_args(argv)
-    comm = None
-    if int(os.environ.get("OMPI_COMM_WORLD_SIZE", os.environ.get("PMI_SIZE", "1"))) > 1:
-        from mpi4py import MPI  # started by mpirun: spread over its ranks
-        comm = MPI.COMM_WORLD
+    comm = mpi_comm()
     rank = comm.Get_rank() if comm is not None else 0
     try:
         device = int(args.device) if args.device and args.device.isdigit() else args.device
@@ -299,10 +287,7 @@ def main(argv=None) -> int:
         with ctx:
             real = None
             if args.tracks:
-                window = tuple(float(x) for x in args.window.split(","))
-                if len(window) != 2:
-                    raise ValueError("--window: expected FROM,TO")
-                real = Metrics.from_csv(args.tracks, window=window, unit_scale=args.unit_scale,
+                real = Metrics.from_csv(args.tracks, window=track_window(args.window), unit_scale=args.unit_scale,
                                         columns=args.columns, delimiter=args.delimiter)
             try:
                 result = sweep(args.scenario, args.grid, tracks=real, context=ctx, comm=comm, steps=args.steps,
