@@ -129,22 +129,7 @@ def load_ranges(ranges, scenario: dict) -> List[Parameter]:
         raise ValueError("ranges: expected an object {\"scenario.path\": [low, high], ...} with at least one entry")
     params = []
     for path, bounds in ranges.items():
-        model, row = _table_row(scenario, path)
-        try:
-            node, key = _walk(scenario, path)
-            current = node[key]
-        except ValueError:
-            if row is None:
-                if model is not None:
-                    known = ", ".join("model." + r["key"] for r in model_parameters(model) if r["scenario"])
-                    raise ValueError(f"ranges: {path!r} is neither in the scenario nor a parameter of the {model} "
-                                     f"model; its parameters: {known}") from None
-                raise
-            current = row["default"]  # left at its default in the scenario
-        if row is not None and row["type"] not in ("float", "uint32", "uint64"):
-            raise ValueError(f"ranges: {path!r} is a {row['type']} parameter of the {model} model, not a number")
-        if isinstance(current, bool) or not isinstance(current, (int, float)):
-            raise ValueError(f"ranges: {path!r} is {type(current).__name__}, not a number")
+        integer, row, model = numeric_param(scenario, path)
         if (not isinstance(bounds, (list, tuple)) or len(bounds) != 2
                 or not all(isinstance(b, (int, float)) and not isinstance(b, bool) for b in bounds)):
             raise ValueError(f"ranges: {path!r}: expected [low, high], got {bounds!r}")
@@ -153,9 +138,33 @@ def load_ranges(ranges, scenario: dict) -> List[Parameter]:
             raise ValueError(f"ranges: {path!r}: expected finite low < high, got {bounds!r}")
         if row is not None:
             _check_against_table(path, model, row, low, high)
-        integer = row["type"] in ("uint32", "uint64") if row is not None else isinstance(current, int)
         params.append(Parameter(path, low, high, integer))
     return params
+
+
+def numeric_param(scenario: dict, path: str, what: str = "ranges") -> tuple:
+    """(integer, table row or None, model) of a numeric parameter named by
+    ``path``: a number in the scenario, or a numeric row of its model's table
+    (then it may be left out of the scenario); ValueError naming it (and
+    listing the model's parameters for an unknown key) otherwise."""
+    model, row = _table_row(scenario, path)
+    try:
+        node, key = _walk(scenario, path)
+        current = node[key]
+    except ValueError as e:
+        if row is None:
+            if model is not None:
+                known = ", ".join("model." + r["key"] for r in model_parameters(model) if r["scenario"])
+                raise ValueError(f"{what}: {path!r} is neither in the scenario nor a parameter of the {model} "
+                                 f"model; its parameters: {known}") from None
+            raise ValueError(str(e).replace("ranges:", f"{what}:", 1)) from None
+        current = row["default"]  # left at its default in the scenario
+    if row is not None and row["type"] not in ("float", "uint32", "uint64"):
+        raise ValueError(f"{what}: {path!r} is a {row['type']} parameter of the {model} model, not a number")
+    if isinstance(current, bool) or not isinstance(current, (int, float)):
+        raise ValueError(f"{what}: {path!r} is {type(current).__name__}, not a number")
+    integer = row["type"] in ("uint32", "uint64") if row is not None else isinstance(current, int)
+    return integer, row, model
 
 
 def _with_values(scenario: dict, params: Sequence[Parameter], u) -> dict:

@@ -22,16 +22,15 @@ import math
 import os
 import sys
 import time
-from typing import Dict, List, Optional, Sequence, Tuple
+from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
 from ._core import Context, Scenario
 from .errors import SwarmclError
 from .evaluation import METRICS, Metrics, distances, score, wasserstein
-from .fitting import (PopulationEvaluator, _check_against_table, _context_for_rank, _table_row, _walk,
-                      add_track_options, mpi_comm, track_window)
-from .params import model_parameters
+from .fitting import (PopulationEvaluator, _check_against_table, _context_for_rank, _table_row,
+                      add_track_options, mpi_comm, numeric_param, track_window)
 
 __all__ = ["load_grid", "sweep"]
 
@@ -49,24 +48,7 @@ def _number(path: str, v, integer: bool):
 
 def _key_info(scenario: dict, path: str) -> Tuple[bool, Optional[dict], Optional[str]]:
     """(integer, table row, model) of a grid key, or ValueError naming it."""
-    model, row = _table_row(scenario, path)
-    try:
-        node, key = _walk(scenario, path)
-        current = node[key]
-    except ValueError:
-        if row is None:
-            if model is not None:
-                known = ", ".join("model." + r["key"] for r in model_parameters(model) if r["scenario"])
-                raise ValueError(f"grid: {path!r} is neither in the scenario nor a parameter of the {model} model; "
-                                 f"its parameters: {known}") from None
-            raise ValueError(f"grid: {path!r}: the scenario has no such field") from None
-        current = row["default"]
-    if row is not None and row["type"] not in ("float", "uint32", "uint64"):
-        raise ValueError(f"grid: {path!r} is a {row['type']} parameter of the {model} model, not a number")
-    if isinstance(current, bool) or not isinstance(current, (int, float)):
-        raise ValueError(f"grid: {path!r} is {type(current).__name__}, not a number")
-    integer = row["type"] in ("uint32", "uint64") if row is not None else isinstance(current, int)
-    return integer, row, model
+    return numeric_param(scenario, path, "grid")
 
 
 def load_grid(grid, scenario: dict) -> Tuple[List[str], List[List[float]]]:
