@@ -42,11 +42,6 @@ CPU_ONLY = {
 # Kernels allowed to spill or to exceed 128 registers, with the reason
 # (docs/benchmarks.md, "NVIDIA compile (sm_90)", repeats it).
 EXPLAINED = {
-    "field_model_advance [worlds]": "the build for a swarm of several worlds (-DSWCL_WORLDS) offsets five "
-                                    "pointers by the world (agents, parameter block, noise block): 135 registers "
-                                    "against the one-world build's 93, no spills; it is launched only for swarms "
-                                    "of worlds, whose many small swarms fill the device anyway; to be measured "
-                                    "on a GPU",
     "energy_select": "one neighbour pass adds every neighbour's terms to all of the agent's candidate "
                      "velocities at once: two private arrays of EM_MAX_CAND floats (rep, oa: Eq. 4 and 6 per "
                      "candidate) live in local memory (stack) on a GPU.  Walking the neighbours once per chunk "

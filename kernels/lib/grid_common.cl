@@ -46,7 +46,7 @@ static inline Grid grid_make(float4 origin, float inv_cell, int4 dims, __global 
 // whose ranges are slots of the world (from 0), so the kernel body is the one
 // of a swarm alone, and world w gives bitwise that swarm's run.  The world
 // offsets are compiled in with -DSWCL_WORLDS only (a swarm of several
-// worlds): on sm_90 they cost the field model's kernel 42 registers, so a
+// worlds): on sm_90 they cost the field model's kernel 30 registers, so a
 // swarm of one world keeps the kernels as they were (the same arguments).
 #define GRID_WORLD_PARAMS GRID_PARAMS, uint grid_world_cells
 #ifdef SWCL_WORLDS
