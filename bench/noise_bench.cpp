@@ -18,7 +18,9 @@
 //
 //   noise_bench [--sizes 1000000,2000000,4000000] [--repeats 5] [--quick]
 //               [--agents 1000000] [--steps 10] [--radius 0.1] [--threads 2]
-//               [--device SELECTOR] [--json PATH] [--seed S]
+//               [--device SELECTOR] [--json PATH] [--seed S] [--density AGENTS_PER_M3]
+// --density keeps the density of the field model's swarm fixed as --agents grows
+// (the box grows, 2:2:1); without it the box is fixed (issue 29).
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -77,13 +79,17 @@ struct Options {
     float scale = 0.4f, gain = 0.25f, s0 = 1.5f, d0 = 0.4f, min_distance = 0.05f, radius = 0.1f;
     float time_scale = 1.0f;
     uint32_t bake = 64;
+    // --density D (agents per m^3, issue 29): the box keeps its 2:2:1 shape
+    // and grows with --agents so the density stays D (0: the fixed box, whose
+    // density rises with N).
+    double density = 0.0;
 };
 
 [[noreturn]] void usage(const char* msg) {
     std::fprintf(stderr,
                  "%s\nusage: noise_bench [--sizes 1000000,2000000,4000000] [--repeats 5] [--quick]\n"
                  "                   [--agents 1000000] [--steps 10] [--threads 2] [--device SELECTOR]\n"
-                 "                   [--json PATH] [--seed S] [--bake 64]\n"
+                 "                   [--json PATH] [--seed S] [--bake 64] [--density AGENTS_PER_M3]\n"
                  "  --quick: sizes 1000000, 3 repeats, 5 steps\n",
                  msg);
     std::exit(2);
@@ -141,12 +147,21 @@ Options parse(int argc, char** argv) {
                 o.json = v;
             } else if (a == "--seed") {
                 o.seed = std::stoull(v);
+            } else if (a == "--density") {
+                o.density = std::stod(v);
+                if (!(o.density > 0.0 && o.density < 1.0e9)) usage("--density must be in (0, 1e9) agents per m^3");
             } else {
                 usage(("unknown option " + a).c_str());
             }
         } catch (const std::logic_error&) {
             usage(("bad value for " + a + ": " + v).c_str());
         }
+    }
+    if (o.density > 0.0 && o.agents > 0) {
+        // 2s x 2s x s m holding agents / density m^3.
+        const double side = std::cbrt(double(o.agents) / o.density / 4.0);
+        o.lo = {0.0f, 0.0f, 0.0f};
+        o.hi = {float(2.0 * side), float(2.0 * side), float(side)};
     }
     if (o.quick) {
         if (!sizes_set) o.sizes = {1000000};
@@ -185,6 +200,7 @@ struct Results {
     float grid_cell = 0;
     std::vector<StepRow> steps;
     uint32_t mde_moved_last = 0;
+    double resident_bytes_per_agent = 0;  // the process's peak resident memory / agents
     double copy_gbs = 0;
     std::vector<swarmcl::bench::RooflineRow> roofline;
 
@@ -310,6 +326,15 @@ double time_libnoise(const Options& o, const std::vector<float>& xyz, uint32_t n
 
 // ---- the field model at N agents ------------------------------------------------------
 
+// VmHWM of /proc/self/status in bytes (0 where there is none).
+uint64_t peak_resident_bytes() {
+    std::ifstream f("/proc/self/status");
+    std::string line;
+    while (std::getline(f, line))
+        if (line.rfind("VmHWM:", 0) == 0) return uint64_t(std::stoull(line.substr(6))) * 1024u;
+    return 0;
+}
+
 swarmcl::FieldModelConfig model_config(const Options& o, bool baked) {
     swarmcl::FieldModelConfig m;
     m.noise = base_noise(o);
@@ -403,6 +428,12 @@ void run_field_model(const Options& o, const std::shared_ptr<swarmcl::Context>& 
     }
     for (int stage = 0; stage < 6; ++stage) add(names[stage], t[size_t(stage)]);
     std::printf("   (swarm has %u agents after %llu steps)\n", swarm.agent_count(), (unsigned long long)swarm.step_count());
+    // Memory per agent (issue 29): on a CPU device the device's buffers are
+    // the process's memory, so its peak resident size over N bounds them
+    // (the noise sampling's point arrays before this count too).
+    res.resident_bytes_per_agent = n ? double(peak_resident_bytes()) / n : 0.0;
+    std::printf("   peak resident memory %.0f MB: %.0f bytes per agent\n", peak_resident_bytes() / 1e6,
+                res.resident_bytes_per_agent);
     // The roofline (issue 29): the bytes each stage must move at the least
     // per agent, against a copy kernel's bandwidth on n float4 now.  The
     // advance reads a position and writes a position and a velocity (48 B);
@@ -472,6 +503,9 @@ void write_json(const Options& o, const swarmcl::DeviceEntry& dev, const Results
       << r.grid_dims[1] << ", " << r.grid_dims[2] << "], \"grid_cell\": " << r.grid_cell
       << ", \"min_distance\": " << o.min_distance << ", \"interaction_radius\": " << o.radius
       << ", \"steps_timed\": " << o.steps << ", \"mde_moved_last_step\": " << r.mde_moved_last
+      << ", \"domain\": [" << o.hi[0] - o.lo[0] << ", " << o.hi[1] - o.lo[1] << ", " << o.hi[2] - o.lo[2]
+      << "], \"density_per_m3\": " << (r.agents / (double(o.hi[0] - o.lo[0]) * (o.hi[1] - o.lo[1]) * (o.hi[2] - o.lo[2])))
+      << ", \"peak_resident_bytes_per_agent\": " << r.resident_bytes_per_agent
       << ", \"median_ms\": {";
     for (size_t i = 0; i < r.steps.size(); ++i)
         j << (i ? ", " : "") << "\"" << json_escape(r.steps[i].name) << "\": " << r.steps[i].median_ms;
