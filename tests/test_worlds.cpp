@@ -136,6 +136,10 @@ void Worlds::check_bitwise(uint32_t n, uint32_t steps, bool expect_mde) {
     std::vector<float> nearest(total);
     ASSERT_EQ(swcl_swarm_neighbor_count(all, 0.15f, counts.data(), total), SWCL_OK) << swcl_last_error();
     ASSERT_EQ(swcl_swarm_nearest_neighbor(all, nearest.data(), nearest_ids.data(), total), SWCL_OK);
+    constexpr uint32_t kCap = 6;
+    std::vector<uint32_t> lists(total * kCap), list_counts(total);
+    ASSERT_EQ(swcl_swarm_neighbor_lists(all, 0.15f, kCap, lists.data(), list_counts.data(), total, nullptr), SWCL_OK)
+        << swcl_last_error();
     std::vector<swcl_step_stats> st(kWorlds);
     for (auto& s : st) s.struct_size = sizeof(swcl_step_stats);
     ASSERT_EQ(swcl_swarm_take_world_step_stats(all, st.data(), kWorlds), SWCL_OK) << swcl_last_error();
@@ -153,6 +157,10 @@ void Worlds::check_bitwise(uint32_t n, uint32_t steps, bool expect_mde) {
         expect_world_equal(counts, c, k, "neighbour counts");
         expect_world_equal(nearest, d, k, "nearest distances");
         expect_world_equal(nearest_ids, ids, k, "nearest ids");
+        std::vector<uint32_t> l(size_t(n) * kCap), lc(n);
+        ASSERT_EQ(swcl_swarm_neighbor_lists(one, 0.15f, kCap, l.data(), lc.data(), n, nullptr), SWCL_OK);
+        expect_world_equal(lists, l, k, "neighbour lists");
+        expect_world_equal(list_counts, lc, k, "neighbour list counts");
         swcl_step_stats s1{};
         s1.struct_size = sizeof(s1);
         ASSERT_EQ(swcl_swarm_take_step_stats(one, &s1), SWCL_OK);
