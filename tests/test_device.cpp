@@ -29,6 +29,22 @@ fs::path own_temp_dir(const std::string& name) {
     return fs::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
 }
 
+std::string first_line_of(const std::string& s) { return s.substr(0, s.find('\n')); }
+
+// swcl_last_error() after creating a default swarm, which must fail to build
+// (the kernel folder holds a grid.cl that does not make the swarm's kernels).
+std::string swarm_build_error() {
+    swcl_context c;
+    swcl_context_desc d = swcl_context_desc_default();
+    EXPECT_EQ(swcl_context_create(&d, &c), SWCL_OK);
+    swcl_swarm_desc sd = swcl_swarm_desc_default();
+    swcl_swarm s;
+    EXPECT_EQ(swcl_swarm_create(c, &sd, &s), SWCL_ERROR_BUILD);
+    const std::string last = swcl_last_error();
+    EXPECT_EQ(swcl_context_destroy(c), SWCL_OK);
+    return last;
+}
+
 
 // Sets an environment variable for one scope.
 class ScopedEnv {
@@ -151,7 +167,7 @@ TEST(Kernels, KernelDirOverridesAndBuildErrorsCarryTheLog) {
         // The first line names the program, the device and the log's first
         // error (issue 27: a new driver refusing a kernel is read at a glance).
         const std::string what = e.what();
-        const std::string first_line = what.substr(0, what.find('\n'));
+        const std::string first_line = first_line_of(what);
         EXPECT_NE(first_line.find("kernels/grid.cl"), std::string::npos) << what;
         EXPECT_NE(first_line.find("'" + ctx.device().device_name + "'"), std::string::npos) << what;
         EXPECT_NE(first_line.find("undefined_name"), std::string::npos) << what;
@@ -160,17 +176,9 @@ TEST(Kernels, KernelDirOverridesAndBuildErrorsCarryTheLog) {
     }
     // Through the C API: SWCL_ERROR_BUILD, and in swcl_last_error() the
     // kernel the swarm asked for as well.
-    swcl_context c;
-    swcl_context_desc d = swcl_context_desc_default();
-    ASSERT_EQ(swcl_context_create(&d, &c), SWCL_OK);
-    swcl_swarm_desc sd = swcl_swarm_desc_default();
-    swcl_swarm s;
-    EXPECT_EQ(swcl_swarm_create(c, &sd, &s), SWCL_ERROR_BUILD);
-    const std::string last = swcl_last_error();
-    const std::string last_first_line = last.substr(0, last.find('\n'));
-    EXPECT_NE(last_first_line.find("undefined_name"), std::string::npos) << last;
-    EXPECT_NE(last_first_line.find("kernels/grid.cl (kernel "), std::string::npos) << last;
-    EXPECT_EQ(swcl_context_destroy(c), SWCL_OK);
+    const std::string last = swarm_build_error();
+    EXPECT_NE(first_line_of(last).find("undefined_name"), std::string::npos) << last;
+    EXPECT_NE(first_line_of(last).find("kernels/grid.cl (kernel "), std::string::npos) << last;
     fs::remove_all(dir);
 }
 
@@ -191,7 +199,7 @@ TEST(Kernels, AProgramWithoutTheKernelNamesTheKernelAndTheDevice) {
     } catch (const Error& e) {
         EXPECT_EQ(e.status(), Status::Build);
         const std::string what = e.what();
-        const std::string first_line = what.substr(0, what.find('\n'));
+        const std::string first_line = first_line_of(what);
         EXPECT_NE(first_line.find("kernels/grid.cl (kernel grid_keys_count)"), std::string::npos) << what;
         EXPECT_NE(first_line.find("'" + ctx.device().device_name + "'"), std::string::npos) << what;
         EXPECT_NE(first_line.find("CL_INVALID_KERNEL_NAME"), std::string::npos) << what;
@@ -200,17 +208,9 @@ TEST(Kernels, AProgramWithoutTheKernelNamesTheKernelAndTheDevice) {
     }
     // Through the C API: SWCL_ERROR_BUILD (it was SWCL_ERROR_OPENCL, naming
     // only clCreateKernel), the kernel in swcl_last_error()'s first line.
-    swcl_context c;
-    swcl_context_desc d = swcl_context_desc_default();
-    ASSERT_EQ(swcl_context_create(&d, &c), SWCL_OK);
-    swcl_swarm_desc sd = swcl_swarm_desc_default();
-    swcl_swarm s;
-    EXPECT_EQ(swcl_swarm_create(c, &sd, &s), SWCL_ERROR_BUILD);
-    const std::string last = swcl_last_error();
-    const std::string last_first_line = last.substr(0, last.find('\n'));
-    EXPECT_NE(last_first_line.find("kernels/grid.cl (kernel "), std::string::npos) << last;
-    EXPECT_NE(last_first_line.find("CL_INVALID_KERNEL_NAME"), std::string::npos) << last;
-    EXPECT_EQ(swcl_context_destroy(c), SWCL_OK);
+    const std::string last = swarm_build_error();
+    EXPECT_NE(first_line_of(last).find("kernels/grid.cl (kernel "), std::string::npos) << last;
+    EXPECT_NE(first_line_of(last).find("CL_INVALID_KERNEL_NAME"), std::string::npos) << last;
     fs::remove_all(dir);
 }
 

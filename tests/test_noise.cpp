@@ -32,6 +32,39 @@ using swarmcl::test::shared_context;
 
 swarmcl::Context& ctx() { return *shared_context(); }
 
+// The largest difference between the baked samples vb at pts (xyz packed)
+// and the trilinear interpolation, in double, of the procedural values pv at
+// every node of the res^3 grid from lo with edge cell (x fastest).
+double trilinear_error(const std::vector<float>& pts, const std::vector<float>& vb, const std::vector<float>& pv,
+                       float lo, float cell, uint32_t res) {
+    double err = 0;
+    for (size_t q = 0; q < pts.size() / 3; ++q) {
+        int i0[3];
+        double w[3];
+        for (int a = 0; a < 3; ++a) {
+            const double u = std::min(std::max((pts[3 * q + a] - lo) / double(cell), 0.0), double(res - 1));
+            i0[a] = std::min(int(std::floor(u)), int(res) - 2);
+            w[a] = u - i0[a];
+        }
+        for (int c = 0; c < 3; ++c) {
+            double v = 0;
+            for (int corner = 0; corner < 8; ++corner) {
+                size_t idx = 0, stride = 1;
+                double wt = 1;
+                for (int a = 0; a < 3; ++a) {
+                    const int bit = (corner >> a) & 1;
+                    idx += (i0[a] + bit) * stride;
+                    stride *= res;
+                    wt *= bit ? w[a] : 1 - w[a];
+                }
+                v += wt * pv[3 * idx + c];
+            }
+            err = std::max(err, std::fabs(vb[3 * q + c] - v));
+        }
+    }
+    return err;
+}
+
 // tests/noise_test_kernels.cl with its #include "lib/curl_noise.cl" expanded from
 // the library's kernel sources, built once per test process.
 cl::Program& test_program() {
@@ -929,31 +962,7 @@ TEST(BakedNoise, AgreesWithProceduralAtNodesAndWithinTrilinearErrorBetween) {
                     for (uint32_t c : {i, j, k}) all_nodes.push_back(lo + cell * float(c));
         const auto pv = sample(proc, all_nodes);
         const auto vb = sample(baked, pts);
-        double interp_err = 0;
-        for (size_t q = 0; q < n; ++q) {
-            int i0[3];
-            double w[3];
-            for (int a = 0; a < 3; ++a) {
-                const double u = std::min(std::max((pts[3 * q + a] - lo) / double(cell), 0.0), double(res[r] - 1));
-                i0[a] = std::min(int(std::floor(u)), int(res[r]) - 2);
-                w[a] = u - i0[a];
-            }
-            for (int c = 0; c < 3; ++c) {
-                double v = 0;
-                for (int corner = 0; corner < 8; ++corner) {
-                    size_t idx = 0, stride = 1;
-                    double wt = 1;
-                    for (int a = 0; a < 3; ++a) {
-                        const int bit = (corner >> a) & 1;
-                        idx += (i0[a] + bit) * stride;
-                        stride *= res[r];
-                        wt *= bit ? w[a] : 1 - w[a];
-                    }
-                    v += wt * pv[3 * idx + c];
-                }
-                interp_err = std::max(interp_err, std::fabs(vb[3 * q + c] - v));
-            }
-        }
+        const double interp_err = trilinear_error(pts, vb, pv, lo, cell, res[r]);
         EXPECT_LT(interp_err, 2e-5 * rms) << "baked vs host trilinear interpolation of the procedural nodes";
 
         // Baked vs procedural between nodes: the trilinear interpolation error per component is at
@@ -1021,31 +1030,7 @@ TEST(BakedNoise, SmallBakeIsTheProceduralFieldAtNodesAndItsInterpolationBetween)
     const size_t n = 40;
     const auto pts = swarmcl::test::random_points(n, lo, hi, 23);
     const auto vb = sample(baked, pts);
-    double interp_err = 0;
-    for (size_t q = 0; q < n; ++q) {
-        int i0[3];
-        double w[3];
-        for (int a = 0; a < 3; ++a) {
-            const double u = std::min(std::max((pts[3 * q + a] - lo) / double(cell), 0.0), double(res - 1));
-            i0[a] = std::min(int(std::floor(u)), int(res) - 2);
-            w[a] = u - i0[a];
-        }
-        for (int c = 0; c < 3; ++c) {
-            double v = 0;
-            for (int corner = 0; corner < 8; ++corner) {
-                size_t idx = 0, stride = 1;
-                double wt = 1;
-                for (int a = 0; a < 3; ++a) {
-                    const int bit = (corner >> a) & 1;
-                    idx += (i0[a] + bit) * stride;
-                    stride *= res;
-                    wt *= bit ? w[a] : 1 - w[a];
-                }
-                v += wt * pn[3 * idx + c];
-            }
-            interp_err = std::max(interp_err, std::fabs(vb[3 * q + c] - v));
-        }
-    }
+    const double interp_err = trilinear_error(pts, vb, pn, lo, cell, res);
     EXPECT_LT(interp_err, 2e-5 * rms) << "baked vs host trilinear interpolation of the procedural nodes";
     std::vector<float> out_pts, clamped;
     for (size_t i = 0; i < 20; ++i)
