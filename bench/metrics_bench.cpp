@@ -15,7 +15,13 @@
 // frame, one thread) on --host-frames of the same frames, read back from the
 // device; its agent-frames/s and the ratio.
 //
-//   metrics_bench [--agents 100000] [--frames 500] [--steps-between 1]
+// --worlds W (issue 25): a swarm of W worlds of --agents agents each, every
+// world measured apart by one SwarmMetrics; peer in the same run: the W
+// swarms alone, each with its own SwarmMetrics, stepped and sampled in turn
+// (how fits ran before worlds), and the ratio of what sampling adds.  The
+// host path then measures world 0's frames.
+//
+//   metrics_bench [--agents 100000] [--worlds 1] [--frames 500] [--steps-between 1]
 //                 [--repeats 3] [--host-frames 20] [--device SELECTOR] [--json PATH]
 #include <sys/resource.h>
 
@@ -60,7 +66,7 @@ double cpu_seconds() {
 }
 
 struct Options {
-    uint32_t agents = 100000, frames = 500, steps_between = 1, repeats = 3, host_frames = 20;
+    uint32_t agents = 100000, worlds = 1, frames = 500, steps_between = 1, repeats = 3, host_frames = 20;
     std::string device, json = std::string(SWARMCL_BENCH_RESULTS_DIR) + "/eval/metrics.json";
 };
 
@@ -76,6 +82,7 @@ Options parse(int argc, char** argv) {
             return argv[++i];
         };
         if (a == "--agents") o.agents = uint32_t(std::stoul(next()));
+        else if (a == "--worlds") o.worlds = uint32_t(std::stoul(next()));
         else if (a == "--frames") o.frames = uint32_t(std::stoul(next()));
         else if (a == "--steps-between") o.steps_between = uint32_t(std::stoul(next()));
         else if (a == "--repeats") o.repeats = uint32_t(std::stoul(next()));
@@ -90,11 +97,13 @@ Options parse(int argc, char** argv) {
     return o;
 }
 
-std::unique_ptr<Swarm> make_swarm(std::shared_ptr<Context> ctx, uint32_t agents) {
+std::unique_ptr<Swarm> make_swarm(std::shared_ptr<Context> ctx, uint32_t agents, uint32_t worlds = 1,
+                                  uint64_t seed = 1) {
     SwarmConfig c;
     c.capacity = agents;
     c.agent_count = agents;
-    c.seed = 1;
+    c.seed = seed;
+    c.worlds = worlds;
     // About 0.02 m between neighbours at 100k agents, as a dense swarm.
     c.domain_min = {-1.0f, -1.0f, -1.0f};
     c.domain_max = {1.0f, 1.0f, 1.0f};
@@ -112,19 +121,39 @@ std::unique_ptr<Swarm> make_swarm(std::shared_ptr<Context> ctx, uint32_t agents)
     return swarm;
 }
 
+// Seconds of `frames` x (step, sample) over W swarms alone of `agents` each
+// (seeds 1 + k, as the worlds' defaults), sampling or not.
+double alone_seconds(std::shared_ptr<Context> ctx, const Options& o, bool sample) {
+    std::vector<std::unique_ptr<Swarm>> swarms;
+    std::vector<std::unique_ptr<SwarmMetrics>> metrics;
+    for (uint32_t k = 0; k < o.worlds; ++k) {
+        swarms.push_back(make_swarm(ctx, o.agents, 1, 1 + k));
+        if (sample) metrics.push_back(std::make_unique<SwarmMetrics>(*swarms.back(), o.steps_between / 60.0));
+    }
+    const auto t0 = Clock::now();
+    for (uint32_t f = 0; f < o.frames; ++f)
+        for (uint32_t k = 0; k < o.worlds; ++k) {
+            swarms[k]->step(o.steps_between);
+            if (sample) metrics[k]->sample();
+        }
+    for (auto& m : metrics) m->result();
+    ctx->queue().finish();
+    return seconds_since(t0);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     const Options o = parse(argc, argv);
     auto ctx = std::make_shared<Context>(o.device, "");
     const double dt = double(o.steps_between) / 60.0;
-    std::printf("metrics_bench: %u agents x %u sampled frames, %u step(s) between, device %s\n", o.agents, o.frames,
-                o.steps_between, ctx->device().device_name.c_str());
-    std::vector<double> step_s, with_s, step_cpu, with_cpu;
+    std::printf("metrics_bench: %u world(s) x %u agents x %u sampled frames, %u step(s) between, device %s\n",
+                o.worlds, o.agents, o.frames, o.steps_between, ctx->device().device_name.c_str());
+    std::vector<double> step_s, with_s, step_cpu, with_cpu, alone_step_s, alone_with_s;
     uint64_t checksum = 0;
     for (uint32_t r = 0; r <= o.repeats; ++r) {  // r = 0: warm-up
         {
-            auto swarm = make_swarm(ctx, o.agents);
+            auto swarm = make_swarm(ctx, o.agents, o.worlds);
             auto t0 = Clock::now();
             const double c0 = cpu_seconds();
             for (uint32_t f = 0; f < o.frames; ++f) swarm->step(o.steps_between);
@@ -132,7 +161,7 @@ int main(int argc, char** argv) {
             if (r) step_s.push_back(seconds_since(t0)), step_cpu.push_back(cpu_seconds() - c0);
         }
         {
-            auto swarm = make_swarm(ctx, o.agents);
+            auto swarm = make_swarm(ctx, o.agents, o.worlds);
             SwarmMetrics metrics(*swarm, dt);
             auto t0 = Clock::now();
             const double c0 = cpu_seconds();
@@ -140,16 +169,29 @@ int main(int argc, char** argv) {
                 swarm->step(o.steps_between);
                 metrics.sample();
             }
-            const MetricAccumulator acc = metrics.result();
+            checksum = 0;
+            for (uint32_t k = 0; k < o.worlds; ++k) checksum += metrics.result(k).count(Metric::NearestDistance);
             if (r) with_s.push_back(seconds_since(t0)), with_cpu.push_back(cpu_seconds() - c0);
-            checksum = acc.count(Metric::NearestDistance);
         }
         if (r) std::printf("  run %u: steps %.3f s, steps + metrics %.3f s\n", r, step_s.back(), with_s.back());
+        if (o.worlds > 1) {  // the peer, alternated with the worlds
+            alone_step_s.push_back(alone_seconds(ctx, o, false));
+            alone_with_s.push_back(alone_seconds(ctx, o, true));
+            if (r) std::printf("  run %u: %u swarms alone: steps %.3f s, steps + metrics %.3f s\n", r, o.worlds,
+                               alone_step_s.back(), alone_with_s.back());
+            else alone_step_s.clear(), alone_with_s.clear();
+        }
     }
     const double steps = median(step_s), with = median(with_s), metrics_s = with - steps;
     const double metrics_cpu = median(with_cpu) - median(step_cpu);
     const unsigned cores = std::max(1u, ctx->device().compute_units);
-    const double af = double(o.agents) * o.frames;
+    const double af = double(o.agents) * o.worlds * o.frames;
+    double alone_metrics_s = 0.0;
+    if (o.worlds > 1) {
+        alone_metrics_s = median(alone_with_s) - median(alone_step_s);
+        std::printf("%u swarms alone: metrics %.3f s = %.3g agent-frames/s; worlds %.2fx faster\n", o.worlds,
+                    alone_metrics_s, af / alone_metrics_s, alone_metrics_s / metrics_s);
+    }
     std::printf("steps alone %.3f s; with metrics %.3f s; metrics %.3f s = %.3g agent-frames/s (target: %.3g in 10 s)\n",
                 steps, with, metrics_s, af / metrics_s, af / 10.0);
 
@@ -159,11 +201,12 @@ int main(int argc, char** argv) {
     // Peer: the host path on the first host_frames frames of the same run.
     double host_s = 0.0;
     if (o.host_frames >= 4) {
-        auto swarm = make_swarm(ctx, o.agents);
-        std::vector<float> xyz(size_t(o.host_frames) * o.agents * 3);
+        auto swarm = make_swarm(ctx, o.agents, o.worlds);
+        std::vector<float> xyz(size_t(o.host_frames) * o.agents * 3), all(size_t(o.agents) * o.worlds * 3);
         for (uint32_t f = 0; f < o.host_frames; ++f) {
             swarm->step(o.steps_between);
-            swarm->read(Attribute::Position, &xyz[size_t(f) * o.agents * 3], o.agents);
+            swarm->read(Attribute::Position, all.data(), all.size() / 3);  // world 0 first
+            std::copy(all.begin(), all.begin() + size_t(o.agents) * 3, xyz.begin() + size_t(f) * o.agents * 3);
         }
         auto t0 = Clock::now();
         const MetricSamples s = frame_metrics(xyz.data(), o.host_frames, o.agents, dt);
@@ -180,7 +223,7 @@ int main(int argc, char** argv) {
     j.precision(6);
     j << "{\n  \"benchmark\": \"metrics\",\n  \"date\": \"" << utc_now() << "\",\n  \"device\": \""
       << json_escape(ctx->device().device_name) << "\",\n  \"load_average\": " << load_average()
-      << ",\n  \"agents\": " << o.agents << ",\n  \"frames\": " << o.frames
+      << ",\n  \"agents\": " << o.agents << ",\n  \"worlds\": " << o.worlds << ",\n  \"frames\": " << o.frames
       << ",\n  \"steps_between\": " << o.steps_between << ",\n  \"repeats\": " << o.repeats
       << ",\n  \"model\": \"field (curl noise, time varying, domain walls)\""
       << ",\n  \"step_s\": " << json_array(step_s, 1.0) << ",\n  \"with_metrics_s\": " << json_array(with_s, 1.0)
@@ -188,6 +231,8 @@ int main(int argc, char** argv) {
       << json_array(with_cpu, 1.0) << ",\n  \"metrics_cpu_s\": " << metrics_cpu << ",\n  \"compute_units\": " << cores
       << ",\n  \"metrics_s_median\": " << metrics_s << ",\n  \"agent_frames_per_s\": " << af / metrics_s
       << ",\n  \"d_samples\": " << checksum << ",\n  \"host_frames\": " << o.host_frames
+      << ",\n  \"alone_step_s\": " << json_array(alone_step_s, 1.0) << ",\n  \"alone_with_metrics_s\": "
+      << json_array(alone_with_s, 1.0) << ",\n  \"alone_metrics_s_median\": " << alone_metrics_s
       << ",\n  \"host_s\": " << host_s << ",\n  \"host_agent_frames_per_s\": "
       << (host_s > 0 ? double(o.agents) * o.host_frames / host_s : 0.0) << "\n}\n";
     const auto dir = std::filesystem::path(o.json).parent_path();

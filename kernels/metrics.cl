@@ -13,6 +13,12 @@
 // (CPU devices).  Integer counts are order independent: no float atomics,
 // no barriers, results independent of the launch's work-group size.
 //
+// Worlds (eval/swarm_metrics.hpp): the n values are W runs of per_world
+// agents (world w: indices [w per_world, (w + 1) per_world)), each with its
+// own histogram (hist + w M_COUNT FB_COUNT, or its own chunk copies), its
+// own blocks of moments and its own cells of the point grid (keys
+// [w cells, (w + 1) cells)); per_world = n is one world, as before.
+//
 // Build defines (from the host, one source of truth): FB_SHIFT, FB_LOW_KEY,
 // FB_SIDE, FB_COUNT (fine_bins), METRICS_BLOCK, HIST_ATOMIC, and each
 // metric's index M_<kernel> with M_COUNT (eval/metric_table.hpp).
@@ -64,15 +70,19 @@ SWCL_INLINE mreal angle3(mreal3 a, mreal3 b) {
     return atan2(sqrt(cx * cx + cy * cy + cz * cz), a.x * b.x + a.y * b.y + a.z * b.z);
 }
 
-// Moments of block b of every metric in `mask`: vals[m * n + k] for k in
-// [b * METRICS_BLOCK, min(n, (b + 1) * METRICS_BLOCK)), in order, two passes
-// (mean, then M2); part[m * blocks + b] = (count, mean, M2, 0) (the count as
-// a float: exact up to 2^24, and not denormal bits a GPU might flush).
-__kernel void metrics_moments(__global const float* vals, uint n, uint mask, uint blocks,
-                              __global float4* part) {
+// Moments of block b of every metric in `mask`: block lb = b % per_block of
+// world w = b / per_block (per_block: blocks per world) covers vals[m * n + k]
+// for k in [w per_world + lb METRICS_BLOCK, ...) up to the world's end, in
+// order, two passes (mean, then M2); part[m * blocks + b] = (count, mean,
+// M2, 0) (the count as a float: exact up to 2^24, and not denormal bits a
+// GPU might flush).
+__kernel void metrics_moments(__global const float* vals, uint n, uint per_world, uint per_block, uint mask,
+                              uint blocks, __global float4* part) {
     const uint b = get_global_id(0);
     if (b >= blocks) return;
-    const uint begin = b * METRICS_BLOCK, end = min(n, begin + METRICS_BLOCK);
+    const uint world0 = (b / per_block) * per_world;
+    const uint begin = world0 + (b % per_block) * METRICS_BLOCK;
+    const uint end = min(world0 + per_world, begin + METRICS_BLOCK);
     for (uint m = 0; m < M_COUNT; ++m) {
         if (!((mask >> m) & 1u)) continue;
         __global const float* v = vals + (size_t)m * n;
@@ -104,19 +114,23 @@ __kernel void metrics_moments(__global const float* vals, uint n, uint mask, uin
 // per-chunk copies with plain increments: a locked increment waits for its
 // cache line, so the random bins' misses did not overlap (a third of the
 // per-agent kernel's time).
+// hist: the agent's world's histogram.
 SWCL_INLINE void count_value(__global volatile uint* hist, uint metric, float x) {
 #if HIST_ATOMIC
     atomic_inc(&hist[metric * FB_COUNT + fine_bin(x)]);
 #endif
 }
 
-// Chunk c of nchunks counts the values of agents [c * size, ...) of every
-// metric in `mask` into its own copy, hist + c * M_COUNT * FB_COUNT.
-__kernel void metrics_histogram(__global const float* vals, uint n, uint mask, uint nchunks, __global uint* hist) {
+// Chunk c of nchunks (per_chunk of them per world) counts the values of its
+// world's agents [c' size, ...) (c' = c % per_chunk) of every metric in
+// `mask` into its own copy, hist + c * M_COUNT * FB_COUNT.
+__kernel void metrics_histogram(__global const float* vals, uint n, uint per_world, uint per_chunk, uint mask,
+                                uint nchunks, __global uint* hist) {
     const uint c = get_global_id(0);
     if (c >= nchunks) return;
-    const uint size = (n + nchunks - 1u) / nchunks;
-    const uint begin = min(c * size, n), end = min(begin + size, n);
+    const uint size = (per_world + per_chunk - 1u) / per_chunk, world0 = (c / per_chunk) * per_world;
+    const uint lc = c % per_chunk;
+    const uint begin = world0 + min(lc * size, per_world), end = world0 + min(lc * size + size, per_world);
     __global uint* h = hist + (size_t)c * M_COUNT * FB_COUNT;
     for (uint m = 0; m < M_COUNT; ++m) {
         if (!((mask >> m) & 1u)) continue;
@@ -127,11 +141,13 @@ __kernel void metrics_histogram(__global const float* vals, uint n, uint mask, u
     }
 }
 
-// ring[id] = the agent's position (slot order -> id order), w = 0.
-__kernel void metrics_gather(__global const float4* pos, __global const uint* ids, uint n, __global float4* ring) {
+// ring[world0 + id] = the agent's position (slot order -> id order, ids
+// counted per world), w = 0.
+__kernel void metrics_gather(__global const float4* pos, __global const uint* ids, uint n, uint per_world,
+                             __global float4* ring) {
     const uint s = get_global_id(0);
     if (s >= n) return;
-    ring[ids[s]] = (float4)(pos[s].xyz, 0.0f);
+    ring[s - s % per_world + ids[s]] = (float4)(pos[s].xyz, 0.0f);
 }
 
 // Sample `have` (1, 2 or 3: how many earlier frames there are, at most 3)
@@ -145,11 +161,12 @@ __kernel void metrics_gather(__global const float4* pos, __global const uint* id
 //   η of frame f-1 (its nearest neighbour nn_idx, at nn_dist > 0, found when
 //   frame f-1 was sampled): | |v_nei| - |v| | / d, both forward speeds.
 __kernel void metrics_sample(__global const float4* p0, __global const float4* p1, __global const float4* p2,
-                             __global const float4* p3, uint n, uint have, float dt,
+                             __global const float4* p3, uint n, uint per_world, uint have, float dt,
                              __global const uint* nn_idx, __global const float* nn_dist,
-                             __global float2* omega, __global volatile uint* hist, __global float* vals) {
+                             __global float2* omega, __global volatile uint* hist_all, __global float* vals) {
     const uint i = get_global_id(0);
     if (i >= n) return;
+    __global volatile uint* hist = hist_all + (size_t)(i / per_world) * M_COUNT * FB_COUNT;
     uint flags = 0;
     float x[M_COUNT];
     for (uint m = 0; m < M_COUNT; ++m) x[m] = NAN;
@@ -238,14 +255,20 @@ SWCL_INLINE void metrics_visit(__global const float4* sp, uint self, float4 p, u
 // only the cells not seen before, until the best distance is below the
 // distance to anything outside the box or the box is the whole grid.
 // nn_idx, nn_dist (index order) are kept for η at the next sample.
-__kernel void metrics_nearest(__global const float4* sp, uint n, __global const float4* geo,
+// Worlds: the grid's groups are the worlds (PointGrid::build_groups), and
+// sorted positions are world by world, so position self's world is
+// self / per_world and its cells start at cell_start + world cells.
+__kernel void metrics_nearest(__global const float4* sp, uint n, uint per_world, __global const float4* geo,
                               __global const uint* cell_start, __global uint* nn_idx, __global float* nn_dist,
-                              __global volatile uint* hist, __global float* vals) {
+                              __global volatile uint* hist_all, __global float* vals) {
     const uint self = get_global_id(0);
     if (self >= n) return;
     {
-        const Grid g = grid_from_geometry(geo, cell_start);
+        const uint world = self / per_world;
+        __global volatile uint* hist = hist_all + (size_t)world * M_COUNT * FB_COUNT;
+        const Grid g = grid_from_geometry(geo, cell_start + (size_t)world * as_uint(geo[1].w));
         const float4 p = sp[self];
+        const uint i = as_uint(p.w);
         const int4 c = grid_cell_of(&g, p);
         const int4 last = g.dims - (int4)(1, 1, 1, 1);
         float best_d2 = INFINITY;
@@ -278,10 +301,12 @@ __kernel void metrics_nearest(__global const float4* sp, uint n, __global const 
             phi = hi;
         }
         const float d = sqrt(best_d2);
-        const uint i = as_uint(p.w);
         nn_idx[i] = best;
         nn_dist[i] = d;
         count_value(hist, M_DIST, d);
-        vals[(size_t)M_DIST * n + self] = d;  // grid order: the moments' order is still fixed
+        // Index order, as every other metric: the blocks of moments then do
+        // not depend on the grid (a world and its swarm alone build different
+        // cells, and give the same moments).
+        vals[(size_t)M_DIST * n + i] = d;
     }
 }

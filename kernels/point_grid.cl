@@ -55,25 +55,28 @@ __kernel void point_grid_geometry(__global const float4* part, uint nchunks, flo
 }
 
 // keys[s] = cell of slot s, slots[s] = s; *count = n (the radix sort's
-// length).
-__kernel void point_grid_keys(__global const float4* pos, uint n, __global const float4* geo,
+// length).  Groups (worlds) of per_group consecutive slots each: group g's
+// cells are keys [g cells, (g + 1) cells), so the sort orders by group, then
+// cell (per_group = n: one group, keys the cells).
+__kernel void point_grid_keys(__global const float4* pos, uint n, uint per_group, __global const float4* geo,
                               __global uint* keys, __global uint* slots, __global uint* count) {
     const uint s = get_global_id(0);
     if (s >= n) return;
     if (s == 0) *count = n;
     const Grid g = grid_from_geometry(geo, 0);
-    keys[s] = grid_cell_index(&g, grid_cell_of(&g, (float4)(pos[s].xyz, 0.0f)));
+    const uint cells = as_uint(geo[1].w);
+    keys[s] = (s / per_group) * cells + grid_cell_index(&g, grid_cell_of(&g, (float4)(pos[s].xyz, 0.0f)));
     slots[s] = s;
 }
 
-// start[c] = first sorted slot of cell c, for c in [0, ncells] (ncells: the
-// geometry's): item k writes the cells in (key[k - 1], key[k]], item n the
-// rest.
-__kernel void point_grid_starts(__global const uint* skeys, uint n, __global const float4* geo,
+// start[c] = first sorted slot of key c, for c in [0, groups ncells] (ncells:
+// the geometry's): item k writes the keys in (key[k - 1], key[k]], item n
+// the rest.
+__kernel void point_grid_starts(__global const uint* skeys, uint n, uint groups, __global const float4* geo,
                                 __global uint* start) {
     const uint k = get_global_id(0);
     if (k > n) return;
     const uint from = k == 0u ? 0u : skeys[k - 1u] + 1u;
-    const uint to = k == n ? as_uint(geo[1].w) : skeys[k];
+    const uint to = k == n ? groups * as_uint(geo[1].w) : skeys[k];
     for (uint c = from; c <= to; ++c) start[c] = k;
 }

@@ -87,6 +87,12 @@ CASES = [
     # Worlds: the -DSWCL_WORLDS kernels (grid keys, MDE, queries, field model).
     ("test_worlds", "Worlds.SmallWorldsAreBitwiseTheSwarmsAlone", GPU),
     ("test_worlds", "Worlds.SmallWorldsAreBitwiseTheSwarmsAlone", CPU),
+    # Worlds' metrics: the point grid's groups, per-world atomic histograms
+    # and blocks of moments (the GPU profile only: each world's histograms
+    # take Oclgrind ~15 s to clear and read; the CPU profile's chunk copies
+    # are one work-item each, and their ranges are checked by the bitwise
+    # comparison in every ctest run).
+    ("test_worlds", "Worlds.SmallWorldsMetricsAreBitwiseThoseOfTheSwarmAlone", GPU),
     # The force model: its terms, the 16-lane kernels and MDE, mesh obstacles
     # (their signed distance, push-out and sampled distance).
     ("test_force_model", "ForceTerms.InteractionZonesMatchBruteForce", GPU),
@@ -133,6 +139,7 @@ EXPECTED_SECONDS = {
     "test_rl_env.RlEnv.RagMatchesReference": 48,
     "test_energy_model.EnergyModel.EveryTermMatchesTheHostReference": 28,
     "test_swarm_metrics.SwarmMetrics.NearestNeighbourMatchesBruteForce": 19,
+    "test_worlds.Worlds.SmallWorldsMetricsAreBitwiseThoseOfTheSwarmAlone": 44,
     "test_force_model.ForceTerms.InteractionZonesMatchBruteForce": 18,
     "test_grid.Grid.RandomPointsMatchHostCountingSort": 14,
     "test_force_obstacles.ForceMeshObstacles.InsectsJustInsideABoxMeshAreOutsideAfterTheNextStep": 13,

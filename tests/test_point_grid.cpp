@@ -60,16 +60,18 @@ DeviceBuffer<cl_float4> upload_points(Context& ctx, const std::vector<float>& xy
 }
 
 // The grid's sorted slots, keys and ranges against a stable sort of the
-// slots by reference cell.
-void expect_matches_reference(Context& ctx, PointGrid& grid, const std::vector<float>& xyz) {
+// slots by reference key: the cell, after the group (groups of n / groups
+// consecutive points, build_groups).
+void expect_matches_reference(Context& ctx, PointGrid& grid, const std::vector<float>& xyz, uint32_t groups = 1) {
     const uint32_t n = uint32_t(xyz.size() / 3);
     const RawGeometry g = read_raw_geometry(ctx, grid);
     ASSERT_EQ(g.cells, uint32_t(g.dims[0]) * uint32_t(g.dims[1]) * uint32_t(g.dims[2]));
+    const uint32_t keys_in_all = g.cells * groups;
     std::vector<uint32_t> cell(n), order(n);
-    for (uint32_t i = 0; i < n; ++i) cell[i] = reference_cell(g, &xyz[3 * i]);
+    for (uint32_t i = 0; i < n; ++i) cell[i] = (i / (n / groups)) * g.cells + reference_cell(g, &xyz[3 * i]);
     std::iota(order.begin(), order.end(), 0u);
     std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return cell[a] < cell[b]; });
-    std::vector<cl_uint> start(size_t(g.cells) + 1);
+    std::vector<cl_uint> start(size_t(keys_in_all) + 1);
     grid.cell_start().download(ctx, start.data(), start.size());
     if (n > 0) {
         std::vector<cl_uint> slots(n), keys(n);
@@ -81,13 +83,34 @@ void expect_matches_reference(Context& ctx, PointGrid& grid, const std::vector<f
         }
     }
     // start[c] = points in cells below c.
-    std::vector<uint32_t> below(size_t(g.cells) + 1, 0);
+    std::vector<uint32_t> below(size_t(keys_in_all) + 1, 0);
     for (uint32_t i = 0; i < n; ++i) ++below[cell[i] + 1];
     for (size_t c = 1; c < below.size(); ++c) below[c] += below[c - 1];
     for (size_t c = 0; c < below.size(); ++c) ASSERT_EQ(start[c], below[c]) << "cell " << c;
 }
 
 }  // namespace
+
+// Groups (worlds; the metrics of a swarm of worlds): one geometry over all
+// points, each group's cells apart, so a group's sorted positions are its
+// own points only, in cell order.
+TEST(PointGrid, GroupsKeepTheirPointsApartAndMatchBruteForce) {
+    auto ctx = shared_context();
+    constexpr uint32_t kGroups = 5, kPer = 301;
+    std::vector<float> xyz;
+    for (uint32_t k = 0; k < kGroups; ++k) {
+        const std::vector<float> p = random_points(kPer, -1.0f + 0.1f * float(k), 1.0f, 40 + k);
+        xyz.insert(xyz.end(), p.begin(), p.end());
+    }
+    const auto pts = upload_points(*ctx, xyz);
+    PointGrid grid(*ctx);
+    grid.build_groups(pts, kGroups * kPer, kGroups, 0.0f);
+    EXPECT_LE(read_raw_geometry(*ctx, grid).cells, PointGrid::max_cells(kPer));
+    expect_matches_reference(*ctx, grid, xyz, kGroups);
+    // Groups that do not split the points evenly are refused.
+    EXPECT_THROW(grid.build_groups(pts, kGroups * kPer, 4, 0.0f), Error);
+    EXPECT_THROW(grid.build_groups(pts, kGroups * kPer, 0, 0.0f), Error);
+}
 
 TEST(PointGrid, BoundingBoxGridMatchesBruteForce) {
     auto ctx = shared_context();

@@ -13,6 +13,7 @@
 #include <cstring>
 #include <limits>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "swarmcl/swarmcl.h"
@@ -84,15 +85,15 @@ protected:
         return out;
     }
     // The ensemble: world k gets model(k) through the per-world setters.
-    swcl_swarm ensemble(uint32_t agents = kAgents) {
-        swcl_swarm s = make(desc(kWorlds, 0, kSeeds, agents));
+    swcl_swarm ensemble(uint32_t agents = kAgents, uint32_t worlds = kWorlds) {
+        swcl_swarm s = make(desc(worlds, 0, kSeeds, agents));
         const swcl_field_model_desc m0 = model(0);
         EXPECT_EQ(swcl_swarm_field_set_model(s, &m0), SWCL_OK) << swcl_last_error();
-        set(s, "noise.scale", kScale, kWorlds);
-        set(s, "noise.seed", kNoiseSeed, kWorlds);
-        set(s, "goal.speed", kGoalSpeed, kWorlds);
-        set(s, "min_distance", kMinDistance, kWorlds);
-        set(s, "max_speed", kMaxSpeed, kWorlds);
+        set(s, "noise.scale", kScale, worlds);
+        set(s, "noise.seed", kNoiseSeed, worlds);
+        set(s, "goal.speed", kGoalSpeed, worlds);
+        set(s, "min_distance", kMinDistance, worlds);
+        set(s, "max_speed", kMaxSpeed, worlds);
         return s;
     }
     swcl_swarm alone(uint32_t k, uint32_t agents = kAgents) {
@@ -103,6 +104,7 @@ protected:
     }
 
     void check_bitwise(uint32_t agents, uint32_t steps, bool expect_mde);
+    void check_world_metrics(uint32_t agents, uint32_t worlds, uint32_t samples);
 
     swcl_context ctx_{};
     std::vector<swcl_swarm> swarms_;
@@ -298,6 +300,90 @@ TEST_F(Worlds, ACheckpointHoldsTheWorldsAndResumesBitwise) {
         EXPECT_EQ(a[k].mde_moved_total, b[k].mde_moved_total) << "world " << k;
         EXPECT_EQ(a[k].steps, b[k].steps);
     }
+}
+
+// Metrics of every world from the same launches (issue 25: "metrics
+// accumulated per world on the device") against each world's swarm alone
+// with its own attached metrics: counts, moments, median, MAD and the PDFs of
+// all seven metrics bitwise.
+void Worlds::check_world_metrics(uint32_t n, uint32_t worlds, uint32_t samples) {
+    swcl_swarm all = ensemble(n, worlds);
+    swcl_metrics m_all{};
+    const double sample_dt = 2 * 0.02;
+    ASSERT_EQ(swcl_metrics_attach(all, sample_dt, &m_all), SWCL_OK) << swcl_last_error();
+    std::vector<swcl_swarm> ones;
+    std::vector<swcl_metrics> m_ones(worlds);
+    for (uint32_t k = 0; k < worlds; ++k) {
+        ones.push_back(alone(k, n));
+        ASSERT_EQ(swcl_metrics_attach(ones[k], sample_dt, &m_ones[k]), SWCL_OK) << swcl_last_error();
+    }
+    for (uint32_t s = 0; s < samples; ++s) {
+        ASSERT_EQ(swcl_metrics_sample(m_all), SWCL_OK) << swcl_last_error();
+        ASSERT_EQ(swcl_swarm_step(all, 2), SWCL_OK);
+        for (uint32_t k = 0; k < worlds; ++k) {
+            ASSERT_EQ(swcl_metrics_sample(m_ones[k]), SWCL_OK);
+            ASSERT_EQ(swcl_swarm_step(ones[k], 2), SWCL_OK);
+        }
+    }
+    // The ensemble's metrics hold every world: read one at a time.
+    swcl_metric_info info{};
+    info.struct_size = sizeof(info);
+    EXPECT_EQ(swcl_metrics_get_info(m_all, SWCL_METRIC_SPEED, &info), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("swcl_metrics_world"), std::string::npos) << swcl_last_error();
+    swcl_metrics none{12345};
+    EXPECT_EQ(swcl_metrics_world(m_all, worlds, &none), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("no world " + std::to_string(worlds)), std::string::npos)
+        << swcl_last_error();
+    EXPECT_EQ(none.id, 12345u);
+
+    const swcl_pdf_options o = swcl_pdf_options_default();
+    double means[kWorlds] = {};
+    for (uint32_t k = 0; k < worlds; ++k) {
+        swcl_metrics w{};
+        ASSERT_EQ(swcl_metrics_world(m_all, k, &w), SWCL_OK) << swcl_last_error();
+        for (int m = 0; m < SWCL_METRIC_COUNT; ++m) {
+            swcl_metric_info a{}, b{};
+            a.struct_size = b.struct_size = sizeof(a);
+            ASSERT_EQ(swcl_metrics_get_info(w, swcl_metric(m), &a), SWCL_OK) << swcl_last_error();
+            ASSERT_EQ(swcl_metrics_get_info(m_ones[k], swcl_metric(m), &b), SWCL_OK) << swcl_last_error();
+            EXPECT_GT(a.count, 0u) << swcl_metric_name(swcl_metric(m));
+            EXPECT_EQ(a.count, b.count) << swcl_metric_name(swcl_metric(m)) << " world " << k;
+            for (auto [x, y, what] : {std::tuple{a.mean, b.mean, "mean"}, std::tuple{a.sigma, b.sigma, "sigma"},
+                                      std::tuple{a.median, b.median, "median"}, std::tuple{a.mad, b.mad, "mad"}})
+                EXPECT_EQ(std::memcmp(&x, &y, sizeof(double)), 0)
+                    << swcl_metric_name(swcl_metric(m)) << " " << what << " of world " << k << ": " << x << " vs " << y;
+            std::vector<double> qa(o.bins), qb(o.bins);
+            ASSERT_EQ(swcl_metrics_pdf(w, swcl_metric(m), &o, qa.data(), qa.size()), SWCL_OK) << swcl_last_error();
+            ASSERT_EQ(swcl_metrics_pdf(m_ones[k], swcl_metric(m), &o, qb.data(), qb.size()), SWCL_OK);
+            EXPECT_EQ(qa, qb) << swcl_metric_name(swcl_metric(m)) << " PDF of world " << k;
+            if (m == SWCL_METRIC_SPEED) means[k] = a.mean;
+        }
+        swcl_metrics_destroy(w);
+    }
+    // The worlds differ (so a mix-up of worlds would show).
+    for (uint32_t k = 1; k < worlds; ++k) EXPECT_NE(means[k - 1], means[k]);
+    swcl_metrics_destroy(m_all);
+    for (swcl_metrics m : m_ones) swcl_metrics_destroy(m);
+}
+
+TEST_F(Worlds, MetricsOfEachWorldAreBitwiseThoseOfTheSwarmAlone) { check_world_metrics(kAgents, kWorlds, 12); }
+
+// Small, for the Oclgrind check.
+TEST_F(Worlds, SmallWorldsMetricsAreBitwiseThoseOfTheSwarmAlone) { check_world_metrics(9, 2, 4); }
+
+TEST_F(Worlds, WorldMetricsRefuseTracksAndWorldsTooSmall) {
+    // Metrics from frames have no worlds.
+    const float xyz[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
+    swcl_metrics frames{}, out{7};
+    ASSERT_EQ(swcl_metrics_from_frames(xyz, 2, 2, 0.1, &frames), SWCL_OK) << swcl_last_error();
+    EXPECT_EQ(swcl_metrics_world(frames, 0, &out), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(out.id, 7u);
+    swcl_metrics_destroy(frames);
+    // One agent a world: no nearest neighbour.
+    swcl_swarm tiny = make(desc(3, 1, nullptr, 1));
+    EXPECT_EQ(swcl_metrics_attach(tiny, 0.1, &out), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("each world needs at least 2 agents"), std::string::npos)
+        << swcl_last_error();
 }
 
 TEST_F(Worlds, OlderDescriptorsAreOneWorld) {

@@ -23,13 +23,15 @@ using namespace swarmcl::capi;
 namespace {
 
 // What a swcl_metrics holds: the samples themselves (tracks, frames: exact
-// PDFs), or the streamed fine histograms of a swarm's metrics on the device
+// PDFs), the streamed fine histograms of a swarm's metrics on the device
 // (eval/swarm_metrics.hpp), which keep the swarm alive and are sampled under
-// its lock.
+// its lock, or one world's streamed result taken at a point in time
+// (swcl_metrics_world).
 struct MetricSet {
     std::optional<MetricSamples> samples;
     std::shared_ptr<Swarm> swarm;
     std::unique_ptr<SwarmMetrics> stream;
+    std::optional<MetricAccumulator> taken;
     double frame_time = 0.0;
 
     Moments moments(Metric m) const {
@@ -63,9 +65,14 @@ struct MetricSet {
         }
         return stream_result().discrete_pdf(m, o);
     }
-    // The streamed result, taken once per call under the swarm's lock.
+    // The streamed result, taken once per call under the swarm's lock (or
+    // the world's result taken before).
     MetricAccumulator stream_result() const {
+        if (taken) return *taken;
         std::lock_guard<std::mutex> lock(swarm->mutex());
+        if (stream->worlds() > 1)
+            fail(Status::InvalidArgument, "these metrics hold " + std::to_string(stream->worlds()) +
+                                              " worlds: read one world's with swcl_metrics_world");
         return stream->result();
     }
 };
@@ -168,6 +175,22 @@ swcl_status swcl_metrics_sample(swcl_metrics metrics) {
         if (!set->stream) fail(Status::InvalidArgument, "these metrics come from tracks or frames, not a swarm (swcl_metrics_attach)");
         std::lock_guard<std::mutex> lock(set->swarm->mutex());
         set->stream->sample();
+    });
+}
+
+swcl_status swcl_metrics_world(swcl_metrics metrics, uint32_t world, swcl_metrics* out) {
+    return guarded(__func__, [&] {
+        check_out(out, "out");
+        const auto set = metric_sets().get(metrics.id);
+        if (!set->stream)
+            fail(Status::InvalidArgument, "these metrics come from tracks or frames, not a swarm (swcl_metrics_attach)");
+        auto one = std::make_shared<MetricSet>();
+        {
+            std::lock_guard<std::mutex> lock(set->swarm->mutex());
+            one->taken = set->stream->result(world);
+        }
+        one->frame_time = set->frame_time;
+        out->id = metric_sets().add(one);
     });
 }
 

@@ -14,6 +14,13 @@
 // frame_metrics(): v, η of a frame are known one sample later (forward
 // differences), a, ω two and α, μ three samples later; the last frame has
 // d only.
+//
+// Worlds (docs/architecture.md, "Worlds"): a swarm of W worlds gets W sets
+// of metrics from the same launches, each world's from its own agents only
+// (nearest neighbours within the world, its own histograms and blocks of
+// moments), bitwise what SwarmMetrics gives for the world's swarm alone;
+// result(k) is world k's.  Each world holds its own histograms on the device
+// (7 x 61444 counters, 1.7 MB).
 #pragma once
 #include <array>
 #include <cstdint>
@@ -29,7 +36,8 @@ namespace swarmcl {
 class SwarmMetrics {
 public:
     // Error(InvalidArgument) for dt_between_samples <= 0 or not finite, and
-    // for a swarm of fewer than 2 agents (no nearest-neighbour distance).
+    // for a swarm of fewer than 2 agents a world (no nearest-neighbour
+    // distance).
     SwarmMetrics(Swarm& swarm, double dt_between_samples);
     ~SwarmMetrics();
     SwarmMetrics(const SwarmMetrics&) = delete;
@@ -41,9 +49,11 @@ public:
     void sample();
     uint64_t samples() const { return samples_; }
     double dt() const { return dt_; }
+    uint32_t worlds() const { return worlds_; }
 
-    // Everything sampled so far (waits for the device).  Sampling may go on.
-    MetricAccumulator result();
+    // Everything sampled so far in world k (waits for the device);
+    // Error(InvalidArgument) for k >= worlds().  Sampling may go on.
+    MetricAccumulator result(uint32_t world = 0);
 
     // Bytes of device memory this object holds (fixed at construction).
     size_t device_bytes() const;
@@ -56,15 +66,16 @@ public:
 private:
     void fold_partials(uint32_t buffer);
     void fold_histogram();
-    void add_device_histograms(MetricAccumulator& to);
-    size_t groups() const { return groups_; }
+    void add_device_histograms(const std::vector<cl_uint>& device, uint32_t world, MetricAccumulator& to) const;
 
     Swarm& swarm_;
     Context& ctx_;
     double dt_;
-    uint32_t n_;
-    size_t groups_;
-    uint32_t copies_ = 1;  // histogram copies on the device (per chunk of agents on CPU devices)
+    uint32_t n_;        // agents a world
+    uint32_t worlds_;   // W
+    uint32_t total_;    // n W
+    size_t groups_;     // blocks of moments a world
+    uint32_t copies_ = 1;  // histogram copies a world on the device (per chunk of agents on CPU devices)
     uint64_t samples_ = 0;
     uint64_t since_fold_ = 0;
     uint64_t fold_limit_ = 0xffffffffu;    // samples counted into the device histogram since it was last folded
@@ -78,7 +89,10 @@ private:
     std::array<std::vector<cl_float4>, 2> host_part_;
     std::array<cl::Event, 2> read_done_;
     PointGrid grid_;
-    MetricAccumulator folded_;  // histograms folded in and every merged moment
+    // Per world: every merged moment, and the histograms folded in (empty
+    // until the first fold: 3.4 MB a world on the host).
+    std::vector<std::array<RawMoments, kMetricCount>> world_moments_;
+    std::vector<MetricAccumulator> folded_;
     cl::Kernel gather_, sample_, nearest_, sort_, moments_, histogram_;
 };
 

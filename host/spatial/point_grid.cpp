@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstring>
 
+#include "core/error.hpp"
+
 namespace swarmcl {
 namespace {
 // Work-items of the bounding box pass; radix blocks and digit width (a few
@@ -28,30 +30,39 @@ uint32_t PointGrid::max_cells(uint32_t n) {
     return uint32_t(std::clamp<uint64_t>(uint64_t(kCellsPerPoint) * n, kMinCells, kMaxCells));
 }
 
-void PointGrid::reserve(uint32_t n, uint32_t cells) {
-    if (allocated_ && n == n_ && cells == cells_) return;
+void PointGrid::reserve(uint32_t n, uint32_t keys) {
+    if (allocated_ && n == n_ && keys == keys_) return;
     n_ = n;
-    cells_ = cells;
+    keys_ = keys;
     allocated_ = true;
-    radix_.emplace(ctx_, cells - 1u, kRadixBlocks, kMaxRadixBits);
+    radix_.emplace(ctx_, keys - 1u, kRadixBlocks, kMaxRadixBits);
     const size_t slots = std::max<uint32_t>(n, 1);
     for (int k = 0; k < 2; ++k) {
         key_[k].allocate(ctx_, slots, "point grid keys");
         slot_[k].allocate(ctx_, slots, "point grid slots");
     }
-    start_.allocate(ctx_, size_t(cells) + 1, "point grid cell starts");
+    start_.allocate(ctx_, size_t(keys) + 1, "point grid cell starts");
 }
 
 void PointGrid::build(const DeviceBuffer<cl_float4>& points, uint32_t n, float min_cell) {
-    reserve(n, max_cells(n));
+    build_groups(points, n, 1, min_cell);
+}
+
+void PointGrid::build_groups(const DeviceBuffer<cl_float4>& points, uint32_t n, uint32_t groups, float min_cell) {
+    require(groups >= 1 && n % groups == 0, "point grid: the groups must split the points evenly");
+    const uint32_t cells = max_cells(n / groups);
+    require(uint64_t(cells) * groups <= kMaxCells, "point grid: too many groups of cells for 32-bit keys");
+    groups_ = groups;
+    reserve(n, cells * groups);
     set_args(bounds_k_, points.get(), n, kBoundsChunks, part_.get());
     launch(ctx_, bounds_k_, kBoundsChunks);
-    set_args(geometry_k_, part_.get(), kBoundsChunks, min_cell, cells_, geo_.get());
+    set_args(geometry_k_, part_.get(), kBoundsChunks, min_cell, cells, geo_.get());
     launch(ctx_, geometry_k_, 1);
     sort_and_count(points);
 }
 
 void PointGrid::build(const DeviceBuffer<cl_float4>& points, uint32_t n, const GridGeometry& g) {
+    groups_ = 1;
     reserve(n, g.cell_count());
     const cl_int cells = cl_int(g.cell_count());
     cl_float4 geo[2] = {{{g.origin[0], g.origin[1], g.origin[2], 1.0f / g.cell}}, {}};
@@ -66,14 +77,14 @@ void PointGrid::sort_and_count(const DeviceBuffer<cl_float4>& points) {
     sorted_key_ = &key_[0];
     sorted_slot_ = &slot_[0];
     if (n > 0) {
-        set_args(keys_k_, points.get(), n, geo_.get(), key_[0].get(), slot_[0].get(), count_.get());
+        set_args(keys_k_, points.get(), n, n / groups_, geo_.get(), key_[0].get(), slot_[0].get(), count_.get());
         launch(ctx_, keys_k_, n);
         RadixSort::Columns a{&key_[0], &slot_[0], nullptr}, b{&key_[1], &slot_[1], nullptr};
         radix_->sort(count_, a, b);
         sorted_key_ = a.key;
         sorted_slot_ = a.slot;
     }
-    set_args(starts_k_, sorted_key_->get(), n, geo_.get(), start_.get());
+    set_args(starts_k_, sorted_key_->get(), n, groups_, geo_.get(), start_.get());
     launch(ctx_, starts_k_, size_t(n) + 1);
 }
 

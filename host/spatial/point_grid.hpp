@@ -29,6 +29,13 @@ public:
     // read-back); the edge grows until there are at most max_cells(n).
     // Enqueued only.
     void build(const DeviceBuffer<cl_float4>& points, uint32_t n, float min_cell);
+    // Groups (worlds): the points are `groups` runs of n / groups consecutive
+    // points (groups divides n) that never see each other.  One geometry
+    // over the bounding box of all of them, at most max_cells(n / groups)
+    // cells; group g's cells are the keys [g cells, (g + 1) cells) of
+    // cell_start(), and its sorted positions [g n / groups, (g + 1) n /
+    // groups).  groups = 1 is build(points, n, min_cell).
+    void build_groups(const DeviceBuffer<cl_float4>& points, uint32_t n, uint32_t groups, float min_cell);
     // The given cells (points outside are clamped into the border cells).
     void build(const DeviceBuffer<cl_float4>& points, uint32_t n, const GridGeometry& geometry);
 
@@ -43,17 +50,18 @@ public:
     // its cell.  Valid after a build with n > 0.
     DeviceBuffer<cl_uint>& sorted_slots() { return *sorted_slot_; }
     DeviceBuffer<cl_uint>& sorted_keys() { return *sorted_key_; }
-    // Cell c holds the sorted positions [start[c], start[c + 1]).
+    // Cell c holds the sorted positions [start[c], start[c + 1]) (group g's
+    // cell c: start[g cells + c]).
     DeviceBuffer<cl_uint>& cell_start() { return start_; }
     // The last build's geometry, read back (waits for the device).
     GridGeometry read_geometry();
 
 private:
-    void reserve(uint32_t n, uint32_t cells);
+    void reserve(uint32_t n, uint32_t keys);
     void sort_and_count(const DeviceBuffer<cl_float4>& points);
 
     Context& ctx_;
-    uint32_t n_ = 0, cells_ = 0;
+    uint32_t n_ = 0, keys_ = 0, groups_ = 1;
     bool allocated_ = false;
     std::optional<RadixSort> radix_;  // its digits follow the cell count
     DeviceBuffer<cl_float4> part_, geo_;  // part_: per-chunk bounding boxes

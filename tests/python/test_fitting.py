@@ -85,16 +85,26 @@ def test_the_true_parameters_score_one_and_the_population_is_scored_together(ctx
 
 def test_a_generation_as_worlds_scores_as_its_runs_alone(ctx, real):
     # The default evaluator runs a field-model generation as the worlds of
-    # one swarm (issue 25): every score equals the one of the same run as a
-    # swarm of its own (host metrics), over several seeds too.
+    # one swarm (issue 25) with each world's metrics on the device: every
+    # score equals the one of the same run as a swarm of its own, over
+    # several seeds too; and so with the metrics measured on the host.
     params = swarmcl.load_ranges(RANGES, SCENARIO)
     worlds = swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, steps=40, seeds=2)
-    alone = swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, steps=40, seeds=2, streamed=False,
-                                                worlds=False)
+    alone = swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, steps=40, seeds=2, worlds=False)
     assert worlds.world_keys == ["noise.gain", "goal.speed"] and alone.world_keys is None
+    assert worlds.streamed and alone.streamed
     pop = [list(u) for u in np.random.default_rng(3).uniform(size=(5, 2))]
     a, b = worlds(pop), alone(pop)
     assert a == b and len(set(a)) == 5
+    host_worlds = swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, steps=40, seeds=2,
+                                                      streamed=False)
+    host_alone = swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, steps=40, seeds=2,
+                                                     streamed=False, worlds=False)
+    assert host_worlds.world_keys is not None
+    c, d = host_worlds(pop), host_alone(pop)
+    assert c == d and len(set(c)) == 5
+    # The device's fine histograms are close to the exact PDFs, not equal.
+    assert c != a and np.allclose(a, c, atol=0.05)
     # A parameter outside the table (agents.count) keeps one swarm a run.
     other = swarmcl.fitting.PopulationEvaluator(
         SCENARIO, swarmcl.load_ranges({"agents.count": [8, 20]}, SCENARIO), real, ctx, steps=40)

@@ -76,3 +76,42 @@ def test_bad_world_input_names_parameter_and_world(ctx):
         np.testing.assert_array_equal(s.world_param("noise.scale"), before)
         with pytest.raises(swarmcl.InvalidArgumentError, match="worlds"):
             s.set_force_model(swarmcl.ForceModel())
+
+
+def test_metrics_of_each_world_are_those_of_the_swarm_alone(ctx):
+    # Metrics.attach on a swarm of worlds measures every world on the device
+    # from the same launches; world(k) equals the metrics of world k's swarm
+    # run alone, bitwise (moments, median, MAD, PDFs).
+    n, samples, every = 120, 8, 2
+    with swarmcl.Swarm(ctx, agent_count=n, domain=DOMAIN, interaction_radius=0.1, dt=0.02,
+                       worlds=len(SEEDS), world_seeds=SEEDS) as s:
+        s.set_field_model(model(0))
+        s.set_world_param("noise.scale", SCALES)
+        s.set_world_param("min_distance", MIN_DISTANCE)
+        with swarmcl.Metrics.attach(s, every * 0.02) as m:
+            for _ in range(samples):
+                m.sample()
+                s.step(every)
+            with pytest.raises(swarmcl.SwarmclError, match="world"):
+                m.info("speed")  # all worlds at once: read one
+            with pytest.raises(swarmcl.SwarmclError, match="no world 4"):
+                m.world(4)
+            with pytest.raises(ValueError, match="integer >= 0"):
+                m.world(-1)
+            worlds = [m.world(k) for k in range(len(SEEDS))]
+    for k, seed in enumerate(SEEDS):
+        with swarmcl.Swarm(ctx, agent_count=n, seed=seed, domain=DOMAIN, interaction_radius=0.1, dt=0.02) as one:
+            mk = model(0)
+            one.set_field_model(swarmcl.FieldModel(
+                noise=swarmcl.NoiseDesc(type="curl", seed=NOISE_SEEDS[0], scale=SCALES[k], time_scale=1.5),
+                goal=mk.goal, goal_radius=mk.goal_radius, min_distance=MIN_DISTANCE[k]))
+            with swarmcl.Metrics.attach(one, every * 0.02) as alone:
+                for _ in range(samples):
+                    alone.sample()
+                    one.step(every)
+                for name in swarmcl.METRICS:
+                    assert worlds[k].info(name) == alone.info(name), (k, name)
+                    np.testing.assert_array_equal(worlds[k].pdf(name), alone.pdf(name))
+    assert worlds[0].info("speed")["mean"] != worlds[2].info("speed")["mean"]
+    for w in worlds:
+        w.close()

@@ -107,10 +107,20 @@ class Metrics(_Handle):
     def attach(cls, swarm, sample_dt: float) -> "Metrics":
         """Metrics of a running swarm, computed on the device and streamed into
         fixed-size histograms: step the swarm K steps, ``sample()``, repeat;
-        ``sample_dt`` is K times the swarm's dt.  Keeps the swarm alive."""
+        ``sample_dt`` is K times the swarm's dt.  Keeps the swarm alive.  On
+        a swarm of several worlds every world is measured on its own (read
+        them with ``world(k)``)."""
         m = cls._make(lambda h: lib.swcl_metrics_attach(swarm._h, float(sample_dt), h))
         m._swarm = swarm
         return m
+
+    def world(self, k: int) -> "Metrics":
+        """World k's metrics sampled so far (Metrics.attach only), as metrics
+        of their own that do not change when sampling goes on: bitwise those
+        of the world's swarm run alone."""
+        if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or not 0 <= int(k) < 2**32:
+            raise ValueError(f"world: an integer >= 0, got {k!r}")
+        return self._make(lambda h: lib.swcl_metrics_world(self._h, int(k), h))
 
     def sample(self) -> None:
         """Samples the attached swarm's positions now (Metrics.attach only)."""

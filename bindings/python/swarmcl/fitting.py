@@ -206,11 +206,10 @@ class PopulationEvaluator:
         if not (self.scale_penalty >= 0.0 and np.isfinite(self.scale_penalty)):
             raise ValueError(f"scale_penalty: a finite number >= 0, got {scale_penalty!r}")
         self.spread = [1.4826 * real.info(k)["mad"] for k in range(len(METRICS))]
-        # streamed: each swarm's metrics computed on the device into fine
-        # histograms (Metrics.attach; nothing per frame is read back);
-        # False: positions are read every sample and measured on the host
-        # (exact PDFs, slower).  None (the default): worlds where the model
-        # runs them (below), else streamed.
+        # streamed (the default): each run's metrics computed on the device
+        # into fine histograms (Metrics.attach, per world on a swarm of
+        # worlds; nothing per frame is read back); False: positions are read
+        # every sample and measured on the host (exact PDFs, slower).
         self.streamed = True if streamed is None else bool(streamed)
         info = Scenario.parse(json.dumps(scenario)).info
         self.dt = info["dt"]
@@ -227,14 +226,13 @@ class PopulationEvaluator:
         # per stage for all of them; docs/architecture.md, "Worlds") where
         # the scenario's model runs worlds and every fitted parameter is a
         # row of its table.  Each world gives bitwise the run of its
-        # scenario alone; its metrics are measured exactly on the host from
-        # the frames read back (as streamed=False does; per-world device
-        # metrics are not there yet), so a score equals the streamed=False
-        # score of the run alone (tested).  streamed=True keeps one swarm a
-        # run with device metrics, and so does worlds=False.
-        self.world_keys = self._world_keys() if worlds and streamed is not True else None
-        # Threads measuring the worlds' metrics on the host (the C calls run
-        # without the GIL); fit() gives each MPI rank its share of the cores.
+        # scenario alone, and so do its metrics (per world on the device, or
+        # on the host from the frames with streamed=False), so a score equals
+        # that of the run alone (tested).  worlds=False: one swarm a run.
+        self.world_keys = self._world_keys() if worlds else None
+        # Threads measuring the worlds' metrics on the host (streamed=False;
+        # the C calls run without the GIL); fit() gives each MPI rank its
+        # share of the cores.
         self.threads = os.cpu_count() or 1
 
     #: The models whose swarms run worlds.
@@ -339,6 +337,8 @@ class PopulationEvaluator:
                 # A value the model refuses (a cross-parameter rule): each
                 # run alone then, so only the refused ones are refused.
                 return None
+            if self.streamed:
+                return self._streamed_world_terms(swarm, len(runs))
             self._advance([swarm], lambda i: frames.append(swarm.read_positions().reshape(len(runs), -1, 3)))
         finally:
             swarm.close()
@@ -355,6 +355,20 @@ class PopulationEvaluator:
             with ThreadPoolExecutor(max_workers=min(self.threads, len(runs))) as pool:
                 return list(pool.map(measure, range(len(runs))))
         return [measure(k) for k in range(len(runs))]
+
+    def _streamed_world_terms(self, swarm, worlds: int) -> list:
+        """Each world's E_phi from its metrics on the device (the error of
+        a world whose metrics cannot be scored, e.g. one that blew up)."""
+        with Metrics.attach(swarm, self.every * self.dt) as metrics:
+            self._advance([swarm], lambda i: metrics.sample())
+            out = []
+            for k in range(worlds):
+                try:
+                    with metrics.world(k) as sim:
+                        out.append(self._terms_of(sim))
+                except SwarmclError as e:
+                    out.append(e)
+            return out
 
     def __call__(self, population) -> List[float]:
         runs = [(u, r) for u in population for r in range(self.seeds)]

@@ -1003,8 +1003,18 @@ SWCL_API swcl_status swcl_metrics_from_frames(const float* xyz, size_t frames, s
  * metrics keep the swarm alive until they are destroyed; the swarm's agent
  * count must not change.  Read them like any other metrics (the PDFs come
  * from fine histograms, close to the samples' exact PDFs: docs/evaluation.md).
- * SWCL_ERROR_INVALID_ARGUMENT for fewer than 2 agents or sample_dt <= 0. */
+ * A swarm of several worlds gets each world's metrics from the same launches
+ * (its own agents, nearest neighbours within the world): read them with
+ * swcl_metrics_world; these metrics themselves then only sample.
+ * SWCL_ERROR_INVALID_ARGUMENT for fewer than 2 agents (a world) or
+ * sample_dt <= 0. */
 SWCL_API swcl_status swcl_metrics_attach(swcl_swarm swarm, double sample_dt, swcl_metrics* out);
+/* World `world`'s metrics sampled so far by metrics made with
+ * swcl_metrics_attach, as new metrics of their own (destroy them; they do not
+ * change when sampling goes on): bitwise what attached metrics of the world's
+ * swarm alone give.  SWCL_ERROR_INVALID_ARGUMENT for world >= the swarm's
+ * worlds or metrics from tracks or frames; out untouched. */
+SWCL_API swcl_status swcl_metrics_world(swcl_metrics metrics, uint32_t world, swcl_metrics* out);
 /* Samples the swarm's positions now (enqueued on the device).
  * SWCL_ERROR_INVALID_ARGUMENT for metrics not made by swcl_metrics_attach. */
 SWCL_API swcl_status swcl_metrics_sample(swcl_metrics metrics);
