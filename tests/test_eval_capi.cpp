@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstddef>
 #include <fstream>
+#include <numeric>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -221,6 +222,56 @@ TEST(EvalCapi, TracksWithAnotherDelimiter) {
     swcl_metrics_destroy(b);
     std::remove(pc.c_str());
     std::remove(ps.c_str());
+}
+
+// The tracks of a CSV as the metrics take them: sizes first, then the
+// segments, which laid out again give the same metrics as the file (float
+// positions: to float rounding); a capacity too small changes nothing.
+TEST(EvalCapi, TracksReadFromACsvAreTheMetricsSamples) {
+    const auto set = swarmcl::synthetic_tracks(5, 40, 0.01, 0.5f, 3);
+    const std::string path = ::testing::TempDir() + "/swcl_read_tracks.csv";
+    std::ofstream(path) << swarmcl::tracks_to_csv(set);
+    size_t segments = 0, samples = 0;
+    double frame_time = 0;
+    ASSERT_EQ(swcl_tracks_read_csv(path.c_str(), nullptr, 0, 0.5, nullptr, nullptr, 0, nullptr, nullptr, 0, &segments,
+                                   &samples, &frame_time), SWCL_OK) << swcl_last_error();
+    EXPECT_EQ(segments, 5u);
+    EXPECT_GT(samples, 5u * 15);
+    EXPECT_NEAR(frame_time, 0.01, 1e-9);
+    std::vector<uint32_t> counts(segments, 7), insects(segments, 7);
+    std::vector<double> t(samples, -1.0);
+    std::vector<float> xyz(3 * samples);
+    EXPECT_EQ(swcl_tracks_read_csv(path.c_str(), nullptr, 0, 0.5, counts.data(), insects.data(), segments, t.data(),
+                                   xyz.data(), samples - 1, &segments, &samples, nullptr), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("capacity too small"), std::string::npos) << swcl_last_error();
+    EXPECT_EQ(counts[0], 7u);
+    EXPECT_EQ(t[0], -1.0);
+    ASSERT_EQ(swcl_tracks_read_csv(path.c_str(), nullptr, 0, 0.5, counts.data(), insects.data(), segments, t.data(),
+                                   xyz.data(), samples, &segments, &samples, nullptr), SWCL_OK) << swcl_last_error();
+    EXPECT_EQ(std::accumulate(counts.begin(), counts.end(), size_t(0)), samples);
+    for (uint32_t k = 0; k < segments; ++k) EXPECT_EQ(insects[k], k);
+    swcl_dataset_desc d = swcl_dataset_desc_default();
+    d.frame_time = frame_time;
+    swcl_metrics again{}, file{};
+    ASSERT_EQ(swcl_metrics_from_tracks(counts.data(), segments, t.data(), xyz.data(), &d, 0, 1, &again), SWCL_OK)
+        << swcl_last_error();
+    ASSERT_EQ(swcl_metrics_from_csv(path.c_str(), nullptr, 0, 0.5, &file), SWCL_OK);
+    for (int m = 0; m < SWCL_METRIC_COUNT; ++m) {
+        swcl_metric_info a{sizeof(a)}, b{sizeof(b)};
+        ASSERT_EQ(swcl_metrics_get_info(again, swcl_metric(m), &a), SWCL_OK);
+        ASSERT_EQ(swcl_metrics_get_info(file, swcl_metric(m), &b), SWCL_OK);
+        EXPECT_EQ(a.count, b.count) << swcl_metric_name(swcl_metric(m));
+        EXPECT_NEAR(a.mean, b.mean, 1e-3 * std::fabs(b.mean) + 1e-6) << swcl_metric_name(swcl_metric(m));
+    }
+    swcl_metrics_destroy(again);
+    swcl_metrics_destroy(file);
+    EXPECT_EQ(swcl_tracks_read_csv(path.c_str(), nullptr, 0, 1, counts.data(), nullptr, segments, t.data(),
+                                   xyz.data(), samples, &segments, &samples, nullptr), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_tracks_read_csv("/no/such/file.csv", nullptr, 0, 1, nullptr, nullptr, 0, nullptr, nullptr, 0,
+                                   &segments, &samples, nullptr), SWCL_ERROR_IO);
+    EXPECT_EQ(swcl_tracks_read_csv(path.c_str(), nullptr, 0, 1, nullptr, nullptr, 0, nullptr, nullptr, 0, nullptr,
+                                   &samples, nullptr), SWCL_ERROR_INVALID_ARGUMENT);
+    std::remove(path.c_str());
 }
 
 TEST(EvalCapi, HalvesOfARecordingSplitTheSamplesByTime) {

@@ -4,9 +4,11 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <string>
 
 #include "capi_common.hpp"
 #include "capi_tracks.hpp"
@@ -144,6 +146,41 @@ swcl_status swcl_metrics_from_tracks(const uint32_t* counts, size_t track_count,
         const TrackLoadOptions o = options_or_default(tracks);
         add_metrics(out, track_metrics(time_window(tracks_from_arrays(counts, track_count, times, xyz, o),
                                                    window_from, window_to)));
+    });
+}
+
+swcl_status swcl_tracks_read_csv(const char* path, const swcl_dataset_desc* tracks, double window_from,
+                                 double window_to, uint32_t* counts, uint32_t* insects, size_t segment_capacity,
+                                 double* times, float* xyz, size_t sample_capacity, size_t* out_segments,
+                                 size_t* out_samples, double* out_frame_time) {
+    return guarded(__func__, [&] {
+        check_out(out_segments, "out_segments");
+        check_out(out_samples, "out_samples");
+        require(path != nullptr, "path is NULL");
+        const TrackSet set = time_window(load_tracks_csv(path, options_or_default(tracks)), window_from, window_to);
+        size_t samples = 0;
+        for (const Track& t : set.tracks) samples += t.t.size();
+        const bool sizes_only = !counts && !insects && !times && !xyz && segment_capacity == 0 && sample_capacity == 0;
+        if (!sizes_only) {
+            require(counts && insects && times && xyz, "counts, insects, times and xyz: all NULL (sizes) or none");
+            require(segment_capacity >= set.tracks.size() && sample_capacity >= samples,
+                    "capacity too small: " + std::to_string(set.tracks.size()) + " segments and " +
+                        std::to_string(samples) + " samples");
+            std::map<std::string, uint32_t> insect_of;
+            size_t s = 0;
+            for (size_t k = 0; k < set.tracks.size(); ++k) {
+                const Track& t = set.tracks[k];
+                counts[k] = uint32_t(t.t.size());
+                insects[k] = insect_of.emplace(t.id, uint32_t(insect_of.size())).first->second;
+                for (size_t i = 0; i < t.t.size(); ++i, ++s) {
+                    times[s] = t.t[i];
+                    for (int a = 0; a < 3; ++a) xyz[3 * s + a] = float(t.p[i][size_t(a)]);
+                }
+            }
+        }
+        *out_segments = set.tracks.size();
+        *out_samples = samples;
+        if (out_frame_time) *out_frame_time = set.frame_time;
     });
 }
 

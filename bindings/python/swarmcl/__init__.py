@@ -16,9 +16,10 @@ from .descriptors import (Box, DeviceInfo, DeviceType, FieldModel, NoiseDesc, No
                           Sphere, StepStats)
 from .energy import (Dataset, EnergyModel, EnergyWeights, Stimulus, StimulusKind, TimeFormat,
                      write_mixed_csv)
-from .evaluation import (METRICS, METRIC_UNITS, Metrics, distances, entropy_weights, evaluate, plot_pdfs, score,
-                         wasserstein)
+from .evaluation import (METRICS, METRIC_UNITS, Metrics, Tracks, distances, entropy_weights, evaluate, plot_pdfs,
+                         read_tracks, score, wasserstein)
 from .fitting import Parameter, fit, load_ranges
+from .spread import fit_spread
 from .sweep import load_grid, sweep
 from .params import model_parameters
 from .synthesis import mix_time_aligned, real_frames
@@ -39,8 +40,8 @@ __all__ = [
     "Dataset", "EnergyModel", "EnergyWeights", "Stimulus", "StimulusKind", "TimeFormat", "write_mixed_csv",
     "ForceModel", "Keyframe", "SHAPES", "PolicyModel", "SHIPPED_POLICY", "DDPG_POLICY", "mix_time_aligned", "real_frames",
     "METRICS", "METRIC_UNITS", "Metrics", "distances", "wasserstein", "score", "entropy_weights", "evaluate",
-    "plot_pdfs",
-    "fit", "load_ranges", "Parameter", "model_parameters", "sweep", "load_grid",
+    "plot_pdfs", "Tracks", "read_tracks",
+    "fit", "fit_spread", "load_ranges", "Parameter", "model_parameters", "sweep", "load_grid",
     "PathModel", "PathGroup", "PathInfo", "PathTarget", "Lamp", "Goal", "MeshObstacle", "ObjObstacle", "BoxObstacle",
     "SphereObstacle", "CylinderObstacle",
     "SwarmclError", "InvalidArgumentError", "InvalidHandleError", "NoDeviceError", "BuildError",

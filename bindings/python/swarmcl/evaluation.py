@@ -152,6 +152,49 @@ class Metrics(_Handle):
         return q
 
 
+class Tracks:
+    """Gap-free track segments in seconds and metres as the metrics see
+    them (read_tracks): ``segments`` a list of (times, positions (n, 3)),
+    ``insects`` the insect of each segment, ``frame_time`` in seconds."""
+
+    def __init__(self, segments, insects, frame_time: float):
+        self.segments, self.insects, self.frame_time = list(segments), np.asarray(insects), float(frame_time)
+
+    def __len__(self) -> int:
+        return len(self.segments)
+
+    def time_range(self) -> Tuple[float, float]:
+        return (min(float(t[0]) for t, _ in self.segments), max(float(t[-1]) for t, _ in self.segments))
+
+    def metrics(self) -> Metrics:
+        """The seven metrics of these segments (as taken, nothing scaled,
+        smoothed or cut again)."""
+        return Metrics.from_tracks(self.segments, frame_time=self.frame_time, unit_scale=1.0, smoothing=0)
+
+
+def read_tracks(path, window: Tuple[float, float] = (0.0, 1.0), **options) -> Tracks:
+    """The tracks of a CSV file (options as for Metrics.from_csv) split,
+    smoothed, scaled and cut to ``window`` exactly as Metrics.from_csv takes
+    them, so a caller can lay them out again (a bootstrap, a subset)."""
+    d, _keep = _track_desc("read_tracks", options, _METRIC_TRACK_OPTIONS)
+    lo, hi = window
+    p = os.fsencode(path)
+    nseg, nsam, ft = ffi.new("size_t*"), ffi.new("size_t*"), ffi.new("double*")
+    check(lib.swcl_tracks_read_csv(p, d, float(lo), float(hi), ffi.NULL, ffi.NULL, 0, ffi.NULL, ffi.NULL, 0,
+                                   nseg, nsam, ft))
+    counts = np.zeros(nseg[0], dtype=np.uint32)
+    insects = np.zeros(nseg[0], dtype=np.uint32)
+    times = np.zeros(nsam[0], dtype=np.float64)
+    xyz = np.zeros((nsam[0], 3), dtype=np.float32)
+    check(lib.swcl_tracks_read_csv(p, d, float(lo), float(hi), ffi.from_buffer("uint32_t[]", counts),
+                                   ffi.from_buffer("uint32_t[]", insects), len(counts),
+                                   ffi.from_buffer("double[]", times), ffi.from_buffer("float[]", xyz), len(times),
+                                   nseg, nsam, ft))
+    ends = np.cumsum(counts)
+    segments = [(times[e - c:e], xyz[e - c:e]) for c, e in zip(counts, ends)]
+    return Tracks(segments, insects, ft[0])
+
+
 def distances(real: Metrics, sim: Metrics, bins: int = 50, half_width: float = 4.0,
               robust: bool = False) -> np.ndarray:
     """E_phi = sum_i |Q_real,i - Q_sim,i| of every metric (Eq. 2), shape (7,);

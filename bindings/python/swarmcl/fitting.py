@@ -610,11 +610,11 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
     With ``comm`` (an mpi4py communicator of R ranks), every rank must call
     fit() with the same arguments: rank 0 returns the result, the others
     serve evaluations and return None.  The same seed gives the same result
-    for any R.  ``streamed``: True, each run its own swarm with its metrics
-    on the device (fine histograms); False reads positions back and measures
-    them on the host (exact PDFs, slower); None (the default): a
-    generation's runs as the worlds of one swarm, measured on the host, where
-    the model runs worlds (the field model), else as True.  ``robust``: PDFs z-scored with median
+    for any R.  A generation's runs are the worlds of one swarm where the
+    model runs worlds (the field model), else each run is a swarm of its own.
+    ``streamed`` (True or None, the default): each run's metrics on the
+    device (fine histograms, per world); False reads positions back and
+    measures them on the host (exact PDFs, slower).  ``robust``: PDFs z-scored with median
     and MAD; ``scale_penalty`` λ > 0 maximises E - λ P instead, P the mean
     Wasserstein-1 distance in units of the real data's spread
     (PopulationEvaluator, docs/evaluation.md).  ``seeds``: each individual
@@ -795,6 +795,11 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--tolerance", type=float, default=1e-3, help="stop when the best gains no more (default 1e-3)")
     p.add_argument("--scale-penalty", type=float, default=0.0,
                    help="maximise E - X * (mean Wasserstein-1 distance in the real data's spreads); default 0")
+    p.add_argument("--spread", metavar="FITS,RESAMPLES",
+                   help="how sure the fit is: fit FITS times (optimiser seeds from --seed) and once to each of "
+                        "RESAMPLES block resamples of the tracks, and report every parameter's spread "
+                        "(swarmcl.fit_spread; one process)")
+    p.add_argument("--blocks", type=int, default=10, help="--spread: spans of time a resample draws (default 10)")
     p.add_argument("--out", default="fit.json", help="result JSON (default %(default)s)")
     p.add_argument("--device", help="device index or name part (default: SWARMCL_DEVICE, or round-robin by rank)")
     p.add_argument("--plot", action="store_true", help="draw the history beside the JSON (FILE.png; matplotlib)")
@@ -809,6 +814,8 @@ def main(argv=None) -> int:
     try:
         window = track_window(args.window)
         device = int(args.device) if args.device and args.device.isdigit() else args.device
+        if args.spread:
+            return _spread_main(args, window, device, comm)
         ctx = _context_for_rank(rank, device)
         with ctx, Metrics.from_csv(args.tracks, window=window, unit_scale=args.unit_scale, columns=args.columns,
                                    delimiter=args.delimiter) as real:
@@ -826,11 +833,7 @@ def main(argv=None) -> int:
             comm.Abort(1)
         return 1
     if rank == 0:
-        tmp = args.out + ".tmp"
-        with open(tmp, "w", encoding="utf-8") as f:
-            json.dump(result, f, indent=2)
-            f.write("\n")
-        os.replace(tmp, args.out)
+        _write_json(result, args.out)
         if not args.quiet:
             best = ", ".join(f"{k} = {v:.6g}" for k, v in result["best"].items())
             state = "converged" if result["converged"] else "did not converge"
@@ -847,6 +850,44 @@ def main(argv=None) -> int:
                 return 1
             if not args.quiet:
                 print(f"plot: {png}")
+    return 0
+
+
+def _write_json(result: dict, path: str) -> None:
+    tmp = path + ".tmp"
+    with open(tmp, "w", encoding="utf-8") as f:
+        json.dump(result, f, indent=2)
+        f.write("\n")
+    os.replace(tmp, path)
+
+
+def _spread_main(args, window, device, comm) -> int:
+    """swarmcl fit --spread FITS,RESAMPLES: fit_spread, its table printed."""
+    from .evaluation import read_tracks
+    from .spread import fit_spread
+    if comm is not None:
+        raise ValueError("--spread runs in one process (not under mpirun)")
+    parts = args.spread.split(",")
+    if len(parts) != 2 or not all(x.strip().isdigit() for x in parts):
+        raise ValueError("--spread: expected FITS,RESAMPLES (two integers)")
+    fits, resamples = (int(x) for x in parts)
+    tracks = read_tracks(args.tracks, window=window, unit_scale=args.unit_scale, columns=args.columns,
+                         delimiter=args.delimiter)
+    with Context(device) as ctx:
+        result = fit_spread(args.scenario, tracks, args.ranges, fits=fits, bootstrap=resamples, blocks=args.blocks,
+                            seed=args.seed, method=args.method, generations=args.generations,
+                            population=args.population, steps=args.steps, every=args.every, warmup=args.warmup,
+                            bins=args.bins, half_width=args.half_width, context=ctx, robust=args.robust,
+                            scale_penalty=args.scale_penalty, seeds=args.seeds, restarts=args.restarts,
+                            tolerance=args.tolerance)
+    _write_json(result, args.out)
+    if not args.quiet:
+        for path, q in result["parameters"].items():
+            boot = (f"resamples {q['bootstrap_mean']:.4g} ± {q['bootstrap_sd']:.2g}"
+                    if q["bootstrap_mean"] is not None else "no resamples")
+            print(f"{path}: seeds {q['seed_mean']:.4g} ± {q['seed_sd']:.2g}, {boot} "
+                  f"({'pinned down' if q['pinned'] else 'loose'}; range [{q['low']:.4g}, {q['high']:.4g}])")
+        print(f"written to {args.out}")
     return 0
 
 

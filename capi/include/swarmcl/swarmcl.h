@@ -987,6 +987,22 @@ SWCL_API const char* swcl_metric_name(swcl_metric metric);
  * the insects in view on the same frame. */
 SWCL_API swcl_status swcl_metrics_from_csv(const char* path, const swcl_dataset_desc* tracks, double window_from,
                                            double window_to, swcl_metrics* out);
+/* The tracks of a CSV file as the metrics see them (swcl_metrics_from_csv:
+ * split at gaps, smoothed, in seconds and metres, cut to the window):
+ * segment k has counts[k] samples, its times and packed xyz follow segment
+ * after segment, and insects[k] numbers the insect it belongs to (segments
+ * of one source track share it; from 0, in order of first appearance).
+ * Call with counts, insects, times and xyz NULL (capacities 0) for
+ * *out_segments and *out_samples, then with arrays of those sizes; a
+ * capacity too small: SWCL_ERROR_INVALID_ARGUMENT, the arrays untouched.
+ * *out_frame_time (may be NULL): the frame time, given or the median step.
+ * Lay them out again (e.g. resampled) for swcl_metrics_from_tracks with
+ * unit_scale 1, smoothing 0 and this frame time. */
+SWCL_API swcl_status swcl_tracks_read_csv(const char* path, const swcl_dataset_desc* tracks, double window_from,
+                                          double window_to, uint32_t* counts, uint32_t* insects,
+                                          size_t segment_capacity, double* times, float* xyz,
+                                          size_t sample_capacity, size_t* out_segments, size_t* out_samples,
+                                          double* out_frame_time);
 /* The same from tracks as arrays (laid out as for swcl_dataset_from_tracks). */
 SWCL_API swcl_status swcl_metrics_from_tracks(const uint32_t* counts, size_t track_count, const double* times,
                                               const float* xyz, const swcl_dataset_desc* tracks, double window_from,
