@@ -37,6 +37,7 @@
 #include <vector>
 
 #include "bench_util.hpp"
+#include "roofline.hpp"
 #include "device/context.hpp"
 #include "eval/metric_accumulator.hpp"
 #include "eval/metrics.hpp"
@@ -195,6 +196,17 @@ int main(int argc, char** argv) {
     std::printf("steps alone %.3f s; with metrics %.3f s; metrics %.3f s = %.3g agent-frames/s (target: %.3g in 10 s)\n",
                 steps, with, metrics_s, af / metrics_s, af / 10.0);
 
+    // The roofline (issue 29): the bytes one sampled frame must move at the
+    // least per agent: the position gathered into the ring (20 + 16 B), the
+    // four ring positions read (64 B), the seven values written and read by
+    // the moments and the histogram (3 x 28 B), the nearest-neighbour search
+    // (keys from a position, the sorted copy written and read, 16 + 4 + 16 +
+    // 16 B) and what is kept for the next sample (ω, the neighbour: 16 B).
+    const double copy_gbs = swarmcl::bench::copy_bandwidth_gbs(*ctx, size_t(o.agents) * o.worlds);
+    const std::vector<swarmcl::bench::RooflineRow> roof = {swarmcl::bench::roofline_row(
+        "metrics of one sampled frame", 36 + 64 + 84 + 52 + 16, double(o.agents) * o.worlds,
+        metrics_s / o.frames * 1e3, copy_gbs)};
+    swarmcl::bench::print_roofline(roof, copy_gbs);
     std::printf("CPU time of sampling %.3f s (all threads; load average %.2f): %.3f s over %u cores with them to itself\n",
                 metrics_cpu, load_average(), metrics_cpu / cores, cores);
 
@@ -233,7 +245,7 @@ int main(int argc, char** argv) {
       << ",\n  \"d_samples\": " << checksum << ",\n  \"host_frames\": " << o.host_frames
       << ",\n  \"alone_step_s\": " << json_array(alone_step_s, 1.0) << ",\n  \"alone_with_metrics_s\": "
       << json_array(alone_with_s, 1.0) << ",\n  \"alone_metrics_s_median\": " << alone_metrics_s
-      << ",\n  \"host_s\": " << host_s << ",\n  \"host_agent_frames_per_s\": "
+      << ",\n  \"roofline\": " << swarmcl::bench::roofline_json(roof, copy_gbs) << ",\n  \"host_s\": " << host_s << ",\n  \"host_agent_frames_per_s\": "
       << (host_s > 0 ? double(o.agents) * o.host_frames / host_s : 0.0) << "\n}\n";
     const auto dir = std::filesystem::path(o.json).parent_path();
     std::error_code ec;

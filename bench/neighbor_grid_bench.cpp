@@ -33,6 +33,7 @@
 
 #include "bench_util.hpp"
 #include "device/context.hpp"
+#include "roofline.hpp"
 #include "swarm/swarm.hpp"
 
 #ifndef SWARMCL_BENCH_RESULTS_DIR
@@ -189,6 +190,8 @@ struct SizeResult {
     float grid_cell = 0;
     std::vector<Timing> timings;  // name -> samples
     std::vector<Timing> stages;   // diagnostic grid build stages
+    double copy_gbs = 0;          // the roofline's copy kernel, this run (issue 29)
+    std::vector<swarmcl::bench::RooflineRow> roofline;
     uint64_t total_swarmcl = 0, total_nanoflann = 0, total_nanoflann_counting = 0, total_nanoflann_tree_order = 0;
     uint32_t mismatched_agents = 0, unexplained_mismatches = 0, checked_mismatches = 0;
     double qps_swarmcl = 0, qps_nanoflann = 0, qps_nanoflann_counting = 0, qps_nanoflann_tree_order = 0;
@@ -544,6 +547,23 @@ SizeResult run_size(const Options& opt, const std::shared_ptr<swarmcl::Context>&
     for (const auto& st : stages)
         std::printf("     %-48s %10.3f %10.3f\n", st.name.c_str(), ms(st.seconds), msmin(st.seconds));
     res.stages = stages;
+    // The roofline (issue 29): bytes each stage must move at the least per
+    // agent, against a copy kernel over n float4 now.  Keys read a position
+    // and the sorted slots and cell ranges come out (16 + 4 B; the radix
+    // sort's passes not counted); reordering reads and writes a position,
+    // a velocity and an id (2 x 36 B); the neighbour pass reads a position
+    // and writes a count (16 + 4 B; neighbours from cache).
+    res.copy_gbs = swarmcl::bench::copy_bandwidth_gbs(*ctx, n);
+    const std::pair<const char*, std::pair<double, const std::vector<double>*>> roof[] = {
+        {"grid build (sort + ranges), random order", {20, &build_rand}},
+        {"rebuild incl. reordering state, random order", {20 + 72, &rebuild_rand}},
+        {"grid build (sort + ranges), grid order", {20, &build_sorted}},
+        {"rebuild incl. reordering state, grid order", {20 + 72, &rebuild_sorted}},
+        {"neighbour pass (neighbor_count + download)", {20, &pass}},
+    };
+    for (const auto& [name, b] : roof)
+        res.roofline.push_back(swarmcl::bench::roofline_row(name, b.first, n, ms(*b.second), res.copy_gbs));
+    swarmcl::bench::print_roofline(res.roofline, res.copy_gbs);
     std::printf("   queries/s: swarmcl %.3f M; nanoflann (%d threads) radiusSearch %.3f M, counting %.3f M, "
                 "tree order %.3f M\n",
                 res.qps_swarmcl * 1e-6, opt.threads, res.qps_nanoflann * 1e-6, res.qps_nanoflann_counting * 1e-6,
@@ -616,7 +636,8 @@ void write_json(const Options& opt, const swarmcl::DeviceEntry& dev, const std::
         j << "},\n      \"grid_build_stages_median_ms\": {";
         for (size_t t = 0; t < r.stages.size(); ++t)
             j << (t ? ", " : "") << "\"" << r.stages[t].name << "\": " << median(r.stages[t].seconds) * 1e3;
-        j << "},\n      \"samples_ms\": {";
+        j << "},\n      \"roofline\": " << swarmcl::bench::roofline_json(r.roofline, r.copy_gbs);
+        j << ",\n      \"samples_ms\": {";
         for (size_t t = 0; t < r.timings.size(); ++t)
             j << (t ? ", " : "") << "\"" << r.timings[t].name << "\": " << json_array(r.timings[t].seconds, 1e3);
         j << "}\n    }" << (s + 1 < results.size() ? "," : "") << "\n";
