@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "bench_util.hpp"
+#include "roofline.hpp"
 #include "core/philox.hpp"
 #include "data/dataset.hpp"
 #include "device/context.hpp"
@@ -52,6 +53,8 @@ struct Row {
     double energy_ms = 0, field_ms = 0, paper_ms = -1;
     double energy_cpu_ms = 0;  // process CPU time per timed step (all PoCL threads)
     bool taylor = false;
+    double copy_gbs = 0;  // the roofline's copy kernel at n float4, this run
+    std::vector<swarmcl::bench::RooflineRow> roofline;
 };
 
 double paper_ms(uint32_t n) {  // Table 2
@@ -183,6 +186,14 @@ int main(int argc, char** argv) {
         }
         std::printf("%8u %12.3f %12s %10s %12.3f %9.1fx %12.3f%s\n", n, r.energy_ms, paper, ratio, r.field_ms,
                     r.energy_ms / r.field_ms, r.energy_cpu_ms, n == 10000 ? (r.energy_ms <= 10.0 ? "  target 10 ms: met" : "  target 10 ms: NOT met") : "");
+        // The roofline (issue 29): a step must at the least read and write
+        // each agent's position and velocity (64 B) and rebuild the grid with
+        // its reordering (92 B, as neighbor_grid_bench counts it); the
+        // dataset's candidates and the neighbours come from cache.
+        r.copy_gbs = swarmcl::bench::copy_bandwidth_gbs(*ctx, n);
+        r.roofline = {swarmcl::bench::roofline_row("energy model step", 64 + 92, n, r.energy_ms, r.copy_gbs),
+                      swarmcl::bench::roofline_row("field model step (peer)", 64 + 92, n, r.field_ms, r.copy_gbs)};
+        swarmcl::bench::print_roofline(r.roofline, r.copy_gbs);
         std::fflush(stdout);
         rows.push_back(r);
     }
@@ -202,7 +213,8 @@ int main(int argc, char** argv) {
           << ", \"energy_cpu_ms_per_step\": " << r.energy_cpu_ms
           << ", \"paper_table2_ms\": " << (r.paper_ms > 0 ? std::to_string(r.paper_ms) : "null")
           << ", \"field_model_ms_per_step\": " << r.field_ms << ", \"taylor_attraction\": "
-          << (r.taylor ? "true" : "false") << "}" << (i + 1 < rows.size() ? "," : "") << "\n";
+          << (r.taylor ? "true" : "false") << ", \"roofline\": " << swarmcl::bench::roofline_json(r.roofline, r.copy_gbs)
+          << "}" << (i + 1 < rows.size() ? "," : "") << "\n";
     }
     j << "  ]\n}\n";
     if (!j) {
