@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "bench_util.hpp"
+#include "roofline.hpp"
 #include "scenario/make_swarm.hpp"
 #include "models/path_model.hpp"
 #include "swarm/swarm.hpp"
@@ -194,6 +195,17 @@ int main(int argc, char** argv) {
         std::printf("  locusts with %u insects: %.1f ms per step (target 50 ms), MDE moved %.2f%% per step;\n"
                     "    without MDE (the path advance kernel alone, agents in grid order): %.1f ms per step\n",
                     million, r.ms_per_step, 100 * r.mde_share, a.ms_per_step);
+        // The roofline (issue 29): the advance must at the least read a
+        // position and write a position and a velocity (48 B, as the field
+        // model's); the full step adds the grid rebuild with its reordering
+        // (92 B) and MDE (a position read and written, 32 B).
+        const double copy_gbs = swarmcl::bench::copy_bandwidth_gbs(*ctx, million);
+        const std::vector<swarmcl::bench::RooflineRow> roof = {
+            swarmcl::bench::roofline_row("locusts full step (advance + grid rebuild + MDE)", 48 + 92 + 32, million,
+                                         r.ms_per_step, copy_gbs),
+            swarmcl::bench::roofline_row("locusts advance alone (no MDE)", 48, million, a.ms_per_step, copy_gbs)};
+        swarmcl::bench::print_roofline(roof, copy_gbs);
+        js << "  \"locusts_roofline\": " << swarmcl::bench::roofline_json(roof, copy_gbs) << ",\n";
         js << "  \"locusts_agents\": " << million << ",\n  \"locusts_ms_per_step\": " << r.ms_per_step
            << ",\n  \"locusts_mde_share\": " << r.mde_share << ",\n  \"locusts_advance_only_ms_per_step\": "
            << a.ms_per_step << ",\n";
