@@ -278,7 +278,7 @@ void ForceModel::prepare(Swarm& swarm) {
         targets_.push_back(make_targets(m, n, c.sample_seed + k, c.min_spacing, c.neighbor_k,
                                         same ? &targets_.back().samples : nullptr));
     }
-    force_.allocate(ctx, n, "force model forces");
+    force_.allocate(ctx, size_t(n) * world_count_, "force model forces");  // every world's
     target_of_buf_.allocate(ctx, n, "force model target_of");
     by_target_.allocate(ctx, n, "force model positions by target");
     kf_buf_.assign(targets_.size(), KeyframeBuffers{});
