@@ -23,8 +23,11 @@ constexpr uint32_t kAgents = 301;  // not a multiple of any lane count
 const uint64_t kSeeds[kWorlds] = {5, 17, 29, 0x9876543210ull};
 
 // Per world: r_rep, min_distance (0: no MDE in world 2), w_ali, noise.seed,
-// max_speed.
-const double kRRep[kWorlds] = {0.08, 0.05, 0.12, 0.06};
+// max_speed.  r_rep is large enough that agents sum several repulsion
+// neighbours, whose order the fine grid's cells set: built with one cell
+// size (0.5 m) for every world instead of each world's own, worlds 0, 2 and
+// 3 differed from their swarms alone here.
+const double kRRep[kWorlds] = {0.2, 0.12, 0.3, 0.16};
 const double kMinDistance[kWorlds] = {0.03, 0.05, 0.0, 0.04};
 const double kWAli[kWorlds] = {3.0, 1.0, 0.5, 2.0};
 const double kNoiseSeed[kWorlds] = {1, 2, 3, 4000000000.0};
@@ -66,8 +69,8 @@ protected:
     static swcl_force_model_desc model(uint32_t k) {
         swcl_force_model_desc m = swcl_force_model_desc_default();
         m.r_rep = float(kRRep[k]);
-        m.r_ali = 0.2f;
-        m.r_att = 0.4f;
+        m.r_ali = 0.35f;
+        m.r_att = 0.5f;
         m.w_ali = float(kWAli[k]);
         m.noise_seed = uint64_t(kNoiseSeed[k]);
         m.min_distance = float(kMinDistance[k]);
