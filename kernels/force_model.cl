@@ -85,11 +85,46 @@ SWCL_INLINE Grid fm_fine_grid(__global const float4* geo, __global const uint* s
     return grid_from_geometry(geo, start);
 }
 
+// ---- worlds (docs/architecture.md, "Worlds") ------------------------------
+//
+// With -DSWCL_WORLDS (a swarm of several worlds) the kernels are launched
+// over (work-items, W) and world w = get_global_id(1) of n agents starts by
+// offsetting what it reads and writes; the rest of each body is the one of a
+// swarm alone.  The fine grid is PointGrid::build_groups_apart: world w's
+// geometry is geo[2 w], geo[2 w + 1] (the one it has alone, so its cells and
+// the order of its neighbours' sums are those alone), its cells the keys
+// [w stride, (w + 1) stride) with stride = as_uint(geo[1].w), its sorted
+// positions [w n, (w + 1) n) (slot_base w n makes them the world's own);
+// the sorted slots are slots of the whole swarm, so what is read or written
+// through them is not offset.  The sorted copy of the positions keeps world
+// w's x, y, z blocks at w 3 (n + FM_SOA_PAD).
+#ifdef SWCL_WORLDS
+#define FM_FINE_WORLD_VIEW(geo, start, slot)                         \
+    const uint fm_world_ = (uint)get_global_id(1);                   \
+    geo += (size_t)2 * fm_world_;                                    \
+    start += (size_t)fm_world_ * as_uint(geo[1].w);                  \
+    slot += (size_t)fm_world_ * n;
+#define FM_FINE_SLOT_BASE(g) (g).slot_base = fm_world_ * n;
+#define FM_SOA_WORLD(soa) soa += (size_t)get_global_id(1) * 3 * (n + FM_SOA_PAD);
+#define FM_WORLD_AGENTS(p) p += (size_t)get_global_id(1) * n;
+#define FM_WORLD_PARAMS(params) params += (size_t)get_global_id(1) * FORCE_FLOATS;
+#else  // one world: the kernels as before worlds
+#define FM_FINE_WORLD_VIEW(geo, start, slot)
+#define FM_FINE_SLOT_BASE(g)
+#define FM_SOA_WORLD(soa)
+#define FM_WORLD_AGENTS(p)
+#define FM_WORLD_PARAMS(params)
+#endif
+
 // The sorted copy of the positions (x, y, z blocks).
 __kernel void force_model_fine_gather(__global const float4* pos, __global const uint* sslot, uint n,
                                       __global float* soa) {
     const uint k = get_global_id(0);
     if (k >= n) return;
+#ifdef SWCL_WORLDS
+    sslot += (size_t)get_global_id(1) * n;  // the world's sorted positions (slots of the swarm)
+#endif
+    FM_SOA_WORLD(soa)
     const float4 p = pos[sslot[k]];
     soa[k] = p.x;
     soa[(n + FM_SOA_PAD) + k] = p.y;
@@ -136,13 +171,35 @@ SWCL_INLINE float fm_lane_max_s(float v, int on) { return select(-INFINITY, v, o
 // of p now was within d_min + slack of it at the build, so the box of that
 // radius (widened by the rounding of coordinates of p's magnitude) holds its
 // cell, and the test uses the current positions pos[slot].
+// Worlds: world w's d_min and seed are d_mins[w], seeds[w] (as the swarm's
+// MDE pass, min_distance.cl), its counters moved[w] and moved[W + w].
+#ifdef SWCL_WORLDS
+#define FM_MDE_PARAMS __global const float *d_mins, float slack, __global const ulong *seeds
+#else
+#define FM_MDE_PARAMS float d_min, float slack, ulong seed
+#endif
 __kernel void force_model_mde(__global const float4* pos, __global const uint* ids, uint n,
                               __global const float4* fine_geo, __global const uint* fine_start,
-                              __global const uint* fine_slot, float d_min, float slack, ulong seed,
+                              __global const uint* fine_slot, FM_MDE_PARAMS,
                               __global float4* out, __global volatile uint* moved) {
     const uint k = get_global_id(0);
     if (k >= n) return;
-    const Grid g = fm_fine_grid(fine_geo, fine_start);
+    FM_FINE_WORLD_VIEW(fine_geo, fine_start, fine_slot)
+#ifdef SWCL_WORLDS
+    const float d_min = d_mins[fm_world_];
+    const ulong seed = seeds[fm_world_];
+    __global volatile uint* moved_now = moved + fm_world_;
+    __global volatile uint* moved_sum = moved + get_global_size(1) + fm_world_;
+    if (!(d_min > 0.0f)) {  // a world without MDE keeps its positions, as alone
+        out[fine_slot[k]] = pos[fine_slot[k]];
+        return;
+    }
+#else
+    __global volatile uint* moved_now = moved;
+    __global volatile uint* moved_sum = moved + 1;
+#endif
+    Grid g = fm_fine_grid(fine_geo, fine_start);
+    FM_FINE_SLOT_BASE(g)
     const uint i = fine_slot[k];
     const float4 p = (float4)(pos[i].xyz, 0.0f);
     const float reach = d_min + slack + 1e-6f * (1.0f + fabs(p.x) + fabs(p.y) + fabs(p.z));
@@ -155,8 +212,8 @@ __kernel void force_model_mde(__global const float4* pos, __global const uint* i
     } GRID_END_FOR
     out[i] = (float4)(p.xyz + push, 0.0f);
     if (touched) {
-        atomic_inc(&moved[0]);
-        atomic_inc(&moved[1]);
+        atomic_inc(moved_now);
+        atomic_inc(moved_sum);
     }
 }
 
@@ -183,7 +240,7 @@ SWCL_INLINE uint fm_sample_start(ulong seed, uint grp, uint step, uint n, uint* 
 // default distance scale derive from; seed: the sample seed (64 bits, not
 // in the float block).
 #define FM_FORCE_PARAMS                                                                                 \
-    __global const float4 *pos, __global const float4 *vel, __global const uint *ids, uint n, GRID_PARAMS, \
+    __global const float4 *pos, __global const float4 *vel, __global const uint *ids, uint n, GRID_WORLD_PARAMS, \
         __global const float *params, float spacing, ulong seed, uint has_targets,                          \
         __global const uint *target_of, __global const float4 *targets, __global const uint *nbr_start,    \
         __global const uint *nbr_index, __global const float4 *by_target, float4 frame_x, float4 frame_y,  \
@@ -400,6 +457,10 @@ __kernel void force_model_integrate(__global float4* pos, __global float4* vel, 
                                     __global const float* phi, int4 dims, float4 origin_h) {
     const uint i = get_global_id(0);
     if (i >= n) return;
+    FM_WORLD_AGENTS(pos)
+    FM_WORLD_AGENTS(vel)
+    FM_WORLD_AGENTS(force)
+    FM_WORLD_PARAMS(params)
     const float max_speed = params[FORCE_MAX_SPEED], cruise_speed = params[FORCE_CRUISE_SPEED];
     const float range = params[FORCE_OBSTACLE_RANGE];
     float4 p = (float4)(pos[i].xyz, 0.0f);

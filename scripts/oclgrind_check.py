@@ -72,6 +72,7 @@ CASES = [
     ("test_grid", "Grid.AllAgentsInOneCellAndDuplicates", GPU),
     ("test_point_grid", "PointGrid.NoPointsAndOnePoint", GPU),
     ("test_point_grid", "PointGrid.GivenGeometryMatchesBruteForce", GPU),
+    ("test_point_grid", "PointGrid.GroupsApartHaveTheGeometryAndOrderOfEachGroupAlone", GPU),
     ("test_neighbors", "Neighbors.LatticeAtExactlyTheRadius", GPU),
     ("test_neighbors", "Neighbors.SparseSwarmNearestSearchesFar", GPU),  # three swarms in one process
     ("test_capi", "CApi.StepMovesBallisticallyAndCounts", GPU),  # no model: integrate_ballistic
@@ -98,6 +99,10 @@ CASES = [
     ("test_force_model", "ForceTerms.InteractionZonesMatchBruteForce", GPU),
     ("test_force_model", "ForceModel.MinDistanceMatchesItsReference", GPU),
     ("test_force_model", "ForceModel.WideKernelMatchesTheScalarOne", CPU),
+    # The force model's world kernels (-DSWCL_WORLDS): offsets, the fine
+    # grid per world (point_grid groups apart), MDE per world.
+    ("test_force_worlds", "ForceWorlds.SmallWorldsAreBitwiseTheSwarmsAlone", GPU),
+    ("test_force_worlds", "ForceWorlds.SmallWorldsAreBitwiseTheSwarmsAlone", CPU),
     ("test_force_obstacles", "ForceMeshObstacles.InsectsJustInsideABoxMeshAreOutsideAfterTheNextStep", GPU),
     # The path model (signed distance, baked and rebaked noise, both widths).
     ("test_path_chasing", "PathChasing.SmallGridsMovingTheTargetMatchesAFreshBuildAtWidths1And16", GPU),

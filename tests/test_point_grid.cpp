@@ -10,6 +10,7 @@
 #include <cstring>
 #include <numeric>
 #include <random>
+#include <string>
 
 #include "spatial/point_grid.hpp"
 #include "spatial/radix_sort.hpp"
@@ -110,6 +111,62 @@ TEST(PointGrid, GroupsKeepTheirPointsApartAndMatchBruteForce) {
     // Groups that do not split the points evenly are refused.
     EXPECT_THROW(grid.build_groups(pts, kGroups * kPer, 4, 0.0f), Error);
     EXPECT_THROW(grid.build_groups(pts, kGroups * kPer, 0, 0.0f), Error);
+}
+
+// Groups apart (the force model's worlds), each at its own smallest cell:
+// each group gets the geometry,
+// sorted slots and cell ranges it gets built alone, bit for bit, at the key
+// stride max_cells(n / groups); a cell's range is the group's sorted
+// positions, offset by the group's first.
+TEST(PointGrid, GroupsApartHaveTheGeometryAndOrderOfEachGroupAlone) {
+    auto ctx = shared_context();
+    constexpr uint32_t kGroups = 4, kPer = 301;
+    const uint32_t stride = PointGrid::max_cells(kPer);
+    std::vector<float> xyz;
+    for (uint32_t k = 0; k < kGroups; ++k) {  // boxes of different sizes and places
+        const std::vector<float> p = random_points(kPer, -1.0f - float(k), 1.0f + 0.5f * float(k), 60 + k);
+        xyz.insert(xyz.end(), p.begin(), p.end());
+    }
+    const auto pts = upload_points(*ctx, xyz);
+    PointGrid grid(*ctx);
+    const std::vector<float> min_cells{0.05f, 0.3f, 0.0f, 0.12f};  // R_rep of each world
+    grid.build_groups_apart(pts, kGroups * kPer, min_cells);
+    std::vector<cl_float4> geo(2 * kGroups);
+    grid.geometry().download(*ctx, geo.data(), geo.size());
+    std::vector<cl_uint> slots(kGroups * kPer), start(size_t(kGroups) * stride + 1);
+    grid.sorted_slots().download(*ctx, slots.data(), slots.size());
+    grid.cell_start().download(*ctx, start.data(), start.size());
+    for (uint32_t k = 0; k < kGroups; ++k) {
+        SCOPED_TRACE("group " + std::to_string(k));
+        const std::vector<float> own(xyz.begin() + 3 * size_t(k) * kPer, xyz.begin() + 3 * size_t(k + 1) * kPer);
+        const auto own_pts = upload_points(*ctx, own);
+        PointGrid alone(*ctx);
+        alone.build(own_pts, kPer, min_cells[k]);
+        const RawGeometry a = read_raw_geometry(*ctx, alone);
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_EQ(geo[2 * k].s[c], a.origin[c]);
+            int d;
+            std::memcpy(&d, &geo[2 * k + 1].s[c], sizeof(int));
+            EXPECT_EQ(d, a.dims[c]);
+        }
+        EXPECT_EQ(geo[2 * k].s[3], a.inv_cell);
+        uint32_t w;
+        std::memcpy(&w, &geo[2 * k + 1].s[3], sizeof(w));
+        EXPECT_EQ(w, stride);
+        EXPECT_LE(a.cells, stride);
+        std::vector<cl_uint> a_slots(kPer), a_start(size_t(a.cells) + 1);
+        alone.sorted_slots().download(*ctx, a_slots.data(), kPer);
+        alone.cell_start().download(*ctx, a_start.data(), a_start.size());
+        for (uint32_t i = 0; i < kPer; ++i) ASSERT_EQ(slots[k * kPer + i], k * kPer + a_slots[i]) << i;
+        for (uint32_t c = 0; c <= a.cells; ++c) ASSERT_EQ(start[size_t(k) * stride + c], k * kPer + a_start[c]) << c;
+        // The unused keys up to the stride are empty.
+        for (uint32_t c = a.cells; c <= stride; ++c) ASSERT_EQ(start[size_t(k) * stride + c], (k + 1) * kPer) << c;
+        const GridGeometry rg = grid.read_geometry(k);
+        EXPECT_EQ(rg.origin[0], a.origin[0]);
+    }
+    // One group apart is build().
+    grid.build_groups_apart(pts, kGroups * kPer, {0.05f});
+    expect_matches_reference(*ctx, grid, xyz);
 }
 
 TEST(PointGrid, BoundingBoxGridMatchesBruteForce) {

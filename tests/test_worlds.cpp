@@ -259,8 +259,8 @@ TEST_F(Worlds, BadInputNamesTheParameterAndWorldAndChangesNothing) {
     EXPECT_NE(std::string(swcl_last_error()).find("3 per world"), std::string::npos) << swcl_last_error();
 
     // Models that do not run worlds yet say so.
-    swcl_force_model_desc fm = swcl_force_model_desc_default();
-    EXPECT_EQ(swcl_swarm_force_set_model(all, &fm), SWCL_ERROR_INVALID_ARGUMENT);
+    swcl_path_model_desc pm = swcl_path_model_desc_default();
+    EXPECT_EQ(swcl_swarm_path_set_model(all, &pm), SWCL_ERROR_INVALID_ARGUMENT);
     EXPECT_NE(std::string(swcl_last_error()).find("worlds"), std::string::npos) << swcl_last_error();
     // The field model is still in place and steps.
     EXPECT_EQ(swcl_swarm_step(all, 1), SWCL_OK) << swcl_last_error();

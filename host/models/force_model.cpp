@@ -109,9 +109,27 @@ SdfGrid force_mesh_sdf(Context& ctx, const ForceModelConfig& c) {
 }
 
 ForceModel::ForceModel(Swarm& swarm, ForceModelConfig config)
-    : config_(std::move(config)), fine_(swarm.context()) {
-    swarm.require_one_world("the force model");
+    : config_(std::move(config)),
+      worlds_(force_param_table(), config_, swarm.worlds()),
+      world_count_(swarm.worlds()),
+      fine_(swarm.context()) {
     validate(config_);
+    if (world_count_ > 1) {
+        // What the host builds once from one configuration (targets sampled
+        // from the meshes and assigned, the path's placement, the obstacles'
+        // primitives and distance grid) is not laid out per world yet.
+        const auto refuse = [&](bool has, const std::string& what) {
+            if (has)
+                fail(Status::InvalidArgument, "the force model's " + what +
+                                                  " do not run on a swarm of several worlds yet (this one has " +
+                                                  std::to_string(world_count_) +
+                                                  "); docs/architecture.md, \"Worlds\"");
+        };
+        refuse(!config_.keyframes.empty(), "target meshes (keyframes)");
+        refuse(!config_.path.empty(), "path and its shape placement");
+        refuse(!config_.obstacles.empty(), "obstacles");
+        refuse(!config_.mesh_obstacles.empty(), "mesh obstacles");
+    }
     Context& ctx = swarm.context();
     noise_ = std::make_unique<NoiseField>(ctx, config_.noise, &swarm.config().domain_min, &swarm.config().domain_max);
     // On CPU devices the explicit-width force kernel (NoiseField::width()
@@ -119,8 +137,15 @@ ForceModel::ForceModel(Swarm& swarm, ForceModelConfig config)
     width_ = noise_->width();
     // Every kernel of force_model.cl with the parameter block's slots
     // (FORCE_R_REP, ...; one program), and the block itself.
-    const std::string defines = force_param_table().device_defines("FORCE");
-    params_ = upload_param_block(ctx, force_param_table(), &config_);
+    // Worlds: -DSWCL_WORLDS only for several (world_defines), so the kernels
+    // of one world are those from before worlds; a parameter block and a
+    // noise block per world (world k's at k FORCE_FLOATS, k
+    // NOISE_BLOCK_FLOATS).
+    const std::string defines = force_param_table().device_defines("FORCE") + world_defines(world_count_);
+    const std::vector<cl_float> block = noise_->block();
+    noise_host_.reserve(block.size() * world_count_);
+    for (uint32_t k = 0; k < world_count_; ++k) noise_host_.insert(noise_host_.end(), block.begin(), block.end());
+    upload_world_blocks(ctx);
     force_k_ = noise_->kernel("force_model.cl", width_ > 1 ? "force_model_force_w" : "force_model_force", defines);
     fine_gather_k_ = noise_->kernel("force_model.cl", "force_model_fine_gather", defines);
     // One agent per work-item on every device: with a few candidates per
@@ -160,6 +185,77 @@ ForceModel::ForceModel(Swarm& swarm, ForceModelConfig config)
     prepare(swarm);
 }
 
+void ForceModel::upload_world_blocks(Context& ctx) {
+    const std::vector<float> blocks = worlds_.device_blocks();
+    params_.reserve(ctx, blocks.size(), "model parameter blocks");
+    params_.upload(ctx, blocks.data(), blocks.size());
+    noise_blocks_.reserve(ctx, noise_host_.size(), "noise parameter blocks");
+    noise_blocks_.upload(ctx, noise_host_.data(), noise_host_.size());
+    if (world_count_ > 1) {
+        std::vector<cl_float> d_min(world_count_);
+        std::vector<cl_ulong> seed(world_count_);
+        for (uint32_t k = 0; k < world_count_; ++k) {
+            d_min[k] = worlds_[k].min_distance;
+            seed[k] = worlds_[k].noise.seed;
+        }
+        mde_d_min_.reserve(ctx, world_count_, "force model MDE distances");
+        mde_d_min_.upload(ctx, d_min.data(), world_count_);
+        mde_seed_.reserve(ctx, world_count_, "force model MDE seeds");
+        mde_seed_.upload(ctx, seed.data(), world_count_);
+    }
+    blocks_current_ = true;
+}
+
+void ForceModel::set_world_param(Swarm& swarm, const std::string& key, const double* values, size_t count) {
+    // Used by the host once for every world, or selecting what runs: the
+    // same in every world (checked before anything changes).
+    static const char* const kShared[] = {"sample_seed", "min_spacing", "neighbor_k", "assignment",
+                                          "keyframe_period", "path.speed", "path.orient", "mesh_cell", "terms"};
+    const bool shared = std::find(std::begin(kShared), std::end(kShared), key) != std::end(kShared);
+    const bool noise = key.compare(0, 6, "noise.") == 0;
+    const size_t floats = noise_->block().size();
+    std::vector<float> noise_next = noise_host_;
+    const auto& domain_min = swarm.config().domain_min;
+    const auto& domain_max = swarm.config().domain_max;
+    worlds_.set(key, values, count, [&](const ForceModelConfig& changed, uint32_t k) {
+        validate(changed);  // what the table cannot say (zone order, cruise <= max speed)
+        if (shared) {
+            const std::vector<double> first = [&] {
+                std::vector<double> v;
+                const Param& row = world_param_row(force_param_table(), key);
+                for (int a = 0; a < row.components(); ++a) v.push_back(values[a]);
+                return v;
+            }();
+            for (size_t a = 0; a < first.size(); ++a)
+                if (!(values[size_t(k) * first.size() + a] == first[a]))
+                    fail(Status::InvalidArgument,
+                         "force model " + key + " cannot differ between worlds: " +
+                             (key == "terms" ? "it selects the kernels that run (the fine grid with repulsion)"
+                              : key == "sample_seed"
+                                  ? "the neighbour sample's seed is one for every world"
+                                  : "the targets, path and meshes it sets are refused on a swarm of several worlds"));
+        }
+        if (!noise) return;
+        // The noise's kernel is built once for every world: what selects it
+        // (NoiseField::defines) stays world 0's; a baked field is one grid.
+        NoiseField field(swarm.context(), changed.noise, &domain_min, &domain_max);
+        if (field.defines() != noise_->defines())
+            fail(Status::InvalidArgument, "force model " + key + " cannot differ between worlds here: it selects "
+                                          "the noise kernel (noise.type, a time scale of 0 or not, finite "
+                                          "differences and baking are the same in every world)");
+        if (changed.noise.baked)
+            fail(Status::InvalidArgument, "force model " + key + ": a baked noise field is the same in every "
+                                          "world (bake it off to vary the noise per world)");
+        const std::vector<cl_float> block = field.block();
+        std::copy(block.begin(), block.end(), noise_next.begin() + size_t(k) * floats);
+    });
+    noise_host_ = std::move(noise_next);
+    config_ = worlds_[0];
+    blocks_current_ = false;
+}
+
+std::vector<double> ForceModel::world_param(const std::string& key) const { return worlds_.get(key); }
+
 void ForceModel::prepare(Swarm& swarm) {
     const uint32_t n = swarm.agent_count();
     if (n == prepared_n_ && (n > 0 || targets_.empty())) return;
@@ -182,7 +278,7 @@ void ForceModel::prepare(Swarm& swarm) {
         targets_.push_back(make_targets(m, n, c.sample_seed + k, c.min_spacing, c.neighbor_k,
                                         same ? &targets_.back().samples : nullptr));
     }
-    force_.allocate(ctx, n, "force model forces");
+    force_.allocate(ctx, size_t(n) * world_count_, "force model forces");  // every world's
     target_of_buf_.allocate(ctx, n, "force model target_of");
     by_target_.allocate(ctx, n, "force model positions by target");
     kf_buf_.assign(targets_.size(), KeyframeBuffers{});
@@ -267,6 +363,7 @@ void ForceModel::activate(Swarm& swarm, int k) {
 }
 
 void ForceModel::enqueue_force(Swarm& swarm, uint64_t step) {
+    if (!blocks_current_) upload_world_blocks(swarm.context());
     prepare(swarm);
     const uint32_t n = swarm.agent_count();
     if (n == 0) return;
@@ -295,7 +392,7 @@ void ForceModel::enqueue_force(Swarm& swarm, uint64_t step) {
     kf.setArg(i++, swarm.velocities().get());
     kf.setArg(i++, swarm.ids().get());
     kf.setArg(i++, n);
-    i = swarm.grid().set_grid_args(kf, i);
+    i = swarm.grid().set_world_grid_args(kf, i);  // the cells of a world (unread with one)
     kf.setArg(i++, params_.get());
     kf.setArg(i++, spacing);
     kf.setArg(i++, cl_ulong(c.sample_seed));
@@ -316,19 +413,21 @@ void ForceModel::enqueue_force(Swarm& swarm, uint64_t step) {
     kf.setArg(i++, float(double(step) * dt));
     kf.setArg(i++, cl_uint(step));
     kf.setArg(i++, force_.get());
-    rep_.reserve(swarm.context(), n, "force model repulsion");
+    rep_.reserve(swarm.context(), size_t(n) * world_count_, "force model repulsion");
     fine_current_ = false;
     if (c.terms & kForceRepulsion) {  // exact, through the fine grid
         build_fine_grid(swarm);
         fine_current_ = true;
         set_args(repulsion_k_, fine_soa_.get(), fine_.sorted_slots().get(), cl_uint(n), fine_.geometry().get(),
                  fine_.cell_start().get(), params_.get(), rep_.get());
-        launch(swarm.context(), repulsion_k_, (n + width_ - 1) / width_);
+        launch_worlds(swarm.context(), repulsion_k_, (n + width_ - 1) / width_, world_count_);
     }
     kf.setArg(i++, rep_.get());
+    const cl_uint noise_at = i;
     i = noise_->set_args(kf, i);
+    kf.setArg(noise_at, noise_blocks_.get());  // the worlds' blocks (world 0's with one)
     check_arg_count(kf, i);
-    launch(swarm.context(), kf, (n + width_ - 1) / width_);
+    launch_worlds(swarm.context(), kf, (n + width_ - 1) / width_, world_count_);
 }
 
 std::vector<cl_float4> ForceModel::sample_mesh_obstacles(Swarm& swarm, const std::vector<float>& xyz) {
@@ -357,7 +456,7 @@ void ForceModel::build_fine_grid(Swarm& swarm) {
     const uint32_t n = swarm.agent_count();
     if (n != fine_n_ || !fine_soa_.get()()) {
         fine_n_ = n;
-        fine_soa_.allocate(ctx, 3 * (size_t(n) + kFineSoaPad), "force model fine grid positions");
+        fine_soa_.allocate(ctx, 3 * (size_t(n) + kFineSoaPad) * world_count_, "force model fine grid positions");
         // The pads are read, never written, by the explicit-width kernels'
         // vector loads (lanes past n, masked): zeros rather than whatever the
         // allocation held (Oclgrind reported the reads, docs/reliability.md).
@@ -365,9 +464,17 @@ void ForceModel::build_fine_grid(Swarm& swarm) {
     }
     if (n == 0) return;
     const auto& pos = swarm.positions();
-    fine_.build(pos, n, config_.r_rep);
+    if (world_count_ == 1) {
+        fine_.build(pos, n, config_.r_rep);
+    } else {
+        // Each world's cells over its own bounding box at its own R_rep: the
+        // geometry, so the order of its repulsion and MDE sums, it has alone.
+        std::vector<float> r_rep(world_count_);
+        for (uint32_t k = 0; k < world_count_; ++k) r_rep[k] = worlds_[k].r_rep;
+        fine_.build_groups_apart(pos, n * world_count_, r_rep);
+    }
     set_args(fine_gather_k_, pos.get(), fine_.sorted_slots().get(), cl_uint(n), fine_soa_.get());
-    launch(ctx, fine_gather_k_, n);
+    launch_worlds(ctx, fine_gather_k_, n, world_count_);
 }
 
 StepStages ForceModel::stages() const {
@@ -377,28 +484,47 @@ StepStages ForceModel::stages() const {
     s.own_min_distance = true;
     s.stats = true;
     s.count_empty_steps = false;
+    if (world_count_ > 1) {
+        for (uint32_t k = 0; k < world_count_; ++k) {
+            s.world_min_distance.push_back(worlds_[k].min_distance);
+            s.world_seed.push_back(worlds_[k].noise.seed);
+            s.min_distance = std::max(s.min_distance, worlds_[k].min_distance);
+        }
+    }
     return s;
 }
 
 void ForceModel::enforce_min_distance(Swarm& swarm, DeviceBuffer<cl_uint>& moved) {
     const uint32_t n = swarm.agent_count();
     Context& ctx = swarm.context();
-    fill_buffer(ctx, moved.get(), cl_uint(0), 0, sizeof(cl_uint));
+    fill_buffer(ctx, moved.get(), cl_uint(0), 0, sizeof(cl_uint) * world_count_);  // moved[k]: this pass
     if (n == 0) return;
     // The fine grid of this step's forces, built before the Newton step
     // moved each agent by at most max_speed dt (force_model_mde), or one of
     // the current positions.
     float slack = 0.0f;
     if (fine_current_) {
-        slack = 1.001f * config_.max_speed * swarm.config().dt;
+        // Worlds: the largest max_speed bounds every world's move; a wider
+        // box adds only candidates that fail the distance test and keeps the
+        // order of the others (rows, then slots), so each world's sums are
+        // those it has alone.
+        float max_speed = config_.max_speed;
+        for (uint32_t k = 1; k < world_count_; ++k) max_speed = std::max(max_speed, worlds_[k].max_speed);
+        slack = 1.001f * max_speed * swarm.config().dt;
     } else {
         build_fine_grid(swarm);
     }
     fine_current_ = false;
-    set_args(mde_k_, swarm.positions().get(), swarm.ids().get(), cl_uint(n), fine_.geometry().get(),
-             fine_.cell_start().get(), fine_.sorted_slots().get(), config_.min_distance, slack,
-             cl_ulong(config_.noise.seed), swarm.scratch().get(), moved.get());
-    launch(ctx, mde_k_, n);
+    if (world_count_ == 1) {
+        set_args(mde_k_, swarm.positions().get(), swarm.ids().get(), cl_uint(n), fine_.geometry().get(),
+                 fine_.cell_start().get(), fine_.sorted_slots().get(), config_.min_distance, slack,
+                 cl_ulong(config_.noise.seed), swarm.scratch().get(), moved.get());
+    } else {
+        set_args(mde_k_, swarm.positions().get(), swarm.ids().get(), cl_uint(n), fine_.geometry().get(),
+                 fine_.cell_start().get(), fine_.sorted_slots().get(), mde_d_min_.get(), slack, mde_seed_.get(),
+                 swarm.scratch().get(), moved.get());
+    }
+    launch_worlds(ctx, mde_k_, n, world_count_);
     swarm.swap_positions_with_scratch();
 }
 
@@ -420,7 +546,7 @@ void ForceModel::advance(Swarm& swarm, uint64_t step) {
     set_args(integrate_k_, swarm.positions().get(), swarm.velocities().get(), force_.get(), cl_uint(n),
              swarm.config().dt, params_.get(), prims_.get(), cl_uint(nprims_), has_mesh, mesh_phi_.get(),
              mesh_dims_arg(mesh_grid_), mesh_origin_arg(mesh_grid_));
-    launch(ctx, integrate_k_, n);
+    launch_worlds(ctx, integrate_k_, n, world_count_);
     swarm.positions_changed();
 }
 

@@ -15,6 +15,7 @@
 
 #include "fields/noise_field.hpp"
 #include "fields/sdf.hpp"
+#include "params/world_params.hpp"
 #include "shapes/bspline_path.hpp"
 #include "shapes/shape_sampling.hpp"
 #include "spatial/point_grid.hpp"
@@ -106,10 +107,23 @@ SdfGrid force_mesh_sdf(Context& ctx, const ForceModelConfig& config);
 
 class ForceModel : public Behavior {
 public:
+    // Every world of the swarm starts with `config`.  A swarm of several
+    // worlds (docs/architecture.md, "Worlds") runs the internal forces,
+    // curl noise and MDE per world; target meshes (keyframes), a path,
+    // obstacles and mesh obstacles are refused there (InvalidArgument).
     ForceModel(Swarm& swarm, ForceModelConfig config);
 
     void advance(Swarm& swarm, uint64_t step) override;
+    // World 0's configuration (the swarm's, with one world).
     const ForceModelConfig& config() const { return config_; }
+
+    // Per world: the table's parameters but those that choose a kernel or
+    // what it runs (the noise's kernel, terms, baking) or that only the
+    // host uses once for every world (sample_seed and the target, path and
+    // mesh parameters), which are refused when they differ between worlds.
+    void set_world_param(Swarm& swarm, const std::string& key, const double* values, size_t count) override;
+    std::vector<double> world_param(const std::string& key) const override;
+    std::vector<std::string> varied_world_params() const override { return worlds_.varied_keys(); }
 
     // MDE at min_distance (keyed by the noise seed) on the fine grid, step
     // statistics; a step without agents is not counted.
@@ -158,11 +172,20 @@ private:
     // its sorted copy of them (docs/force-model.md, "the fine grid").
     void build_fine_grid(Swarm& swarm);
 
-    ForceModelConfig config_;
+    void upload_world_blocks(Context& ctx);
+
+    ForceModelConfig config_;  // world 0's (worlds_[0])
+    WorldConfigs<ForceModelConfig> worlds_;
+    uint32_t world_count_ = 1;
     std::unique_ptr<NoiseField> noise_;
     std::optional<BSplinePath> path_;
     cl::Kernel force_k_, integrate_k_, project_k_, scatter_k_;
-    DeviceBuffer<cl_float> params_;  // force_param_table()'s device block
+    DeviceBuffer<cl_float> params_;  // force_param_table()'s device block, one per world
+    DeviceBuffer<cl_float> noise_blocks_;  // NoiseField::block() of each world
+    std::vector<cl_float> noise_host_;     // noise_blocks_' contents
+    DeviceBuffer<cl_float> mde_d_min_;     // worlds: each world's min_distance
+    DeviceBuffer<cl_ulong> mde_seed_;      // worlds: each world's noise.seed
+    bool blocks_current_ = false;
     uint32_t width_ = 1;  // agents per work-item of force_k_
     uint32_t prepared_n_ = 0;
     std::vector<ShapeTargets> targets_;  // per keyframe
@@ -189,7 +212,7 @@ private:
     bool fine_current_ = false;  // built by this step's enqueue_force, slots unchanged since
     uint32_t fine_n_ = 0;        // agents fine_soa_ is laid out for
     DeviceBuffer<cl_float4> rep_;  // repulsion sums by slot
-    DeviceBuffer<cl_float> fine_soa_;
+    DeviceBuffer<cl_float> fine_soa_;  // world k's blocks at k 3 (n + pad)
 };
 
 }  // namespace swarmcl

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cstring>
+#include <string>
+#include <vector>
 
 #include "core/error.hpp"
 
@@ -20,7 +22,7 @@ PointGrid::PointGrid(Context& ctx) : ctx_(ctx) {
     keys_k_ = ctx.kernel("point_grid.cl", "point_grid_keys");
     starts_k_ = ctx.kernel("point_grid.cl", "point_grid_starts");
     part_.allocate(ctx, 2 * kBoundsChunks, "point grid bounds");
-    geo_.allocate(ctx, 2, "point grid geometry");
+    geo_.allocate(ctx, 2, "point grid geometry");  // 2 per group in build_groups_apart
     count_.allocate(ctx, 1, "point grid count");
 }
 
@@ -49,20 +51,49 @@ void PointGrid::build(const DeviceBuffer<cl_float4>& points, uint32_t n, float m
 }
 
 void PointGrid::build_groups(const DeviceBuffer<cl_float4>& points, uint32_t n, uint32_t groups, float min_cell) {
+    build_bounded(points, n, groups, min_cell, nullptr);
+}
+
+void PointGrid::build_groups_apart(const DeviceBuffer<cl_float4>& points, uint32_t n,
+                                   const std::vector<float>& min_cells) {
+    require(!min_cells.empty(), "point grid: groups apart need a cell size per group");
+    build_bounded(points, n, uint32_t(min_cells.size()), min_cells[0], &min_cells);
+}
+
+void PointGrid::build_bounded(const DeviceBuffer<cl_float4>& points, uint32_t n, uint32_t groups, float min_cell,
+                              const std::vector<float>* apart_min_cells) {
     require(groups >= 1 && n % groups == 0, "point grid: the groups must split the points evenly");
     const uint32_t cells = max_cells(n / groups);
     require(uint64_t(cells) * groups <= kMaxCells, "point grid: too many groups of cells for 32-bit keys");
     groups_ = groups;
+    // One group apart is build(): the same chunks, geometry and keys.
+    apart_ = apart_min_cells && groups > 1;
     reserve(n, cells * groups);
-    set_args(bounds_k_, points.get(), n, kBoundsChunks, part_.get());
-    launch(ctx_, bounds_k_, kBoundsChunks);
-    set_args(geometry_k_, part_.get(), kBoundsChunks, min_cell, cells, geo_.get());
-    launch(ctx_, geometry_k_, 1);
+    const uint32_t boxes = apart_ ? groups : 1;
+    part_.reserve(ctx_, size_t(2) * kBoundsChunks * boxes, "point grid bounds");
+    geo_.reserve(ctx_, size_t(2) * boxes, "point grid geometry");
+    if (apart_ && (*apart_min_cells != min_cells_host_ || !min_cells_.get()())) {
+        // Uploaded when they change only (an upload waits for the queue).
+        min_cells_host_ = *apart_min_cells;
+        min_cells_.allocate(ctx_, groups, "point grid cell sizes");
+        min_cells_.upload(ctx_, min_cells_host_.data(), groups);
+    }
+    set_args(bounds_k_, points.get(), n, kBoundsChunks, boxes, part_.get());
+    launch(ctx_, bounds_k_, size_t(kBoundsChunks) * boxes);
+    // Without groups apart the cell sizes are not read (part_ binds the slot).
+    if (apart_) {
+        set_args(geometry_k_, part_.get(), kBoundsChunks, min_cell, min_cells_.get(), cells, boxes, cl_uint(cells),
+                 geo_.get());
+    } else {
+        set_args(geometry_k_, part_.get(), kBoundsChunks, min_cell, part_.get(), cells, boxes, cl_uint(0u), geo_.get());
+    }
+    launch(ctx_, geometry_k_, boxes);
     sort_and_count(points);
 }
 
 void PointGrid::build(const DeviceBuffer<cl_float4>& points, uint32_t n, const GridGeometry& g) {
     groups_ = 1;
+    apart_ = false;
     reserve(n, g.cell_count());
     const cl_int cells = cl_int(g.cell_count());
     cl_float4 geo[2] = {{{g.origin[0], g.origin[1], g.origin[2], 1.0f / g.cell}}, {}};
@@ -77,7 +108,8 @@ void PointGrid::sort_and_count(const DeviceBuffer<cl_float4>& points) {
     sorted_key_ = &key_[0];
     sorted_slot_ = &slot_[0];
     if (n > 0) {
-        set_args(keys_k_, points.get(), n, n / groups_, geo_.get(), key_[0].get(), slot_[0].get(), count_.get());
+        set_args(keys_k_, points.get(), n, n / groups_, cl_uint(apart_ ? 1u : 0u), geo_.get(), key_[0].get(),
+                 slot_[0].get(), count_.get());
         launch(ctx_, keys_k_, n);
         RadixSort::Columns a{&key_[0], &slot_[0], nullptr}, b{&key_[1], &slot_[1], nullptr};
         radix_->sort(count_, a, b);
@@ -88,9 +120,11 @@ void PointGrid::sort_and_count(const DeviceBuffer<cl_float4>& points) {
     launch(ctx_, starts_k_, size_t(n) + 1);
 }
 
-GridGeometry PointGrid::read_geometry() {
-    cl_float4 geo[2];
-    geo_.download(ctx_, geo, 2);
+GridGeometry PointGrid::read_geometry(uint32_t group) {
+    require(group == 0 || (apart_ && group < groups_), "point grid: no geometry of group " + std::to_string(group));
+    std::vector<cl_float4> all(size_t(2) * (apart_ ? groups_ : 1));
+    geo_.download(ctx_, all.data(), all.size());
+    const cl_float4* geo = all.data() + size_t(2) * group;
     GridGeometry g;
     for (int a = 0; a < 3; ++a) {
         g.origin[size_t(a)] = geo[0].s[a];

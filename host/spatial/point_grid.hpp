@@ -12,6 +12,7 @@
 #pragma once
 #include <cstdint>
 #include <optional>
+#include <vector>
 
 #include "device/buffer.hpp"
 #include "device/context.hpp"
@@ -36,6 +37,16 @@ public:
     // cell_start(), and its sorted positions [g n / groups, (g + 1) n /
     // groups).  groups = 1 is build(points, n, min_cell).
     void build_groups(const DeviceBuffer<cl_float4>& points, uint32_t n, uint32_t groups, float min_cell);
+    // Groups each with the geometry of its own points' bounding box and cell
+    // edge >= min_cells[g], the one build(group's points, n / groups,
+    // min_cells[g]) gives the group alone, so
+    // a query walks a group's cells in the order it would alone (the force
+    // model's worlds sum their repulsion in that order).  Group g's geometry
+    // is geometry()[2 g], [2 g + 1], whose w is the key stride
+    // max_cells(n / groups), the same for every group (>= each product of
+    // dims): group g's cells are the keys [g stride, (g + 1) stride) of
+    // cell_start(), its sorted positions [g n / groups, (g + 1) n / groups).
+    void build_groups_apart(const DeviceBuffer<cl_float4>& points, uint32_t n, const std::vector<float>& min_cells);
     // The given cells (points outside are clamped into the border cells).
     void build(const DeviceBuffer<cl_float4>& points, uint32_t n, const GridGeometry& geometry);
 
@@ -53,18 +64,24 @@ public:
     // Cell c holds the sorted positions [start[c], start[c + 1]) (group g's
     // cell c: start[g cells + c]).
     DeviceBuffer<cl_uint>& cell_start() { return start_; }
-    // The last build's geometry, read back (waits for the device).
-    GridGeometry read_geometry();
+    // The last build's geometry (group g's of build_groups_apart; its key
+    // stride is not kept), read back (waits for the device).
+    GridGeometry read_geometry(uint32_t group = 0);
 
 private:
     void reserve(uint32_t n, uint32_t keys);
     void sort_and_count(const DeviceBuffer<cl_float4>& points);
+    void build_bounded(const DeviceBuffer<cl_float4>& points, uint32_t n, uint32_t groups, float min_cell,
+                       const std::vector<float>* apart_min_cells);
 
     Context& ctx_;
     uint32_t n_ = 0, keys_ = 0, groups_ = 1;
+    bool apart_ = false;  // build_groups_apart: a geometry per group
     bool allocated_ = false;
     std::optional<RadixSort> radix_;  // its digits follow the cell count
     DeviceBuffer<cl_float4> part_, geo_;  // part_: per-chunk bounding boxes
+    DeviceBuffer<cl_float> min_cells_;    // build_groups_apart's, as uploaded
+    std::vector<float> min_cells_host_;
     DeviceBuffer<cl_uint> key_[2], slot_[2], count_, start_;
     DeviceBuffer<cl_uint>*sorted_key_ = &key_[0], *sorted_slot_ = &slot_[0];
     cl::Kernel bounds_k_, geometry_k_, keys_k_, starts_k_;

@@ -15,10 +15,22 @@
 __kernel void SWCL_KERNEL(force_model_force)(FM_FORCE_PARAMS) {
     const uint base = get_global_id(0) * SWCL_BW;
     if (base >= n) return;
+#ifdef SWCL_WORLDS
+    // World get_global_id(1) (force_model.cl, "worlds"): its agents, forces,
+    // repulsion sums, parameter and noise blocks; the grid's view of its
+    // cells.  Targets are refused on worlds (the host), so not offset.
+    FM_WORLD_AGENTS(pos)
+    FM_WORLD_AGENTS(vel)
+    FM_WORLD_AGENTS(ids)
+    FM_WORLD_AGENTS(force)
+    FM_WORLD_AGENTS(rep_in)
+    FM_WORLD_PARAMS(params)
+    noise_block += get_global_id(1) * NOISE_BLOCK_FLOATS;
+#endif
     swcl_bf px, py, pz, ux, uy, uz;
     SWCL_BFN(fm_load_xyz)(pos, base, n, &px, &py, &pz);
     SWCL_BFN(fm_load_xyz)(vel, base, n, &ux, &uy, &uz);
-    const Grid g = GRID_MAKE();
+    const Grid g = GRID_MAKE_WORLD(n);
     // The parameter block as the arguments they replace: the zone radii and
     // sigma = omega sqrt(A/N) (Eq. 5); the weights of Eq. 2 and 6; alpha,
     // w_con and the distance scale (0: 2 sqrt(A/N)).

@@ -19,7 +19,13 @@ __kernel void SWCL_KERNEL(force_model_repulsion)(__global const float* fine_soa,
                                                  __global float4* rep_out) {
     const uint base = get_global_id(0) * SWCL_BW;
     if (base >= n) return;
-    const Grid fg = fm_fine_grid(fine_geo, fine_start);
+    // Worlds: the world's fine cells, sorted copy and parameters
+    // (force_model.cl); rep_out is by slot of the swarm, as fine_slot.
+    FM_FINE_WORLD_VIEW(fine_geo, fine_start, fine_slot)
+    FM_SOA_WORLD(fine_soa)
+    FM_WORLD_PARAMS(params)
+    Grid fg = fm_fine_grid(fine_geo, fine_start);
+    FM_FINE_SLOT_BASE(fg)
     const uint stride = n + FM_SOA_PAD;
     // FM_SOA_PAD >= SWCL_W - 1 readable floats after each block.
     const swcl_bf px = SWCL_BVLOAD(fine_soa + base), py = SWCL_BVLOAD(fine_soa + stride + base),

@@ -111,6 +111,26 @@ def test_a_generation_as_worlds_scores_as_its_runs_alone(ctx, real):
     assert other.world_keys is None
 
 
+def test_a_force_model_generation_as_worlds_scores_as_its_runs_alone(ctx, real):
+    # The force model runs worlds too (its internal forces, curl noise and
+    # MDE): a generation varying r_rep and w_ali scores as its runs alone; a
+    # force scenario with target meshes keeps one swarm a run (refused on
+    # worlds).
+    force = json.loads(json.dumps(SCENARIO))
+    force["model"] = {"type": "force", "r_rep": 0.1, "r_ali": 0.3, "r_att": 0.6, "max_speed": 0.5,
+                      "cruise_speed": 0.2, "min_distance": 0.02}
+    params = swarmcl.load_ranges({"model.r_rep": [0.05, 0.2], "model.w_ali": [0.5, 3.0]}, force)
+    worlds = swarmcl.fitting.PopulationEvaluator(force, params, real, ctx, steps=40, seeds=2)
+    alone = swarmcl.fitting.PopulationEvaluator(force, params, real, ctx, steps=40, seeds=2, worlds=False)
+    assert worlds.world_keys == ["r_rep", "w_ali"] and alone.world_keys is None
+    pop = [list(u) for u in np.random.default_rng(5).uniform(size=(4, 2))]
+    a, b = worlds(pop), alone(pop)
+    assert a == b and len(set(a)) == 4
+    shaped = json.loads(json.dumps(force))
+    shaped["model"]["keyframes"] = [{"frame": 0, "shape": "sphere"}]
+    assert swarmcl.fitting.PopulationEvaluator(shaped, params, real, ctx, steps=40).world_keys is None
+
+
 def test_the_scale_penalty_is_the_mean_wasserstein_distance_in_real_spreads(ctx, real, truth):
     # Host path (exact): the penalised score is E - λ P, P recomputed here
     # from the same run's frames; the true parameters are 0 away, a slower

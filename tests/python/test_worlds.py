@@ -74,8 +74,10 @@ def test_bad_world_input_names_parameter_and_world(ctx):
         with pytest.raises(swarmcl.InvalidArgumentError, match="no parameter 'nope'"):
             s.set_world_param("nope", [1, 2, 3])
         np.testing.assert_array_equal(s.world_param("noise.scale"), before)
+        # A model that does not run worlds yet says so (the force model runs
+        # them: test_force_model_worlds_are_the_swarms_alone).
         with pytest.raises(swarmcl.InvalidArgumentError, match="worlds"):
-            s.set_force_model(swarmcl.ForceModel())
+            s.set_path_model(swarmcl.PathModel())
 
 
 def test_metrics_of_each_world_are_those_of_the_swarm_alone(ctx):
@@ -115,3 +117,29 @@ def test_metrics_of_each_world_are_those_of_the_swarm_alone(ctx):
     assert worlds[0].info("speed")["mean"] != worlds[2].info("speed")["mean"]
     for w in worlds:
         w.close()
+
+
+def test_force_model_worlds_are_the_swarms_alone(ctx):
+    # The force model on worlds (issue 25): each world, with its own seed,
+    # r_rep and min_distance, bitwise its swarm alone.
+    n, steps = 90, 15
+    r_rep, d_min = [0.08, 0.05, 0.12, 0.06], [0.03, 0.0, 0.05, 0.04]
+
+    def force(k):
+        return swarmcl.ForceModel(r_rep=r_rep[k], r_ali=0.2, r_att=0.4, min_distance=d_min[k])
+
+    with swarmcl.Swarm(ctx, agent_count=n, domain=DOMAIN, interaction_radius=0.2, dt=0.02,
+                       worlds=len(SEEDS), world_seeds=SEEDS) as s:
+        s.set_force_model(force(0))
+        s.set_world_param("r_rep", r_rep)
+        s.set_world_param("min_distance", d_min)
+        s.step(steps)
+        pos, vel = s.positions, s.velocities
+        with pytest.raises(swarmcl.InvalidArgumentError, match="terms cannot differ between worlds"):
+            s.set_world_param("terms", [63, 62, 63, 63])
+    for k, seed in enumerate(SEEDS):
+        with swarmcl.Swarm(ctx, agent_count=n, domain=DOMAIN, interaction_radius=0.2, dt=0.02, seed=seed) as one:
+            one.set_force_model(force(k))
+            one.step(steps)
+            assert pos[k].tobytes() == one.positions.tobytes()
+            assert vel[k].tobytes() == one.velocities.tobytes()

@@ -175,6 +175,19 @@ def _with_values(scenario: dict, params: Sequence[Parameter], u) -> dict:
     return doc
 
 
+def world_model(scenario) -> bool:
+    """Whether the scenario's model runs a swarm of worlds
+    (PopulationEvaluator.WORLD_MODELS): the force model refuses worlds with
+    target meshes (keyframes), a path or obstacles (docs/architecture.md,
+    "Worlds"), which its host builds once for every world."""
+    model = scenario.get("model", {}) if isinstance(scenario, dict) else {}
+    if not isinstance(model, dict) or model.get("type", "field") not in PopulationEvaluator.WORLD_MODELS:
+        return False
+    if model.get("type") == "force":
+        return not (model.get("keyframes") or model.get("path") or scenario.get("obstacles"))
+    return True
+
+
 class PopulationEvaluator:
     """Scores a population (a list of points in [0, 1]^d): every individual's
     scenario is made into a swarm on one context, and all the swarms are
@@ -235,14 +248,14 @@ class PopulationEvaluator:
         # share of the cores.
         self.threads = os.cpu_count() or 1
 
-    #: The models whose swarms run worlds.
-    WORLD_MODELS = ("field",)
+    #: The models whose swarms run worlds (the force model without target
+    #: meshes, a path or obstacles: world_model below).
+    WORLD_MODELS = ("field", "force")
 
     def _world_keys(self) -> Optional[List[str]]:
         """The table key of each fitted parameter when the generation can run
         as worlds; None otherwise."""
-        model = self.scenario.get("model", {}) if isinstance(self.scenario, dict) else {}
-        if not isinstance(model, dict) or model.get("type", "field") not in self.WORLD_MODELS:
+        if not world_model(self.scenario):
             return None
         keys = []
         for p in self.params:

@@ -29,8 +29,8 @@ import numpy as np
 from ._core import Context, Scenario
 from .errors import SwarmclError
 from .evaluation import METRICS, Metrics, distances, score, wasserstein
-from .fitting import (PopulationEvaluator, _check_against_table, _context_for_rank, _table_row,
-                      add_track_options, mpi_comm, numeric_param, track_window)
+from .fitting import (_check_against_table, _context_for_rank, _table_row,
+                      add_track_options, mpi_comm, numeric_param, track_window, world_model)
 
 __all__ = ["load_grid", "sweep"]
 
@@ -129,9 +129,7 @@ class _Runner:
             if every is None else int(every)
         self.warmup = int(warmup)
         self.bins, self.half_width, self.robust = bins, half_width, robust
-        model = scenario.get("model", {})
-        self.worlds = (isinstance(model, dict) and model.get("type", "field") in PopulationEvaluator.WORLD_MODELS
-                       and all(_table_row(scenario, k)[1] is not None for k in keys))
+        self.worlds = world_model(scenario) and all(_table_row(scenario, k)[1] is not None for k in keys)
 
     def run(self, rows: List[List[float]]) -> List[dict]:
         if not rows:

@@ -1,0 +1,229 @@
+// The force model on a swarm of worlds (issue 25; docs/architecture.md,
+// "Worlds"): W worlds stepped by the same launches give, world by world,
+// bitwise the runs of the same force-model swarms alone (positions,
+// velocities, MDE counts), with per-world seeds and parameters, including
+// the repulsion radius (each world's fine grid has the geometry it has
+// alone) and the MDE distance; a checkpoint resumes them bitwise; bad input
+// gets a status naming the parameter and world and changes nothing; what
+// does not run in worlds (target meshes, obstacles) is refused by name.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "swarmcl/swarmcl.h"
+
+namespace {
+
+constexpr uint32_t kWorlds = 4;
+constexpr uint32_t kAgents = 301;  // not a multiple of any lane count
+const uint64_t kSeeds[kWorlds] = {5, 17, 29, 0x9876543210ull};
+
+// Per world: r_rep, min_distance (0: no MDE in world 2), w_ali, noise.seed,
+// max_speed.  r_rep is large enough that agents sum several repulsion
+// neighbours, whose order the fine grid's cells set: built with one cell
+// size (0.5 m) for every world instead of each world's own, worlds 0, 2 and
+// 3 differed from their swarms alone here.
+const double kRRep[kWorlds] = {0.2, 0.12, 0.3, 0.16};
+const double kMinDistance[kWorlds] = {0.03, 0.05, 0.0, 0.04};
+const double kWAli[kWorlds] = {3.0, 1.0, 0.5, 2.0};
+const double kNoiseSeed[kWorlds] = {1, 2, 3, 4000000000.0};
+const double kMaxSpeed[kWorlds] = {0.75, 0.5, 1.0, 0.6};
+
+class ForceWorlds : public ::testing::Test {
+protected:
+    void SetUp() override {
+        swcl_context_desc d = swcl_context_desc_default();
+        ASSERT_EQ(swcl_context_create(&d, &ctx_), SWCL_OK) << swcl_last_error();
+    }
+    void TearDown() override {
+        for (swcl_swarm s : swarms_) swcl_swarm_destroy(s);
+        swcl_context_destroy(ctx_);
+    }
+    static swcl_swarm_desc desc(uint32_t worlds, uint64_t seed, const uint64_t* seeds, uint32_t agents = kAgents) {
+        swcl_swarm_desc d = swcl_swarm_desc_default();
+        d.capacity = 512;
+        d.agent_count = agents;
+        d.seed = seed;
+        for (int a = 0; a < 3; ++a) {
+            d.domain_min[a] = -1.0f;
+            d.domain_max[a] = 1.0f;
+        }
+        d.interaction_radius = 0.2f;
+        d.dt = 0.02f;
+        d.worlds = worlds;
+        d.world_seeds = seeds;
+        return d;
+    }
+    swcl_swarm make(const swcl_swarm_desc& d) {
+        swcl_swarm s{};
+        EXPECT_EQ(swcl_swarm_create(ctx_, &d, &s), SWCL_OK) << swcl_last_error();
+        swarms_.push_back(s);
+        return s;
+    }
+    // Zones a fraction of the domain (the defaults, 10 and 30 m, would see
+    // the whole swarm): every term of the internal force and MDE act.
+    static swcl_force_model_desc model(uint32_t k) {
+        swcl_force_model_desc m = swcl_force_model_desc_default();
+        m.r_rep = float(kRRep[k]);
+        m.r_ali = 0.35f;
+        m.r_att = 0.5f;
+        m.w_ali = float(kWAli[k]);
+        m.noise_seed = uint64_t(kNoiseSeed[k]);
+        m.min_distance = float(kMinDistance[k]);
+        m.max_speed = float(kMaxSpeed[k]);
+        return m;
+    }
+    static void set(swcl_swarm s, const char* name, const double* v, size_t count) {
+        ASSERT_EQ(swcl_swarm_set_world_param(s, name, v, count), SWCL_OK) << swcl_last_error();
+    }
+    static std::vector<float> read(swcl_swarm s, swcl_attribute a, size_t agents) {
+        std::vector<float> out(3 * agents);
+        EXPECT_EQ(swcl_swarm_read(s, a, out.data(), agents), SWCL_OK) << swcl_last_error();
+        return out;
+    }
+    swcl_swarm ensemble(uint32_t agents = kAgents) {
+        swcl_swarm s = make(desc(kWorlds, 0, kSeeds, agents));
+        const swcl_force_model_desc m0 = model(0);
+        EXPECT_EQ(swcl_swarm_force_set_model(s, &m0), SWCL_OK) << swcl_last_error();
+        set(s, "r_rep", kRRep, kWorlds);
+        set(s, "min_distance", kMinDistance, kWorlds);
+        set(s, "w_ali", kWAli, kWorlds);
+        set(s, "noise.seed", kNoiseSeed, kWorlds);
+        set(s, "max_speed", kMaxSpeed, kWorlds);
+        return s;
+    }
+    swcl_swarm alone(uint32_t k, uint32_t agents = kAgents) {
+        swcl_swarm s = make(desc(1, kSeeds[k], nullptr, agents));
+        const swcl_force_model_desc m = model(k);
+        EXPECT_EQ(swcl_swarm_force_set_model(s, &m), SWCL_OK) << swcl_last_error();
+        return s;
+    }
+
+    void check_bitwise(uint32_t agents, uint32_t steps, bool expect_mde);
+
+    swcl_context ctx_{};
+    std::vector<swcl_swarm> swarms_;
+};
+
+void expect_world_equal(const std::vector<float>& all, const std::vector<float>& one, uint32_t k, const char* what) {
+    const size_t per = all.size() / kWorlds;
+    ASSERT_EQ(per, one.size());
+    size_t differ = 0;
+    for (size_t i = 0; i < per; ++i) differ += std::memcmp(&all[k * per + i], &one[i], sizeof(float)) != 0;
+    EXPECT_EQ(differ, 0u) << what << " of world " << k << " differ from the swarm alone in " << differ << " of "
+                          << per << " values";
+}
+
+// Every world of the ensemble against its swarm alone after `steps` steps.
+void ForceWorlds::check_bitwise(uint32_t n, uint32_t steps, bool expect_mde) {
+    const size_t total = size_t(kWorlds) * n;
+    swcl_swarm all = ensemble(n);
+    ASSERT_EQ(swcl_swarm_step(all, steps), SWCL_OK) << swcl_last_error();
+    const std::vector<float> pos = read(all, SWCL_ATTRIBUTE_POSITION, total);
+    const std::vector<float> vel = read(all, SWCL_ATTRIBUTE_VELOCITY, total);
+    std::vector<swcl_step_stats> st(kWorlds);
+    for (auto& s : st) s.struct_size = sizeof(swcl_step_stats);
+    ASSERT_EQ(swcl_swarm_take_world_step_stats(all, st.data(), kWorlds), SWCL_OK) << swcl_last_error();
+    uint64_t moved = 0;
+    for (uint32_t k = 0; k < kWorlds; ++k) {
+        swcl_swarm one = alone(k, n);
+        ASSERT_EQ(swcl_swarm_step(one, steps), SWCL_OK) << swcl_last_error();
+        expect_world_equal(pos, read(one, SWCL_ATTRIBUTE_POSITION, n), k, "positions");
+        expect_world_equal(vel, read(one, SWCL_ATTRIBUTE_VELOCITY, n), k, "velocities");
+        swcl_step_stats s1{};
+        s1.struct_size = sizeof(s1);
+        ASSERT_EQ(swcl_swarm_take_step_stats(one, &s1), SWCL_OK);
+        EXPECT_EQ(st[k].mde_moved_total, s1.mde_moved_total) << "world " << k;
+        EXPECT_EQ(st[k].mde_moved_last, s1.mde_moved_last) << "world " << k;
+        EXPECT_EQ(st[k].steps, s1.steps) << "world " << k;
+        moved += s1.mde_moved_total;
+    }
+    if (expect_mde) EXPECT_GT(moved, 0u);  // MDE ran and moved agents
+    EXPECT_EQ(st[2].mde_moved_total, 0u);  // min_distance 0
+    EXPECT_NE(std::memcmp(pos.data(), pos.data() + 3 * n, 3 * size_t(n) * sizeof(float)), 0);
+}
+
+TEST_F(ForceWorlds, WorldsAreBitwiseTheSwarmsAlone) { check_bitwise(kAgents, 30, true); }
+
+// Small, for the Oclgrind check (scripts/oclgrind_check.py).
+TEST_F(ForceWorlds, SmallWorldsAreBitwiseTheSwarmsAlone) { check_bitwise(37, 3, false); }
+
+TEST_F(ForceWorlds, ACheckpointResumesBitwise) {
+    const size_t total = size_t(kWorlds) * kAgents;
+    swcl_swarm straight = ensemble();
+    ASSERT_EQ(swcl_swarm_step(straight, 20), SWCL_OK) << swcl_last_error();
+    swcl_swarm first = ensemble();
+    ASSERT_EQ(swcl_swarm_step(first, 8), SWCL_OK) << swcl_last_error();
+    const std::string path = ::testing::TempDir() + "swarmcl_force_worlds_checkpoint.swcl";
+    ASSERT_EQ(swcl_swarm_save(first, path.c_str()), SWCL_OK) << swcl_last_error();
+    swcl_swarm resumed{};
+    ASSERT_EQ(swcl_swarm_load(ctx_, path.c_str(), &resumed), SWCL_OK) << swcl_last_error();
+    swarms_.push_back(resumed);
+    std::remove(path.c_str());
+    std::vector<double> r_rep(kWorlds);
+    ASSERT_EQ(swcl_swarm_get_world_param(resumed, "r_rep", r_rep.data(), kWorlds, nullptr), SWCL_OK)
+        << swcl_last_error();
+    for (uint32_t k = 0; k < kWorlds; ++k) EXPECT_EQ(float(r_rep[k]), float(kRRep[k]));
+    ASSERT_EQ(swcl_swarm_step(resumed, 12), SWCL_OK) << swcl_last_error();
+    EXPECT_EQ(read(resumed, SWCL_ATTRIBUTE_POSITION, total), read(straight, SWCL_ATTRIBUTE_POSITION, total));
+    EXPECT_EQ(read(resumed, SWCL_ATTRIBUTE_VELOCITY, total), read(straight, SWCL_ATTRIBUTE_VELOCITY, total));
+    std::vector<swcl_step_stats> a(kWorlds), b(kWorlds);
+    for (uint32_t k = 0; k < kWorlds; ++k) a[k].struct_size = b[k].struct_size = sizeof(swcl_step_stats);
+    ASSERT_EQ(swcl_swarm_take_world_step_stats(resumed, a.data(), kWorlds), SWCL_OK);
+    ASSERT_EQ(swcl_swarm_take_world_step_stats(straight, b.data(), kWorlds), SWCL_OK);
+    for (uint32_t k = 0; k < kWorlds; ++k) EXPECT_EQ(a[k].mde_moved_total, b[k].mde_moved_total) << "world " << k;
+}
+
+TEST_F(ForceWorlds, BadInputNamesTheParameterAndWorldAndChangesNothing) {
+    swcl_swarm all = ensemble();
+    const auto expect_error = [&](const char* name, const std::vector<double>& v, const char* says) {
+        EXPECT_EQ(swcl_swarm_set_world_param(all, name, v.data(), v.size()), SWCL_ERROR_INVALID_ARGUMENT) << name;
+        EXPECT_NE(std::string(swcl_last_error()).find(says), std::string::npos) << swcl_last_error();
+    };
+    expect_error("r_rep", {0.1, 0.2, 0.3}, "3 values given for 4 worlds");
+    expect_error("r_rep", {0.1, 0.2, std::nan(""), 0.3}, "in world 2");
+    expect_error("min_distance", {0.1, 0.1, 0.1, -1.0}, "min_distance = -1 in world 3 is outside");
+    expect_error("w_ali", {1.0, -2.0, 1.0, 1.0}, "in world 1");
+    // What the table's rows cannot say: r_rep <= r_ali (0.2), per world.
+    expect_error("r_rep", {0.1, 0.1, 0.5, 0.1}, "world 2");
+    // What selects the kernels, or is used once for every world.
+    expect_error("terms", {63, 63, 62, 63}, "terms cannot differ between worlds");
+    expect_error("sample_seed", {1, 2, 1, 1}, "sample_seed cannot differ between worlds");
+    expect_error("noise.type", {0, 1, 0, 0}, "selects the noise kernel");
+    expect_error("no_such_parameter", {1, 2, 3, 4}, "no parameter 'no_such_parameter'");
+    // Nothing half-applied.
+    std::vector<double> r_rep(kWorlds), d_min(kWorlds);
+    ASSERT_EQ(swcl_swarm_get_world_param(all, "r_rep", r_rep.data(), kWorlds, nullptr), SWCL_OK) << swcl_last_error();
+    ASSERT_EQ(swcl_swarm_get_world_param(all, "min_distance", d_min.data(), kWorlds, nullptr), SWCL_OK);
+    for (uint32_t k = 0; k < kWorlds; ++k) {
+        EXPECT_EQ(float(r_rep[k]), float(kRRep[k]));
+        EXPECT_EQ(float(d_min[k]), float(kMinDistance[k]));
+    }
+    // The same value in every world is fine for a shared parameter.
+    const double same[kWorlds] = {7, 7, 7, 7};
+    set(all, "sample_seed", same, kWorlds);
+
+    // Target meshes and obstacles do not run in worlds: refused by name, the
+    // model in place still steps.
+    const swcl_force_model_desc m0 = model(0);
+    swcl_force_model_desc with_obstacle = m0;
+    swcl_obstacle ball{};
+    ball.type = SWCL_OBSTACLE_SPHERE;
+    ball.radius = 0.2f;
+    with_obstacle.obstacles = &ball;
+    with_obstacle.obstacle_count = 1;
+    EXPECT_EQ(swcl_swarm_force_set_model(all, &with_obstacle), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("obstacles do not run on a swarm of several worlds"),
+              std::string::npos)
+        << swcl_last_error();
+    const float path[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+    EXPECT_EQ(swcl_swarm_force_set_path(all, path, 4, 1.0f), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("path"), std::string::npos) << swcl_last_error();
+    EXPECT_EQ(swcl_swarm_step(all, 2), SWCL_OK) << swcl_last_error();
+}
+
+}  // namespace
