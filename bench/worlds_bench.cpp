@@ -3,10 +3,11 @@
 // at the same density (its domain W^(1/3) times as wide) in the same run,
 // rounds alternated.  And W swarms of N stepped one after another (what a fit
 // did before worlds), timed over fewer steps.
-//   worlds_bench [--worlds 1000] [--agents 300] [--steps 20] [--rounds 3]
-//                [--alone-worlds 64] [--json PATH]
-// The model: the field model (curl noise, a goal, MDE), the only one that
-// runs worlds so far.  Writes bench/results/worlds.json.
+//   worlds_bench [--model field|force] [--worlds 1000] [--agents 300] [--steps 20]
+//                [--rounds 3] [--alone-worlds 64] [--json PATH]
+// The model: the field model (curl noise, a goal, MDE) or the force model
+// (examples/evaluation/force_mosquito.json's zones and weights, curl noise,
+// MDE).  Writes bench/results/worlds.json (worlds_force.json).
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -20,6 +21,7 @@
 #include "bench_util.hpp"
 #include "device/context.hpp"
 #include "models/field_model.hpp"
+#include "models/force_model.hpp"
 #include "swarm/swarm.hpp"
 
 using namespace swarmcl;
@@ -45,6 +47,28 @@ FieldModelConfig model() {
     return m;
 }
 
+// examples/evaluation/force_mosquito.json's model, with MDE.
+ForceModelConfig force_model() {
+    ForceModelConfig m;
+    m.r_rep = 0.05f;
+    m.r_ali = 0.2f;
+    m.r_att = 1.0f;
+    m.w_rep = 1.0f;
+    m.w_ali = 1.0f;
+    m.w_att = 4.0f;
+    m.alpha = 0.7f;
+    m.max_speed = 1.2f;
+    m.cruise_speed = 0.3f;
+    m.noise.type = NoiseType::Curl;
+    m.noise.scale = 0.3f;
+    m.noise.gain = 1.0f;
+    m.noise.seed = 2;
+    m.min_distance = 0.03f;
+    return m;
+}
+
+bool g_force = false;  // --model force
+
 std::unique_ptr<Swarm> make(std::shared_ptr<Context> ctx, uint32_t worlds, uint32_t agents, float half,
                             uint64_t seed) {
     SwarmConfig c;
@@ -57,6 +81,10 @@ std::unique_ptr<Swarm> make(std::shared_ptr<Context> ctx, uint32_t worlds, uint3
     c.interaction_radius = 0.2f;
     c.dt = 0.01f;
     auto s = std::make_unique<Swarm>(std::move(ctx), c);
+    if (g_force) {
+        s->set_behavior(std::make_shared<ForceModel>(*s, force_model()));
+        return s;
+    }
     FieldModelConfig m = model();
     m.noise.region_min = c.domain_min;
     m.noise.region_max = c.domain_max;
@@ -79,7 +107,7 @@ double time_steps(Context& ctx, Swarm& s, int steps) {
 int main(int argc, char** argv) {
     uint32_t worlds = 1000, agents = 300, alone_worlds = 64;
     int steps = 20, rounds = 3;
-    std::string json = std::string(SWARMCL_BENCH_RESULTS_DIR) + "/worlds.json";
+    std::string json;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         const auto next = [&]() -> const char* {
@@ -89,14 +117,21 @@ int main(int argc, char** argv) {
             }
             return argv[++i];
         };
-        if (a == "--worlds") worlds = uint32_t(std::atoi(next()));
+        if (a == "--model") {
+            const std::string m = next();
+            if (m != "field" && m != "force") {
+                std::fprintf(stderr, "worlds_bench: --model field or force\n");
+                return 2;
+            }
+            g_force = m == "force";
+        } else if (a == "--worlds") worlds = uint32_t(std::atoi(next()));
         else if (a == "--agents") agents = uint32_t(std::atoi(next()));
         else if (a == "--steps") steps = std::atoi(next());
         else if (a == "--rounds") rounds = std::atoi(next());
         else if (a == "--alone-worlds") alone_worlds = uint32_t(std::atoi(next()));
         else if (a == "--json") json = next();
         else {
-            std::fprintf(stderr, "usage: worlds_bench [--worlds W] [--agents N] [--steps S] [--rounds R] "
+            std::fprintf(stderr, "usage: worlds_bench [--model field|force] [--worlds W] [--agents N] [--steps S] [--rounds R] "
                                  "[--alone-worlds K] [--json PATH]\n");
             return 2;
         }
@@ -105,15 +140,19 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "worlds_bench: worlds, agents, steps and rounds must be > 0\n");
         return 2;
     }
+    if (json.empty())
+        json = std::string(SWARMCL_BENCH_RESULTS_DIR) + (g_force ? "/worlds_force.json" : "/worlds.json");
+    const char* model_name = g_force ? "force (force_mosquito zones and weights, curl noise, MDE 0.03 m)"
+                                     : "field (curl noise, goal, MDE 0.03 m)";
     auto ctx = std::make_shared<Context>("", "");
     const auto& dev = ctx->device();
     std::printf("device: %s (%s; %u compute units); load %.1f\n", dev.device_name.c_str(), dev.platform_name.c_str(),
                 dev.compute_units, bench::load_average());
     const size_t total = size_t(worlds) * agents;
     const float big_half = kHalfSide * std::cbrt(float(worlds));
-    std::printf("field model (curl noise, goal, MDE 0.03 m): %u worlds x %u agents in [-%.1f, %.1f]^3 each, "
+    std::printf("%s model: %u worlds x %u agents in [-%.1f, %.1f]^3 each, "
                 "against one swarm of %zu agents in [-%.1f, %.1f]^3 (the same density); %d steps, %d rounds\n",
-                worlds, agents, kHalfSide, kHalfSide, total, big_half, big_half, steps, rounds);
+                model_name, worlds, agents, kHalfSide, kHalfSide, total, big_half, big_half, steps, rounds);
 
     auto ensemble = make(ctx, worlds, agents, kHalfSide, 1);
     auto single = make(ctx, 1, uint32_t(total), big_half, 1);
@@ -156,7 +195,7 @@ int main(int argc, char** argv) {
     }
     f << "{\n  \"benchmark\": \"worlds_bench\",\n  \"date\": \"" << bench::utc_now() << "\",\n"
       << "  \"device\": \"" << bench::json_escape(dev.device_name) << "\",\n  \"load_average\": "
-      << bench::load_average() << ",\n  \"model\": \"field (curl noise, goal, MDE 0.03 m)\",\n"
+      << bench::load_average() << ",\n  \"model\": \"" << model_name << "\",\n"
       << "  \"worlds\": " << worlds << ",\n  \"agents_per_world\": " << agents << ",\n  \"steps\": " << steps
       << ",\n  \"rounds\": " << rounds << ",\n  \"worlds_s_per_step\": " << bench::json_array(t_worlds, 1.0)
       << ",\n  \"one_swarm_s_per_step\": " << bench::json_array(t_single, 1.0)

@@ -89,10 +89,14 @@ def test_a_generation_as_worlds_scores_as_its_runs_alone(ctx, real):
     # score equals the one of the same run as a swarm of its own, over
     # several seeds too; and so with the metrics measured on the host.
     params = swarmcl.load_ranges(RANGES, SCENARIO)
-    worlds = swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, steps=40, seeds=2)
+    worlds = swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, steps=40, seeds=2, streamed=True)
     alone = swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, steps=40, seeds=2, worlds=False)
     assert worlds.world_keys == ["noise.gain", "goal.speed"] and alone.world_keys is None
     assert worlds.streamed and alone.streamed
+    # The default measures worlds on the host on a CPU device (faster there),
+    # on the device elsewhere.
+    default = swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, steps=40)
+    assert default.streamed == (ctx.device.type != swarmcl.DeviceType.CPU)
     pop = [list(u) for u in np.random.default_rng(3).uniform(size=(5, 2))]
     a, b = worlds(pop), alone(pop)
     assert a == b and len(set(a)) == 5
@@ -120,7 +124,7 @@ def test_a_force_model_generation_as_worlds_scores_as_its_runs_alone(ctx, real):
     force["model"] = {"type": "force", "r_rep": 0.1, "r_ali": 0.3, "r_att": 0.6, "max_speed": 0.5,
                       "cruise_speed": 0.2, "min_distance": 0.02}
     params = swarmcl.load_ranges({"model.r_rep": [0.05, 0.2], "model.w_ali": [0.5, 3.0]}, force)
-    worlds = swarmcl.fitting.PopulationEvaluator(force, params, real, ctx, steps=40, seeds=2)
+    worlds = swarmcl.fitting.PopulationEvaluator(force, params, real, ctx, steps=40, seeds=2, streamed=True)
     alone = swarmcl.fitting.PopulationEvaluator(force, params, real, ctx, steps=40, seeds=2, worlds=False)
     assert worlds.world_keys == ["r_rep", "w_ali"] and alone.world_keys is None
     pop = [list(u) for u in np.random.default_rng(5).uniform(size=(4, 2))]
@@ -129,6 +133,22 @@ def test_a_force_model_generation_as_worlds_scores_as_its_runs_alone(ctx, real):
     shaped = json.loads(json.dumps(force))
     shaped["model"]["keyframes"] = [{"frame": 0, "shape": "sphere"}]
     assert swarmcl.fitting.PopulationEvaluator(shaped, params, real, ctx, steps=40).world_keys is None
+    # The scenario's eta and rho (Eq. 4: noise.scale = rho, noise.gain =
+    # eta / rho) run as worlds too, each fitted or not, bitwise as alone.
+    force["model"].update(eta=0.3, rho=0.25, noise_time_scale=1.0)
+    for ranges, keys in (({"model.eta": [0.0, 1.0], "model.rho": [0.1, 0.6]}, ["noise.scale", "noise.gain"]),
+                         ({"model.rho": [0.1, 0.6], "model.noise_time_scale": [0.5, 2.0]},
+                          ["noise.time_scale", "noise.scale", "noise.gain"])):
+        params = swarmcl.load_ranges(ranges, force)
+        worlds = swarmcl.fitting.PopulationEvaluator(force, params, real, ctx, steps=40, streamed=False)
+        alone = swarmcl.fitting.PopulationEvaluator(force, params, real, ctx, steps=40, streamed=False, worlds=False)
+        assert worlds.world_keys == keys
+        a, b = worlds(pop), alone(pop)
+        assert a == b and len(set(a)) == 4
+    # eta fitted while the scenario leaves rho to its default: one swarm a run.
+    del force["model"]["rho"]
+    params = swarmcl.load_ranges({"model.eta": [0.0, 1.0]}, force)
+    assert swarmcl.fitting.PopulationEvaluator(force, params, real, ctx, steps=40).world_keys is None
 
 
 def test_the_scale_penalty_is_the_mean_wasserstein_distance_in_real_spreads(ctx, real, truth):

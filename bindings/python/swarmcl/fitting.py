@@ -31,6 +31,7 @@ from typing import Callable, Dict, List, Optional, Sequence
 import numpy as np
 
 from ._core import Context, Scenario, devices
+from .descriptors import DeviceType
 from .errors import SwarmclError
 from .evaluation import METRICS, Metrics, distances, entropy_weights, score, wasserstein
 from .params import model_parameters
@@ -219,10 +220,13 @@ class PopulationEvaluator:
         if not (self.scale_penalty >= 0.0 and np.isfinite(self.scale_penalty)):
             raise ValueError(f"scale_penalty: a finite number >= 0, got {scale_penalty!r}")
         self.spread = [1.4826 * real.info(k)["mad"] for k in range(len(METRICS))]
-        # streamed (the default): each run's metrics computed on the device
-        # into fine histograms (Metrics.attach, per world on a swarm of
-        # worlds; nothing per frame is read back); False: positions are read
-        # every sample and measured on the host (exact PDFs, slower).
+        # streamed True: each run's metrics computed on the device into fine
+        # histograms (Metrics.attach, per world on a swarm of worlds; nothing
+        # per frame is read back); False: positions are read every sample
+        # and measured on the host (exact PDFs).  None (the default): the
+        # host for worlds on a CPU device (there the host's threads measured
+        # faster than the device's metrics on the same cores: fit_bench,
+        # docs/evaluation.md "Speed"), else the device.
         self.streamed = True if streamed is None else bool(streamed)
         info = Scenario.parse(json.dumps(scenario)).info
         self.dt = info["dt"]
@@ -242,7 +246,10 @@ class PopulationEvaluator:
         # scenario alone, and so do its metrics (per world on the device, or
         # on the host from the frames with streamed=False), so a score equals
         # that of the run alone (tested).  worlds=False: one swarm a run.
-        self.world_keys = self._world_keys() if worlds else None
+        self._world_setters = self._setters() if worlds else None
+        self.world_keys = list(self._world_setters) if self._world_setters is not None else None
+        if streamed is None and self.world_keys is not None and context.device.type == DeviceType.CPU:
+            self.streamed = False
         # Threads measuring the worlds' metrics on the host (streamed=False;
         # the C calls run without the GIL); fit() gives each MPI rank its
         # share of the cores.
@@ -252,18 +259,43 @@ class PopulationEvaluator:
     #: meshes, a path or obstacles: world_model below).
     WORLD_MODELS = ("field", "force")
 
-    def _world_keys(self) -> Optional[List[str]]:
-        """The table key of each fitted parameter when the generation can run
-        as worlds; None otherwise."""
+    #: The force scenario's keys that stand for rows of its table
+    #: (host/scenario/force_section.cpp); eta and rho set noise.scale = rho and
+    #: noise.gain = eta / rho (Eq. 4), computed in float as the parser does.
+    FORCE_ALIASES = {"model.noise_seed": "noise.seed", "model.noise_time_scale": "noise.time_scale"}
+
+    def _setters(self) -> Optional[Dict[str, Callable[[dict], float]]]:
+        """When the generation can run as worlds: each table key to set per
+        world, with the function giving its value from an individual's
+        {path: value}; None otherwise."""
         if not world_model(self.scenario):
             return None
-        keys = []
-        for p in self.params:
-            m, row = _table_row(self.scenario, p.path)
+        model = self.scenario["model"]
+        force = model.get("type") == "force"
+        paths = [p.path for p in self.params]
+        setters = {}
+        for path in paths:
+            if force and path in ("model.eta", "model.rho"):
+                continue
+            if force and path in self.FORCE_ALIASES:
+                setters[self.FORCE_ALIASES[path]] = lambda v, path=path: v[path]
+                continue
+            m, row = _table_row(self.scenario, path)
             if row is None:
                 return None
-            keys.append(row["key"])
-        return keys
+            setters[row["key"]] = lambda v, path=path: v[path]
+        if force and ("model.eta" in paths or "model.rho" in paths):
+            eta0, rho0 = model.get("eta"), model.get("rho")
+            if "noise" in model or ("model.eta" not in paths and eta0 is None) or \
+                    ("model.rho" not in paths and rho0 is None):
+                return None  # the value the parser would default to is not in the scenario
+
+            def rho_of(v):
+                return np.float32(v.get("model.rho", rho0))
+
+            setters["noise.scale"] = lambda v: float(rho_of(v))
+            setters["noise.gain"] = lambda v: float(np.float32(v.get("model.eta", eta0)) / rho_of(v))
+        return setters
 
     def scenario_for(self, u, run: int = 0) -> dict:
         doc = _with_values(self.scenario, self.params, u)
@@ -344,8 +376,9 @@ class PopulationEvaluator:
         frames = []
         try:
             try:
-                for k, p in enumerate(self.params):
-                    swarm.set_world_param(self.world_keys[k], [p.value(u[k]) for u, _ in runs])
+                values = [{p.path: p.value(u[i]) for i, p in enumerate(self.params)} for u, _ in runs]
+                for key, value_of in self._world_setters.items():
+                    swarm.set_world_param(key, [value_of(v) for v in values])
             except SwarmclError:
                 # A value the model refuses (a cross-parameter rule): each
                 # run alone then, so only the refused ones are refused.
