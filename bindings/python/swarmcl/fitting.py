@@ -657,10 +657,11 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
     fit() with the same arguments: rank 0 returns the result, the others
     serve evaluations and return None.  The same seed gives the same result
     for any R.  A generation's runs are the worlds of one swarm where the
-    model runs worlds (the field model), else each run is a swarm of its own.
-    ``streamed`` (True or None, the default): each run's metrics on the
-    device (fine histograms, per world); False reads positions back and
-    measures them on the host (exact PDFs, slower).  ``robust``: PDFs z-scored with median
+    model runs worlds (the field and force models), else each run is a swarm
+    of its own.  ``streamed`` True: each run's metrics on the device (fine
+    histograms, per world); False reads positions back and measures them on
+    the host (exact PDFs); None (the default): the host for worlds on a CPU
+    device (the faster there), else the device.  ``robust``: PDFs z-scored with median
     and MAD; ``scale_penalty`` λ > 0 maximises E - λ P instead, P the mean
     Wasserstein-1 distance in units of the real data's spread
     (PopulationEvaluator, docs/evaluation.md).  ``seeds``: each individual
