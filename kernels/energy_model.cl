@@ -173,8 +173,27 @@ static inline emv em_closestv(float3 r0, float3 vs, emv vx, emv vy, emv vz, floa
 #define EM_OUTPUT_PARAMS __global float4 *pos_out, __global float4 *vel_out
 #endif
 #define EM_SELECT_PARAMS                                                                             \
-    EM_STATE_PARAMS, EM_DATASET_PARAMS, EM_WEIGHT_PARAMS, EM_SCENE_PARAMS, EM_PREPARED_PARAMS, GRID_PARAMS, \
+    EM_STATE_PARAMS, EM_DATASET_PARAMS, EM_WEIGHT_PARAMS, EM_SCENE_PARAMS, EM_PREPARED_PARAMS, GRID_WORLD_PARAMS, \
         NOISE_PARAMS, EM_OUTPUT_PARAMS
+
+// Worlds (docs/architecture.md, "Worlds"): with -DSWCL_WORLDS (a swarm of
+// several worlds) the kernels run over (work-items, W) and world w =
+// get_global_id(1) of n agents starts by offsetting what is per agent (its
+// slots [w n, (w + 1) n), the position planes too), its parameter and noise
+// blocks and its centre; the grid is the world's view (GRID_MAKE_WORLD).
+// The rest of each body is the one of a swarm alone, so world w is bitwise
+// that swarm.  The dataset is the same for every world (read only).
+// Keypoints are refused on worlds (host), so the goals are never read.
+#ifdef SWCL_WORLDS
+#define EM_WORLD_AGENTS(p) p += (size_t)get_global_id(1) * n;
+#define EM_WORLD_BLOCKS(params, noise, centre)                        \
+    params += (size_t)get_global_id(1) * ENERGY_FLOATS;               \
+    noise += (size_t)get_global_id(1) * NOISE_BLOCK_FLOATS;           \
+    centre += get_global_id(1);
+#else  // one world: the kernels as before worlds
+#define EM_WORLD_AGENTS(p)
+#define EM_WORLD_BLOCKS(params, noise, centre)
+#endif
 
 // energy_select's parts below are always inlined (one work-item's private
 // state stays in registers and on its stack as in one function; the split
@@ -660,6 +679,16 @@ EM_INLINE uint em_next_goal(__global const float4* kp, uint nkp, uint my_goal, f
 __kernel void energy_select(EM_SELECT_PARAMS) {
     const uint i = get_global_id(0);
     if (i >= n) return;
+    EM_WORLD_AGENTS(pos)
+    EM_WORLD_AGENTS(vel)
+    EM_WORLD_AGENTS(ids)
+    EM_WORLD_AGENTS(pxyz)
+    EM_WORLD_AGENTS(noise_pre)
+#ifndef EM_TERMS
+    EM_WORLD_AGENTS(pos_out)
+    EM_WORLD_AGENTS(vel_out)
+#endif
+    EM_WORLD_BLOCKS(params, noise_block, centre)
     // The model's parameters (host/models/energy_params.cpp lays the block out).
     const float8 w = vload8(0, params + ENERGY_WEIGHTS_REP), wd = vload8(0, params + ENERGY_DANGER_WEIGHTS_REP);
     const float4 radii = (float4)(params[ENERGY_D_REP], params[ENERGY_D_ATT1], params[ENERGY_D_ATT2], params[ENERGY_RHO]);
@@ -701,7 +730,7 @@ __kernel void energy_select(EM_SELECT_PARAMS) {
     const float8 wt = em_in_danger(&a, stim, nstim) ? wd : w;
 
     EmNeighborSums sums;
-    em_gather_neighbors(&a, i, p4, radii, &cs, pos, vel, GRID_MAKE(), pxyz, pstride, &sums);
+    em_gather_neighbors(&a, i, p4, radii, &cs, pos, vel, GRID_MAKE_WORLD(n), pxyz, pstride, &sums);
 
     EmArgmin best;
     em_argmin_init(&best);
@@ -735,11 +764,17 @@ __kernel void energy_select(EM_SELECT_PARAMS) {
 // and scalar loads per window), and with `sum` the partial sums of the swarm
 // centre (Eq. 7) without float atomics: chunk c sums slots
 // [c * chunk, (c + 1) * chunk) in order, then one work-item sums the chunks
-// in order.  Same state, same sum, on every run.
+// in order.  Same state, same sum, on every run.  Worlds: world w's
+// slots, its planes' slots and its nchunks partial sums, as alone.
 __kernel void energy_prepare(__global const float4* pos, uint n, uint chunk, uint sum, uint nchunks,
                              __global float4* partial, __global float* pxyz, uint pstride) {
     const uint c = get_global_id(0);
     if (c >= nchunks) return;
+    EM_WORLD_AGENTS(pos)
+    EM_WORLD_AGENTS(pxyz)
+#ifdef SWCL_WORLDS
+    partial += (size_t)get_global_id(1) * nchunks;
+#endif
     const uint b = c * chunk, e = min(n, b + chunk);
     float4 s = (float4)(0.0f);
     for (uint k = b; k < e; ++k) {
@@ -754,6 +789,10 @@ __kernel void energy_prepare(__global const float4* pos, uint n, uint chunk, uin
 
 __kernel void energy_centre_final(__global const float4* partial, uint chunks, __global float4* centre) {
     if (get_global_id(0) != 0) return;
+#ifdef SWCL_WORLDS
+    partial += (size_t)get_global_id(1) * chunks;  // world w's chunks, its centre
+    centre += get_global_id(1);
+#endif
     float4 s = (float4)(0.0f);
     for (uint c = 0; c < chunks; ++c) s += partial[c];
     centre[0] = s.w > 0.0f ? (float4)(s.xyz / s.w, s.w) : (float4)(0.0f);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <string>
 
 #include "core/error.hpp"
@@ -40,7 +41,30 @@ void check_keypoints(const std::vector<std::array<float, 3>>& kp) {
             require(std::isfinite(kp[k][a]), "energy model keypoints[" + std::to_string(k) + "] is not finite");
 }
 
+// launch_chunks over (chunks, worlds): world get_global_id(1)'s chunks in
+// the same order as alone (one world: launch_chunks exactly).
+void launch_chunks_worlds(Context& ctx, cl::Kernel& kernel, size_t chunks, size_t worlds) {
+    if (worlds == 1) return launch_chunks(ctx, kernel, chunks);
+    if (!chunks) return;
+    const bool cpu = ctx.device().cpu_profile;
+    ctx.queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(chunks, worlds),
+                                     cpu ? cl::NDRange(1, 1) : cl::NullRange);
+}
+
+void refuse_keypoints_on_worlds(uint32_t worlds, size_t keypoints) {
+    // The goals are kept per agent id of one swarm (goal_), and set_keypoints
+    // is one curve for the model: not laid out per world yet.
+    if (worlds > 1 && keypoints > 0)
+        fail(Status::InvalidArgument, "the energy model's keypoints do not run on a swarm of several worlds yet "
+                                      "(this one has " + std::to_string(worlds) +
+                                          "); docs/architecture.md, \"Worlds\"");
+}
+
 }  // namespace
+
+bool EnergyModel::taylor_for(const EnergyModelConfig& c, float dt) const {
+    return !c.exact_attraction && c.rho / c.d_att1 * vmax_ * dt <= 0.4f;
+}
 
 void EnergyModel::validate(const EnergyModelConfig& c) {
     // Each parameter's range from the table ("energy model weights.rep = -1
@@ -54,11 +78,15 @@ void EnergyModel::validate(const EnergyModelConfig& c) {
 }
 
 EnergyModel::EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr<const Dataset> dataset)
-    : ctx_(swarm.context()), config_(std::move(config)), dataset_(std::move(dataset)) {
-    swarm.require_one_world("the energy model");
+    : ctx_(swarm.context()),
+      config_(std::move(config)),
+      worlds_(energy_param_table(), config_, swarm.worlds()),
+      world_count_(swarm.worlds()),
+      dataset_(std::move(dataset)) {
     require(dataset_ != nullptr, "energy model: no dataset");
     dataset_->validate("energy model dataset");
     validate(config_);
+    refuse_keypoints_on_worlds(world_count_, config_.keypoints.size());
     Context& ctx = swarm.context();
     const Dataset& d = *dataset_;
     // The widest candidate range of any speed group.
@@ -76,9 +104,8 @@ EnergyModel::EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr
                                             : (d.frame_time > 0.0 ? float(d.frame_time) : 0.01f);
     noise_ = std::make_unique<NoiseField>(ctx, config_.noise, &swarm.config().domain_min,
                                           &swarm.config().domain_max);
-    float vmax = 0.0f;
-    for (const auto& v : d.v) vmax = std::max(vmax, std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
-    taylor_ = !config_.exact_attraction && config_.rho / config_.d_att1 * vmax * swarm.config().dt <= 0.4f;
+    for (const auto& v : d.v) vmax_ = std::max(vmax_, std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
+    taylor_ = taylor_for(config_, swarm.config().dt);
     // f_N for all agents at once by the noise module's explicit-width kernel
     // (noise_sample_w, width() agents per work-item) where it covers this
     // field (CPU devices; noise_->width() > 1: curl, Perlin, baked, fields
@@ -90,7 +117,8 @@ EnergyModel::EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr
     const std::string defines = noise_->defines() + " -DEM_MAX_CAND=" + std::to_string(max_cand_) +
                                 (noise_pre_ ? " -DEM_NOISE_PRE" : "") +
                                 (taylor_ ? " -DEM_TAYLOR_OA" : "") + " -DEM_KEEP_OUT=" +
-                                (config_.keep_out ? "1" : "0") + energy_param_table().device_defines("ENERGY");
+                                (config_.keep_out ? "1" : "0") + energy_param_table().device_defines("ENERGY") +
+                                world_defines(world_count_);
     select_ = ctx.kernel("energy_model.cl", "energy_select", defines);
     terms_ = ctx.kernel("energy_model.cl", "energy_select", defines + " -DEM_TERMS");
     prepare_ = ctx.kernel("energy_model.cl", "energy_prepare", defines);
@@ -129,19 +157,28 @@ EnergyModel::EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr
     group_start_.upload(ctx, d.group_start.data(), G + 1);
     group_min_speed_.allocate(ctx, G, "dataset group speeds");
     group_min_speed_.upload(ctx, gmin.data(), G);
-    centre_.allocate(ctx, 1, "swarm centre");
-    centre_.fill(ctx, cl_float4{{0, 0, 0, 0}}, 1);
-    partial_.allocate(ctx, kCentreChunks, "swarm centre partial sums");
+    // Worlds: a centre and kCentreChunks partial sums per world.
+    centre_.allocate(ctx, world_count_, "swarm centre");
+    centre_.fill(ctx, cl_float4{{0, 0, 0, 0}}, world_count_);
+    partial_.allocate(ctx, size_t(kCentreChunks) * world_count_, "swarm centre partial sums");
     capacity_ = swarm.config().capacity;
+    const size_t slots = size_t(capacity_) * world_count_;  // every world's
     // x, y, z planes of the positions, each padded by 16 slots at both ends
     // (energy_select reads 16-slot windows that may start before slot 0 or
     // end past the last agent, lanes masked); zeros, never read as positions.
-    pxyz_stride_ = capacity_ + 2 * kLanes;
+    // With worlds, world k's slots follow world k - 1's: the windows of
+    // world k may read world k - 1's last slots, masked as the padding is.
+    pxyz_stride_ = uint32_t(slots + 2 * kLanes);
     pxyz_.allocate(ctx, 3 * size_t(pxyz_stride_), "position planes");
     pxyz_.fill(ctx, 0.0f, 3 * size_t(pxyz_stride_));
-    noise_buf_.allocate(ctx, noise_pre_ ? capacity_ : 1, "noise velocities");
-    vel_out_.allocate(ctx, capacity_, "energy model velocities");
-    goal_.allocate(ctx, capacity_, "keypoint goals");
+    noise_buf_.allocate(ctx, noise_pre_ ? slots : 1, "noise velocities");
+    vel_out_.allocate(ctx, slots, "energy model velocities");
+    goal_.allocate(ctx, capacity_, "keypoint goals");  // keypoints: one world only
+    // A noise block per world (world k's at k NOISE_BLOCK_FLOATS), each
+    // world's noise parameters as set_world_param leaves them.
+    const std::vector<cl_float> block = noise_->block();
+    for (uint32_t k = 0; k < world_count_; ++k) noise_host_.insert(noise_host_.end(), block.begin(), block.end());
+    upload_noise_blocks();
     upload_params();
     set_keypoints(config_.keypoints, config_.keypoints_closed);
     set_stimuli(config_.stimuli);
@@ -154,7 +191,29 @@ void EnergyModel::reset_goals(uint32_t capacity) {
     goal_.upload(ctx_, g.data(), capacity);
 }
 
-void EnergyModel::upload_params() { params_ = upload_param_block(ctx_, energy_param_table(), &config_); }
+void EnergyModel::upload_params() {
+    if (world_count_ == 1) {
+        params_ = upload_param_block(ctx_, energy_param_table(), &config_);
+        return;
+    }
+    const std::vector<float> blocks = worlds_.device_blocks();  // world k's at k ENERGY_FLOATS
+    params_.reserve(ctx_, blocks.size(), "model parameter blocks");
+    params_.upload(ctx_, blocks.data(), blocks.size());
+}
+
+void EnergyModel::upload_noise_blocks() {
+    noise_blocks_.reserve(ctx_, noise_host_.size(), "noise parameter blocks");
+    noise_blocks_.upload(ctx_, noise_host_.data(), noise_host_.size());
+    if (world_count_ == 1 || !noise_pre_) return;
+    // noise_sample_w reads one block: each world's apart (sample_noise).
+    const size_t floats = noise_->block().size();
+    noise_world_blocks_.clear();
+    for (uint32_t k = 0; k < world_count_; ++k) {
+        DeviceBuffer<cl_float> b(ctx_, floats, "noise parameter block");
+        b.upload(ctx_, noise_host_.data() + k * floats, floats);
+        noise_world_blocks_.push_back(std::move(b));
+    }
+}
 
 void EnergyModel::set_stimuli(std::vector<Stimulus> stimuli) {
     check_stimuli(stimuli);
@@ -174,6 +233,7 @@ void EnergyModel::set_stimuli(std::vector<Stimulus> stimuli) {
 
 void EnergyModel::set_keypoints(std::vector<std::array<float, 3>> keypoints, bool closed) {
     check_keypoints(keypoints);
+    refuse_keypoints_on_worlds(world_count_, keypoints.size());
     std::vector<cl_float4> k(std::max<size_t>(1, keypoints.size()), cl_float4{{0, 0, 0, 0}});
     for (size_t i = 0; i < keypoints.size(); ++i) k[i] = {{keypoints[i][0], keypoints[i][1], keypoints[i][2], 0.0f}};
     DeviceBuffer<cl_float4> buf(ctx_, k.size(), "keypoints");
@@ -182,7 +242,11 @@ void EnergyModel::set_keypoints(std::vector<std::array<float, 3>> keypoints, boo
     config_.keypoints = std::move(keypoints);
     const bool closed_changed = config_.keypoints_closed != closed;
     config_.keypoints_closed = closed;
-    if (closed_changed) upload_params();  // keypoints_closed is in the block
+    if (closed_changed) {  // keypoints_closed is in the block: every world's
+        const std::vector<double> v(world_count_, closed ? 1.0 : 0.0);
+        worlds_.set("keypoints_closed", v.data(), v.size());
+        upload_params();
+    }
     reset_goals(capacity_);
 }
 
@@ -190,28 +254,59 @@ void EnergyModel::prepare(Swarm& swarm) {
     const uint32_t n = swarm.agent_count();
     const bool fixed = config_.has_fixed_centre;
     if (fixed && fixed_centre_n_ != n) {
-        // Uploaded again only when the agent count (w) changes: no host wait per step.
-        const auto& c = config_.fixed_centre;
-        const cl_float4 v{{c[0], c[1], c[2], float(n)}};
-        centre_.upload(ctx_, &v, 1);
+        // Uploaded again only when the agent count (w) or a world's centre
+        // changes: no host wait per step.  One per world.
+        std::vector<cl_float4> v(world_count_);
+        for (uint32_t k = 0; k < world_count_; ++k) {
+            const auto& c = worlds_[k].fixed_centre;
+            v[k] = cl_float4{{c[0], c[1], c[2], float(n)}};
+        }
+        centre_.upload(ctx_, v.data(), world_count_);
         fixed_centre_n_ = n;
     }
-    // Position planes always; the centre's partial sums unless it is fixed.
+    // Position planes always; the centre's partial sums unless it is fixed
+    // (has_fixed_centre is the same in every world).
     const uint32_t chunk = std::max<uint32_t>(1, (n + kCentreChunks - 1) / kCentreChunks);
     set_args(prepare_, swarm.positions().get(), n, chunk, cl_uint(fixed ? 0 : 1), kCentreChunks, partial_.get(),
              pxyz_.get(), cl_uint(pxyz_stride_));
-    launch_chunks(ctx_, prepare_, kCentreChunks);
+    launch_chunks_worlds(ctx_, prepare_, kCentreChunks, world_count_);
     if (fixed) return;
     set_args(centre_final_, partial_.get(), kCentreChunks, centre_.get());
-    launch(ctx_, centre_final_, 1);
+    if (world_count_ == 1)
+        launch(ctx_, centre_final_, 1);
+    else
+        launch_chunks_worlds(ctx_, centre_final_, 1, world_count_);
 }
 
 void EnergyModel::sample_noise(Swarm& swarm, uint64_t step) {
     const uint32_t n = swarm.agent_count();
     if (!noise_pre_ || !n) return;
     // Time and step as Swarm::set_step_args passes them to energy_select.
-    noise_->enqueue_sample(noise_sample_, swarm.positions(), n, float(double(step) * swarm.config().dt),
-                           uint32_t(step), noise_buf_);
+    const float t = float(double(step) * swarm.config().dt);
+    if (world_count_ == 1) {
+        noise_->enqueue_sample(noise_sample_, swarm.positions(), n, t, uint32_t(step), noise_buf_);
+        return;
+    }
+    // Worlds: each world's positions from point 0 with its own block, so
+    // noise_sample_w groups its points as alone, then into its slots.
+    const size_t bytes = size_t(n) * sizeof(cl_float4);
+    noise_pts_.reserve(ctx_, n, "noise sample points");
+    noise_one_.reserve(ctx_, n, "noise velocities");
+    for (uint32_t k = 0; k < world_count_; ++k) {
+        copy_buffer(ctx_, swarm.positions().get(), noise_pts_.get(), k * bytes, 0, bytes);
+        cl_uint i = 0;
+        noise_sample_.setArg(i++, noise_pts_.get());
+        noise_sample_.setArg(i++, cl_uint(n));
+        noise_sample_.setArg(i++, t);
+        noise_sample_.setArg(i++, cl_uint(step));
+        const cl_uint block_at = i;
+        i = noise_->set_args(noise_sample_, i);
+        noise_sample_.setArg(block_at, noise_world_blocks_[k].get());
+        noise_sample_.setArg(i++, noise_one_.get());
+        check_arg_count(noise_sample_, i);
+        launch(ctx_, noise_sample_, (size_t(n) + noise_->width() - 1) / noise_->width());
+        copy_buffer(ctx_, noise_one_.get(), noise_buf_.get(), 0, k * bytes, bytes);
+    }
 }
 
 cl_uint EnergyModel::set_common_args(cl::Kernel& k, Swarm& swarm, uint64_t step) {
@@ -241,8 +336,10 @@ cl_uint EnergyModel::set_common_args(cl::Kernel& k, Swarm& swarm, uint64_t step)
     k.setArg(i++, pxyz_.get());
     k.setArg(i++, cl_uint(pxyz_stride_));
     k.setArg(i++, noise_buf_.get());
-    i = swarm.grid().set_grid_args(k, i);
+    i = swarm.grid().set_world_grid_args(k, i);  // the cells of a world (unread with one)
+    const cl_uint noise_at = i;
     i = noise_->set_args(k, i);
+    k.setArg(noise_at, noise_blocks_.get());  // the worlds' blocks (world 0's with one)
     return i;
 }
 
@@ -250,7 +347,7 @@ void EnergyModel::launch_per_agent(cl::Kernel& k, uint32_t n) {
     // CPU devices: work-groups of at most 64 agents (launch()'s policy
     // otherwise): energy_select's private candidate state for 4096 agents
     // per group overflowed PoCL's thread stack at 100k agents.
-    launch(ctx_, k, n, 64);
+    launch_worlds(ctx_, k, n, world_count_, 64);
 }
 
 void EnergyModel::advance(Swarm& swarm, uint64_t step) {
@@ -263,11 +360,13 @@ void EnergyModel::advance(Swarm& swarm, uint64_t step) {
     select_.setArg(i++, vel_out_.get());
     check_arg_count(select_, i);
     launch_per_agent(select_, n);
-    copy_buffer(ctx_, vel_out_.get(), swarm.velocities().get(), 0, 0, size_t(n) * sizeof(cl_float4));
+    copy_buffer(ctx_, vel_out_.get(), swarm.velocities().get(), 0, 0, swarm.total_agents() * sizeof(cl_float4));
     swarm.swap_positions_with_scratch();
 }
 
 EnergyTerms EnergyModel::evaluate(Swarm& swarm, uint64_t step) {
+    // The terms are written per agent id of one swarm.
+    swarm.require_one_world("the energy model's evaluate (every term of every candidate)");
     const uint32_t n = swarm.agent_count();
     swarm.ensure_grid();
     prepare(swarm);
@@ -309,11 +408,73 @@ void EnergyModel::goals(Swarm& swarm, std::vector<int32_t>& goal, std::vector<ui
     }
 }
 
-std::array<float, 4> EnergyModel::centre(Swarm&) {
-    cl_float4 c;
-    centre_.download(ctx_, &c, 1);
-    return {c.s[0], c.s[1], c.s[2], c.s[3]};
+std::array<float, 4> EnergyModel::centre(Swarm&, uint32_t world) {
+    require(world < world_count_, "energy model centre: world " + std::to_string(world) + " of " +
+                                      std::to_string(world_count_));
+    std::vector<cl_float4> c(world_count_);
+    centre_.download(ctx_, c.data(), world_count_);
+    return {c[world].s[0], c[world].s[1], c[world].s[2], c[world].s[3]};
 }
+
+void EnergyModel::set_world_param(Swarm& swarm, const std::string& key, const double* values, size_t count) {
+    // What selects a kernel (EM_KEEP_OUT, EM_MAX_CAND from span, the noise's
+    // defines), what the host uses once for every world (accel_time is one
+    // kernel argument, bidirectional sets the goals, has_fixed_centre whether
+    // the centre is reduced at all): the same in every world, checked
+    // before anything changes.
+    static const char* const kShared[] = {"span", "keep_out", "has_fixed_centre", "accel_time", "bidirectional"};
+    const bool shared = std::find(std::begin(kShared), std::end(kShared), key) != std::end(kShared);
+    const bool noise = key.compare(0, 6, "noise.") == 0;
+    const size_t floats = noise_->block().size();
+    std::vector<cl_float> noise_next = noise_host_;
+    const auto& domain_min = swarm.config().domain_min;
+    const auto& domain_max = swarm.config().domain_max;
+    const float dt = swarm.config().dt;
+    worlds_.set(key, values, count, [&](const EnergyModelConfig& changed, uint32_t k) {
+        validate(changed);  // what the table cannot say (d_rep <= d_att1 <= d_att2)
+        if (shared) {
+            const Param& row = world_param_row(energy_param_table(), key);
+            for (int a = 0; a < row.components(); ++a)
+                if (!(values[size_t(k) * row.components() + a] == values[a]))
+                    fail(Status::InvalidArgument,
+                         "energy model " + key + " cannot differ between worlds: " +
+                             (key == "span" || key == "keep_out"
+                                  ? "it selects the kernel (the candidates per agent, the keep-out test)"
+                                  : "the host uses it once for every world"));
+        }
+        // rho, d_att1 (and exact_attraction) choose Eq. 6's expansion
+        // (EM_TAYLOR_OA) for the kernel of every world.
+        if (taylor_for(changed, dt) != taylor_)
+            fail(Status::InvalidArgument, "energy model " + key + ": this value " +
+                                              (taylor_ ? "turns off" : "turns on") +
+                                              " the attraction's expansion (rho / d_att1 x the fastest sample x "
+                                              "dt <= 0.4), which is the same kernel in every world");
+        if (!noise) return;
+        // The noise's kernel is built once for every world: what selects it
+        // (NoiseField::defines) stays world 0's; a baked field is one grid.
+        NoiseField field(swarm.context(), changed.noise, &domain_min, &domain_max);
+        if (field.defines() != noise_->defines())
+            fail(Status::InvalidArgument, "energy model " + key + " cannot differ between worlds here: it selects "
+                                          "the noise kernel (noise.type, a time scale of 0 or not, finite "
+                                          "differences and baking are the same in every world)");
+        if (changed.noise.baked)
+            fail(Status::InvalidArgument, "energy model " + key + ": a baked noise field is the same in every "
+                                          "world (bake it off to vary the noise per world)");
+        const std::vector<cl_float> block = field.block();
+        std::copy(block.begin(), block.end(), noise_next.begin() + size_t(k) * floats);
+    });
+    noise_host_ = std::move(noise_next);
+    // config_ is world 0's; the stimuli and keypoints are not table rows.
+    EnergyModelConfig first = worlds_[0];
+    first.stimuli = std::move(config_.stimuli);
+    first.keypoints = std::move(config_.keypoints);
+    config_ = std::move(first);
+    upload_params();
+    upload_noise_blocks();
+    fixed_centre_n_ = 0xFFFFFFFFu;  // the fixed centres again at the next step
+}
+
+std::vector<double> EnergyModel::world_param(const std::string& key) const { return worlds_.get(key); }
 
 // The dataset goes into the descriptor itself; stimuli and keypoints as
 // they are now are in config_.  The state: each agent's keypoint goal (by

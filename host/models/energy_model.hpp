@@ -10,6 +10,7 @@
 
 #include "data/dataset.hpp"
 #include "fields/noise_field.hpp"
+#include "params/world_params.hpp"
 #include "swarm/behavior.hpp"
 
 namespace swarmcl {
@@ -82,13 +83,27 @@ struct EnergyTerms {
 class EnergyModel : public Behavior {
 public:
     // Validates the configuration (Error(InvalidArgument) naming the value).
+    // Every world of the swarm starts with `config`; a swarm of several
+    // worlds (docs/architecture.md, "Worlds") runs each world as its swarm
+    // alone, keypoints refused there (their goals are kept per agent id of
+    // one swarm).
     EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr<const Dataset> dataset);
+
+    // Per world: the table's parameters but those that select a kernel or
+    // size a buffer (span, keep_out, has_fixed_centre, accel_time, the
+    // noise's kernel-selecting keys, bidirectional, and rho / d_att1 where
+    // they switch the attraction's expansion), which are refused when they
+    // differ between worlds.
+    void set_world_param(Swarm& swarm, const std::string& key, const double* values, size_t count) override;
+    std::vector<double> world_param(const std::string& key) const override;
+    std::vector<std::string> varied_world_params() const override { return worlds_.varied_keys(); }
 
     void advance(Swarm& swarm, uint64_t step) override;
     // Checkpoints (swarm/behavior.hpp).
     void save_checkpoint(Swarm& swarm, ByteWriter& descriptor, ByteWriter& state) override;
     void restore_checkpoint(Swarm& swarm, ByteReader& state) override;
 
+    // World 0's configuration (the swarm's, with one world).
     const EnergyModelConfig& config() const { return config_; }
     const Dataset& dataset() const { return *dataset_; }
     uint32_t max_candidates() const { return max_cand_; }
@@ -102,11 +117,12 @@ public:
     // Per agent id: the goal keypoint index (-1: not chosen yet) and whether
     // the agent traverses the curve backwards.
     void goals(Swarm& swarm, std::vector<int32_t>& goal, std::vector<uint8_t>& backward);
-    // The swarm centre the last step used (xyz) and the agent count (w).
-    std::array<float, 4> centre(Swarm& swarm);
+    // The swarm centre the last step used (xyz) and the agent count (w);
+    // with worlds, world `world`'s.
+    std::array<float, 4> centre(Swarm& swarm, uint32_t world = 0);
 
     // Evaluates every term for the current state at step `step` without
-    // moving anything.
+    // moving anything (one world only).
     EnergyTerms evaluate(Swarm& swarm, uint64_t step);
 
     static void validate(const EnergyModelConfig& config);
@@ -117,10 +133,16 @@ private:
     cl_uint set_common_args(cl::Kernel& k, Swarm& swarm, uint64_t step);
     void sample_noise(Swarm& swarm, uint64_t step);
     void reset_goals(uint32_t capacity);
-    void upload_params();  // config_'s parameter block, again when keypoints_closed changes
+    void upload_params();  // the worlds' parameter blocks, again when keypoints_closed changes
+    bool taylor_for(const EnergyModelConfig& c, float dt) const;
+    void upload_noise_blocks();  // noise_host_ to the device (and each world's apart for noise_sample_w)  // EM_TAYLOR_OA for this configuration
 
     Context& ctx_;  // the swarm's (a swarm keeps its context alive)
-    EnergyModelConfig config_;
+    EnergyModelConfig config_;  // world 0's (worlds_[0])
+    WorldConfigs<EnergyModelConfig> worlds_;
+    uint32_t world_count_ = 1;
+    std::vector<cl_float> noise_host_;  // each world's NoiseField::block(), one after another
+    float vmax_ = 0.0f;                 // the dataset's fastest sample (taylor_for)
     std::shared_ptr<const Dataset> dataset_;
     std::unique_ptr<NoiseField> noise_;
     uint32_t max_cand_ = 0;
@@ -134,7 +156,10 @@ private:
     DeviceBuffer<cl_float4> dv_, centre_, partial_, stim_, kp_, vel_out_, noise_buf_;
     DeviceBuffer<cl_uint> group_start_, goal_;
     DeviceBuffer<cl_float> group_min_speed_, pxyz_;
-    DeviceBuffer<cl_float> params_;  // energy_param_table()'s device block (upload_params)
+    DeviceBuffer<cl_float> params_;  // energy_param_table()'s device block, one per world (upload_params)
+    DeviceBuffer<cl_float> noise_blocks_;  // noise_host_ on the device
+    std::vector<DeviceBuffer<cl_float>> noise_world_blocks_;  // noise_sample_w on worlds: world k's block
+    DeviceBuffer<cl_float4> noise_pts_, noise_one_;  // worlds with different noises: one world's positions, noise
     uint32_t capacity_ = 0, pxyz_stride_ = 0;
 };
 

@@ -151,6 +151,41 @@ def test_a_force_model_generation_as_worlds_scores_as_its_runs_alone(ctx, real):
     assert swarmcl.fitting.PopulationEvaluator(force, params, real, ctx, steps=40).world_keys is None
 
 
+def test_an_energy_model_generation_as_worlds_scores_as_its_runs_alone(ctx, real):
+    # The energy model runs worlds too (issue 25): a generation varying the
+    # weights of examples/evaluation/energy_mosquito.ranges.json scores as
+    # its runs alone, streamed or measured on the host, with the fixed centre
+    # of that scenario and with the swarm's own centre (each world's); an
+    # energy scenario with keypoints keeps one swarm a run (refused on worlds).
+    energy = json.loads(json.dumps(SCENARIO))
+    energy["dt"] = 0.01
+    energy["model"] = {"type": "energy", "dataset": {"type": "synthetic", "k": 120, "groups": 6},
+                       "weights": {"rep": 1, "oa": 1, "cos": 0.05, "dir": 1, "acc": 1, "env": 0, "n": 0.2,
+                                   "user": 0},
+                       "centre": [1, 1, 1]}
+    ranges = {"model.weights.rep": [0.0, 3.0], "model.weights.cos": [0.0, 1.0], "model.weights.dir": [0.0, 3.0],
+              "model.weights.acc": [0.0, 3.0], "model.weights.n": [0.0, 2.0]}
+    pop = [list(u) for u in np.random.default_rng(7).uniform(size=(4, len(ranges)))]
+    swarm_centre = json.loads(json.dumps(energy))
+    del swarm_centre["model"]["centre"]
+    for scenario in (energy, swarm_centre):
+        params = swarmcl.load_ranges(ranges, scenario)
+        for streamed in (False, True):
+            worlds = swarmcl.fitting.PopulationEvaluator(scenario, params, real, ctx, steps=40, seeds=2,
+                                                         streamed=streamed)
+            alone = swarmcl.fitting.PopulationEvaluator(scenario, params, real, ctx, steps=40, seeds=2,
+                                                        streamed=streamed, worlds=False)
+            assert worlds.world_keys == ["weights.rep", "weights.cos", "weights.dir", "weights.acc", "weights.n"]
+            assert alone.world_keys is None
+            a, b = worlds(pop), alone(pop)
+            assert a == b and len(set(a)) == 4
+            assert worlds.refused == 0
+    shaped = json.loads(json.dumps(energy))
+    shaped["model"]["keypoints"] = [[0.5, 0.5, 1], [1.5, 1.5, 1]]
+    assert swarmcl.fitting.PopulationEvaluator(shaped, swarmcl.load_ranges(ranges, shaped), real, ctx,
+                                               steps=40).world_keys is None
+
+
 def test_the_scale_penalty_is_the_mean_wasserstein_distance_in_real_spreads(ctx, real, truth):
     # Host path (exact): the penalised score is E - λ P, P recomputed here
     # from the same run's frames; the true parameters are 0 away, a slower

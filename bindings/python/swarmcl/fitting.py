@@ -179,13 +179,16 @@ def _with_values(scenario: dict, params: Sequence[Parameter], u) -> dict:
 def world_model(scenario) -> bool:
     """Whether the scenario's model runs a swarm of worlds
     (PopulationEvaluator.WORLD_MODELS): the force model refuses worlds with
-    target meshes (keyframes), a path or obstacles (docs/architecture.md,
-    "Worlds"), which its host builds once for every world."""
+    target meshes (keyframes), a path or obstacles, the energy model with
+    keypoints (docs/architecture.md, "Worlds"), which their hosts build once
+    for every world."""
     model = scenario.get("model", {}) if isinstance(scenario, dict) else {}
     if not isinstance(model, dict) or model.get("type", "field") not in PopulationEvaluator.WORLD_MODELS:
         return False
     if model.get("type") == "force":
         return not (model.get("keyframes") or model.get("path") or scenario.get("obstacles"))
+    if model.get("type") == "energy":
+        return not model.get("keypoints")
     return True
 
 
@@ -256,8 +259,9 @@ class PopulationEvaluator:
         self.threads = os.cpu_count() or 1
 
     #: The models whose swarms run worlds (the force model without target
-    #: meshes, a path or obstacles: world_model below).
-    WORLD_MODELS = ("field", "force")
+    #: meshes, a path or obstacles, the energy model without keypoints:
+    #: world_model above).
+    WORLD_MODELS = ("field", "force", "energy")
 
     #: The force scenario's keys that stand for rows of its table
     #: (host/scenario/force_section.cpp); eta and rho set noise.scale = rho and
