@@ -3,11 +3,13 @@
 // at the same density (its domain W^(1/3) times as wide) in the same run,
 // rounds alternated.  And W swarms of N stepped one after another (what a fit
 // did before worlds), timed over fewer steps.
-//   worlds_bench [--model field|force] [--worlds 1000] [--agents 300] [--steps 20]
+//   worlds_bench [--model field|force|energy] [--worlds 1000] [--agents 300] [--steps 20]
 //                [--rounds 3] [--alone-worlds 64] [--json PATH]
-// The model: the field model (curl noise, a goal, MDE) or the force model
+// The model: the field model (curl noise, a goal, MDE), the force model
 // (examples/evaluation/force_mosquito.json's zones and weights, curl noise,
-// MDE).  Writes bench/results/worlds.json (worlds_force.json).
+// MDE) or the energy model (Table 1 aggregation about each swarm's own
+// centre, the synthetic dataset of energy_bench).  Writes
+// bench/results/worlds.json (worlds_force.json, worlds_energy.json).
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -21,6 +23,8 @@
 #include "bench_util.hpp"
 #include "device/context.hpp"
 #include "models/field_model.hpp"
+#include "data/dataset.hpp"
+#include "models/energy_model.hpp"
 #include "models/force_model.hpp"
 #include "swarm/swarm.hpp"
 
@@ -67,7 +71,9 @@ ForceModelConfig force_model() {
     return m;
 }
 
-bool g_force = false;  // --model force
+bool g_force = false;   // --model force
+bool g_energy = false;  // --model energy
+std::shared_ptr<const Dataset> g_dataset;
 
 std::unique_ptr<Swarm> make(std::shared_ptr<Context> ctx, uint32_t worlds, uint32_t agents, float half,
                             uint64_t seed) {
@@ -83,6 +89,11 @@ std::unique_ptr<Swarm> make(std::shared_ptr<Context> ctx, uint32_t worlds, uint3
     auto s = std::make_unique<Swarm>(std::move(ctx), c);
     if (g_force) {
         s->set_behavior(std::make_shared<ForceModel>(*s, force_model()));
+        return s;
+    }
+    if (g_energy) {
+        EnergyModelConfig e;  // Table 1 aggregation; the centre: each swarm's own
+        s->set_behavior(std::make_shared<EnergyModel>(*s, e, g_dataset));
         return s;
     }
     FieldModelConfig m = model();
@@ -119,11 +130,12 @@ int main(int argc, char** argv) {
         };
         if (a == "--model") {
             const std::string m = next();
-            if (m != "field" && m != "force") {
-                std::fprintf(stderr, "worlds_bench: --model field or force\n");
+            if (m != "field" && m != "force" && m != "energy") {
+                std::fprintf(stderr, "worlds_bench: --model field, force or energy\n");
                 return 2;
             }
             g_force = m == "force";
+            g_energy = m == "energy";
         } else if (a == "--worlds") worlds = uint32_t(std::atoi(next()));
         else if (a == "--agents") agents = uint32_t(std::atoi(next()));
         else if (a == "--steps") steps = std::atoi(next());
@@ -141,9 +153,12 @@ int main(int argc, char** argv) {
         return 2;
     }
     if (json.empty())
-        json = std::string(SWARMCL_BENCH_RESULTS_DIR) + (g_force ? "/worlds_force.json" : "/worlds.json");
-    const char* model_name = g_force ? "force (force_mosquito zones and weights, curl noise, MDE 0.03 m)"
-                                     : "field (curl noise, goal, MDE 0.03 m)";
+        json = std::string(SWARMCL_BENCH_RESULTS_DIR) +
+               (g_force ? "/worlds_force.json" : g_energy ? "/worlds_energy.json" : "/worlds.json");
+    const char* model_name = g_force    ? "force (force_mosquito zones and weights, curl noise, MDE 0.03 m)"
+                             : g_energy ? "energy (Table 1 aggregation, each swarm's centre, synthetic dataset)"
+                                        : "field (curl noise, goal, MDE 0.03 m)";
+    if (g_energy) g_dataset = std::make_shared<const Dataset>(synthetic_dataset(DatasetOptions{}));
     auto ctx = std::make_shared<Context>("", "");
     const auto& dev = ctx->device();
     std::printf("device: %s (%s; %u compute units); load %.1f\n", dev.device_name.c_str(), dev.platform_name.c_str(),
