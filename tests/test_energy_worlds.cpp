@@ -16,8 +16,11 @@
 #include <vector>
 
 #include "swarmcl/swarmcl.h"
+#include "worlds_test_support.hpp"
 
 namespace {
+
+using worlds_test::expect_world_equal;
 
 constexpr uint32_t kWorlds = 4;
 constexpr uint32_t kAgents = 203;  // not a multiple of any lane count
@@ -32,39 +35,20 @@ const double kWDir[kWorlds] = {1.0, 0.5, 2.0, 1.5};
 const double kNoiseSeed[kWorlds] = {1, 2, 3, 4000000000.0};
 const double kCentreX[kWorlds] = {0.0, 0.1, -0.2, 0.05};
 
-class EnergyWorlds : public ::testing::Test {
+class EnergyWorlds : public worlds_test::WorldsFixture {
 protected:
     void SetUp() override {
-        swcl_context_desc d = swcl_context_desc_default();
-        ASSERT_EQ(swcl_context_create(&d, &ctx_), SWCL_OK) << swcl_last_error();
+        WorldsFixture::SetUp();
         swcl_dataset_desc dd = swcl_dataset_desc_default();  // shared by every world and swarm
         ASSERT_EQ(swcl_dataset_synthetic(&dd, &data_), SWCL_OK) << swcl_last_error();
     }
     void TearDown() override {
-        for (swcl_swarm s : swarms_) swcl_swarm_destroy(s);
+        destroy_swarms();
         swcl_dataset_destroy(data_);
-        swcl_context_destroy(ctx_);
+        WorldsFixture::TearDown();
     }
     static swcl_swarm_desc desc(uint32_t worlds, uint64_t seed, const uint64_t* seeds) {
-        swcl_swarm_desc d = swcl_swarm_desc_default();
-        d.capacity = 256;
-        d.agent_count = kAgents;
-        d.seed = seed;
-        for (int a = 0; a < 3; ++a) {
-            d.domain_min[a] = -0.3f;
-            d.domain_max[a] = 0.3f;
-        }
-        d.interaction_radius = 0.2f;
-        d.dt = 0.01f;
-        d.worlds = worlds;
-        d.world_seeds = seeds;
-        return d;
-    }
-    swcl_swarm make(const swcl_swarm_desc& d) {
-        swcl_swarm s{};
-        EXPECT_EQ(swcl_swarm_create(ctx_, &d, &s), SWCL_OK) << swcl_last_error();
-        swarms_.push_back(s);
-        return s;
+        return cube_desc(worlds, seed, seeds, kAgents, 256, 0.3f, 0.2f, 0.01f);
     }
     static swcl_energy_model_desc model(uint32_t k, bool fixed) {
         swcl_energy_model_desc m = swcl_energy_model_desc_default();
@@ -76,14 +60,6 @@ protected:
         m.fixed_centre[0] = float(kCentreX[k]);
         m.fixed_centre[1] = 0.05f;
         return m;
-    }
-    static void set(swcl_swarm s, const char* name, const double* v, size_t count) {
-        ASSERT_EQ(swcl_swarm_set_world_param(s, name, v, count), SWCL_OK) << swcl_last_error();
-    }
-    static std::vector<float> read(swcl_swarm s, swcl_attribute a, size_t agents) {
-        std::vector<float> out(3 * agents);
-        EXPECT_EQ(swcl_swarm_read(s, a, out.data(), agents), SWCL_OK) << swcl_last_error();
-        return out;
     }
     swcl_swarm ensemble(bool fixed) {
         swcl_swarm s = make(desc(kWorlds, 0, kSeeds));
@@ -106,19 +82,8 @@ protected:
     }
     void check_bitwise(bool fixed, uint32_t steps);
 
-    swcl_context ctx_{};
     swcl_dataset data_{};
-    std::vector<swcl_swarm> swarms_;
 };
-
-void expect_world_equal(const std::vector<float>& all, const std::vector<float>& one, uint32_t k, const char* what) {
-    const size_t per = all.size() / kWorlds;
-    ASSERT_EQ(per, one.size());
-    size_t differ = 0;
-    for (size_t i = 0; i < per; ++i) differ += std::memcmp(&all[k * per + i], &one[i], sizeof(float)) != 0;
-    EXPECT_EQ(differ, 0u) << what << " of world " << k << " differ from the swarm alone in " << differ << " of "
-                          << per << " values";
-}
 
 void EnergyWorlds::check_bitwise(bool fixed, uint32_t steps) {
     const size_t total = size_t(kWorlds) * kAgents;
@@ -129,8 +94,8 @@ void EnergyWorlds::check_bitwise(bool fixed, uint32_t steps) {
     for (uint32_t k = 0; k < kWorlds; ++k) {
         swcl_swarm one = alone(k, fixed);
         ASSERT_EQ(swcl_swarm_step(one, steps), SWCL_OK) << swcl_last_error();
-        expect_world_equal(pos, read(one, SWCL_ATTRIBUTE_POSITION, kAgents), k, "positions");
-        expect_world_equal(vel, read(one, SWCL_ATTRIBUTE_VELOCITY, kAgents), k, "velocities");
+        expect_world_equal(pos, read(one, SWCL_ATTRIBUTE_POSITION, kAgents), k, kWorlds, "positions");
+        expect_world_equal(vel, read(one, SWCL_ATTRIBUTE_VELOCITY, kAgents), k, kWorlds, "velocities");
     }
     // The worlds are not copies of one another.
     EXPECT_NE(std::memcmp(pos.data(), pos.data() + 3 * kAgents, 3 * size_t(kAgents) * sizeof(float)), 0);

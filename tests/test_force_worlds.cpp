@@ -15,8 +15,11 @@
 #include <vector>
 
 #include "swarmcl/swarmcl.h"
+#include "worlds_test_support.hpp"
 
 namespace {
+
+using worlds_test::expect_world_equal;
 
 constexpr uint32_t kWorlds = 4;
 constexpr uint32_t kAgents = 301;  // not a multiple of any lane count
@@ -33,36 +36,10 @@ const double kWAli[kWorlds] = {3.0, 1.0, 0.5, 2.0};
 const double kNoiseSeed[kWorlds] = {1, 2, 3, 4000000000.0};
 const double kMaxSpeed[kWorlds] = {0.75, 0.5, 1.0, 0.6};
 
-class ForceWorlds : public ::testing::Test {
+class ForceWorlds : public worlds_test::WorldsFixture {
 protected:
-    void SetUp() override {
-        swcl_context_desc d = swcl_context_desc_default();
-        ASSERT_EQ(swcl_context_create(&d, &ctx_), SWCL_OK) << swcl_last_error();
-    }
-    void TearDown() override {
-        for (swcl_swarm s : swarms_) swcl_swarm_destroy(s);
-        swcl_context_destroy(ctx_);
-    }
     static swcl_swarm_desc desc(uint32_t worlds, uint64_t seed, const uint64_t* seeds, uint32_t agents = kAgents) {
-        swcl_swarm_desc d = swcl_swarm_desc_default();
-        d.capacity = 512;
-        d.agent_count = agents;
-        d.seed = seed;
-        for (int a = 0; a < 3; ++a) {
-            d.domain_min[a] = -1.0f;
-            d.domain_max[a] = 1.0f;
-        }
-        d.interaction_radius = 0.2f;
-        d.dt = 0.02f;
-        d.worlds = worlds;
-        d.world_seeds = seeds;
-        return d;
-    }
-    swcl_swarm make(const swcl_swarm_desc& d) {
-        swcl_swarm s{};
-        EXPECT_EQ(swcl_swarm_create(ctx_, &d, &s), SWCL_OK) << swcl_last_error();
-        swarms_.push_back(s);
-        return s;
+        return cube_desc(worlds, seed, seeds, agents, 512, 1.0f, 0.2f, 0.02f);
     }
     // Zones a fraction of the domain (the defaults, 10 and 30 m, would see
     // the whole swarm): every term of the internal force and MDE act.
@@ -76,14 +53,6 @@ protected:
         m.min_distance = float(kMinDistance[k]);
         m.max_speed = float(kMaxSpeed[k]);
         return m;
-    }
-    static void set(swcl_swarm s, const char* name, const double* v, size_t count) {
-        ASSERT_EQ(swcl_swarm_set_world_param(s, name, v, count), SWCL_OK) << swcl_last_error();
-    }
-    static std::vector<float> read(swcl_swarm s, swcl_attribute a, size_t agents) {
-        std::vector<float> out(3 * agents);
-        EXPECT_EQ(swcl_swarm_read(s, a, out.data(), agents), SWCL_OK) << swcl_last_error();
-        return out;
     }
     swcl_swarm ensemble(uint32_t agents = kAgents) {
         swcl_swarm s = make(desc(kWorlds, 0, kSeeds, agents));
@@ -104,19 +73,7 @@ protected:
     }
 
     void check_bitwise(uint32_t agents, uint32_t steps, bool expect_mde);
-
-    swcl_context ctx_{};
-    std::vector<swcl_swarm> swarms_;
 };
-
-void expect_world_equal(const std::vector<float>& all, const std::vector<float>& one, uint32_t k, const char* what) {
-    const size_t per = all.size() / kWorlds;
-    ASSERT_EQ(per, one.size());
-    size_t differ = 0;
-    for (size_t i = 0; i < per; ++i) differ += std::memcmp(&all[k * per + i], &one[i], sizeof(float)) != 0;
-    EXPECT_EQ(differ, 0u) << what << " of world " << k << " differ from the swarm alone in " << differ << " of "
-                          << per << " values";
-}
 
 // Every world of the ensemble against its swarm alone after `steps` steps.
 void ForceWorlds::check_bitwise(uint32_t n, uint32_t steps, bool expect_mde) {
@@ -132,8 +89,8 @@ void ForceWorlds::check_bitwise(uint32_t n, uint32_t steps, bool expect_mde) {
     for (uint32_t k = 0; k < kWorlds; ++k) {
         swcl_swarm one = alone(k, n);
         ASSERT_EQ(swcl_swarm_step(one, steps), SWCL_OK) << swcl_last_error();
-        expect_world_equal(pos, read(one, SWCL_ATTRIBUTE_POSITION, n), k, "positions");
-        expect_world_equal(vel, read(one, SWCL_ATTRIBUTE_VELOCITY, n), k, "velocities");
+        expect_world_equal(pos, read(one, SWCL_ATTRIBUTE_POSITION, n), k, kWorlds, "positions");
+        expect_world_equal(vel, read(one, SWCL_ATTRIBUTE_VELOCITY, n), k, kWorlds, "velocities");
         swcl_step_stats s1{};
         s1.struct_size = sizeof(s1);
         ASSERT_EQ(swcl_swarm_take_step_stats(one, &s1), SWCL_OK);

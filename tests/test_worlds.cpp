@@ -17,8 +17,11 @@
 #include <vector>
 
 #include "swarmcl/swarmcl.h"
+#include "worlds_test_support.hpp"
 
 namespace {
+
+using worlds_test::expect_world_equal;
 
 constexpr uint32_t kWorlds = 4;
 constexpr uint32_t kAgents = 301;  // not a multiple of any lane count: worlds straddle work-items
@@ -31,36 +34,10 @@ const double kGoalSpeed[kWorlds] = {0.5, 0.8, 1.1, 0.2};
 const double kMinDistance[kWorlds] = {0.04, 0.02, 0.0, 0.05};
 const double kMaxSpeed[kWorlds] = {0.0, 0.9, 0.7, 0.0};
 
-class Worlds : public ::testing::Test {
+class Worlds : public worlds_test::WorldsFixture {
 protected:
-    void SetUp() override {
-        swcl_context_desc d = swcl_context_desc_default();
-        ASSERT_EQ(swcl_context_create(&d, &ctx_), SWCL_OK) << swcl_last_error();
-    }
-    void TearDown() override {
-        for (swcl_swarm s : swarms_) swcl_swarm_destroy(s);
-        swcl_context_destroy(ctx_);
-    }
     static swcl_swarm_desc desc(uint32_t worlds, uint64_t seed, const uint64_t* seeds, uint32_t agents = kAgents) {
-        swcl_swarm_desc d = swcl_swarm_desc_default();
-        d.capacity = 512;
-        d.agent_count = agents;
-        d.seed = seed;
-        for (int a = 0; a < 3; ++a) {
-            d.domain_min[a] = -1.0f;
-            d.domain_max[a] = 1.0f;
-        }
-        d.interaction_radius = 0.1f;
-        d.dt = 0.02f;
-        d.worlds = worlds;
-        d.world_seeds = seeds;
-        return d;
-    }
-    swcl_swarm make(const swcl_swarm_desc& d) {
-        swcl_swarm s{};
-        EXPECT_EQ(swcl_swarm_create(ctx_, &d, &s), SWCL_OK) << swcl_last_error();
-        swarms_.push_back(s);
-        return s;
+        return cube_desc(worlds, seed, seeds, agents, 512, 1.0f, 0.1f, 0.02f);
     }
     static swcl_field_model_desc model(uint32_t k) {
         swcl_field_model_desc m = swcl_field_model_desc_default();
@@ -75,14 +52,6 @@ protected:
         m.min_distance = float(kMinDistance[k]);
         m.max_speed = float(kMaxSpeed[k]);
         return m;
-    }
-    static void set(swcl_swarm s, const char* name, const double* v, size_t count) {
-        ASSERT_EQ(swcl_swarm_set_world_param(s, name, v, count), SWCL_OK) << swcl_last_error();
-    }
-    static std::vector<float> read(swcl_swarm s, swcl_attribute a, size_t agents) {
-        std::vector<float> out(3 * agents);
-        EXPECT_EQ(swcl_swarm_read(s, a, out.data(), agents), SWCL_OK) << swcl_last_error();
-        return out;
     }
     // The ensemble: world k gets model(k) through the per-world setters.
     swcl_swarm ensemble(uint32_t agents = kAgents, uint32_t worlds = kWorlds) {
@@ -105,22 +74,7 @@ protected:
 
     void check_bitwise(uint32_t agents, uint32_t steps, bool expect_mde);
     void check_world_metrics(uint32_t agents, uint32_t worlds, uint32_t samples);
-
-    swcl_context ctx_{};
-    std::vector<swcl_swarm> swarms_;
 };
-
-// Bitwise equality of world k's slice of `all` with `one`.
-template <typename T>
-void expect_world_equal(const std::vector<T>& all, const std::vector<T>& one, uint32_t k, const char* what) {
-    ASSERT_EQ(all.size() % kWorlds, 0u);
-    const size_t per = all.size() / kWorlds;
-    ASSERT_EQ(per, one.size());
-    size_t differ = 0;
-    for (size_t i = 0; i < per; ++i) differ += std::memcmp(&all[k * per + i], &one[i], sizeof(T)) != 0;
-    EXPECT_EQ(differ, 0u) << what << " of world " << k << " differ from the swarm alone in " << differ << " of "
-                          << per << " values";
-}
 
 // Every world of the ensemble against its swarm alone after `steps` steps.
 void Worlds::check_bitwise(uint32_t n, uint32_t steps, bool expect_mde) {
@@ -150,19 +104,19 @@ void Worlds::check_bitwise(uint32_t n, uint32_t steps, bool expect_mde) {
     for (uint32_t k = 0; k < kWorlds; ++k) {
         swcl_swarm one = alone(k, n);
         ASSERT_EQ(swcl_swarm_step(one, steps), SWCL_OK) << swcl_last_error();
-        expect_world_equal(pos, read(one, SWCL_ATTRIBUTE_POSITION, n), k, "positions");
-        expect_world_equal(vel, read(one, SWCL_ATTRIBUTE_VELOCITY, n), k, "velocities");
+        expect_world_equal(pos, read(one, SWCL_ATTRIBUTE_POSITION, n), k, kWorlds, "positions");
+        expect_world_equal(vel, read(one, SWCL_ATTRIBUTE_VELOCITY, n), k, kWorlds, "velocities");
         std::vector<uint32_t> c(n), ids(n);
         std::vector<float> d(n);
         ASSERT_EQ(swcl_swarm_neighbor_count(one, 0.15f, c.data(), n), SWCL_OK);
         ASSERT_EQ(swcl_swarm_nearest_neighbor(one, d.data(), ids.data(), n), SWCL_OK);
-        expect_world_equal(counts, c, k, "neighbour counts");
-        expect_world_equal(nearest, d, k, "nearest distances");
-        expect_world_equal(nearest_ids, ids, k, "nearest ids");
+        expect_world_equal(counts, c, k, kWorlds, "neighbour counts");
+        expect_world_equal(nearest, d, k, kWorlds, "nearest distances");
+        expect_world_equal(nearest_ids, ids, k, kWorlds, "nearest ids");
         std::vector<uint32_t> l(size_t(n) * kCap), lc(n);
         ASSERT_EQ(swcl_swarm_neighbor_lists(one, 0.15f, kCap, l.data(), lc.data(), n, nullptr), SWCL_OK);
-        expect_world_equal(lists, l, k, "neighbour lists");
-        expect_world_equal(list_counts, lc, k, "neighbour list counts");
+        expect_world_equal(lists, l, k, kWorlds, "neighbour lists");
+        expect_world_equal(list_counts, lc, k, kWorlds, "neighbour list counts");
         swcl_step_stats s1{};
         s1.struct_size = sizeof(s1);
         ASSERT_EQ(swcl_swarm_take_step_stats(one, &s1), SWCL_OK);

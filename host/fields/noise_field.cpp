@@ -330,4 +330,19 @@ void NoiseField::sample(const float* xyz, size_t n, float time, uint32_t step, f
         for (int a = 0; a < 3; ++a) out[3 * p + a] = points[p].s[a];
 }
 
+void write_world_noise_block(Context& ctx, const NoiseConfig& config, const std::array<float, 3>* domain_min,
+                             const std::array<float, 3>* domain_max, const NoiseField& current,
+                             const std::string& what, std::vector<cl_float>& blocks, uint32_t world) {
+    const NoiseField field(ctx, config, domain_min, domain_max);
+    if (field.defines() != current.defines())
+        fail(Status::InvalidArgument, what + " cannot differ between worlds here: it selects the noise kernel "
+                                             "(noise.type, a time scale of 0 or not, finite differences and baking "
+                                             "are the same in every world)");
+    if (config.baked)
+        fail(Status::InvalidArgument, what + ": a baked noise field is the same in every world (bake it off to vary "
+                                             "the noise per world)");
+    const std::vector<cl_float> block = field.block();
+    std::copy(block.begin(), block.end(), blocks.begin() + size_t(world) * block.size());
+}
+
 }  // namespace swarmcl

@@ -152,4 +152,14 @@ private:
     uint32_t preferred_width_ = 1;  // device default or $SWARMCL_NOISE_WIDTH
 };
 
+// World `world`'s noise block for a swarm of worlds (docs/architecture.md,
+// "Worlds"): `config`'s block() written at blocks[world * floats, ...).  The
+// noise kernel is built once for every world, so what selects it
+// (defines()) must stay `current`'s, and a baked field is one grid:
+// Error(InvalidArgument) starting with `what` ("field model noise.scale")
+// otherwise, nothing written.
+void write_world_noise_block(Context& ctx, const NoiseConfig& config, const std::array<float, 3>* domain_min,
+                             const std::array<float, 3>* domain_max, const NoiseField& current,
+                             const std::string& what, std::vector<cl_float>& blocks, uint32_t world);
+
 }  // namespace swarmcl

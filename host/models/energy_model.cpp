@@ -425,7 +425,6 @@ void EnergyModel::set_world_param(Swarm& swarm, const std::string& key, const do
     static const char* const kShared[] = {"span", "keep_out", "has_fixed_centre", "accel_time", "bidirectional"};
     const bool shared = std::find(std::begin(kShared), std::end(kShared), key) != std::end(kShared);
     const bool noise = key.compare(0, 6, "noise.") == 0;
-    const size_t floats = noise_->block().size();
     std::vector<cl_float> noise_next = noise_host_;
     const auto& domain_min = swarm.config().domain_min;
     const auto& domain_max = swarm.config().domain_max;
@@ -450,18 +449,8 @@ void EnergyModel::set_world_param(Swarm& swarm, const std::string& key, const do
                                               " the attraction's expansion (rho / d_att1 x the fastest sample x "
                                               "dt <= 0.4), which is the same kernel in every world");
         if (!noise) return;
-        // The noise's kernel is built once for every world: what selects it
-        // (NoiseField::defines) stays world 0's; a baked field is one grid.
-        NoiseField field(swarm.context(), changed.noise, &domain_min, &domain_max);
-        if (field.defines() != noise_->defines())
-            fail(Status::InvalidArgument, "energy model " + key + " cannot differ between worlds here: it selects "
-                                          "the noise kernel (noise.type, a time scale of 0 or not, finite "
-                                          "differences and baking are the same in every world)");
-        if (changed.noise.baked)
-            fail(Status::InvalidArgument, "energy model " + key + ": a baked noise field is the same in every "
-                                          "world (bake it off to vary the noise per world)");
-        const std::vector<cl_float> block = field.block();
-        std::copy(block.begin(), block.end(), noise_next.begin() + size_t(k) * floats);
+        write_world_noise_block(swarm.context(), changed.noise, &domain_min, &domain_max, *noise_,
+                                "energy model " + key, noise_next, k);
     });
     noise_host_ = std::move(noise_next);
     // config_ is world 0's; the stimuli and keypoints are not table rows.

@@ -42,24 +42,13 @@ void FieldModel::upload_world_blocks(Context& ctx) {
 
 void FieldModel::set_world_param(Swarm& swarm, const std::string& key, const double* values, size_t count) {
     const bool noise = key.compare(0, 6, "noise.") == 0;
-    const size_t floats = noise_->block().size();
     std::vector<float> noise_next = noise_host_;
     const auto& domain_min = swarm.config().domain_min;
     const auto& domain_max = swarm.config().domain_max;
     worlds_.set(key, values, count, [&](const FieldModelConfig& changed, uint32_t k) {
         if (!noise) return;
-        // The noise's kernel is built once for every world: what selects it
-        // (NoiseField::defines) stays world 0's; a baked field is one grid.
-        NoiseField field(swarm.context(), changed.noise, &domain_min, &domain_max);
-        if (field.defines() != noise_->defines())
-            fail(Status::InvalidArgument, "field model " + key + " cannot differ between worlds here: it selects "
-                                          "the noise kernel (noise.type, a time scale of 0 or not, finite "
-                                          "differences and baking are the same in every world)");
-        if (changed.noise.baked)
-            fail(Status::InvalidArgument, "field model " + key + ": a baked noise field is the same in every "
-                                          "world (bake it off to vary the noise per world)");
-        const std::vector<cl_float> block = field.block();
-        std::copy(block.begin(), block.end(), noise_next.begin() + size_t(k) * floats);
+        write_world_noise_block(swarm.context(), changed.noise, &domain_min, &domain_max, *noise_,
+                                "field model " + key, noise_next, k);
     });
     noise_host_ = std::move(noise_next);
     blocks_current_ = false;
