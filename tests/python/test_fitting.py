@@ -151,6 +151,41 @@ def test_a_force_model_generation_as_worlds_scores_as_its_runs_alone(ctx, real):
     assert swarmcl.fitting.PopulationEvaluator(force, params, real, ctx, steps=40).world_keys is None
 
 
+def test_a_force_generation_with_kernel_selecting_or_refused_values_still_runs_as_worlds(ctx, real):
+    # The studies' force scenarios start from noise_time_scale 0 (the static
+    # curl kernel) and fit it in [0, 5]: a generation is then made from its
+    # first individual's values, so it still runs as worlds; individuals the
+    # model refuses (cruise_speed above max_speed) are refused, and the
+    # rest still run as one swarm.
+    force = json.loads(json.dumps(SCENARIO))
+    force["model"] = {"type": "force", "r_rep": 0.1, "r_ali": 0.3, "r_att": 0.6, "max_speed": 0.5,
+                      "cruise_speed": 0.2, "eta": 0.3, "rho": 0.25, "noise_type": "curl",
+                      "noise_time_scale": 0.0}
+    params = swarmcl.load_ranges({"model.noise_time_scale": [0.0, 5.0], "model.max_speed": [0.3, 2.0],
+                                  "model.cruise_speed": [0.0, 0.8]}, force)
+    worlds = swarmcl.fitting.PopulationEvaluator(force, params, real, ctx, steps=40, streamed=False)
+    alone = swarmcl.fitting.PopulationEvaluator(force, params, real, ctx, steps=40, streamed=False, worlds=False)
+    pop = [[0.2, 0.5, 0.3], [0.6, 0.9, 0.1], [0.9, 0.2, 0.5], [0.4, 0.6, 0.6], [0.7, 0.4, 0.2], [0.3, 0.8, 0.4]]
+    a = worlds(pop)
+    assert worlds.last_swarms == 1 and worlds.refused == 0
+    assert a == alone(pop) and len(set(a)) == 6
+    # Individual 2 asks cruise_speed 0.8 above max_speed 0.3: refused alone and
+    # as a world; the other five keep their scores from the worlds.
+    bad = [list(u) for u in pop]
+    bad[2] = [0.9, 0.0, 1.0]
+    b, c = worlds(bad), alone(bad)
+    assert b == c and b[2] == swarmcl.fitting.REFUSED_SCORE and worlds.refused == 1
+    assert [x for i, x in enumerate(b) if i != 2] == [x for i, x in enumerate(a) if i != 2]
+    assert worlds.last_swarms == 1 and alone.last_swarms == 5
+    # One individual at time scale 0 (the static kernel) among moving ones:
+    # the generation is split into groups of one kernel each, same scores.
+    mixed = [list(u) for u in pop]
+    mixed[3][0] = 0.0
+    d = worlds(mixed)
+    assert d == alone(mixed) and 1 < worlds.last_swarms < 6
+    assert [x for i, x in enumerate(d) if i != 3] == [x for i, x in enumerate(a) if i != 3]
+
+
 def test_an_energy_model_generation_as_worlds_scores_as_its_runs_alone(ctx, real):
     # The energy model runs worlds too (issue 25): a generation varying the
     # weights of examples/evaluation/energy_mosquito.ranges.json scores as

@@ -257,6 +257,9 @@ class PopulationEvaluator:
         # the C calls run without the GIL); fit() gives each MPI rank its
         # share of the cores.
         self.threads = os.cpu_count() or 1
+        # How many swarms the last call stepped (worlds: one per group of
+        # _world_groups; otherwise one a run).
+        self.last_swarms = 0
 
     #: The models whose swarms run worlds (the force model without target
     #: meshes, a path or obstacles, the energy model without keypoints:
@@ -361,7 +364,10 @@ class PopulationEvaluator:
 
     def _score(self, terms_or_error) -> float:
         # A run that blew up (non-finite positions, so non-finite metrics)
-        # scores as refused: never a NaN for the optimiser.
+        # scores as refused: never a NaN for the optimiser.  None: a scenario
+        # refused when it was parsed (already counted).
+        if terms_or_error is None:
+            return REFUSED_SCORE
         if isinstance(terms_or_error, Exception):
             self.refused += 1
             return REFUSED_SCORE
@@ -369,29 +375,95 @@ class PopulationEvaluator:
         s = score(e, self.weights, self.p1, self.p2)
         return s - self.scale_penalty * self.penalty(w1) if w1 is not None else s
 
-    def _world_terms(self, runs) -> list:
-        """Every (individual, run) pair as one world of one swarm: the seven
-        E_phi of each (or the error of a world that blew up or was refused)."""
-        seeds = [self.base_seed + r if self.seeds > 1 else self.base_seed for _, r in runs]
+    def _world_swarm(self, runs, idx):
+        """The runs idx as the worlds of one swarm, made from the first run's
+        values (so parameters that select a kernel, such as the force
+        model's noise time scale 0 or not, are the group's own) and set per
+        world; None where the model refuses a value."""
+        seeds = [self.base_seed + runs[i][1] if self.seeds > 1 else self.base_seed for i in idx]
         try:
-            swarm = Scenario.parse(json.dumps(self.scenario)).create_world_swarm(self.context, len(runs), seeds)
-        except SwarmclError as e:
-            return [e] * len(runs)
-        frames = []
+            with Scenario.parse(json.dumps(_with_values(self.scenario, self.params, runs[idx[0]][0]))) as scn:
+                swarm = scn.create_world_swarm(self.context, len(idx), seeds)
+        except SwarmclError:
+            return None
         try:
-            try:
-                values = [{p.path: p.value(u[i]) for i, p in enumerate(self.params)} for u, _ in runs]
-                for key, value_of in self._world_setters.items():
-                    swarm.set_world_param(key, [value_of(v) for v in values])
-            except SwarmclError:
-                # A value the model refuses (a cross-parameter rule): each
-                # run alone then, so only the refused ones are refused.
-                return None
-            if self.streamed:
-                return self._streamed_world_terms(swarm, len(runs))
-            self._advance([swarm], lambda i: frames.append(swarm.read_positions().reshape(len(runs), -1, 3)))
-        finally:
+            values = [{p.path: p.value(runs[i][0][k]) for k, p in enumerate(self.params)} for i in idx]
+            for key, value_of in self._world_setters.items():
+                swarm.set_world_param(key, [value_of(v) for v in values])
+            return swarm
+        except SwarmclError:
             swarm.close()
+            return None
+
+    def _world_groups(self, runs, idx) -> list:
+        """The runs idx as few swarms of worlds as the model allows: (swarm,
+        idx), or (None, [i]) for a run that must run alone.  A group the
+        model refuses (a kernel-selecting value that differs within it) is
+        halved until each part runs or is one run."""
+        swarm = self._world_swarm(runs, idx)
+        if swarm is not None:
+            return [(swarm, idx)]
+        if len(idx) == 1:
+            return [(None, idx)]
+        half = len(idx) // 2
+        return self._world_groups(runs, idx[:half]) + self._world_groups(runs, idx[half:])
+
+    def _parses(self, u) -> bool:
+        """Whether the scenario parser takes an individual's values."""
+        try:
+            Scenario.parse(json.dumps(_with_values(self.scenario, self.params, u))).close()
+            return True
+        except SwarmclError:
+            self.refused += 1
+            return False
+
+    def _world_terms(self, runs) -> list:
+        """Every (individual, run) pair as a world: the seven E_phi of each,
+        the error of a world that blew up, or None for a refused one.  One
+        swarm for the generation where the model takes every value; else the
+        runs the scenario parser refuses (a cross-parameter rule such as
+        cruise_speed <= max_speed) are refused, and the rest grouped
+        (_world_groups)."""
+        out = [None] * len(runs)
+        idx = list(range(len(runs)))
+        swarm = self._world_swarm(runs, idx)
+        if swarm is not None:
+            groups = [(swarm, idx)]
+        else:
+            valid = [i for i in idx if self._parses(runs[i][0])]
+            groups = self._world_groups(runs, valid) if valid else []
+        self.last_swarms = len(groups)
+        try:
+            for swarm, group in groups:
+                if swarm is None:
+                    out[group[0]] = self._alone_terms(*runs[group[0]])
+                else:
+                    for i, t in zip(group, self._terms_of_worlds(swarm, len(group))):
+                        out[i] = t
+        finally:
+            for swarm, _ in groups:
+                if swarm is not None:
+                    swarm.close()
+        return out
+
+    def _alone_terms(self, u, run: int):
+        """One run as a swarm of its own: its E_phi, the error of a run that
+        blew up, or None where the scenario was refused (counted by _swarm)."""
+        swarm = self._swarm(u, run)
+        if swarm is None:
+            return None
+        with swarm:
+            try:
+                return self._all_terms([swarm])[0]
+            except SwarmclError as e:
+                return e
+
+    def _terms_of_worlds(self, swarm, worlds: int) -> list:
+        """Each world's E_phi, streamed on the device or measured on the host."""
+        if self.streamed:
+            return self._streamed_world_terms(swarm, worlds)
+        frames = []
+        self._advance([swarm], lambda i: frames.append(swarm.read_positions().reshape(worlds, -1, 3)))
         stacked = np.stack(frames, axis=1)  # (worlds, frames, agents, 3)
         sample_dt = self.every * self.dt
 
@@ -401,10 +473,10 @@ class PopulationEvaluator:
                     return self._terms_of(sim)
             except SwarmclError as e:
                 return e
-        if self.threads > 1 and len(runs) > 1:
-            with ThreadPoolExecutor(max_workers=min(self.threads, len(runs))) as pool:
-                return list(pool.map(measure, range(len(runs))))
-        return [measure(k) for k in range(len(runs))]
+        if self.threads > 1 and worlds > 1:
+            with ThreadPoolExecutor(max_workers=min(self.threads, worlds)) as pool:
+                return list(pool.map(measure, range(worlds)))
+        return [measure(k) for k in range(worlds)]
 
     def _streamed_world_terms(self, swarm, worlds: int) -> list:
         """Each world's E_phi from its metrics on the device (the error of
@@ -425,14 +497,13 @@ class PopulationEvaluator:
         if not runs:  # a rank's share of a small generation may be empty
             return []
         if self.world_keys is not None:
-            terms = self._world_terms(runs)
-            if terms is not None:
-                per_run = [self._score(t) for t in terms]
-                self.evaluations += len(population)
-                return self._per_individual(population, per_run)
+            per_run = [self._score(t) for t in self._world_terms(runs)]
+            self.evaluations += len(population)
+            return self._per_individual(population, per_run)
         # Every (individual, run) pair is one swarm, all stepped together.
         swarms = [self._swarm(u, r) for u, r in runs]
         live = [s for s in swarms if s is not None]
+        self.last_swarms = len(live)
         try:
             try:
                 terms = self._all_terms(live)
