@@ -116,10 +116,21 @@ def bar_chart(path, title, names, train, test):
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--population", type=int, default=12)
-    ap.add_argument("--generations", type=int, default=8)
+    ap.add_argument("--population", type=int, default=16)
+    ap.add_argument("--generations", type=int, default=150,
+                    help="the most generations of a fit; it stops earlier when it converges (default 150)")
+    ap.add_argument("--tolerance", type=float, default=0.01,
+                    help="a fit has converged when its recent scores lie within this much of E (default 0.01)")
+    ap.add_argument("--step-tolerance", type=float, default=0.01,
+                    help="or when its steps are below this fraction of every range (default 0.01)")
+    ap.add_argument("--patience", type=int, default=20,
+                    help="or when its best gains no more than --tolerance in this many generations (default 20)")
+    ap.add_argument("--restarts", type=int, default=0,
+                    help="BIPOP-CMA-ES restarts per fit, instead of --patience (default 0)")
+    ap.add_argument("--sim-seeds", type=int, default=2,
+                    help="simulation seeds per candidate, the same for all (common random numbers; default 2)")
     ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--seeds", type=int, default=1, help="fits per variant, seeds seed..seed+N-1 (default 1)")
+    ap.add_argument("--seeds", type=int, default=5, help="fits per variant, optimiser seeds seed..seed+N-1 (default 5)")
     ap.add_argument("--method", choices=("cmaes", "ga"), default="cmaes")
     ap.add_argument("--warmup", type=int, default=200)
     ap.add_argument("--only", help="comma-separated variant names (default all)")
@@ -154,31 +165,49 @@ def main(argv=None) -> int:
         chosen = variants(files["train"])
         if args.only:
             chosen = {k: v for k, v in chosen.items() if k in args.only.split(",")}
-        for name, (scenario, ranges) in chosen.items():
+        fitted = {}  # name -> the fit of each optimiser seed, for the models nested in it
+        for name in fit_order(chosen):
+            scenario, ranges = chosen[name]
             t = time.perf_counter()
             runs = []
-            for seed in range(args.seed, args.seed + args.seeds):
-                r = swarmcl.fit(scenario, real["train"], ranges, method=args.method, generations=args.generations,
-                                population=args.population, seed=seed, warmup=args.warmup, context=ctx)
+            for k, seed in enumerate(range(args.seed, args.seed + args.seeds)):
+                starts = [start_from(fitted[n][k][0]["scenario"], ranges)
+                          for n in NESTED.get(name, ()) if n in fitted]
+                r, start_score = fit_from_best_start(scenario, real["train"], ranges, starts, args, seed, ctx)
                 terms = {h: swarmcl.fitting.PopulationEvaluator(r["scenario"], [], m, ctx, warmup=args.warmup)
                          .terms(r["scenario"]) for h, m in real.items()}
-                runs.append((r, terms))
+                # E of the fitted parameters over the same simulation seeds
+                # as the fit, on both halves (train: the fit's own score).
+                held = {h: swarmcl.fitting.PopulationEvaluator(r["scenario"], [], m, ctx, warmup=args.warmup,
+                                                                seeds=args.sim_seeds)([[]])[0]
+                        for h, m in real.items()}
+                runs.append((r, terms, held, start_score))
+            fitted[name] = runs
             # The variant's result: the fit that scored best on the training
-            # half; the spread over seeds says how much a difference means.
-            r, terms = max(runs, key=lambda x: swarmcl.score(x[1]["train"]))
-            spread = {h: [swarmcl.score(t[h]) for _, t in runs] for h in real}
+            # half; the spread over optimiser seeds says how much a
+            # difference means.
+            r, terms, held, _ = max(runs, key=lambda x: x[2]["train"])
+            spread = {h: [x[2][h] for x in runs] for h in real}
+            ev = swarmcl.evaluate(swarmcl.Scenario.parse(json.dumps(r["scenario"])), real["test"],
+                                  warmup=args.warmup, context=ctx, plots=False)
             results["variants"][name] = {
                 "best": r["best"], "fit_score": r["best_score"], "evaluations": sum(x[0]["evaluations"] for x in runs),
+                "converged": [bool(x[0]["converged"]) for x in runs], "stop": [x[0]["stop"] for x in runs],
+                "generations_run": [len(x[0]["history"]) for x in runs],
+                "nested_in": [n for n in NESTED.get(name, ()) if n in fitted],
+                "start_scores": [x[3] for x in runs],
                 "terms": {h: dict(zip(swarmcl.METRICS, map(float, v))) for h, v in terms.items()},
-                "score": {h: swarmcl.score(v) for h, v in terms.items()},
+                "score": held,
                 "seed_scores": spread,
+                "scale": scale_of(ev),
                 # The energy model's training half lives in a temporary folder: $TMPDIR/... in the record.
                 "seconds": time.perf_counter() - t, "scenario": shown_value(r["scenario"]),
             }
-            print(f"{name:22s} train E {results['variants'][name]['score']['train']:8.4f}   "
-                  f"test E {results['variants'][name]['score']['test']:8.4f}   "
+            v = results["variants"][name]
+            print(f"{name:22s} train E {v['score']['train']:8.4f}   test E {v['score']['test']:8.4f}   "
                   f"test over seeds {np.mean(spread['test']):.3f} ± {sample_sd(spread['test']):.3f}   "
-                  f"({results['variants'][name]['evaluations']} runs, {time.perf_counter() - t:.0f} s)", flush=True)
+                  f"converged {sum(v['converged'])}/{len(runs)}   "
+                  f"({v['evaluations']} candidates, {time.perf_counter() - t:.0f} s)", flush=True)
         names = list(results["variants"])
         if len(names) >= 3:
             x = np.array([[results["variants"][n]["terms"]["train"][m] for m in swarmcl.METRICS] for n in names])
@@ -189,6 +218,7 @@ def main(argv=None) -> int:
                 v["weighted_score"] = {h: swarmcl.score([v["terms"][h][m] for m in swarmcl.METRICS], w, p1, p2)
                                        for h in real}
         best = max(names, key=lambda n: results["variants"][n]["score"]["test"])
+        results["orderings"] = orderings(results)
         ev = swarmcl.evaluate(swarmcl.Scenario.parse(json.dumps(results["variants"][best]["scenario"])),
                               real["test"], warmup=args.warmup, context=ctx, plots=False)
         for m in real.values():
@@ -212,6 +242,78 @@ def main(argv=None) -> int:
     return 0
 
 
+# The models nested in each variant (ranges that contain the smaller one's,
+# the fixed values inside them): each fit of the variant also starts from
+# the same optimiser seed's fit of these, the one scoring best on the
+# training half, so the variant never scores below them there
+# (swarmcl.fit's start; issue 26, item 2).
+NESTED = {**{f"force+{n}": ("force dynamics only",) for n in NOISES},
+          "force+curl": ("force dynamics only", "force noise only")}
+
+
+def fit_order(chosen) -> list:
+    """The variants, every nested model before the ones containing it."""
+    first = [n for n in chosen if any(n in nested for nested in NESTED.values())]
+    return first + [n for n in chosen if n not in first]
+
+
+def start_from(nested_scenario: dict, ranges: dict) -> dict:
+    """{path: value} of every fitted path of `ranges` in a nested model's
+    fitted scenario: its point in the larger model's search space."""
+    out = {}
+    for path in ranges:
+        node, key = swarmcl.fitting._walk(nested_scenario, path)
+        out[path] = float(node[key])
+    return out
+
+
+def fit_from_best_start(scenario, train, ranges, starts, args, seed, ctx):
+    """One fit; with nested models' points, from the one scoring best on the
+    training half (scored as the fit scores: same simulation seeds)."""
+    start, start_score = None, None
+    if starts:
+        params = swarmcl.load_ranges(ranges, scenario)
+        ev = swarmcl.fitting.PopulationEvaluator(scenario, params, train, ctx, warmup=args.warmup,
+                                                 seeds=args.sim_seeds)
+        scores = ev([swarmcl.fitting._start_point(params, st) for st in starts])
+        start, start_score = starts[int(np.argmax(scores))], float(max(scores))
+    r = swarmcl.fit(scenario, train, ranges, method=args.method, generations=args.generations,
+                    population=args.population, seed=seed, warmup=args.warmup, context=ctx,
+                    restarts=args.restarts, tolerance=args.tolerance, step_tolerance=args.step_tolerance,
+                    patience=None if args.restarts else args.patience, seeds=args.sim_seeds, start=start)
+    return r, start_score
+
+
+def scale_of(ev: dict) -> dict:
+    """Physical scale of a fitted run on the held-out half: the simulated
+    and real medians of speed and nearest distance, and their ratio."""
+    out = {}
+    for m in ("speed", "nearest_distance"):
+        sim, real = ev["metrics"][m]["sim"]["median"], ev["metrics"][m]["real"]["median"]
+        out[m] = {"sim_median": sim, "real_median": real, "ratio": sim / real if real else None}
+    return out
+
+
+def orderings(results) -> dict:
+    """The paper's orderings, from the held-out scores' mean over optimiser
+    seeds: reproduced or not, and whether the margin exceeds the sample sd."""
+    out = {}
+    for key, (best, members) in {"noise": ("force+curl", [f"force+{n}" for n in NOISES]),
+                                 "model": ("force+curl", ["force+curl", "force dynamics only",
+                                                          "force noise only"])}.items():
+        have = [m for m in members if m in results["variants"]]
+        if best not in have or len(have) < 2:
+            continue
+        mean = {m: float(np.mean(results["variants"][m]["seed_scores"]["test"])) for m in have}
+        sd = {m: sample_sd(results["variants"][m]["seed_scores"]["test"]) for m in have}
+        top = max(have, key=mean.get)
+        runner = max((m for m in have if m != top), key=mean.get)
+        out[key] = {"claim": best, "best": top, "reproduced": top == best, "mean": mean, "sd": sd,
+                    "margin": mean[top] - mean[runner], "runner_up": runner,
+                    "margin_exceeds_sd": mean[top] - mean[runner] > max(sd[top], sd[runner])}
+    return out
+
+
 def data_floor(real) -> float:
     """E of the recording's training half against its held-out half: the
     best a model scored on the held-out half can hope for (issue 26, item 4)."""
@@ -231,19 +333,53 @@ def sample_sd(x) -> float:
     return float(np.std(x, ddof=1)) if len(x) > 1 else 0.0
 
 
+def command_tail(s) -> str:
+    """The options of a converged run, as given on its command line."""
+    if "tolerance" not in s:
+        return ""
+    return (f" --tolerance {s['tolerance']} --step-tolerance {s['step_tolerance']} --patience {s['patience']} "
+            f"--restarts {s['restarts']} "
+            f"--sim-seeds {s['sim_seeds']}" +
+            (f' --only "{s["only"]}"' if s.get("only") else ""))
+
+
+def ordering_sentence(o) -> str:
+    """The paper's ordering, stated from the numbers."""
+    claim = {"force+curl": "force + curl best"}[o["claim"]]
+    verdict = "**reproduced**" if o["reproduced"] else "**not reproduced**"
+    margin = ("more than" if o["margin_exceeds_sd"] else "within")
+    return (f"The paper's ordering ({claim} of these on held-out data): {verdict}. Highest mean E test: "
+            f"{o['best']} ({o['mean'][o['best']]:.3f} ± {o['sd'][o['best']]:.3f}), ahead of {o['runner_up']} "
+            f"({o['mean'][o['runner_up']]:.3f} ± {o['sd'][o['runner_up']]:.3f}) by {o['margin']:.3f}, "
+            f"{margin} the larger of their sample sds over optimiser seeds.")
+
+
 def write_doc(results, groups, best) -> None:
     s = results["settings"]
     floor = results.get("data_floor")
     lines = ["# The noise paper's studies on the mosquito tracks", "",
              "Generated by `python scripts/evaluation_studies.py "
              f"--population {s['population']} --generations {s['generations']} --seed {s['seed']} "
-             f"--seeds {s['seeds']} --method {s['method']}` ({results['seconds']:.0f} s on {results['cpu']}); "
+             f"--seeds {s['seeds']} --method {s['method']}{command_tail(s)}` "
+             f"({results['seconds']:.0f} s on {results['cpu']}); "
              "raw figures in `bench/results/eval/studies.json`; method in `docs/evaluation.md`.", "",
              f"Data: `../shared/data/anopheles-coluzzii-swarm.csv`, cut at its median sample time "
              f"({results['split']['cut_seconds']:.1f} s of {results['split']['span_seconds']:.1f} s): every "
              "variant is fitted on the first half (train) and scored on both; E is Eq. 1 with equal weights "
              "(1/7), 50 bins over ±4σ.  Each variant: 30 agents, dt 0.01 s (the data's clock), "
              f"{s['warmup']} warm-up steps then 500 sampled steps.", ""]
+    if "tolerance" in s:
+        lines += [f"Each variant is fitted {s['seeds']} times (optimiser seeds {s['seed']}.."
+                  f"{s['seed'] + s['seeds'] - 1}), each candidate scored as the mean of {s['sim_seeds']} run{'s' if s['sim_seeds'] != 1 else ''} "
+                  "with the same simulation seeds for all (common random numbers); a fit stops when it "
+                  f"converges (CMA-ES: recent scores within {s['tolerance']} of E, steps below "
+                  f"{s['step_tolerance']} of every range, or no gain above {s['tolerance']} in "
+                  f"{s['patience']} generations) or after {s['generations']} generations; column \"converged\" counts the fits that "
+                  "stopped on a tolerance.  A variant that contains another (the force model with a noise "
+                  "contains dynamics only, force + curl contains noise only) starts each fit from the same "
+                  "seed's fit of the contained one that scores best on the training half, so on that half "
+                  "it cannot score lower.  E train and E test are the best fit's (by training score) over "
+                  "the same simulation seeds; the spread is over the optimiser seeds (sample sd).", ""]
     if floor is not None:
         v = results["variants"][best]["score"]["test"]
         lines += [f"The data's own floor: the training half scored against the held-out half gives E = "
@@ -255,18 +391,24 @@ def write_doc(results, groups, best) -> None:
             continue
         lines += [f"## {title}", "", f"![{key}](images/eval_{key}.png)", "",
                   "| variant | E train | E test | E test − floor | E test over seeds (mean ± sample sd) | "
-                  "E test, entropy weights | fitted parameters |",
-                  "|---|---|---|---|---|---|---|"]
+                  "converged | E test, entropy weights | speed, nearest distance: sim / real median | "
+                  "fitted parameters |",
+                  "|---|---|---|---|---|---|---|---|---|"]
         for m in members:
             v = results["variants"][m]
             ws = v.get("weighted_score", {}).get("test")
             params = ", ".join(f"{k.split('.', 1)[1]} {val:.3g}" for k, val in v["best"].items())
             seeds = v["seed_scores"]["test"]
             below = "" if floor is None else f"{v['score']['test'] - floor:.3f}"
+            conv = f"{sum(v['converged'])}/{len(v['converged'])}" if "converged" in v else ""
+            scale = ", ".join(f"{v['scale'][q]['ratio']:.2f}" for q in ("speed", "nearest_distance")) \
+                if "scale" in v else ""
             lines.append(f"| {m} | {v['score']['train']:.3f} | {v['score']['test']:.3f} | {below} | "
-                         f"{np.mean(seeds):.3f} ± {sample_sd(seeds):.3f} | "
-                         f"{'' if ws is None else f'{ws:.3f}'} | {params} |")
+                         f"{np.mean(seeds):.3f} ± {sample_sd(seeds):.3f} | {conv} | "
+                         f"{'' if ws is None else f'{ws:.3f}'} | {scale} | {params} |")
         lines.append("")
+        if key in results.get("orderings", {}):
+            lines += [ordering_sentence(results["orderings"][key]), ""]
     if "entropy_weights" in results:
         w = results["entropy_weights"]["w"]
         lines += ["Entropy weights (Eq. 4) of all fitted variants' terms on the training half: " +

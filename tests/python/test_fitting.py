@@ -312,6 +312,26 @@ def test_searches_stop_on_tolerance_and_say_so(ctx, real):
     assert not budget["converged"] and budget["stop"] == ["generations"]
     with pytest.raises(ValueError, match="restarts"):
         swarmcl.fit(SCENARIO, real, RANGES, restarts=-1, context=ctx)
+    # The step tolerance alone (scores may still differ): CMA-ES stops once
+    # its steps are below that fraction of every range, and says "tolx".
+    steps = swarmcl.fit(SCENARIO, real, RANGES, method="cmaes", generations=60, population=6, seed=2, steps=40,
+                        context=ctx, tolerance=0.0, step_tolerance=0.2)
+    assert steps["converged"] and "tolx" in steps["stop"] and len(steps["history"]) < 60
+    assert steps["step_tolerance"] == 0.2
+    for bad in (0.0, 1.0, float("nan")):
+        with pytest.raises(ValueError, match="step_tolerance"):
+            swarmcl.fit(SCENARIO, real, RANGES, step_tolerance=bad, context=ctx)
+    # With patience, CMA-ES also stops when its best gains no more than the
+    # tolerance in that many generations (a rough score may never let cma's
+    # own tolerances trigger): here its best is -0.212 from its fourth generation on.
+    stall = swarmcl.fit(SCENARIO, real, RANGES, method="cmaes", generations=60, population=6, seed=2, steps=40,
+                        context=ctx, tolerance=0.05, step_tolerance=1e-9, patience=3)
+    assert stall["converged"] and stall["patience"] == 3
+    assert stall["stop"] == ["no gain above 0.05 in 3 generations"] and len(stall["history"]) == 8
+    with pytest.raises(ValueError, match="patience and restarts"):
+        swarmcl.fit(SCENARIO, real, RANGES, patience=3, restarts=1, context=ctx)
+    with pytest.raises(ValueError, match="patience"):
+        swarmcl.fit(SCENARIO, real, RANGES, patience=0, context=ctx)
 
 
 @pytest.mark.parametrize("method", ["cmaes", "ga"])

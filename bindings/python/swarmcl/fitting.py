@@ -577,8 +577,11 @@ class _Ranks:
 
 # A search stops on tolerance: CMA-ES when cma's own tolerances say so
 # (tolfun: the scores of recent generations within `tolerance`; tolx: the
-# step size below 1e-3 of the unit box), the GA when its best has not
-# improved by more than `tolerance` in `patience` generations.  `generations`
+# step size below `step_tolerance` of the unit box) or, with `patience`, when
+# its best has gained no more than `tolerance` in that many generations (on
+# a simulated swarm the score is rough at small scales, so cma's tolerances
+# may never trigger; cma ends its restarts on such a stop, so the two are
+# not combined); the GA on the latter.  `generations`
 # is the budget per run (per restart for CMA-ES).  The result says whether
 # it converged and why it stopped.
 _CMA_CONVERGED = ("tolfun", "tolfunhist", "tolx", "tolstagnation", "tolflatfitness", "tolupsigma")
@@ -595,9 +598,11 @@ def _start_entry(ranks: _Ranks, start, report) -> tuple:
 
 
 def _cmaes(ranks: _Ranks, dim: int, generations: int, population: int, seed: int, report, *,
-           restarts: int = 0, tolerance: float = 1e-3, start=None) -> tuple:
+           restarts: int = 0, tolerance: float = 1e-3, step_tolerance: float = 1e-3, start=None,
+           patience: Optional[int] = None) -> tuple:
     import cma
     history = []
+    bests = []  # the best so far after each generation
     best = {"u": None, "score": -math.inf}
     if start is not None:
         best["score"], entry = _start_entry(ranks, start, report)
@@ -613,19 +618,25 @@ def _cmaes(ranks: _Ranks, dim: int, generations: int, population: int, seed: int
         history.append({"generation": len(history) + 1, "individuals": len(xs), "best": max(scores),
                         "mean": float(np.mean(scores)), "best_so_far": best["score"]})
         report(history[-1])
+        bests.append(best["score"])
         return [-s for s in scores]  # cma minimises
+
+    def stalled(es) -> bool:
+        return patience is not None and len(bests) > patience and bests[-1] - bests[-1 - patience] <= tolerance
 
     # cma takes seed 0 as "from the clock": shift so every seed is fixed.
     # restarts > 0: BIPOP-CMA-ES (restarts with growing and small
     # populations, Hansen 2009), pycma's own.
     options = {"bounds": [0.0, 1.0], "popsize": int(population), "maxiter": int(generations),
                "seed": int(seed) + 1, "verbose": -9, "tolfun": float(tolerance), "tolfunhist": float(tolerance),
-               "tolx": 1e-3}
+               "tolx": float(step_tolerance), "termination_callback": [stalled]}
     es = cma.fmin2(None, list(start) if start is not None else [0.5] * dim, 0.3, options=options,
                    parallel_objective=objective,
                    restarts=int(restarts), bipop=bool(restarts))[1]
     stop = sorted(es.stop().keys())
-    converged = any(k in _CMA_CONVERGED for k in stop)
+    if "callback" in stop:
+        stop[stop.index("callback")] = f"no gain above {tolerance} in {patience} generations"
+    converged = any(k in _CMA_CONVERGED or k.startswith("no gain") for k in stop)
     return best["u"], best["score"], history, {"converged": converged, "stop": stop}
 
 
@@ -725,7 +736,8 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
         half_width: float = 4.0, weights=None, p1=None, p2=None, comm=None, context: Optional[Context] = None,
         progress: Optional[Callable[[dict], None]] = None, streamed: Optional[bool] = None, robust: bool = False,
         scale_penalty: float = 0.0, seeds: int = 1, restarts: int = 0, tolerance: float = 1e-3,
-        patience: int = 5, start: Optional[Dict[str, float]] = None) -> Optional[dict]:
+        step_tolerance: float = 1e-3, patience: Optional[int] = None,
+        start: Optional[Dict[str, float]] = None) -> Optional[dict]:
     """Fits the ranged parameters of ``scenario`` (a path or a dict) to
     ``tracks`` (a Metrics) by maximising E.  ``method``: "cmaes" or "ga".
     With ``comm`` (an mpi4py communicator of R ranks), every rank must call
@@ -743,9 +755,11 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
     scored as the mean of that many runs with consecutive scenario seeds (the
     same for all: common random numbers).  Stopping: ``generations`` is the
     budget (per restart); CMA-ES stops earlier on its tolerances (scores
-    within ``tolerance``, steps below 1e-3), with ``restarts`` BIPOP restarts;
+    within ``tolerance``, or steps below ``step_tolerance`` of each range:
+    the search has narrowed to that fraction), with ``restarts`` BIPOP restarts;
     the GA when its best gains at most ``tolerance`` in ``patience``
-    generations.  The result's ``converged`` and ``stop`` say which.
+    generations (default 5), and so CMA-ES when ``patience`` is given
+    (not with ``restarts``).  The result's ``converged`` and ``stop`` say which.
     ``start``: {path: value} to search from (CMA-ES's first mean, one of the
     GA's first individuals; other parameters at their range's centre),
     scored first, so the result is never below it: fit a model whose ranges
@@ -754,8 +768,14 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
         raise ValueError(f"method: 'cmaes' or 'ga', got {method!r}")
     if int(generations) < 1 or int(population) < 2:
         raise ValueError("generations must be >= 1 and population >= 2")
-    if int(restarts) < 0 or not (float(tolerance) >= 0.0) or int(patience) < 1:
-        raise ValueError("restarts must be >= 0, tolerance >= 0 and patience >= 1")
+    if method == "ga" and patience is None:
+        patience = 5
+    if method == "cmaes" and patience is not None and int(restarts) > 0:
+        raise ValueError("patience and restarts cannot be combined with CMA-ES (cma ends its restarts on a "
+                         "patience stop); give one of them")
+    if int(restarts) < 0 or not (float(tolerance) >= 0.0) or (patience is not None and int(patience) < 1) or \
+            not (0.0 < float(step_tolerance) < 1.0):
+        raise ValueError("restarts must be >= 0, tolerance >= 0, step_tolerance in (0, 1) and patience >= 1")
     if isinstance(scenario, (str, os.PathLike)):
         with open(scenario, encoding="utf-8") as f:
             scenario = json.load(f)
@@ -782,7 +802,9 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
             u0 = _start_point(params, start) if start is not None else None
             if method == "cmaes":
                 u, best, history, end = _cmaes(ranks, len(params), generations, population, seed, report,
-                                               restarts=restarts, tolerance=tolerance, start=u0)
+                                               restarts=restarts, tolerance=tolerance,
+                                               step_tolerance=step_tolerance, start=u0,
+                                               patience=None if patience is None else int(patience))
             else:
                 u, best, history, end = _ga(ranks, len(params), generations, population, seed, report,
                                             tolerance=tolerance, patience=patience, start=u0)
@@ -795,6 +817,8 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
                     "standardise": "median_mad" if evaluator.robust else "mean_sigma"},
             "scale_penalty": evaluator.scale_penalty, "seeds": evaluator.seeds,
             "restarts": int(restarts) if method == "cmaes" else 0, "tolerance": float(tolerance),
+            "step_tolerance": float(step_tolerance) if method == "cmaes" else None,
+            "patience": None if patience is None else int(patience),
             "converged": bool(end["converged"]), "stop": end["stop"],
             "parameters": {p.path: {"low": p.low, "high": p.high} for p in params},
             "best": {p.path: p.value(x) for p, x in zip(params, u)},
@@ -915,6 +939,11 @@ def _parser() -> argparse.ArgumentParser:
                    "(common random numbers); default 1")
     p.add_argument("--restarts", type=int, default=0, help="CMA-ES: BIPOP restarts (default 0)")
     p.add_argument("--tolerance", type=float, default=1e-3, help="stop when the best gains no more (default 1e-3)")
+    p.add_argument("--step-tolerance", type=float, default=1e-3,
+                   help="CMA-ES: stop when its steps are below this fraction of every range (default 1e-3)")
+    p.add_argument("--patience", type=int,
+                   help="stop when the best gains no more than --tolerance in this many generations "
+                        "(GA: default 5; CMA-ES: only when given)")
     p.add_argument("--scale-penalty", type=float, default=0.0,
                    help="maximise E - X * (mean Wasserstein-1 distance in the real data's spreads); default 0")
     p.add_argument("--spread", metavar="FITS,RESAMPLES",
@@ -947,8 +976,8 @@ def main(argv=None) -> int:
                          population=args.population, seed=args.seed, steps=args.steps, every=args.every,
                          warmup=args.warmup, bins=args.bins, half_width=args.half_width, comm=comm, context=ctx,
                          robust=args.robust, scale_penalty=args.scale_penalty, seeds=args.seeds,
-                         restarts=args.restarts, tolerance=args.tolerance,
-                         progress=(lambda e: _bar(e, total)) if show else None)
+                         restarts=args.restarts, tolerance=args.tolerance, step_tolerance=args.step_tolerance,
+                         patience=args.patience, progress=(lambda e: _bar(e, total)) if show else None)
     except (ValueError, OSError, SwarmclError) as e:
         print(f"swarmcl fit: {e}", file=sys.stderr)
         if comm is not None:
@@ -1001,7 +1030,7 @@ def _spread_main(args, window, device, comm) -> int:
                             population=args.population, steps=args.steps, every=args.every, warmup=args.warmup,
                             bins=args.bins, half_width=args.half_width, context=ctx, robust=args.robust,
                             scale_penalty=args.scale_penalty, seeds=args.seeds, restarts=args.restarts,
-                            tolerance=args.tolerance)
+                            tolerance=args.tolerance, step_tolerance=args.step_tolerance, patience=args.patience)
     _write_json(result, args.out)
     if not args.quiet:
         for path, q in result["parameters"].items():
