@@ -15,6 +15,7 @@
 
 #include "bench_util.hpp"
 #include "fields/cost_field.hpp"
+#include "roofline.hpp"
 
 #ifndef SWARMCL_BENCH_RESULTS_DIR
 #define SWARMCL_BENCH_RESULTS_DIR "bench/results"
@@ -74,6 +75,16 @@ int main(int argc, char** argv) {
                     if (exact > 0) err[order] = std::max(err[order], std::fabs(u[g.index(i, j, k)] - exact));
                 }
     }
+    // The roofline (issue 29): the solver runs on the host, one thread; at
+    // the least it reads each cell's slowness and writes its cost (two
+    // doubles) and keeps a state byte, beside std::copy's bandwidth on this
+    // host in this run.
+    const double cells = double(n) * n * n, host_gbs = host_copy_bandwidth_gbs(size_t(cells));
+    const std::vector<RooflineRow> roof = {roofline_row("fast marching, first order", 17, cells, 1e3 * secs[0], host_gbs),
+                                           roofline_row("fast marching, second order", 17, cells, 1e3 * secs[1],
+                                                        host_gbs)};
+    std::printf("  (rows per cell; the copy is the host's std::copy, one thread)\n");
+    print_roofline(roof, host_gbs);
     // The peer, same grid, same run.
     char cmd[1024];
     std::snprintf(cmd, sizeof cmd, "%s %s/fmm_skfmm.py %u %.17g %.17g %.9g %.9g %.9g %d", python.c_str(),
@@ -108,7 +119,7 @@ int main(int argc, char** argv) {
         << load_average() << ",\n  \"cells\": " << n << ",\n  \"swarmcl_order1_seconds\": " << secs[0]
         << ",\n  \"swarmcl_order1_runs\": " << json_array(runs[0], 1.0) << ",\n  \"swarmcl_order1_max_error_cells\": "
         << err[0] / g.h << ",\n  \"swarmcl_order2_seconds\": " << secs[1] << ",\n  \"swarmcl_order2_max_error_cells\": "
-        << err[1] / g.h << ",\n  \"skfmm\": " << (peer.empty() ? "null" : peer) << "\n}\n";
+        << err[1] / g.h << ",\n  \"roofline_host_copy\": " << roofline_json(roof, host_gbs) << ",\n  \"skfmm\": " << (peer.empty() ? "null" : peer) << "\n}\n";
     std::printf("  wrote %s\n", json.c_str());
     return 0;
 }

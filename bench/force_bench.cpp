@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "bench_util.hpp"
+#include "roofline.hpp"
 #include "scenario/make_swarm.hpp"
 #include "models/force_model.hpp"
 #include "swarm/swarm.hpp"
@@ -52,7 +53,15 @@ struct Row {
     double steps_per_s = 0.0, paper = 0.0;
     std::vector<double> batch_s;
     uint32_t batch = 0;
+    double copy_gbs = 0;  // the roofline's copy kernel at n float4, this run (issue 29)
+    swarmcl::bench::RooflineRow roofline;
 };
+
+// The least a force-model step must move per insect (issue 29): read and
+// write its position and velocity (4 float4: 64 B), and rebuild the
+// neighbour grid in grid order (92 B, as neighbor_grid_bench counts it);
+// the target shape's samples and the neighbours' reads stay in cache.
+constexpr double kForceStepBytes = 64.0 + 92.0;
 
 }  // namespace
 
@@ -87,7 +96,8 @@ int main(int argc, char** argv) {
     const double load_before = bench::load_average();
     std::printf("force model benchmark on %s / %s, load average %.2f\n", ctx->device().platform_name.c_str(),
                 ctx->device().device_name.c_str(), load_before);
-    std::printf("%-6s %6s %5s %10s %10s %8s\n", "shape", "N", "cap", "steps/s", "paper FPS", "ratio");
+    std::printf("%-6s %6s %5s %10s %10s %8s   (roofline: %.0f B an insect a step at the least)\n", "shape", "N",
+                "cap", "steps/s", "paper FPS", "ratio", kForceStepBytes);
     std::vector<Row> rows;
     for (const std::string& name : scenarios) {
         const std::string file = std::string(SWARMCL_SOURCE_DIR) + "/examples/scenarios/force_" + name + "_5k.json";
@@ -121,8 +131,12 @@ int main(int argc, char** argv) {
                     if (dt < 0.5) r.batch *= 2;
                 }
                 r.steps_per_s = steps / total;
-                std::printf("%-6s %6u %5u %10.2f %10.2f %7.2fx\n", name.c_str(), n, cap, r.steps_per_s, r.paper,
-                            r.steps_per_s / r.paper);
+                r.copy_gbs = bench::copy_bandwidth_gbs(*ctx, n);
+                r.roofline = bench::roofline_row("force model full step", kForceStepBytes, n,
+                                                 1e3 * bench::median(r.batch_s), r.copy_gbs);
+                std::printf("%-6s %6u %5u %10.2f %10.2f %7.2fx   roofline %.2f GB/s = %.0f%% of copy (%.2f GB/s)\n",
+                            name.c_str(), n, cap, r.steps_per_s, r.paper, r.steps_per_s / r.paper, r.roofline.gbs,
+                            100.0 * r.roofline.of_copy, r.copy_gbs);
                 std::fflush(stdout);
                 rows.push_back(r);
             }
@@ -140,7 +154,7 @@ int main(int argc, char** argv) {
         out << "    {\"scenario\": \"" << r.scenario << "\", \"agents\": " << r.n << ", \"neighbor_sample\": " << r.cap
             << ", \"steps_per_s\": " << r.steps_per_s << ", \"paper_fps\": " << r.paper
             << ", \"ratio\": " << r.steps_per_s / r.paper << ", \"seconds_per_step\": " << bench::json_array(r.batch_s, 1.0)
-            << "}" << (i + 1 < rows.size() ? "," : "") << "\n";
+            << ", \"roofline\": " << bench::roofline_json({r.roofline}, r.copy_gbs) << "}" << (i + 1 < rows.size() ? "," : "") << "\n";
     }
     out << "  ]\n}\n";
     std::printf("load average %.2f -> %.2f; wrote %s\n", load_before, load_after, json.c_str());

@@ -20,6 +20,7 @@
 
 #include "bench_util.hpp"
 #include "device/context.hpp"
+#include "roofline.hpp"
 #include "models/policy_model.hpp"
 #include "rl/leader_env.hpp"
 #include "rl/rl_scenarios.hpp"
@@ -38,6 +39,8 @@ struct Row {
     uint32_t n = 0;
     int steps = 0;
     double step_s = 0, observe_s = 0, mlp_s = 0, env_step_s = 0, rag_s = 0, neighbours = 0;
+    double copy_gbs = 0;  // the roofline's copy kernel at n float4, this run (issue 29)
+    std::vector<bench::RooflineRow> roofline;
 };
 
 float g_cell = 6.17f;  // the swarm's interaction_radius: the grid's cell edge ((r_coh + body) / 3)
@@ -185,13 +188,26 @@ int run(const std::string& weights, const std::string& out, const std::vector<st
                 g_cell, bench::load_average());
     std::vector<Row> rows;
     for (auto [n, steps] : sizes) {
-        const Row r = run(ctx, bytes, n, steps);
+        Row r = run(ctx, bytes, n, steps);
+        // The roofline (issue 29): the least each stage must move per agent.
+        // Observations: read the agent's state (2 float4) and write its
+        // observation; the MLP: read the observation, write 4 action floats
+        // (its weights stay in cache); the step: the agent's state read and
+        // written, the grid rebuilt in grid order (92 B) and the observation
+        // written and read back.
+        const double obs_bytes = 4.0 * w.obs_dim;
+        r.copy_gbs = bench::copy_bandwidth_gbs(*ctx, n);
+        r.roofline = {bench::roofline_row("observations", 32 + obs_bytes, n, 1e3 * r.observe_s, r.copy_gbs),
+                      bench::roofline_row("MLP", obs_bytes + 16, n, 1e3 * r.mlp_s, r.copy_gbs),
+                      bench::roofline_row("policy full step", 64 + 92 + 2 * obs_bytes, n, 1e3 * r.step_s,
+                                          r.copy_gbs)};
         rows.push_back(r);
         std::printf("N %8u: policy step %9.2f ms = %7.2f steps/s (observe ~%.1f ms, MLP %.1f ms = %.1f GFLOP/s; "
                     "%.0f neighbours within 18.5 m) | env step (%u worlds x 100, RAG) %8.2f ms + RAG %7.2f ms\n",
                     n, 1e3 * r.step_s, 1.0 / r.step_s, 1e3 * r.observe_s, 1e3 * r.mlp_s,
                     2.0 * macs * n / r.mlp_s * 1e-9, r.neighbours, std::max<uint32_t>(1, n / 100), 1e3 * r.env_step_s,
                     1e3 * r.rag_s);
+        bench::print_roofline(r.roofline, r.copy_gbs);
         std::fflush(stdout);
     }
     std::ofstream f(out);
@@ -204,7 +220,8 @@ int run(const std::string& weights, const std::string& out, const std::vector<st
         f << "    {\"agents\": " << r.n << ", \"steps_timed\": " << r.steps << ", \"policy_step_ms\": " << 1e3 * r.step_s
           << ", \"policy_steps_per_s\": " << 1.0 / r.step_s << ", \"observe_ms\": " << 1e3 * r.observe_s
           << ", \"mlp_ms\": " << 1e3 * r.mlp_s << ", \"mean_neighbours\": " << r.neighbours
-          << ", \"env_worlds_x_100_step_ms\": " << 1e3 * r.env_step_s << ", \"env_rag_ms\": " << 1e3 * r.rag_s << "}"
+          << ", \"env_worlds_x_100_step_ms\": " << 1e3 * r.env_step_s << ", \"env_rag_ms\": " << 1e3 * r.rag_s
+          << ", \"roofline\": " << bench::roofline_json(r.roofline, r.copy_gbs) << "}"
           << (i + 1 < rows.size() ? "," : "") << "\n";
     }
     f << "  ]\n}\n";

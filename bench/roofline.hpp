@@ -4,6 +4,7 @@
 // kernel), beside which a stage's bytes it must move and the bandwidth it
 // reached say how near its memory limit it runs.
 #pragma once
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <string>
@@ -41,6 +42,22 @@ inline double copy_bandwidth_gbs(swarmcl::Context& ctx, size_t n, int reps = 9) 
         if (r > 0) t.push_back(s);
     }
     return 32.0 * double(n) / median(t) * 1e-9;
+}
+
+// GB/s of copying `n` doubles on the host with std::copy (read + write: 16 n
+// bytes), the median of `reps` passes after one warm-up: the roof of a stage
+// that runs on the host (the fast-marching solver), one thread.
+inline double host_copy_bandwidth_gbs(size_t n, int reps = 9) {
+    std::vector<double> a(n, 1.0), b(n, 0.0);
+    std::vector<double> t;
+    for (int r = 0; r <= reps; ++r) {
+        const auto t0 = std::chrono::steady_clock::now();
+        std::copy(a.begin(), a.end(), b.begin());
+        const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        if (r > 0) t.push_back(s);
+        a[r % n] = b[(r + 1) % n];  // keeps the copies from being folded away
+    }
+    return 16.0 * double(n) / median(t) * 1e-9;
 }
 
 // One stage against the copy bandwidth.

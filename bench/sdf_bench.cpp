@@ -22,6 +22,7 @@
 #include "bench_util.hpp"
 #include "device/context.hpp"
 #include "fields/sdf.hpp"
+#include "roofline.hpp"
 #include "shapes/triangle_mesh.hpp"
 
 #ifndef SWARMCL_BENCH_RESULTS_DIR
@@ -135,6 +136,13 @@ int main(int argc, char** argv) {
                 full.seconds, full.max_err_band, full.active);
     std::printf("  ratios: OpenVDB narrow / swarmcl %.2f, OpenVDB dense / swarmcl %.2f; facet error of the mesh %.1e m\n",
                 narrow.seconds / ours, full.seconds / ours, facet);
+    // The roofline (issue 29): at the least each cell's distance is written
+    // (a float on the device, a double for the fast marching beyond the band)
+    // and read back: 16 B a cell, beside the device's copy kernel.
+    const double cells = double(n) * n * n, copy_gbs = copy_bandwidth_gbs(ctx, size_t(cells) / 4);
+    const std::vector<RooflineRow> roof = {roofline_row("compute_sdf, whole grid (per cell)", 16, cells, 1e3 * ours,
+                                                        copy_gbs)};
+    print_roofline(roof, copy_gbs);
     std::ofstream out(json);
     out << "{\n  \"benchmark\": \"sdf_bench\",\n  \"date\": \"" << utc_now() << "\",\n  \"load_average\": " << load_average()
         << ",\n  \"device\": \"" << json_escape(ctx.device().device_name) << "\",\n  \"triangles\": " << mesh.triangle_count()
@@ -143,7 +151,7 @@ int main(int argc, char** argv) {
         << ",\n  \"swarmcl_max_error_m\": " << err_all << ",\n  \"openvdb_narrow_seconds\": " << narrow.seconds
         << ",\n  \"openvdb_narrow_max_error_m\": " << narrow.max_err_band << ",\n  \"openvdb_dense_seconds\": "
         << full.seconds << ",\n  \"openvdb_dense_max_error_m\": " << full.max_err_band << ",\n  \"cell_m\": " << g.h
-        << "\n}\n";
+        << ",\n  \"roofline\": " << roofline_json(roof, copy_gbs) << "\n}\n";
     std::printf("  wrote %s\n", json.c_str());
     return 0;
 }

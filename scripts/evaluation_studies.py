@@ -129,6 +129,8 @@ def main(argv=None) -> int:
                     help="BIPOP-CMA-ES restarts per fit, instead of --patience (default 0)")
     ap.add_argument("--sim-seeds", type=int, default=2,
                     help="simulation seeds per candidate, the same for all (common random numbers; default 2)")
+    ap.add_argument("--scale-penalty", type=float, default=1.0,
+                    help="λ of the refit of the best noise variant with E - λ P (0: none; default 1)")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--seeds", type=int, default=5, help="fits per variant, optimiser seeds seed..seed+N-1 (default 5)")
     ap.add_argument("--method", choices=("cmaes", "ga"), default="cmaes")
@@ -150,7 +152,7 @@ def main(argv=None) -> int:
             with open(os.path.join(ROOT, "bench", "results", "eval", "studies.json"), "w", encoding="utf-8") as f:
                 json.dump(results, f, indent=1)
         names = list(results["variants"])
-        write_doc(results, study_groups(), max(names, key=lambda n: results["variants"][n]["score"]["test"]))
+        write_doc(results, study_groups(results), max(names, key=lambda n: results["variants"][n]["score"]["test"]))
         return 0
     if not os.path.exists(DATA):
         print(f"skipped: no {DATA} (the real tracks are not in the repository)")
@@ -166,14 +168,25 @@ def main(argv=None) -> int:
         if args.only:
             chosen = {k: v for k, v in chosen.items() if k in args.only.split(",")}
         fitted = {}  # name -> the fit of each optimiser seed, for the models nested in it
-        for name in fit_order(chosen):
-            scenario, ranges = chosen[name]
+        order = fit_order(chosen)
+        if args.scale_penalty > 0 and any(n in chosen for n in (f"force+{x}" for x in NOISES)):
+            order.append(SCALED)
+        for name in order:
+            extra, nested = {}, [n for n in NESTED.get(name, ()) if n in fitted]
+            if name == SCALED:
+                # The noise variant with the best mean training score, refitted
+                # from each of its seeds' fits with E - λ P (docs/evaluation.md).
+                nested = [max((n for n in fitted if n.startswith("force+")),
+                              key=lambda n: np.mean([x[2]["train"] for x in fitted[n]]))]
+                scenario, ranges = chosen[nested[0]]
+                extra = {"scale_penalty": args.scale_penalty}
+            else:
+                scenario, ranges = chosen[name]
             t = time.perf_counter()
             runs = []
             for k, seed in enumerate(range(args.seed, args.seed + args.seeds)):
-                starts = [start_from(fitted[n][k][0]["scenario"], ranges)
-                          for n in NESTED.get(name, ()) if n in fitted]
-                r, start_score = fit_from_best_start(scenario, real["train"], ranges, starts, args, seed, ctx)
+                starts = [start_from(fitted[n][k][0]["scenario"], ranges) for n in nested]
+                r, start_score = fit_from_best_start(scenario, real["train"], ranges, starts, args, seed, ctx, extra)
                 terms = {h: swarmcl.fitting.PopulationEvaluator(r["scenario"], [], m, ctx, warmup=args.warmup)
                          .terms(r["scenario"]) for h, m in real.items()}
                 # E of the fitted parameters over the same simulation seeds
@@ -182,7 +195,8 @@ def main(argv=None) -> int:
                                                                 seeds=args.sim_seeds)([[]])[0]
                         for h, m in real.items()}
                 runs.append((r, terms, held, start_score))
-            fitted[name] = runs
+            if name != SCALED:
+                fitted[name] = runs
             # The variant's result: the fit that scored best on the training
             # half; the spread over optimiser seeds says how much a
             # difference means.
@@ -194,7 +208,8 @@ def main(argv=None) -> int:
                 "best": r["best"], "fit_score": r["best_score"], "evaluations": sum(x[0]["evaluations"] for x in runs),
                 "converged": [bool(x[0]["converged"]) for x in runs], "stop": [x[0]["stop"] for x in runs],
                 "generations_run": [len(x[0]["history"]) for x in runs],
-                "nested_in": [n for n in NESTED.get(name, ()) if n in fitted],
+                "nested_in": nested, "scale_penalty": extra.get("scale_penalty", 0.0),
+                "seed_best": [x[0]["best"] for x in runs],
                 "start_scores": [x[3] for x in runs],
                 "terms": {h: dict(zip(swarmcl.METRICS, map(float, v))) for h, v in terms.items()},
                 "score": held,
@@ -229,7 +244,7 @@ def main(argv=None) -> int:
         json.dump(results, f, indent=1)
     img = os.path.join(ROOT, "docs", "images")
     os.makedirs(img, exist_ok=True)
-    groups = study_groups()
+    groups = study_groups(results)
     for key, (title, members) in groups.items():
         members = [m for m in members if m in results["variants"]]
         if members:
@@ -247,6 +262,10 @@ def main(argv=None) -> int:
 # the same optimiser seed's fit of these, the one scoring best on the
 # training half, so the variant never scores below them there
 # (swarmcl.fit's start; issue 26, item 2).
+# SCALED: the best noise variant (by mean training score) refitted with
+# E - λ P, P the mean Wasserstein-1 distance in the real data's spreads
+# (--scale-penalty λ), from each seed's fit of that variant.
+SCALED = "best noise, physical scale"
 NESTED = {**{f"force+{n}": ("force dynamics only",) for n in NOISES},
           "force+curl": ("force dynamics only", "force noise only")}
 
@@ -267,7 +286,7 @@ def start_from(nested_scenario: dict, ranges: dict) -> dict:
     return out
 
 
-def fit_from_best_start(scenario, train, ranges, starts, args, seed, ctx):
+def fit_from_best_start(scenario, train, ranges, starts, args, seed, ctx, extra):
     """One fit; with nested models' points, from the one scoring best on the
     training half (scored as the fit scores: same simulation seeds)."""
     start, start_score = None, None
@@ -280,7 +299,7 @@ def fit_from_best_start(scenario, train, ranges, starts, args, seed, ctx):
     r = swarmcl.fit(scenario, train, ranges, method=args.method, generations=args.generations,
                     population=args.population, seed=seed, warmup=args.warmup, context=ctx,
                     restarts=args.restarts, tolerance=args.tolerance, step_tolerance=args.step_tolerance,
-                    patience=None if args.restarts else args.patience, seeds=args.sim_seeds, start=start)
+                    patience=None if args.restarts else args.patience, seeds=args.sim_seeds, start=start, **extra)
     return r, start_score
 
 
@@ -320,12 +339,18 @@ def data_floor(real) -> float:
     return swarmcl.score(swarmcl.distances(real["train"], real["test"]))
 
 
-def study_groups() -> dict:
-    return {
+def study_groups(results=None) -> dict:
+    groups = {
         "noise": ("Noise study (§4.2): force dynamics + each noise, fitted", [f"force+{n}" for n in NOISES]),
         "model": ("Model study (§4.3)", ["force+curl", "force dynamics only", "force noise only"]),
         "fidelity": ("Every model of the library, fitted", ["field", "path", "force+curl", "energy"]),
     }
+    scaled = (results or {}).get("variants", {}).get(SCALED)
+    if scaled:
+        base = scaled["nested_in"][0]
+        groups["scale"] = (f"Physical scale: {base} refitted with E − {scaled['scale_penalty']:g} P "
+                           "(P: mean Wasserstein-1 distance in the real data's spreads)", [base, SCALED])
+    return groups
 
 
 def sample_sd(x) -> float:

@@ -401,6 +401,45 @@ def test_the_same_answer_over_one_and_two_mpi_ranks(tmp_path, truth):
     assert all(r == results[0] for r in results[1:])
 
 
+class _TwoRanks:
+    """A stand-in for a 2-rank communicator: this process is rank `rank`;
+    the other rank's gathered part and broadcast commands are given."""
+
+    def __init__(self, rank, other_part=None, commands=()):
+        self.rank, self.other_part, self.commands, self.gathered = rank, other_part, list(commands), []
+
+    def Get_rank(self):
+        return self.rank
+
+    def Get_size(self):
+        return 2
+
+    def bcast(self, obj, root=0):
+        return obj if self.rank == 0 else self.commands.pop(0)
+
+    def gather(self, obj, root=0):
+        self.gathered.append(obj)
+        return [obj, self.other_part] if self.rank == 0 else None
+
+
+def test_a_rank_that_fails_in_a_generation_fails_the_generation_with_its_message():
+    # Rank 0 raises the serving rank's error, naming it, instead of returning
+    # a generation with scores missing; a serving rank sends its error and
+    # keeps serving until stopped.
+    from swarmcl.fitting import _RankError, _Ranks
+    ranks = _Ranks(lambda pop: [1.0] * len(pop), _TwoRanks(0, _RankError(1, "SwarmclError: out of memory")))
+    with pytest.raises(RuntimeError, match="rank 1 failed in a generation: SwarmclError: out of memory"):
+        ranks.map([[0.1], [0.2], [0.3]])
+    assert _Ranks(lambda pop: [1.0] * len(pop), _TwoRanks(0, [2.0])).map([[0.1], [0.2]]) == [1.0, 2.0]
+
+    def boom(pop):
+        raise MemoryError("no room")
+    comm = _TwoRanks(1, commands=[("evaluate", [[0.1], [0.2]]), ("stop", None)])
+    _Ranks(boom, comm).serve()
+    assert len(comm.gathered) == 1 and isinstance(comm.gathered[0], _RankError)
+    assert comm.gathered[0].rank == 1 and comm.gathered[0].message == "MemoryError: no room"
+
+
 def test_compare_iterates_entropy_weights_over_models(ctx, real):
     # Three "models": the field model with its noise gain fitted, with its
     # goal pull fitted, with its noise scale fitted; Steps 1-5 of §3.3.  (With

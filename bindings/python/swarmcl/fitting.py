@@ -541,6 +541,14 @@ class PopulationEvaluator:
             return self._all_terms([s])[0][0]
 
 
+@dataclass
+class _RankError:
+    """What a serving rank sends rank 0 in place of its scores when its
+    evaluation raised."""
+    rank: int
+    message: str
+
+
 class _Ranks:
     """Spreads a population over MPI ranks (contiguous blocks, in order) and
     gathers the scores on rank 0; without MPI, evaluates in place.  Ranks
@@ -561,14 +569,24 @@ class _Ranks:
             return self.evaluate(population)
         self.comm.bcast(("evaluate", population), root=0)
         mine = self.evaluate(self._share(population, 0))
-        return [x for part in self.comm.gather(mine, root=0) for x in part]
+        parts = self.comm.gather(mine, root=0)
+        # A rank whose evaluation raised sends its error instead of scores:
+        # the generation fails with it, never with a partial or shifted list.
+        failed = [p for p in parts if isinstance(p, _RankError)]
+        if failed:
+            raise RuntimeError("; ".join(f"rank {e.rank} failed in a generation: {e.message}" for e in failed))
+        return [x for part in parts for x in part]
 
     def serve(self) -> None:
         while True:
             command, population = self.comm.bcast(None, root=0)
             if command == "stop":
                 return
-            self.comm.gather(self.evaluate(self._share(population, self.rank)), root=0)
+            try:
+                scores = self.evaluate(self._share(population, self.rank))
+            except Exception as e:  # noqa: BLE001  sent to rank 0, which raises it
+                scores = _RankError(self.rank, f"{type(e).__name__}: {e}")
+            self.comm.gather(scores, root=0)
 
     def stop(self) -> None:
         if self.size > 1:
@@ -978,7 +996,7 @@ def main(argv=None) -> int:
                          robust=args.robust, scale_penalty=args.scale_penalty, seeds=args.seeds,
                          restarts=args.restarts, tolerance=args.tolerance, step_tolerance=args.step_tolerance,
                          patience=args.patience, progress=(lambda e: _bar(e, total)) if show else None)
-    except (ValueError, OSError, SwarmclError) as e:
+    except (ValueError, OSError, RuntimeError, SwarmclError) as e:
         print(f"swarmcl fit: {e}", file=sys.stderr)
         if comm is not None:
             comm.Abort(1)
