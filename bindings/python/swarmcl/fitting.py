@@ -620,7 +620,6 @@ def _cmaes(ranks: _Ranks, dim: int, generations: int, population: int, seed: int
            patience: Optional[int] = None) -> tuple:
     import cma
     history = []
-    bests = []  # the best so far after each generation
     best = {"u": None, "score": -math.inf}
     if start is not None:
         best["score"], entry = _start_entry(ranks, start, report)
@@ -636,10 +635,10 @@ def _cmaes(ranks: _Ranks, dim: int, generations: int, population: int, seed: int
         history.append({"generation": len(history) + 1, "individuals": len(xs), "best": max(scores),
                         "mean": float(np.mean(scores)), "best_so_far": best["score"]})
         report(history[-1])
-        bests.append(best["score"])
         return [-s for s in scores]  # cma minimises
 
     def stalled(es) -> bool:
+        bests = [h["best_so_far"] for h in history if h["generation"] > 0]  # the start point's entry is 0
         return patience is not None and len(bests) > patience and bests[-1] - bests[-1 - patience] <= tolerance
 
     # cma takes seed 0 as "from the clock": shift so every seed is fixed.
