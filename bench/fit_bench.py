@@ -11,9 +11,9 @@ each world's metrics on the device, timed beside the same worlds measured on
 the host from frames read back and the generation run as one swarm per
 individual (the way before worlds, metrics streamed on the device),
 alternated in the same run; the issue's target is 2 s a generation.
---model field does the same for the field model.
+--model field and --model path do the same for those models.
 
-    python bench/fit_bench.py [--model force|field] [--population 64] [--agents 300] [--steps 500] [--full]
+    python bench/fit_bench.py [--model force|field|path] [--population 64] [--agents 300] [--steps 500] [--full]
 
 Needs pip install 'swarmcl[fit,mpi]' and mpirun (Open MPI).  Writes
 bench/results/eval/fit_bench.json.  The tracks are synthetic (deterministic,
@@ -33,7 +33,10 @@ import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 RANGES_OF = {"force": {"model.w_att": [1.0, 20.0], "model.eta": [0.0, 1.0]},
-             "field": {"model.noise.gain": [0.05, 2.0], "model.goal.speed": [0.05, 2.0]}}
+             "field": {"model.noise.gain": [0.05, 2.0], "model.goal.speed": [0.05, 2.0]},
+             # The studies' ranges: the goal's radius gives each world its own cost field.
+             "path": {"model.noise.scale": [0.05, 1.0], "model.noise.gain": [0.05, 2.0], "model.speed": [0.05, 2.0],
+                      "model.goals.0.radius": [0.05, 1.0], "model.goal_falloff": [0.1, 3.0]}}
 
 
 def scenario(agents: int, steps: int, model: str = "force") -> dict:
@@ -92,7 +95,7 @@ def worker(args) -> int:
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--model", choices=("force", "field"), default="force")
+    ap.add_argument("--model", choices=tuple(RANGES_OF), default="force")
     ap.add_argument("--population", type=int, default=64)
     ap.add_argument("--agents", type=int, default=300)
     ap.add_argument("--steps", type=int, default=500)

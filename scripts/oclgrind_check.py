@@ -105,6 +105,8 @@ CASES = [
     ("test_force_worlds", "ForceWorlds.SmallWorldsAreBitwiseTheSwarmsAlone", CPU),
     ("test_force_obstacles", "ForceMeshObstacles.InsectsJustInsideABoxMeshAreOutsideAfterTheNextStep", GPU),
     # The path model (signed distance, baked and rebaked noise, both widths).
+    # Its world kernels: offsets, per-world direction fields, MDE per world.
+    ("test_path_worlds", "PathWorlds.SmallWorldsAreBitwiseTheSwarmsAlone", GPU),
     ("test_path_chasing", "PathChasing.SmallGridsMovingTheTargetMatchesAFreshBuildAtWidths1And16", GPU),
     # The energy model.
     ("test_energy_model", "EnergyModel.EveryTermMatchesTheHostReference", GPU),

@@ -682,6 +682,14 @@ TEST(PolicyCapi, BadWeightsGiveAParseErrorAndTheSwarmStaysUsable) {
     lm.leader_mode = static_cast<swcl_policy_leader_mode>(7);
     EXPECT_EQ(swcl_swarm_policy_set_model(swarm, &lm), SWCL_ERROR_INVALID_ARGUMENT);
     EXPECT_TRUE(contains(swcl_last_error(), "leader_mode")) << swcl_last_error();
+    // A swarm of several worlds: the policy model does not run worlds yet.
+    swcl_swarm_desc wd = sd;
+    wd.worlds = 2;
+    swcl_swarm two{};
+    ASSERT_EQ(swcl_swarm_create(ctx, &wd, &two), SWCL_OK) << swcl_last_error();
+    EXPECT_EQ(swcl_swarm_policy_set_model(two, &d), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_TRUE(contains(swcl_last_error(), "several worlds")) << swcl_last_error();
+    swcl_swarm_destroy(two);
     // A missing file: an I/O error naming it.
     swcl_policy_model_desc m = d;
     m.weights_path = "/nonexistent/w.safetensors";

@@ -212,10 +212,15 @@ TEST_F(Worlds, BadInputNamesTheParameterAndWorldAndChangesNothing) {
     EXPECT_EQ(swcl_swarm_set_world_param(all, "goal.center", goals.data(), kWorlds), SWCL_ERROR_INVALID_ARGUMENT);
     EXPECT_NE(std::string(swcl_last_error()).find("3 per world"), std::string::npos) << swcl_last_error();
 
-    // Models that do not run worlds yet say so.
-    swcl_path_model_desc pm = swcl_path_model_desc_default();
-    EXPECT_EQ(swcl_swarm_path_set_model(all, &pm), SWCL_ERROR_INVALID_ARGUMENT);
-    EXPECT_NE(std::string(swcl_last_error()).find("worlds"), std::string::npos) << swcl_last_error();
+    // What does not run worlds yet (a recorder; the policy model, which
+    // needs weights to get that far: test_policy) says so.
+    swcl_recorder rec{};
+    ASSERT_EQ(swcl_recorder_create(::testing::TempDir().c_str(), "swarmcl_worlds_refused", SWCL_EXPORT_CSV, &rec),
+              SWCL_OK)
+        << swcl_last_error();
+    EXPECT_EQ(swcl_recorder_add_frame(rec, all, 0, 0.0), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("several worlds"), std::string::npos) << swcl_last_error();
+    EXPECT_EQ(swcl_recorder_destroy(rec), SWCL_OK);
     // The field model is still in place and steps.
     EXPECT_EQ(swcl_swarm_step(all, 1), SWCL_OK) << swcl_last_error();
 

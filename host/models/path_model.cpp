@@ -22,14 +22,19 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 PathModel::PathModel(Swarm& swarm, PathModelConfig config)
     : config_(std::move(config)), ctx_(swarm.context()),
-      domain_min_(swarm.config().domain_min), domain_max_(swarm.config().domain_max) {
-    swarm.require_one_world("the path model");
+      domain_min_(swarm.config().domain_min), domain_max_(swarm.config().domain_max),
+      worlds_(path_param_table(), PathModelConfig{}, 1) {
     const auto t0 = std::chrono::steady_clock::now();
     auto& c = config_;
     // Each parameter's range: path_param_table() ("path model speed = -1 is
     // outside [0, inf) (m/s)"); what one row cannot say follows.
     path_param_table().validate(&c);
     require(!c.groups.empty() && c.groups.size() <= 64, "path model needs 1 to 64 groups, each with its goals");
+    // Targets and waypoints move goals and rebake the noise while it runs:
+    // one world's host work, not offset per world.
+    require(swarm.worlds() == 1 || (c.targets.empty() && c.waypoints.empty()),
+            "path model chasing targets and moving goals (waypoints) do not run on a swarm of several worlds (" +
+                std::to_string(swarm.worlds()) + "); give each world its goals with set_world_param");
     for (const auto& w : c.waypoints)
         require(std::isfinite(w[0]) && std::isfinite(w[1]) && std::isfinite(w[2]), "path model waypoints must be finite");
     if (!c.has_grid_box) {
@@ -57,7 +62,7 @@ PathModel::PathModel(Swarm& swarm, PathModelConfig config)
             throw Error(e.status(), "path model group " + std::to_string(g) + ": " + e.what());
         }
     }
-    if (c.lamp.enabled) set_lamp(c.lamp);  // validates
+    if (c.lamp.enabled) check_lamp(c.lamp);
     // The mesh shapes the curl noise when the kernel can assemble it (curl
     // with analytic derivatives); other noise types are used as they are.
     std::vector<float> phi_upload(phi_);
@@ -82,14 +87,25 @@ PathModel::PathModel(Swarm& swarm, PathModelConfig config)
         costs_[g] = solve_cost(grid_, slowness_, goals_of(g, c.targets), c.second_order);
         upload_directions(g);
     }
-    local_ = build_local(c.targets);
-    upload_params();
+    worlds_ = WorldConfigs<PathModelConfig>(path_param_table(), c, swarm.worlds());
+    local_ = build_local(c.noise, c.targets);
+    const std::vector<cl_float> block = local_.noise->block();
+    for (uint32_t k = 0; k < swarm.worlds(); ++k) noise_host_.insert(noise_host_.end(), block.begin(), block.end());
+    upload_world_blocks();
     ctx_.queue().finish();
     preprocess_seconds_ = seconds_since(t0);
 }
 
 std::vector<Goal> PathModel::goals_of(uint32_t group, const std::vector<PathTarget>& targets) const {
-    std::vector<Goal> goals = config_.groups.at(group).goals;
+    PathModelConfig c;
+    c.groups = config_.groups;
+    c.targets = targets;
+    return goals_in(c, group);
+}
+
+std::vector<Goal> PathModel::goals_in(const PathModelConfig& c, uint32_t group) const {
+    const std::vector<PathTarget>& targets = c.targets;
+    std::vector<Goal> goals = c.groups.at(group).goals;
     for (const PathTarget& t : targets)
         if (t.group == group) {
             Goal g;
@@ -121,10 +137,11 @@ void PathModel::check_target(const PathTarget& t, const std::string& what) const
             what + ": center lies inside an obstacle");
 }
 
-PathModel::LocalField PathModel::build_local(const std::vector<PathTarget>& targets, const LocalField* previous,
+PathModel::LocalField PathModel::build_local(const NoiseConfig& noise, const std::vector<PathTarget>& targets,
+                                             const LocalField* previous,
                                              const std::vector<PathTarget>& changed) const {
     LocalField out;
-    NoiseConfig nc = config_.noise;
+    NoiseConfig nc = noise;
     if (!nc.has_region()) nc.region_min = domain_min_, nc.region_max = domain_max_;
     // §7 chasing: the target ball is a boundary of Eq. 2, after the others.
     for (const PathTarget& t : targets) {
@@ -145,7 +162,7 @@ PathModel::LocalField PathModel::build_local(const std::vector<PathTarget>& targ
     }
     // The parameter block's slots (PATH_SPEED, ...), for every kernel of path_model.cl.
     defines += path_param_table().device_defines("PATH");
-    if (mesh_noise_ && config_.noise.baked) {
+    if (mesh_noise_ && noise.baked) {
         // The noise's bake grid over its region (NoiseField's bake), with the mesh.
         const BakeGrid g = bake_grid(out.noise->config());
         out.vl_min = g.min;
@@ -194,7 +211,8 @@ PathModel::LocalField PathModel::build_local(const std::vector<PathTarget>& targ
     } else {
         out.vl.allocate(ctx_, 1, "baked local field");
     }
-    out.advance = ctx_.kernel("path_model.cl", out.width > 1 ? "path_model_advance_w" : "path_model_advance", defines);
+    out.advance = ctx_.kernel("path_model.cl", out.width > 1 ? "path_model_advance_w" : "path_model_advance",
+                              defines + world_defines(worlds_.worlds()));
     return out;
 }
 
@@ -206,6 +224,7 @@ void PathModel::upload_directions(uint32_t group) {
 }
 
 double PathModel::set_goals(uint32_t group, std::vector<Goal> goals) {
+    require_one_world("path model set_goals");
     const auto t0 = std::chrono::steady_clock::now();
     require(group < config_.groups.size(), "path model: group " + std::to_string(group) + " does not exist");
     std::vector<Goal> all = goals;
@@ -232,7 +251,7 @@ double PathModel::retarget(std::vector<PathTarget> targets, uint32_t group, cons
     // Everything into temporaries first: an error (a goal check, the noise)
     // leaves the model as it was.
     std::vector<double> cost = solve_cost(grid_, slowness_, goals_of(group, targets), config_.second_order);
-    LocalField local = build_local(targets, &local_, changed);
+    LocalField local = build_local(config_.noise, targets, &local_, changed);
     std::vector<cl_float4> d(grid_.count());
     direction_field(grid_, cost, phi_, reinterpret_cast<float*>(d.data()));
     write_buffer(ctx_, dirs_.get(), size_t(group) * grid_.count() * sizeof(cl_float4), d.size() * sizeof(cl_float4),
@@ -248,6 +267,7 @@ double PathModel::retarget(std::vector<PathTarget> targets, uint32_t group, cons
 }
 
 double PathModel::set_target(uint32_t index, const std::array<float, 3>& center) {
+    require_one_world("path model set_target");
     require(index < config_.targets.size(), "path model: target " + std::to_string(index) + " does not exist (" +
                                                 std::to_string(config_.targets.size()) + " targets)");
     if (config_.targets[index].center == center) return 0.0;  // not moved: nothing to recompute
@@ -260,6 +280,7 @@ double PathModel::set_target(uint32_t index, const std::array<float, 3>& center)
 }
 
 uint32_t PathModel::add_target(const PathTarget& target) {
+    require_one_world("path model add_target");
     const uint32_t index = uint32_t(config_.targets.size());
     check_target(target, "path model target " + std::to_string(index));
     if (index == 0)  // the waypoints will move it: each must be a place it may be
@@ -275,11 +296,18 @@ uint32_t PathModel::add_target(const PathTarget& target) {
 }
 
 void PathModel::set_lamp(const PathLamp& lamp) {
+    require_one_world("path model set_lamp");
     if (!lamp.enabled) {
         config_.lamp.enabled = false;
         upload_params();
         return;
     }
+    check_lamp(lamp);
+    config_.lamp = lamp;
+    upload_params();
+}
+
+void PathModel::check_lamp(const PathLamp& lamp) const {
     {  // the lamp's rows of the table ("path model lamp.radius = 0 is outside (0, inf) (m)")
         PathModelConfig with;
         with.lamp = lamp;
@@ -309,16 +337,9 @@ void PathModel::set_lamp(const PathLamp& lamp) {
             }
     require(free, "path model lamp: no free space around it (every cell within " + std::to_string(outer) +
                       " m of its centre is inside an obstacle)");
-    config_.lamp = lamp;
-    upload_params();
 }
 
-void PathModel::upload_params() {
-    // The lamp changes at run time; the constructor's first upload comes
-    // after its set_lamp.
-    if (!local_.noise) return;
-    params_ = upload_param_block(ctx_, path_param_table(), &config_);
-}
+void PathModel::upload_params() { blocks_current_ = false; }
 
 void PathModel::advance(Swarm& swarm, uint64_t step) {
     if (!config_.waypoints.empty() && step > 0 && step % config_.waypoint_every == 0 && !config_.targets.empty()) {
@@ -332,29 +353,29 @@ void PathModel::advance(Swarm& swarm, uint64_t step) {
             for (int a = 0; a < 3; ++a) g.center[a] += shift[a];
         set_goals(0, std::move(goals));
     }
+    if (!blocks_current_) upload_world_blocks();
     const uint32_t n = swarm.agent_count();
+    const uint32_t worlds = worlds_.worlds();
     cl::Kernel& advance_ = local_.advance;
     cl_uint i = swarm.set_step_args(advance_, step);
+    const cl_uint noise_at = i;
     i = local_.noise->set_args(advance_, i);
-    advance_.setArg(i++, dirs_.get());
+    if (worlds > 1) advance_.setArg(noise_at, noise_blocks_.get());  // the worlds' blocks
+    advance_.setArg(i++, world_dirs_on_ ? world_dirs_.get() : dirs_.get());
     advance_.setArg(i++, grid_dims_arg());
     advance_.setArg(i++, grid_origin_arg());
     advance_.setArg(i++, group_end_.get());
     advance_.setArg(i++, cl_uint(config_.groups.size()));
-    advance_.setArg(i++, params_.get());  // path_param_table()'s block: s0, the lamp
+    advance_.setArg(i++, params_.get());  // path_param_table()'s blocks: s0, the lamp
     advance_.setArg(i++, phi_dev_.get());
-    // The ramp compares the cost with A * falloff (cost per metre of free path: A).
-    advance_.setArg(i++, config_.goal_falloff > 0.0f ? float(1.0 / (config_.weights.A * config_.goal_falloff)) : 0.0f);
+    advance_.setArg(i++, world_extra_.get());
+    advance_.setArg(i++, cl_uint(world_dirs_on_ ? grid_.count() * config_.groups.size() : 0));
     advance_.setArg(i++, local_.vl.get());
     advance_.setArg(i++, local_.vl_min);
     advance_.setArg(i++, local_.vl_cell);
     advance_.setArg(i++, local_.vl_dims);
-    // Phototaxis (§7): the lamp's turn (cos, sin of its angle; the rest of
-    // the lamp is in the block).
-    const PathLamp& L = config_.lamp;
-    advance_.setArg(i++, cl_float2{{std::cos(L.angle), std::sin(L.angle)}});
     check_arg_count(advance_, i);
-    launch(ctx_, advance_, (size_t(n) + local_.width - 1) / local_.width);
+    launch_worlds(ctx_, advance_, (size_t(n) + local_.width - 1) / local_.width, worlds);
     swarm.positions_changed();
 }
 
@@ -363,6 +384,13 @@ StepStages PathModel::stages() const {
     s.min_distance = config_.min_distance;
     s.seed = config_.noise.seed;
     s.stats = true;
+    if (worlds_.worlds() > 1) {
+        for (uint32_t k = 0; k < worlds_.worlds(); ++k) {
+            s.world_min_distance.push_back(worlds_[k].min_distance);
+            s.world_seed.push_back(worlds_[k].noise.seed);
+            s.min_distance = std::max(s.min_distance, worlds_[k].min_distance);
+        }
+    }
     return s;
 }
 
@@ -370,7 +398,7 @@ StepStages PathModel::stages() const {
 // set_goals and the waypoints); the constructor solves their cost fields
 // with the same code as set_goals.  The state: the recomputation counters.
 void PathModel::save_checkpoint(Swarm&, ByteWriter& descriptor, ByteWriter& state) {
-    write_model_descriptor(descriptor, config_);
+    write_model_descriptor(descriptor, config_);  // the other worlds: their varied parameters (WRLD)
     state.u32(recomputes_);
     state.f64(recompute_seconds_);
 }

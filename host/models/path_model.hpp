@@ -12,6 +12,7 @@
 #include "fields/cost_field.hpp"
 #include "fields/noise_field.hpp"
 #include "fields/sdf.hpp"
+#include "params/world_params.hpp"
 #include "shapes/triangle_mesh.hpp"
 #include "swarm/behavior.hpp"
 
@@ -80,8 +81,19 @@ const ParamTable& path_param_table();
 class PathModel : public Behavior {
 public:
     // Preprocesses (signed distance, cost fields); Error(InvalidArgument)
-    // naming the problem, and nothing is kept on error.
+    // naming the problem, and nothing is kept on error.  Every world of the
+    // swarm starts with `config`; chasing targets and moving goals run on a
+    // swarm of one world only.
     PathModel(Swarm& swarm, PathModelConfig config);
+
+    // Per world (models/path_worlds.cpp): any parameter of the table but the
+    // grid's (one grid for every world) and what selects the noise kernel or
+    // is baked; and the goals, "groups.G.goals.I.center" / ".radius" /
+    // ".half_extents" ("goals.I..." for group 0).  Worlds whose goals or
+    // cost weights differ get cost fields of their own.
+    void set_world_param(Swarm& swarm, const std::string& key, const double* values, size_t count) override;
+    std::vector<double> world_param(const std::string& key) const override;
+    std::vector<std::string> varied_world_params() const override;
 
     void advance(Swarm& swarm, uint64_t step) override;
     // MDE at min_distance (keyed by the noise seed), and step statistics.
@@ -105,6 +117,7 @@ public:
     // grid or with no free space around it: Error, nothing changed.
     void set_lamp(const PathLamp& lamp);
 
+    // World 0's configuration (the swarm's, with one world).
     const PathModelConfig& config() const { return config_; }
     const Grid3& grid() const { return grid_; }
     const std::vector<float>& sdf() const { return phi_; }                 // empty: no obstacles
@@ -135,15 +148,30 @@ private:
     // With `previous` (a baked mesh-aware field) only the nodes within d0 of
     // the balls in `changed` (targets that moved, old and new places, or
     // appeared) are rebaked, into a copy of previous's nodes.
-    LocalField build_local(const std::vector<PathTarget>& targets, const LocalField* previous = nullptr,
-                           const std::vector<PathTarget>& changed = {}) const;
+    LocalField build_local(const NoiseConfig& noise, const std::vector<PathTarget>& targets,
+                           const LocalField* previous = nullptr, const std::vector<PathTarget>& changed = {}) const;
     std::vector<Goal> goals_of(uint32_t group, const std::vector<PathTarget>& targets) const;
     void check_target(const PathTarget& t, const std::string& what) const;
     // Recomputes group `group`'s field and the local field for `targets`,
     // then commits both (an error leaves everything as it was).
     double retarget(std::vector<PathTarget> targets, uint32_t group, const std::vector<PathTarget>& changed);
     void upload_directions(uint32_t group);
-    void upload_params();  // path_param_table()'s device block of config_
+    void upload_params();  // the worlds' blocks are uploaded before the next step
+    // World k's configuration (config_ with one world, where the run-time
+    // setters change it).
+    const PathModelConfig& world(uint32_t k) const { return worlds_.worlds() > 1 ? worlds_[k] : config_; }
+    // What must not be called on a swarm of several worlds (Error naming it).
+    void require_one_world(const std::string& what) const;
+    // path_param_table()'s block, world_extra and (several worlds) the noise
+    // block of every world.
+    void upload_world_blocks();
+    // Group g's goals of `c` with its targets' balls (goals_of for any world).
+    std::vector<Goal> goals_in(const PathModelConfig& c, uint32_t group) const;
+    // The direction fields of every group of `c` (groups x cells), its
+    // slowness and costs into *slowness / *costs when given.
+    std::vector<cl_float4> solve_directions(const PathModelConfig& c, std::vector<double>* slowness = nullptr,
+                                            std::vector<std::vector<double>>* costs = nullptr) const;
+    void check_lamp(const PathLamp& lamp) const;
 
     PathModelConfig config_;
     Context& ctx_;
@@ -157,7 +185,18 @@ private:
     DeviceBuffer<cl_float4> dirs_;
     DeviceBuffer<cl_float> phi_dev_;
     DeviceBuffer<cl_uint> group_end_;
-    DeviceBuffer<cl_float> params_;  // path_param_table()'s device block
+    DeviceBuffer<cl_float> params_;  // path_param_table()'s device block, one per world
+    // Worlds (docs/architecture.md, "Worlds"): each world's configuration
+    // (world 0's is config_), its noise block, its row of world_extra_ (1 /
+    // (A goal_falloff), cos and sin of the lamp's angle) and, once goals or
+    // cost weights differ between worlds, every world's direction fields.
+    WorldConfigs<PathModelConfig> worlds_;
+    std::vector<cl_float> noise_host_;
+    DeviceBuffer<cl_float> noise_blocks_;
+    DeviceBuffer<cl_float4> world_extra_;
+    DeviceBuffer<cl_float4> world_dirs_;
+    bool world_dirs_on_ = false;
+    bool blocks_current_ = false;
     double preprocess_seconds_ = 0.0;
     uint32_t recomputes_ = 0;
     double recompute_seconds_ = 0.0;

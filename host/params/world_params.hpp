@@ -55,6 +55,25 @@ public:
         configs_ = std::move(next);
     }
 
+    // What the table's rows cannot hold (a model's structured parts, e.g.
+    // the path model's goals): apply(config, k) changes world k's copy, then
+    // every world is checked as set() checks it; an error leaves all of
+    // them as they were.
+    void change(const std::function<void(Config& config, uint32_t world)>& apply,
+                const std::function<void(const Config& changed, uint32_t world)>& also = {}) {
+        std::vector<Config> next = configs_;
+        for (uint32_t k = 0; k < worlds(); ++k) {
+            try {
+                apply(next[k], k);
+                table_->validate(&next[k]);
+                if (also) also(next[k], k);
+            } catch (const Error& e) {
+                fail(e.status(), "world " + std::to_string(k) + ": " + e.what());
+            }
+        }
+        configs_ = std::move(next);
+    }
+
     // Parameter `key` of every world, as set() takes it.
     std::vector<double> get(const std::string& key) const {
         const Param& row = world_param_row(*table_, key);

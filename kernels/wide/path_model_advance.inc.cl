@@ -10,13 +10,32 @@ __kernel void SWCL_KERNEL(path_model_advance)(__global float4* pos, __global flo
                                               __global const float4* dirs, int4 dims, float4 origin_h,
                                               __global const uint* group_end, uint ngroups,
                                               __global const float* params, __global const float* phi,
-                                              float inv_falloff_cost, __global const float4* vl, float4 vl_min,
-                                              float4 vl_cell, int4 vl_dims, float2 lamp_turn) {
+                                              __global const float4* world_extra, uint dirs_stride,
+                                              __global const float4* vl, float4 vl_min, float4 vl_cell,
+                                              int4 vl_dims) {
     const uint base = get_global_id(0) * SWCL_BW;
     if (base >= n) return;
+#ifdef SWCL_WORLDS
+    // World get_global_id(1) of a swarm of worlds, n agents each: its
+    // agents, its parameter and noise blocks, its row of world_extra and its
+    // direction fields (dirs_stride 0: one set for every world, same goals).
+    const size_t world = get_global_id(1), world_base = world * n;
+    pos += world_base;
+    vel += world_base;
+    ids += world_base;
+    params += world * PATH_FLOATS;
+    noise_block += world * NOISE_BLOCK_FLOATS;
+    world_extra += world;
+    dirs += world * dirs_stride;
+#endif
     // The model's parameter block (models/path_params.cpp lays it out; the
     // host defines PATH_<KEY> as each parameter's slot): s0 and the lamp
-    // (lamp.w: its radius, 0 when it is off; lamp_turn: cos, sin of its angle).
+    // (lamp.w: its radius, 0 when it is off).  world_extra: what the host
+    // computes from the parameters (x: 1 / (A goal_falloff), 0 without the
+    // ramp; y, z: cos, sin of the lamp's angle).
+    const float4 extra = world_extra[0];
+    const float inv_falloff_cost = extra.x;
+    const float2 lamp_turn = (float2)(extra.y, extra.z);
     const float s0 = params[PATH_SPEED];
     const float4 lamp = (float4)(params[PATH_LAMP_CENTER], params[PATH_LAMP_CENTER + 1], params[PATH_LAMP_CENTER + 2],
                                  params[PATH_LAMP_ENABLED] != 0.0f ? params[PATH_LAMP_RADIUS] : 0.0f);

@@ -221,6 +221,35 @@ def test_an_energy_model_generation_as_worlds_scores_as_its_runs_alone(ctx, real
                                                steps=40).world_keys is None
 
 
+def test_a_path_model_generation_as_worlds_scores_as_its_runs_alone(ctx, real):
+    # The path model runs worlds too (issue 25): a generation varying the
+    # keys of examples/evaluation/path_mosquito.ranges.json (the noise, s0,
+    # the goal ramp and the goal's radius, which gives each world its own
+    # cost field) scores as its runs alone, streamed or measured on the
+    # host; a path scenario that chases a target keeps one swarm a run.
+    path = json.loads(json.dumps(SCENARIO))
+    path["model"] = {"type": "path", "noise": {"type": "curl", "scale": 0.4, "gain": 0.5, "seed": 2,
+                                               "boundary_distance": 0.3, "domain_walls": True},
+                     "grid": {"resolution": [12, 12, 12]}, "speed": 0.5, "goal_falloff": 1.0,
+                     "goals": [{"type": "sphere", "center": [1, 1, 1], "radius": 0.3}], "min_distance": 0.02}
+    ranges = {"model.noise.scale": [0.05, 1.0], "model.noise.gain": [0.05, 2.0], "model.speed": [0.05, 2.0],
+              "model.goals.0.radius": [0.05, 1.0], "model.goal_falloff": [0.1, 3.0]}
+    params = swarmcl.load_ranges(ranges, path)
+    pop = [list(u) for u in np.random.default_rng(11).uniform(size=(5, len(ranges)))]
+    for streamed in (False, True):
+        worlds = swarmcl.fitting.PopulationEvaluator(path, params, real, ctx, steps=40, seeds=2, streamed=streamed)
+        alone = swarmcl.fitting.PopulationEvaluator(path, params, real, ctx, steps=40, seeds=2, streamed=streamed,
+                                                    worlds=False)
+        assert worlds.world_keys == ["noise.scale", "noise.gain", "speed", "goals.0.radius", "goal_falloff"]
+        a, b = worlds(pop), alone(pop)
+        assert worlds.last_swarms == 1 and alone.last_swarms == 10
+        assert a == b and len(set(a)) == 5 and worlds.refused == 0
+    chasing = json.loads(json.dumps(path))
+    chasing["model"]["targets"] = [{"center": [1.2, 1, 1], "radius": 0.1}]
+    assert swarmcl.fitting.PopulationEvaluator(chasing, swarmcl.load_ranges(ranges, chasing), real, ctx,
+                                               steps=40).world_keys is None
+
+
 def test_the_scale_penalty_is_the_mean_wasserstein_distance_in_real_spreads(ctx, real, truth):
     # Host path (exact): the penalised score is E - λ P, P recomputed here
     # from the same run's frames; the true parameters are 0 away, a slower

@@ -77,6 +77,25 @@ def test_a_model_without_worlds_runs_one_swarm_a_row(ctx):
     assert r["rows"][0]["mean_speed"] != r["rows"][1]["mean_speed"]
 
 
+def test_a_path_grid_over_goal_radii_runs_as_worlds_and_rows_are_the_runs_alone(ctx):
+    # A path goal's radius is set per world by its own key (each world then
+    # has its own cost field): the grid still runs as one swarm of worlds.
+    path = json.loads(json.dumps(SCENARIO))
+    path["model"] = {"type": "path", "noise": {"type": "curl", "scale": 0.5, "gain": 0.3, "seed": 1},
+                     "grid": {"resolution": [10, 10, 10]}, "speed": 0.5, "goal_falloff": 0.5,
+                     "goals": [{"type": "sphere", "center": [1, 1, 1.5], "radius": 0.3}], "min_distance": 0.05}
+    grid = {"model.goals.0.radius": [0.1, 0.4], "model.speed": [0.3, 0.9]}
+    r = swarmcl.sweep(path, grid, context=ctx)
+    assert r["worlds"] and len(r["rows"]) == 4
+    for row in r["rows"]:
+        doc = json.loads(json.dumps(path))
+        doc["model"]["goals"][0]["radius"], doc["model"]["speed"] = row["model.goals.0.radius"], row["model.speed"]
+        with swarmcl.Scenario.parse(json.dumps(doc)).create_swarm(ctx) as s:
+            s.step(30)
+            assert row["mean_speed"] == float(np.linalg.norm(s.read_velocities(), axis=1).mean())
+    assert len({row["mean_speed"] for row in r["rows"]}) == 4
+
+
 @pytest.mark.parametrize("grid, says", [
     ({"model.noise.nope": [1, 2]}, "neither in the scenario nor a parameter of the field model"),
     ({"model.goal.speed": [0.5, -1.0]}, "leaves the parameter's valid range"),

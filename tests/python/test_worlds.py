@@ -74,10 +74,19 @@ def test_bad_world_input_names_parameter_and_world(ctx):
         with pytest.raises(swarmcl.InvalidArgumentError, match="no parameter 'nope'"):
             s.set_world_param("nope", [1, 2, 3])
         np.testing.assert_array_equal(s.world_param("noise.scale"), before)
-        # A model that does not run worlds yet says so (the force model runs
-        # them: test_force_model_worlds_are_the_swarms_alone).
-        with pytest.raises(swarmcl.InvalidArgumentError, match="worlds"):
-            s.set_path_model(swarmcl.PathModel())
+        # The path model runs worlds, its goals per world by their own keys;
+        # what moves its goals while it runs (set_path_goals, the lamp's
+        # setter, chasing targets) is one world's and says so.
+        from swarmcl.path import Goal
+        s.set_path_model(swarmcl.PathModel(goals=[Goal((0.5, 0.5, 0.5), "sphere", 0.2)], resolution=(8, 8, 8)))
+        s.set_world_param("goals.0.radius", [0.1, 0.2, 0.3])
+        np.testing.assert_allclose(s.world_param("groups.0.goals.0.radius"), [0.1, 0.2, 0.3], rtol=1e-6)
+        with pytest.raises(swarmcl.InvalidArgumentError, match=r"groups.0.goals.0.radius = -1 in world 2"):
+            s.set_world_param("goals.0.radius", [0.1, 0.2, -1.0])
+        np.testing.assert_allclose(s.world_param("goals.0.radius"), [0.1, 0.2, 0.3], rtol=1e-6)
+        with pytest.raises(swarmcl.InvalidArgumentError, match="several worlds"):
+            s.set_path_goals(0, [Goal((0.2, 0.2, 0.2))])
+        s.step(2)
 
 
 def test_metrics_of_each_world_are_those_of_the_swarm_alone(ctx):

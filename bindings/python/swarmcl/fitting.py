@@ -22,6 +22,7 @@ import json
 import math
 import os
 import random
+import re
 import sys
 import time
 from concurrent.futures import ThreadPoolExecutor
@@ -180,8 +181,9 @@ def world_model(scenario) -> bool:
     """Whether the scenario's model runs a swarm of worlds
     (PopulationEvaluator.WORLD_MODELS): the force model refuses worlds with
     target meshes (keyframes), a path or obstacles, the energy model with
-    keypoints (docs/architecture.md, "Worlds"), which their hosts build once
-    for every world."""
+    keypoints, the path model with chasing targets or moving goals
+    (docs/architecture.md, "Worlds"), which their hosts build once for
+    every world or move while it runs."""
     model = scenario.get("model", {}) if isinstance(scenario, dict) else {}
     if not isinstance(model, dict) or model.get("type", "field") not in PopulationEvaluator.WORLD_MODELS:
         return False
@@ -189,7 +191,28 @@ def world_model(scenario) -> bool:
         return not (model.get("keyframes") or model.get("path") or scenario.get("obstacles"))
     if model.get("type") == "energy":
         return not model.get("keypoints")
+    if model.get("type") == "path":
+        moving = model.get("moving_goal")
+        return not (model.get("targets") or (isinstance(moving, dict) and moving.get("waypoints")))
     return True
+
+
+#: The path model's goal radii: set per world by keys of their own (the
+#: table does not hold the goals; host/models/path_worlds.cpp).
+_PATH_GOAL_RADIUS = re.compile(r"model\.((?:groups\.\d+\.)?goals\.\d+\.radius)")
+
+
+def world_key(scenario: dict, path: str) -> Optional[str]:
+    """The key Swarm.set_world_param takes for a scenario path ("model.speed"
+    -> "speed", a path model's "model.goals.0.radius" -> "goals.0.radius"),
+    or None where the value cannot be set per world."""
+    model = scenario.get("model") if isinstance(scenario, dict) else None
+    if isinstance(model, dict) and model.get("type") == "path":
+        goal = _PATH_GOAL_RADIUS.fullmatch(path)
+        if goal:
+            return goal.group(1)
+    row = _table_row(scenario, path)[1]
+    return row["key"] if row is not None else None
 
 
 class PopulationEvaluator:
@@ -262,9 +285,9 @@ class PopulationEvaluator:
         self.last_swarms = 0
 
     #: The models whose swarms run worlds (the force model without target
-    #: meshes, a path or obstacles, the energy model without keypoints:
-    #: world_model above).
-    WORLD_MODELS = ("field", "force", "energy")
+    #: meshes, a path or obstacles, the energy model without keypoints, the
+    #: path model without chasing: world_model above).
+    WORLD_MODELS = ("field", "force", "energy", "path")
 
     #: The force scenario's keys that stand for rows of its table
     #: (host/scenario/force_section.cpp); eta and rho set noise.scale = rho and
@@ -287,10 +310,10 @@ class PopulationEvaluator:
             if force and path in self.FORCE_ALIASES:
                 setters[self.FORCE_ALIASES[path]] = lambda v, path=path: v[path]
                 continue
-            m, row = _table_row(self.scenario, path)
-            if row is None:
+            key = world_key(self.scenario, path)
+            if key is None:
                 return None
-            setters[row["key"]] = lambda v, path=path: v[path]
+            setters[key] = lambda v, path=path: v[path]
         if force and ("model.eta" in paths or "model.rho" in paths):
             eta0, rho0 = model.get("eta"), model.get("rho")
             if "noise" in model or ("model.eta" not in paths and eta0 is None) or \
@@ -761,7 +784,7 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
     fit() with the same arguments: rank 0 returns the result, the others
     serve evaluations and return None.  The same seed gives the same result
     for any R.  A generation's runs are the worlds of one swarm where the
-    model runs worlds (the field and force models), else each run is a swarm
+    model runs worlds (the field, force, energy and path models: world_model), else each run is a swarm
     of its own.  ``streamed`` True: each run's metrics on the device (fine
     histograms, per world); False reads positions back and measures them on
     the host (exact PDFs); None (the default): the host for worlds on a CPU

@@ -29,8 +29,8 @@ import numpy as np
 from ._core import Context, Scenario
 from .errors import SwarmclError
 from .evaluation import METRICS, Metrics, distances, score, wasserstein
-from .fitting import (_check_against_table, _context_for_rank, _table_row,
-                      add_track_options, mpi_comm, numeric_param, track_window, world_model)
+from .fitting import (_check_against_table, _context_for_rank,
+                      add_track_options, mpi_comm, numeric_param, track_window, world_key, world_model)
 
 __all__ = ["load_grid", "sweep"]
 
@@ -129,7 +129,7 @@ class _Runner:
             if every is None else int(every)
         self.warmup = int(warmup)
         self.bins, self.half_width, self.robust = bins, half_width, robust
-        self.worlds = world_model(scenario) and all(_table_row(scenario, k)[1] is not None for k in keys)
+        self.worlds = world_model(scenario) and all(world_key(scenario, k) is not None for k in keys)
 
     def run(self, rows: List[List[float]]) -> List[dict]:
         if not rows:
@@ -152,7 +152,7 @@ class _Runner:
         try:
             if not alone:
                 for k, p in enumerate(self.params):
-                    swarm.set_world_param(_table_row(self.scenario, p.path)[1]["key"], [p.value(r[k]) for r in rows])
+                    swarm.set_world_param(world_key(self.scenario, p.path), [p.value(r[k]) for r in rows])
             w = len(rows)
 
             def sample():
