@@ -495,10 +495,18 @@ __kernel void force_model_integrate(__global float4* pos, __global float4* vel, 
 // the true one near edges and corners (a convex kink) by up to about a
 // quarter of a cell, and the sampled normal is approximate, so a few
 // iterations (docs/force-model.md).
+// Worlds: the obstacles are one for every world; the primitives push out
+// only in the worlds that enforce a minimum distance (world_d_min > 0, as
+// the host decides for one world alone).
 __kernel void force_model_project(__global float4* pos, uint n, __global const float4* prims, uint nprims,
-                                  uint has_mesh, __global const float* phi, int4 dims, float4 origin_h) {
+                                  uint has_mesh, __global const float* phi, int4 dims, float4 origin_h,
+                                  __global const float* world_d_min) {
     const uint i = get_global_id(0);
     if (i >= n) return;
+#ifdef SWCL_WORLDS
+    FM_WORLD_AGENTS(pos)
+    if (!(world_d_min[get_global_id(1)] > 0.0f)) nprims = 0u;
+#endif
     float4 p = (float4)(pos[i].xyz, 0.0f);
     for (uint k = 0; k < nprims; ++k) {
         if (fm_obstacle_bound(prims, k, p) >= 0.0f) continue;  // d >= 0: outside

@@ -103,6 +103,7 @@ CASES = [
     # grid per world (point_grid groups apart), MDE per world.
     ("test_force_worlds", "ForceWorlds.SmallWorldsAreBitwiseTheSwarmsAlone", GPU),
     ("test_force_worlds", "ForceWorlds.SmallWorldsAreBitwiseTheSwarmsAlone", CPU),
+    ("test_force_worlds", "ForceWorlds.SmallWorldsWithObstaclesAreBitwiseTheSwarmsAlone", GPU),
     ("test_force_obstacles", "ForceMeshObstacles.InsectsJustInsideABoxMeshAreOutsideAfterTheNextStep", GPU),
     # The path model (signed distance, baked and rebaked noise, both widths).
     # Its world kernels: offsets, per-world direction fields, MDE per world.

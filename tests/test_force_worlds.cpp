@@ -5,7 +5,8 @@
 // the repulsion radius (each world's fine grid has the geometry it has
 // alone) and the MDE distance; a checkpoint resumes them bitwise; bad input
 // gets a status naming the parameter and world and changes nothing; what
-// does not run in worlds (target meshes, obstacles) is refused by name.
+// does not run in worlds (target meshes, a path) is refused by name.
+// Obstacles, primitive and mesh, are one for every world.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -43,8 +44,29 @@ protected:
     }
     // Zones a fraction of the domain (the defaults, 10 and 30 m, would see
     // the whole swarm): every term of the internal force and MDE act.
-    static swcl_force_model_desc model(uint32_t k) {
+    // A sphere and a box among the agents, and a cylinder mesh: agents start
+    // inside them and are pushed out (the primitives only where MDE runs).
+    static void add_obstacles(swcl_force_model_desc* m) {
+        static swcl_obstacle prims[2] = {}, meshes[1] = {};
+        prims[0].type = SWCL_OBSTACLE_SPHERE;
+        prims[0].center[0] = 0.3f;
+        prims[0].radius = 0.25f;
+        prims[1].type = SWCL_OBSTACLE_BOX;
+        prims[1].center[1] = -0.5f;
+        prims[1].half_extents[0] = prims[1].half_extents[1] = prims[1].half_extents[2] = 0.2f;
+        meshes[0].type = SWCL_OBSTACLE_CYLINDER;
+        meshes[0].center[0] = -0.4f;
+        meshes[0].center[1] = 0.3f;
+        meshes[0].radius = 0.15f;
+        meshes[0].height = 0.6f;
+        m->obstacles = prims;
+        m->obstacle_count = 2;
+        m->mesh_obstacles = meshes;
+        m->mesh_obstacle_count = 1;
+    }
+    static swcl_force_model_desc model(uint32_t k, bool obstacles = false) {
         swcl_force_model_desc m = swcl_force_model_desc_default();
+        if (obstacles) add_obstacles(&m);
         m.r_rep = float(kRRep[k]);
         m.r_ali = 0.35f;
         m.r_att = 0.5f;
@@ -54,9 +76,9 @@ protected:
         m.max_speed = float(kMaxSpeed[k]);
         return m;
     }
-    swcl_swarm ensemble(uint32_t agents = kAgents) {
+    swcl_swarm ensemble(uint32_t agents = kAgents, bool obstacles = false) {
         swcl_swarm s = make(desc(kWorlds, 0, kSeeds, agents));
-        const swcl_force_model_desc m0 = model(0);
+        const swcl_force_model_desc m0 = model(0, obstacles);
         EXPECT_EQ(swcl_swarm_force_set_model(s, &m0), SWCL_OK) << swcl_last_error();
         set(s, "r_rep", kRRep, kWorlds);
         set(s, "min_distance", kMinDistance, kWorlds);
@@ -65,20 +87,20 @@ protected:
         set(s, "max_speed", kMaxSpeed, kWorlds);
         return s;
     }
-    swcl_swarm alone(uint32_t k, uint32_t agents = kAgents) {
+    swcl_swarm alone(uint32_t k, uint32_t agents = kAgents, bool obstacles = false) {
         swcl_swarm s = make(desc(1, kSeeds[k], nullptr, agents));
-        const swcl_force_model_desc m = model(k);
+        const swcl_force_model_desc m = model(k, obstacles);
         EXPECT_EQ(swcl_swarm_force_set_model(s, &m), SWCL_OK) << swcl_last_error();
         return s;
     }
 
-    void check_bitwise(uint32_t agents, uint32_t steps, bool expect_mde);
+    void check_bitwise(uint32_t agents, uint32_t steps, bool expect_mde, bool obstacles = false);
 };
 
 // Every world of the ensemble against its swarm alone after `steps` steps.
-void ForceWorlds::check_bitwise(uint32_t n, uint32_t steps, bool expect_mde) {
+void ForceWorlds::check_bitwise(uint32_t n, uint32_t steps, bool expect_mde, bool obstacles) {
     const size_t total = size_t(kWorlds) * n;
-    swcl_swarm all = ensemble(n);
+    swcl_swarm all = ensemble(n, obstacles);
     ASSERT_EQ(swcl_swarm_step(all, steps), SWCL_OK) << swcl_last_error();
     const std::vector<float> pos = read(all, SWCL_ATTRIBUTE_POSITION, total);
     const std::vector<float> vel = read(all, SWCL_ATTRIBUTE_VELOCITY, total);
@@ -87,7 +109,7 @@ void ForceWorlds::check_bitwise(uint32_t n, uint32_t steps, bool expect_mde) {
     ASSERT_EQ(swcl_swarm_take_world_step_stats(all, st.data(), kWorlds), SWCL_OK) << swcl_last_error();
     uint64_t moved = 0;
     for (uint32_t k = 0; k < kWorlds; ++k) {
-        swcl_swarm one = alone(k, n);
+        swcl_swarm one = alone(k, n, obstacles);
         ASSERT_EQ(swcl_swarm_step(one, steps), SWCL_OK) << swcl_last_error();
         expect_world_equal(pos, read(one, SWCL_ATTRIBUTE_POSITION, n), k, kWorlds, "positions");
         expect_world_equal(vel, read(one, SWCL_ATTRIBUTE_VELOCITY, n), k, kWorlds, "velocities");
@@ -105,6 +127,11 @@ void ForceWorlds::check_bitwise(uint32_t n, uint32_t steps, bool expect_mde) {
 }
 
 TEST_F(ForceWorlds, WorldsAreBitwiseTheSwarmsAlone) { check_bitwise(kAgents, 30, true); }
+
+// Obstacles (issue 25: "any stage ... obstacles"): world 2 without MDE keeps
+// its agents where the primitives' push-out would have moved them, as alone.
+TEST_F(ForceWorlds, WorldsWithObstaclesAreBitwiseTheSwarmsAlone) { check_bitwise(kAgents, 20, true, true); }
+TEST_F(ForceWorlds, SmallWorldsWithObstaclesAreBitwiseTheSwarmsAlone) { check_bitwise(37, 3, false, true); }
 
 // Small, for the Oclgrind check (scripts/oclgrind_check.py).
 TEST_F(ForceWorlds, SmallWorldsAreBitwiseTheSwarmsAlone) { check_bitwise(37, 3, false); }
@@ -133,6 +160,14 @@ TEST_F(ForceWorlds, ACheckpointResumesBitwise) {
     ASSERT_EQ(swcl_swarm_take_world_step_stats(resumed, a.data(), kWorlds), SWCL_OK);
     ASSERT_EQ(swcl_swarm_take_world_step_stats(straight, b.data(), kWorlds), SWCL_OK);
     for (uint32_t k = 0; k < kWorlds; ++k) EXPECT_EQ(a[k].mde_moved_total, b[k].mde_moved_total) << "world " << k;
+}
+
+void expect_obstacle_range_refused(swcl_swarm walls) {
+    const double range[kWorlds] = {0.5, 0.5, 0.8, 0.5};
+    EXPECT_EQ(swcl_swarm_set_world_param(walls, "obstacle_range", range, kWorlds), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("obstacle_range cannot differ between worlds"), std::string::npos)
+        << swcl_last_error();
+    EXPECT_EQ(swcl_swarm_step(walls, 1), SWCL_OK) << swcl_last_error();
 }
 
 TEST_F(ForceWorlds, BadInputNamesTheParameterAndWorldAndChangesNothing) {
@@ -164,23 +199,17 @@ TEST_F(ForceWorlds, BadInputNamesTheParameterAndWorldAndChangesNothing) {
     const double same[kWorlds] = {7, 7, 7, 7};
     set(all, "sample_seed", same, kWorlds);
 
-    // Target meshes and obstacles do not run in worlds: refused by name, the
-    // model in place still steps.
-    const swcl_force_model_desc m0 = model(0);
-    swcl_force_model_desc with_obstacle = m0;
-    swcl_obstacle ball{};
-    ball.type = SWCL_OBSTACLE_SPHERE;
-    ball.radius = 0.2f;
-    with_obstacle.obstacles = &ball;
-    with_obstacle.obstacle_count = 1;
-    EXPECT_EQ(swcl_swarm_force_set_model(all, &with_obstacle), SWCL_ERROR_INVALID_ARGUMENT);
-    EXPECT_NE(std::string(swcl_last_error()).find("obstacles do not run on a swarm of several worlds"),
-              std::string::npos)
-        << swcl_last_error();
+    // A path does not run in worlds: refused by name, the model in place
+    // still steps.
     const float path[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
     EXPECT_EQ(swcl_swarm_force_set_path(all, path, 4, 1.0f), SWCL_ERROR_INVALID_ARGUMENT);
     EXPECT_NE(std::string(swcl_last_error()).find("path"), std::string::npos) << swcl_last_error();
     EXPECT_EQ(swcl_swarm_step(all, 2), SWCL_OK) << swcl_last_error();
+
+    // With mesh obstacles the distance grid, built once, reaches
+    // obstacle_range beyond them: the same in every world.
+    swcl_swarm walls = ensemble(kAgents, true);
+    expect_obstacle_range_refused(walls);
 }
 
 }  // namespace

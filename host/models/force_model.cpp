@@ -116,8 +116,9 @@ ForceModel::ForceModel(Swarm& swarm, ForceModelConfig config)
     validate(config_);
     if (world_count_ > 1) {
         // What the host builds once from one configuration (targets sampled
-        // from the meshes and assigned, the path's placement, the obstacles'
-        // primitives and distance grid) is not laid out per world yet.
+        // from the meshes and assigned, the path's placement) is not laid
+        // out per world yet.  The obstacles are one for every world (their
+        // primitives and the mesh obstacles' distance grid).
         const auto refuse = [&](bool has, const std::string& what) {
             if (has)
                 fail(Status::InvalidArgument, "the force model's " + what +
@@ -127,8 +128,6 @@ ForceModel::ForceModel(Swarm& swarm, ForceModelConfig config)
         };
         refuse(!config_.keyframes.empty(), "target meshes (keyframes)");
         refuse(!config_.path.empty(), "path and its shape placement");
-        refuse(!config_.obstacles.empty(), "obstacles");
-        refuse(!config_.mesh_obstacles.empty(), "mesh obstacles");
     }
     Context& ctx = swarm.context();
     noise_ = std::make_unique<NoiseField>(ctx, config_.noise, &swarm.config().domain_min, &swarm.config().domain_max);
@@ -211,7 +210,9 @@ void ForceModel::set_world_param(Swarm& swarm, const std::string& key, const dou
     // same in every world (checked before anything changes).
     static const char* const kShared[] = {"sample_seed", "min_spacing", "neighbor_k", "assignment",
                                           "keyframe_period", "path.speed", "path.orient", "mesh_cell", "terms"};
-    const bool shared = std::find(std::begin(kShared), std::end(kShared), key) != std::end(kShared);
+    // The mesh obstacles' distance grid reaches obstacle_range beyond them.
+    const bool shared = std::find(std::begin(kShared), std::end(kShared), key) != std::end(kShared) ||
+                        (key == "obstacle_range" && !config_.mesh_obstacles.empty());
     const bool noise = key.compare(0, 6, "noise.") == 0;
     std::vector<float> noise_next = noise_host_;
     const auto& domain_min = swarm.config().domain_min;
@@ -232,6 +233,8 @@ void ForceModel::set_world_param(Swarm& swarm, const std::string& key, const dou
                              (key == "terms" ? "it selects the kernels that run (the fine grid with repulsion)"
                               : key == "sample_seed"
                                   ? "the neighbour sample's seed is one for every world"
+                              : key == "obstacle_range"
+                                  ? "the mesh obstacles' distance grid, built once for every world, reaches it"
                                   : "the targets, path and meshes it sets are refused on a swarm of several worlds"));
         }
         if (!noise) return;
@@ -547,11 +550,15 @@ void ForceModel::after_constraints(Swarm& swarm, uint64_t) {
     // (docs/force-model.md).
     const cl_uint has_mesh = config_.mesh_obstacles.empty() ? 0u : 1u;
     const bool project_mesh = has_mesh != 0u;
-    const bool mde = config_.min_distance > 0.0f;
+    // Worlds: the kernel keeps the primitives to the worlds with MDE on.
+    bool mde = config_.min_distance > 0.0f;
+    for (uint32_t k = 1; k < world_count_; ++k) mde |= worlds_[k].min_distance > 0.0f;
     if ((mde && nprims_) || project_mesh) {
+        if (!blocks_current_) upload_world_blocks(swarm.context());
         set_args(project_k_, swarm.positions().get(), cl_uint(n), prims_.get(), cl_uint(mde ? nprims_ : 0u),
-                 has_mesh, mesh_phi_.get(), mesh_dims_arg(mesh_grid_), mesh_origin_arg(mesh_grid_));
-        launch(swarm.context(), project_k_, n);
+                 has_mesh, mesh_phi_.get(), mesh_dims_arg(mesh_grid_), mesh_origin_arg(mesh_grid_),
+                 mde_d_min_.get());
+        launch_worlds(swarm.context(), project_k_, n, world_count_);
         swarm.positions_changed();
     }
 }

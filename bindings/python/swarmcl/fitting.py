@@ -180,7 +180,7 @@ def _with_values(scenario: dict, params: Sequence[Parameter], u) -> dict:
 def world_model(scenario) -> bool:
     """Whether the scenario's model runs a swarm of worlds
     (PopulationEvaluator.WORLD_MODELS): the force model refuses worlds with
-    target meshes (keyframes), a path or obstacles, the energy model with
+    target meshes (keyframes) or a path, the energy model with
     keypoints, the path model with chasing targets or moving goals
     (docs/architecture.md, "Worlds"), which their hosts build once for
     every world or move while it runs."""
@@ -188,7 +188,7 @@ def world_model(scenario) -> bool:
     if not isinstance(model, dict) or model.get("type", "field") not in PopulationEvaluator.WORLD_MODELS:
         return False
     if model.get("type") == "force":
-        return not (model.get("keyframes") or model.get("path") or scenario.get("obstacles"))
+        return not (model.get("keyframes") or model.get("path"))
     if model.get("type") == "energy":
         return not model.get("keypoints")
     if model.get("type") == "path":
@@ -285,7 +285,7 @@ class PopulationEvaluator:
         self.last_swarms = 0
 
     #: The models whose swarms run worlds (the force model without target
-    #: meshes, a path or obstacles, the energy model without keypoints, the
+    #: meshes or a path, the energy model without keypoints, the
     #: path model without chasing: world_model above).
     WORLD_MODELS = ("field", "force", "energy", "path")
 

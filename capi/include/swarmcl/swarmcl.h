@@ -187,12 +187,13 @@ typedef struct swcl_swarm_desc {
      * (swcl_swarm_set_world_param).  All worlds share the domain, the grid's
      * cells and the model's kernel.  Reads and writes hold every world, world
      * by world (count = worlds x agents a world).  The field model, the
-     * force model (without target meshes, a path or obstacles, which it
-     * refuses on worlds > 1), the energy model (without keypoints, which it
-     * refuses on worlds > 1) and ballistic motion run worlds (and are saved
-     * with them), and attached metrics measure each world
-     * (swcl_metrics_world); the path and policy models and recorders
-     * refuse worlds > 1 with SWCL_ERROR_INVALID_ARGUMENT for now. */
+     * force model (without target meshes or a path, which it refuses on
+     * worlds > 1), the energy model (without keypoints), the path model
+     * (without chasing targets or moving goals; its goals per world by the
+     * keys "groups.G.goals.I.center" / ".radius" / ".half_extents") and
+     * ballistic motion run worlds (and are saved with them), and attached
+     * metrics measure each world (swcl_metrics_world); the policy model and
+     * recorders refuse worlds > 1 with SWCL_ERROR_INVALID_ARGUMENT for now. */
     uint32_t worlds;               /* >= 1 */
     const uint64_t* world_seeds;   /* NULL or `worlds` seeds (copied) */
 } swcl_swarm_desc;
