@@ -3,13 +3,15 @@
 // at the same density (its domain W^(1/3) times as wide) in the same run,
 // rounds alternated.  And W swarms of N stepped one after another (what a fit
 // did before worlds), timed over fewer steps.
-//   worlds_bench [--model field|force|energy] [--worlds 1000] [--agents 300] [--steps 20]
+//   worlds_bench [--model field|force|energy|path] [--worlds 1000] [--agents 300] [--steps 20]
 //                [--rounds 3] [--alone-worlds 64] [--json PATH]
 // The model: the field model (curl noise, a goal, MDE), the force model
 // (examples/evaluation/force_mosquito.json's zones and weights, curl noise,
 // MDE) or the energy model (Table 1 aggregation about each swarm's own
-// centre, the synthetic dataset of energy_bench).  Writes
-// bench/results/worlds.json (worlds_force.json, worlds_energy.json).
+// centre, the synthetic dataset of energy_bench) or the path model
+// (examples/evaluation/path_mosquito.json's: curl noise, a sphere goal's cost
+// field on a 24^3 grid, MDE).  Writes bench/results/worlds.json
+// (worlds_force.json, worlds_energy.json, worlds_path.json).
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -26,6 +28,7 @@
 #include "data/dataset.hpp"
 #include "models/energy_model.hpp"
 #include "models/force_model.hpp"
+#include "models/path_model.hpp"
 #include "swarm/swarm.hpp"
 
 using namespace swarmcl;
@@ -71,8 +74,29 @@ ForceModelConfig force_model() {
     return m;
 }
 
+// examples/evaluation/path_mosquito.json's model.
+PathModelConfig path_model() {
+    PathModelConfig m;
+    m.noise.type = NoiseType::Curl;
+    m.noise.scale = 0.4f;
+    m.noise.gain = 0.5f;
+    m.noise.seed = 2;
+    m.noise.boundary_distance = 0.3f;
+    m.noise.domain_walls = true;
+    m.resolution = {24, 24, 24};
+    m.speed = 0.5f;
+    m.goal_falloff = 1.0f;
+    Goal g;
+    g.kind = Goal::Kind::Sphere;
+    g.radius = 0.3f;
+    m.groups.push_back({0, {g}});
+    m.min_distance = 0.02f;
+    return m;
+}
+
 bool g_force = false;   // --model force
 bool g_energy = false;  // --model energy
+bool g_path = false;    // --model path
 std::shared_ptr<const Dataset> g_dataset;
 
 std::unique_ptr<Swarm> make(std::shared_ptr<Context> ctx, uint32_t worlds, uint32_t agents, float half,
@@ -94,6 +118,10 @@ std::unique_ptr<Swarm> make(std::shared_ptr<Context> ctx, uint32_t worlds, uint3
     if (g_energy) {
         EnergyModelConfig e;  // Table 1 aggregation; the centre: each swarm's own
         s->set_behavior(std::make_shared<EnergyModel>(*s, e, g_dataset));
+        return s;
+    }
+    if (g_path) {
+        s->set_behavior(std::make_shared<PathModel>(*s, path_model()));
         return s;
     }
     FieldModelConfig m = model();
@@ -130,12 +158,13 @@ int main(int argc, char** argv) {
         };
         if (a == "--model") {
             const std::string m = next();
-            if (m != "field" && m != "force" && m != "energy") {
-                std::fprintf(stderr, "worlds_bench: --model field, force or energy\n");
+            if (m != "field" && m != "force" && m != "energy" && m != "path") {
+                std::fprintf(stderr, "worlds_bench: --model field, force, energy or path\n");
                 return 2;
             }
             g_force = m == "force";
             g_energy = m == "energy";
+            g_path = m == "path";
         } else if (a == "--worlds") worlds = uint32_t(std::atoi(next()));
         else if (a == "--agents") agents = uint32_t(std::atoi(next()));
         else if (a == "--steps") steps = std::atoi(next());
@@ -143,7 +172,7 @@ int main(int argc, char** argv) {
         else if (a == "--alone-worlds") alone_worlds = uint32_t(std::atoi(next()));
         else if (a == "--json") json = next();
         else {
-            std::fprintf(stderr, "usage: worlds_bench [--model field|force] [--worlds W] [--agents N] [--steps S] [--rounds R] "
+            std::fprintf(stderr, "usage: worlds_bench [--model field|force|energy|path] [--worlds W] [--agents N] [--steps S] [--rounds R] "
                                  "[--alone-worlds K] [--json PATH]\n");
             return 2;
         }
@@ -154,9 +183,11 @@ int main(int argc, char** argv) {
     }
     if (json.empty())
         json = std::string(SWARMCL_BENCH_RESULTS_DIR) +
-               (g_force ? "/worlds_force.json" : g_energy ? "/worlds_energy.json" : "/worlds.json");
+               (g_force ? "/worlds_force.json" : g_energy ? "/worlds_energy.json" : g_path ? "/worlds_path.json"
+                                                                                    : "/worlds.json");
     const char* model_name = g_force    ? "force (force_mosquito zones and weights, curl noise, MDE 0.03 m)"
                              : g_energy ? "energy (Table 1 aggregation, each swarm's centre, synthetic dataset)"
+                             : g_path   ? "path (path_mosquito: curl noise, a sphere goal's field on 24^3 cells, MDE 0.02 m)"
                                         : "field (curl noise, goal, MDE 0.03 m)";
     if (g_energy) g_dataset = std::make_shared<const Dataset>(synthetic_dataset(DatasetOptions{}));
     auto ctx = std::make_shared<Context>("", "");
