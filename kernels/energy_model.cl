@@ -165,7 +165,8 @@ static inline emv em_closestv(float3 r0, float3 vs, emv vx, emv vy, emv vz, floa
         __global const float *group_min_speed, uint groups
 #define EM_WEIGHT_PARAMS __global const float4 *centre, __global const float *params, float accel_time
 #define EM_SCENE_PARAMS                                                                              \
-    __global const float4 *stim, uint nstim, __global const float4 *kp, uint nkp, __global uint *goal
+    __global const float4 *stim, uint nstim, __global const float4 *kp, uint nkp, __global uint *goal,      \
+        uint goal_stride
 #define EM_PREPARED_PARAMS __global const float *pxyz, uint pstride, __global const float4 *noise_pre
 #ifdef EM_TERMS
 #define EM_OUTPUT_PARAMS __global float *terms, __global uint *chosen, __global uint *cand_range
@@ -182,8 +183,8 @@ static inline emv em_closestv(float3 r0, float3 vs, emv vx, emv vy, emv vz, floa
 // slots [w n, (w + 1) n), the position planes too), its parameter and noise
 // blocks and its centre; the grid is the world's view (GRID_MAKE_WORLD).
 // The rest of each body is the one of a swarm alone, so world w is bitwise
-// that swarm.  The dataset is the same for every world (read only).
-// Keypoints are refused on worlds (host), so the goals are never read.
+// that swarm.  The dataset and the keypoints are the same for every world
+// (read only); each world keeps its agents' goals (by id) from w goal_stride.
 #ifdef SWCL_WORLDS
 #define EM_WORLD_AGENTS(p) p += (size_t)get_global_id(1) * n;
 #define EM_WORLD_BLOCKS(params, noise, centre)                        \
@@ -689,6 +690,9 @@ __kernel void energy_select(EM_SELECT_PARAMS) {
     EM_WORLD_AGENTS(vel_out)
 #endif
     EM_WORLD_BLOCKS(params, noise_block, centre)
+#ifdef SWCL_WORLDS
+    goal += (size_t)get_global_id(1) * goal_stride;
+#endif
     // The model's parameters (host/models/energy_params.cpp lays the block out).
     const float8 w = vload8(0, params + ENERGY_WEIGHTS_REP), wd = vload8(0, params + ENERGY_DANGER_WEIGHTS_REP);
     const float4 radii = (float4)(params[ENERGY_D_REP], params[ENERGY_D_ATT1], params[ENERGY_D_ATT2], params[ENERGY_RHO]);

@@ -5,10 +5,11 @@
 // weight, the repulsion radius, the noise's seed, the fixed centre), with
 // the swarm centre (each world's own) and with a fixed one; a checkpoint
 // resumes them bitwise; bad input gets a status naming the parameter and
-// world and changes nothing; keypoints, which do not run in worlds, are
-// refused by name.
+// world and changes nothing.  Keypoints are one curve for every world, each
+// world's agents keeping their goals (compared too, and resumed).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -34,6 +35,9 @@ const double kDRep[kWorlds] = {0.04, 0.02, 0.06, 0.05};
 const double kWDir[kWorlds] = {1.0, 0.5, 2.0, 1.5};
 const double kNoiseSeed[kWorlds] = {1, 2, 3, 4000000000.0};
 const double kCentreX[kWorlds] = {0.0, 0.1, -0.2, 0.05};
+// A loop of keypoints in the 0.6 m cube, reached within 0.12 m (f_CD,
+// Eq. 15; the user weight makes it count): goals move within a few steps.
+const float kKeypoints[12] = {0.2f, 0, 0, 0, 0.2f, 0, -0.2f, 0, 0, 0, -0.2f, 0};
 
 class EnergyWorlds : public worlds_test::WorldsFixture {
 protected:
@@ -50,8 +54,14 @@ protected:
     static swcl_swarm_desc desc(uint32_t worlds, uint64_t seed, const uint64_t* seeds) {
         return cube_desc(worlds, seed, seeds, kAgents, 256, 0.3f, 0.2f, 0.01f);
     }
-    static swcl_energy_model_desc model(uint32_t k, bool fixed) {
+    static swcl_energy_model_desc model(uint32_t k, bool fixed, bool keypoints = false) {
         swcl_energy_model_desc m = swcl_energy_model_desc_default();
+        if (keypoints) {
+            m.keypoints = kKeypoints;
+            m.keypoint_count = 4;
+            m.keypoint_reach = 0.12f;
+            m.weights.user = 2.0f;
+        }
         m.weights.cos = float(kWCos[k]);
         m.d_rep = float(kDRep[k]);
         m.weights.dir = float(kWDir[k]);
@@ -61,9 +71,9 @@ protected:
         m.fixed_centre[1] = 0.05f;
         return m;
     }
-    swcl_swarm ensemble(bool fixed) {
+    swcl_swarm ensemble(bool fixed, bool keypoints = false) {
         swcl_swarm s = make(desc(kWorlds, 0, kSeeds));
-        const swcl_energy_model_desc m0 = model(0, fixed);
+        const swcl_energy_model_desc m0 = model(0, fixed, keypoints);
         EXPECT_EQ(swcl_swarm_energy_set_model(s, data_, &m0), SWCL_OK) << swcl_last_error();
         set(s, "weights.cos", kWCos, kWorlds);
         set(s, "d_rep", kDRep, kWorlds);
@@ -74,28 +84,42 @@ protected:
         set(s, "centre", centre.data(), centre.size());
         return s;
     }
-    swcl_swarm alone(uint32_t k, bool fixed) {
+    swcl_swarm alone(uint32_t k, bool fixed, bool keypoints = false) {
         swcl_swarm s = make(desc(1, kSeeds[k], nullptr));
-        const swcl_energy_model_desc m = model(k, fixed);
+        const swcl_energy_model_desc m = model(k, fixed, keypoints);
         EXPECT_EQ(swcl_swarm_energy_set_model(s, data_, &m), SWCL_OK) << swcl_last_error();
         return s;
     }
-    void check_bitwise(bool fixed, uint32_t steps);
+    void check_bitwise(bool fixed, uint32_t steps, bool keypoints = false);
+    static std::vector<int32_t> goals(swcl_swarm s, size_t count) {
+        std::vector<int32_t> g(count);
+        EXPECT_EQ(swcl_swarm_energy_get_goals(s, g.data(), count), SWCL_OK) << swcl_last_error();
+        return g;
+    }
 
     swcl_dataset data_{};
 };
 
-void EnergyWorlds::check_bitwise(bool fixed, uint32_t steps) {
+void EnergyWorlds::check_bitwise(bool fixed, uint32_t steps, bool keypoints) {
     const size_t total = size_t(kWorlds) * kAgents;
-    swcl_swarm all = ensemble(fixed);
+    swcl_swarm all = ensemble(fixed, keypoints);
     ASSERT_EQ(swcl_swarm_step(all, steps), SWCL_OK) << swcl_last_error();
     const std::vector<float> pos = read(all, SWCL_ATTRIBUTE_POSITION, total);
     const std::vector<float> vel = read(all, SWCL_ATTRIBUTE_VELOCITY, total);
+    const std::vector<int32_t> goal = goals(all, total);
+    std::vector<int32_t> seen;
     for (uint32_t k = 0; k < kWorlds; ++k) {
-        swcl_swarm one = alone(k, fixed);
+        swcl_swarm one = alone(k, fixed, keypoints);
         ASSERT_EQ(swcl_swarm_step(one, steps), SWCL_OK) << swcl_last_error();
         expect_world_equal(pos, read(one, SWCL_ATTRIBUTE_POSITION, kAgents), k, kWorlds, "positions");
         expect_world_equal(vel, read(one, SWCL_ATTRIBUTE_VELOCITY, kAgents), k, kWorlds, "velocities");
+        const std::vector<int32_t> g = goals(one, kAgents);
+        expect_world_equal(goal, g, k, kWorlds, "keypoint goals");
+        seen.insert(seen.end(), g.begin(), g.end());
+    }
+    if (keypoints) {  // the goals moved on from their first keypoint in some agents
+        std::sort(seen.begin(), seen.end());
+        EXPECT_GE(std::unique(seen.begin(), seen.end()) - seen.begin(), 3);
     }
     // The worlds are not copies of one another.
     EXPECT_NE(std::memcmp(pos.data(), pos.data() + 3 * kAgents, 3 * size_t(kAgents) * sizeof(float)), 0);
@@ -105,12 +129,13 @@ void EnergyWorlds::check_bitwise(bool fixed, uint32_t steps) {
 
 TEST_F(EnergyWorlds, WorldsAreBitwiseTheSwarmsAloneWithTheSwarmCentre) { check_bitwise(false, 20); }
 TEST_F(EnergyWorlds, WorldsAreBitwiseTheSwarmsAloneWithAFixedCentre) { check_bitwise(true, 20); }
+TEST_F(EnergyWorlds, WorldsWithKeypointsAreBitwiseTheSwarmsAlone) { check_bitwise(false, 20, true); }
 
 TEST_F(EnergyWorlds, ACheckpointResumesBitwise) {
     const size_t total = size_t(kWorlds) * kAgents;
-    swcl_swarm straight = ensemble(false);
+    swcl_swarm straight = ensemble(false, true);
     ASSERT_EQ(swcl_swarm_step(straight, 12), SWCL_OK) << swcl_last_error();
-    swcl_swarm first = ensemble(false);
+    swcl_swarm first = ensemble(false, true);
     ASSERT_EQ(swcl_swarm_step(first, 5), SWCL_OK) << swcl_last_error();
     const std::string path = ::testing::TempDir() + "swarmcl_energy_worlds_checkpoint.swcl";
     ASSERT_EQ(swcl_swarm_save(first, path.c_str()), SWCL_OK) << swcl_last_error();
@@ -125,6 +150,7 @@ TEST_F(EnergyWorlds, ACheckpointResumesBitwise) {
     ASSERT_EQ(swcl_swarm_step(resumed, 7), SWCL_OK) << swcl_last_error();
     EXPECT_EQ(read(resumed, SWCL_ATTRIBUTE_POSITION, total), read(straight, SWCL_ATTRIBUTE_POSITION, total));
     EXPECT_EQ(read(resumed, SWCL_ATTRIBUTE_VELOCITY, total), read(straight, SWCL_ATTRIBUTE_VELOCITY, total));
+    EXPECT_EQ(goals(resumed, total), goals(straight, total));
 }
 
 TEST_F(EnergyWorlds, BadInputNamesTheParameterAndWorldAndChangesNothing) {
@@ -159,16 +185,14 @@ TEST_F(EnergyWorlds, BadInputNamesTheParameterAndWorldAndChangesNothing) {
     set(all, "span", same, kWorlds);
     set(all, "span", std::vector<double>(kWorlds, 1.0).data(), kWorlds);
 
-    // Keypoints do not run in worlds: refused by name, the model in place
-    // still steps.
+    // Keypoints set on a running swarm of worlds: every world's goals start
+    // over; a bad curve or a goals buffer of one world's size is refused.
     const float kp[9] = {0.2f, 0, 0, 0, 0.2f, 0, -0.2f, 0, 0};
-    EXPECT_EQ(swcl_swarm_energy_set_keypoints(all, kp, 3, 1), SWCL_ERROR_INVALID_ARGUMENT);
-    EXPECT_NE(std::string(swcl_last_error()).find("keypoints do not run on a swarm of several worlds"),
-              std::string::npos)
-        << swcl_last_error();
-    swcl_energy_model_desc with_kp = model(0, false);
-    with_kp.keypoints = kp;
-    with_kp.keypoint_count = 3;
-    EXPECT_EQ(swcl_swarm_energy_set_model(all, data_, &with_kp), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_swarm_energy_set_keypoints(all, kp, 3, 1), SWCL_OK) << swcl_last_error();
+    ASSERT_EQ(swcl_swarm_step(all, 2), SWCL_OK) << swcl_last_error();
+    EXPECT_EQ(swcl_swarm_energy_set_keypoints(all, kp, 1, 1), SWCL_ERROR_INVALID_ARGUMENT);
+    std::vector<int32_t> one_world(kAgents);
+    EXPECT_EQ(swcl_swarm_energy_get_goals(all, one_world.data(), kAgents), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("all its worlds"), std::string::npos) << swcl_last_error();
     ASSERT_EQ(swcl_swarm_step(all, 2), SWCL_OK) << swcl_last_error();
 }

@@ -267,8 +267,9 @@ swcl_status swcl_swarm_energy_set_keypoints(swcl_swarm swarm, const float* xyz, 
 swcl_status swcl_swarm_energy_get_goals(swcl_swarm swarm, int32_t* out_goals, size_t count) {
     return with_swarm(__func__, swarm, [&](Swarm& s) {
         require(out_goals != nullptr || count == 0, "out_goals is NULL");
-        require(count == s.agent_count(), "count is " + std::to_string(count) + " but the swarm has " +
-                                              std::to_string(s.agent_count()) + " agents");
+        const size_t agents = size_t(s.agent_count()) * s.worlds();
+        require(count == agents, "count is " + std::to_string(count) + " but the swarm has " + std::to_string(agents) +
+                                     " agents" + (s.worlds() > 1 ? " (all its worlds)" : ""));
         std::vector<int32_t> goal;
         std::vector<uint8_t> back;
         energy_model_of(s).goals(s, goal, back);

@@ -51,15 +51,6 @@ void launch_chunks_worlds(Context& ctx, cl::Kernel& kernel, size_t chunks, size_
                                      cpu ? cl::NDRange(1, 1) : cl::NullRange);
 }
 
-void refuse_keypoints_on_worlds(uint32_t worlds, size_t keypoints) {
-    // The goals are kept per agent id of one swarm (goal_), and set_keypoints
-    // is one curve for the model: not laid out per world yet.
-    if (worlds > 1 && keypoints > 0)
-        fail(Status::InvalidArgument, "the energy model's keypoints do not run on a swarm of several worlds yet "
-                                      "(this one has " + std::to_string(worlds) +
-                                          "); docs/architecture.md, \"Worlds\"");
-}
-
 }  // namespace
 
 bool EnergyModel::taylor_for(const EnergyModelConfig& c, float dt) const {
@@ -86,7 +77,6 @@ EnergyModel::EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr
     require(dataset_ != nullptr, "energy model: no dataset");
     dataset_->validate("energy model dataset");
     validate(config_);
-    refuse_keypoints_on_worlds(world_count_, config_.keypoints.size());
     Context& ctx = swarm.context();
     const Dataset& d = *dataset_;
     // The widest candidate range of any speed group.
@@ -173,7 +163,8 @@ EnergyModel::EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr
     pxyz_.fill(ctx, 0.0f, 3 * size_t(pxyz_stride_));
     noise_buf_.allocate(ctx, noise_pre_ ? slots : 1, "noise velocities");
     vel_out_.allocate(ctx, slots, "energy model velocities");
-    goal_.allocate(ctx, capacity_, "keypoint goals");  // keypoints: one world only
+    // Each world's goals by its agents' ids, world k's from k capacity_.
+    goal_.allocate(ctx, size_t(capacity_) * world_count_, "keypoint goals");
     // A noise block per world (world k's at k NOISE_BLOCK_FLOATS), each
     // world's noise parameters as set_world_param leaves them.
     const std::vector<cl_float> block = noise_->block();
@@ -185,10 +176,12 @@ EnergyModel::EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr
 }
 
 void EnergyModel::reset_goals(uint32_t capacity) {
-    std::vector<cl_uint> g(capacity);
-    for (uint32_t id = 0; id < capacity; ++id)
-        g[id] = kGoalUnset | ((config_.bidirectional && (id & 1u)) ? kGoalBackward : 0u);
-    goal_.upload(ctx_, g.data(), capacity);
+    std::vector<cl_uint> g(size_t(capacity) * world_count_);
+    for (size_t slot = 0; slot < g.size(); ++slot) {
+        const uint32_t id = uint32_t(slot % capacity);  // the id within its world
+        g[slot] = kGoalUnset | ((config_.bidirectional && (id & 1u)) ? kGoalBackward : 0u);
+    }
+    goal_.upload(ctx_, g.data(), g.size());
 }
 
 void EnergyModel::upload_params() {
@@ -233,7 +226,6 @@ void EnergyModel::set_stimuli(std::vector<Stimulus> stimuli) {
 
 void EnergyModel::set_keypoints(std::vector<std::array<float, 3>> keypoints, bool closed) {
     check_keypoints(keypoints);
-    refuse_keypoints_on_worlds(world_count_, keypoints.size());
     std::vector<cl_float4> k(std::max<size_t>(1, keypoints.size()), cl_float4{{0, 0, 0, 0}});
     for (size_t i = 0; i < keypoints.size(); ++i) k[i] = {{keypoints[i][0], keypoints[i][1], keypoints[i][2], 0.0f}};
     DeviceBuffer<cl_float4> buf(ctx_, k.size(), "keypoints");
@@ -333,6 +325,7 @@ cl_uint EnergyModel::set_common_args(cl::Kernel& k, Swarm& swarm, uint64_t step)
     k.setArg(i++, kp_.get());
     k.setArg(i++, cl_uint(c.keypoints.size()));
     k.setArg(i++, goal_.get());
+    k.setArg(i++, cl_uint(capacity_));  // world k's goals from k capacity_
     k.setArg(i++, pxyz_.get());
     k.setArg(i++, cl_uint(pxyz_stride_));
     k.setArg(i++, noise_buf_.get());
@@ -397,14 +390,15 @@ EnergyTerms EnergyModel::evaluate(Swarm& swarm, uint64_t step) {
 
 void EnergyModel::goals(Swarm& swarm, std::vector<int32_t>& goal, std::vector<uint8_t>& backward) {
     const uint32_t n = swarm.agent_count();
-    std::vector<cl_uint> g(std::max(n, 1u));
-    goal_.download(ctx_, g.data(), n);
-    goal.resize(n);
-    backward.resize(n);
-    for (uint32_t a = 0; a < n; ++a) {
-        const uint32_t k = g[a] & ~kGoalBackward;
+    std::vector<cl_uint> all(std::max<size_t>(size_t(capacity_) * world_count_, 1));
+    goal_.download(ctx_, all.data(), size_t(capacity_) * world_count_);
+    goal.resize(size_t(n) * world_count_);
+    backward.resize(goal.size());
+    for (size_t a = 0; a < goal.size(); ++a) {  // world by world, each world's ids
+        const cl_uint g = all[(a / std::max(n, 1u)) * capacity_ + a % std::max(n, 1u)];
+        const uint32_t k = g & ~kGoalBackward;
         goal[a] = k == kGoalUnset ? -1 : int32_t(k);
-        backward[a] = (g[a] & kGoalBackward) ? 1 : 0;
+        backward[a] = (g & kGoalBackward) ? 1 : 0;
     }
 }
 
@@ -471,15 +465,18 @@ std::vector<double> EnergyModel::world_param(const std::string& key) const { ret
 // uploaded, when fixed) at every step before it is used.
 void EnergyModel::save_checkpoint(Swarm&, ByteWriter& descriptor, ByteWriter& state) {
     write_model_descriptor(descriptor, config_, *dataset_);
-    std::vector<cl_uint> g(capacity_);
-    goal_.download(ctx_, g.data(), capacity_);
+    std::vector<cl_uint> g(size_t(capacity_) * world_count_);
+    goal_.download(ctx_, g.data(), g.size());
     state.u64(g.size());
     for (cl_uint v : g) state.u32(v);
 }
 void EnergyModel::restore_checkpoint(Swarm&, ByteReader& state) {
     const uint64_t count = state.count(4);
-    if (count != capacity_) state.bad(std::to_string(count) + " keypoint goals for a capacity of " + std::to_string(capacity_));
-    std::vector<cl_uint> g(capacity_);
+    const size_t want = size_t(capacity_) * world_count_;
+    if (count != want)
+        state.bad(std::to_string(count) + " keypoint goals for a capacity of " + std::to_string(capacity_) + " x " +
+                  std::to_string(world_count_) + " worlds");
+    std::vector<cl_uint> g(want);
     for (cl_uint& v : g) {
         v = state.u32();
         // The kernel indexes the keypoints with it.
@@ -488,7 +485,7 @@ void EnergyModel::restore_checkpoint(Swarm&, ByteReader& state) {
             state.bad("keypoint goal " + std::to_string(k) + " of " + std::to_string(config_.keypoints.size()));
     }
     state.expect_end();
-    goal_.upload(ctx_, g.data(), capacity_);
+    goal_.upload(ctx_, g.data(), g.size());
 }
 
 }  // namespace swarmcl

@@ -85,8 +85,8 @@ public:
     // Validates the configuration (Error(InvalidArgument) naming the value).
     // Every world of the swarm starts with `config`; a swarm of several
     // worlds (docs/architecture.md, "Worlds") runs each world as its swarm
-    // alone, keypoints refused there (their goals are kept per agent id of
-    // one swarm).
+    // alone (the keypoints one curve for every world, each world's goals
+    // kept by its agents' ids).
     EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr<const Dataset> dataset);
 
     // Per world: the table's parameters but those that select a kernel or
@@ -115,7 +115,8 @@ public:
     void set_keypoints(std::vector<std::array<float, 3>> keypoints, bool closed);
 
     // Per agent id: the goal keypoint index (-1: not chosen yet) and whether
-    // the agent traverses the curve backwards.
+    // the agent traverses the curve backwards; world by world on a swarm of
+    // worlds (W x agents a world).
     void goals(Swarm& swarm, std::vector<int32_t>& goal, std::vector<uint8_t>& backward);
     // The swarm centre the last step used (xyz) and the agent count (w);
     // with worlds, world `world`'s.

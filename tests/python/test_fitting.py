@@ -190,8 +190,8 @@ def test_an_energy_model_generation_as_worlds_scores_as_its_runs_alone(ctx, real
     # The energy model runs worlds too (issue 25): a generation varying the
     # weights of examples/evaluation/energy_mosquito.ranges.json scores as
     # its runs alone, streamed or measured on the host, with the fixed centre
-    # of that scenario and with the swarm's own centre (each world's); an
-    # energy scenario with keypoints keeps one swarm a run (refused on worlds).
+    # of that scenario, with the swarm's own centre (each world's) and with
+    # keypoints (each world's agents keep their goals).
     energy = json.loads(json.dumps(SCENARIO))
     energy["dt"] = 0.01
     energy["model"] = {"type": "energy", "dataset": {"type": "synthetic", "k": 120, "groups": 6},
@@ -203,7 +203,10 @@ def test_an_energy_model_generation_as_worlds_scores_as_its_runs_alone(ctx, real
     pop = [list(u) for u in np.random.default_rng(7).uniform(size=(4, len(ranges)))]
     swarm_centre = json.loads(json.dumps(energy))
     del swarm_centre["model"]["centre"]
-    for scenario in (energy, swarm_centre):
+    shaped = json.loads(json.dumps(energy))
+    shaped["model"]["keypoints"] = [[0.5, 0.5, 1], [1.5, 1.5, 1]]
+    shaped["model"]["weights"]["user"] = 1.0
+    for scenario in (energy, swarm_centre, shaped):
         params = swarmcl.load_ranges(ranges, scenario)
         for streamed in (False, True):
             worlds = swarmcl.fitting.PopulationEvaluator(scenario, params, real, ctx, steps=40, seeds=2,
@@ -214,11 +217,7 @@ def test_an_energy_model_generation_as_worlds_scores_as_its_runs_alone(ctx, real
             assert alone.world_keys is None
             a, b = worlds(pop), alone(pop)
             assert a == b and len(set(a)) == 4
-            assert worlds.refused == 0
-    shaped = json.loads(json.dumps(energy))
-    shaped["model"]["keypoints"] = [[0.5, 0.5, 1], [1.5, 1.5, 1]]
-    assert swarmcl.fitting.PopulationEvaluator(shaped, swarmcl.load_ranges(ranges, shaped), real, ctx,
-                                               steps=40).world_keys is None
+            assert worlds.refused == 0 and worlds.last_swarms == 1
 
 
 def test_a_path_model_generation_as_worlds_scores_as_its_runs_alone(ctx, real):

@@ -326,7 +326,7 @@ def set_keypoints(swarm, keypoints, closed: bool = True) -> None:
 
 
 def goals(swarm) -> np.ndarray:
-    n = swarm.agent_count
+    n = swarm.agent_count * swarm.worlds  # world by world
     out = np.empty(n, dtype=np.int32)
     check(lib.swcl_swarm_energy_get_goals(swarm._h, ffi.from_buffer("int32_t[]", out) if n else ffi.NULL, n))
     return out

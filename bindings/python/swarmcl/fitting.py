@@ -180,8 +180,8 @@ def _with_values(scenario: dict, params: Sequence[Parameter], u) -> dict:
 def world_model(scenario) -> bool:
     """Whether the scenario's model runs a swarm of worlds
     (PopulationEvaluator.WORLD_MODELS): the force model refuses worlds with
-    target meshes (keyframes) or a path, the energy model with
-    keypoints, the path model with chasing targets or moving goals
+    target meshes (keyframes) or a path, the path model with chasing
+    targets or moving goals
     (docs/architecture.md, "Worlds"), which their hosts build once for
     every world or move while it runs."""
     model = scenario.get("model", {}) if isinstance(scenario, dict) else {}
@@ -189,8 +189,6 @@ def world_model(scenario) -> bool:
         return False
     if model.get("type") == "force":
         return not (model.get("keyframes") or model.get("path"))
-    if model.get("type") == "energy":
-        return not model.get("keypoints")
     if model.get("type") == "path":
         moving = model.get("moving_goal")
         return not (model.get("targets") or (isinstance(moving, dict) and moving.get("waypoints")))
@@ -285,7 +283,7 @@ class PopulationEvaluator:
         self.last_swarms = 0
 
     #: The models whose swarms run worlds (the force model without target
-    #: meshes or a path, the energy model without keypoints, the
+    #: meshes or a path, the
     #: path model without chasing: world_model above).
     WORLD_MODELS = ("field", "force", "energy", "path")
 

@@ -188,7 +188,7 @@ typedef struct swcl_swarm_desc {
      * cells and the model's kernel.  Reads and writes hold every world, world
      * by world (count = worlds x agents a world).  The field model, the
      * force model (without target meshes or a path, which it refuses on
-     * worlds > 1), the energy model (without keypoints), the path model
+     * worlds > 1), the energy model, the path model
      * (without chasing targets or moving goals; its goals per world by the
      * keys "groups.G.goals.I.center" / ".radius" / ".half_extents") and
      * ballistic motion run worlds (and are saved with them), and attached
@@ -713,7 +713,8 @@ SWCL_API swcl_status swcl_swarm_energy_set_model(swcl_swarm swarm, swcl_dataset 
 SWCL_API swcl_status swcl_swarm_energy_set_stimuli(swcl_swarm swarm, const swcl_stimulus* stimuli, uint32_t count);
 SWCL_API swcl_status swcl_swarm_energy_set_keypoints(swcl_swarm swarm, const float* xyz, uint32_t count,
                                                      int32_t closed);
-/* Per agent (id order): the goal keypoint index, -1 before the first step. */
+/* Per agent (id order; world by world on a swarm of worlds, count = worlds x
+ * agents a world): the goal keypoint index, -1 before the first step. */
 SWCL_API swcl_status swcl_swarm_energy_get_goals(swcl_swarm swarm, int32_t* out_goals, size_t count);
 /* Trajectory synthesis (§5.2.3): one agent per track (arrays as in
  * swcl_dataset_from_tracks; desc: unit_scale, gaps, smoothing; NULL: defaults)
