@@ -377,6 +377,10 @@ __kernel void force_model_scatter(__global const float4* pos, __global const uin
                                   __global const uint* target_of, __global float4* by_target) {
     const uint i = get_global_id(0);
     if (i >= n) return;
+    FM_WORLD_AGENTS(pos)
+    FM_WORLD_AGENTS(ids)
+    FM_WORLD_AGENTS(target_of)
+    FM_WORLD_AGENTS(by_target)
     by_target[target_of[ids[i]]] = pos[i];
 }
 

@@ -4,9 +4,9 @@
 // velocities, MDE counts), with per-world seeds and parameters, including
 // the repulsion radius (each world's fine grid has the geometry it has
 // alone) and the MDE distance; a checkpoint resumes them bitwise; bad input
-// gets a status naming the parameter and world and changes nothing; what
-// does not run in worlds (target meshes, a path) is refused by name.
-// Obstacles, primitive and mesh, are one for every world.
+// gets a status naming the parameter and world and changes nothing.
+// Obstacles (primitive and mesh), target meshes (keyframes) and the path
+// are one for every world; each world assigns its insects to the targets.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -64,9 +64,28 @@ protected:
         m->mesh_obstacles = meshes;
         m->mesh_obstacle_count = 1;
     }
-    static swcl_force_model_desc model(uint32_t k, bool obstacles = false) {
+    // Two keyframes (a sphere, then a torus from step 8: assigned anew) on a
+    // path that moves and turns the shape.
+    static void add_shapes(swcl_force_model_desc* m) {
+        static swcl_keyframe kf[2] = {};
+        kf[0].shape = "sphere";
+        kf[0].scale = 0.5f;
+        kf[1].frame = 8;
+        kf[1].shape = "torus";
+        kf[1].scale = 0.4f;
+        static const float path[12] = {-0.3f, 0, 0, 0, 0.3f, 0, 0.3f, 0, 0.1f, 0, -0.3f, 0};
+        m->keyframes = kf;
+        m->keyframe_count = 2;
+        m->path = path;
+        m->path_point_count = 4;
+        m->path_speed = 0.5f;
+        m->min_spacing = 0.0f;
+    }
+    static constexpr unsigned kObstacles = 1, kShapes = 2;
+    static swcl_force_model_desc model(uint32_t k, unsigned extras = 0) {
         swcl_force_model_desc m = swcl_force_model_desc_default();
-        if (obstacles) add_obstacles(&m);
+        if (extras & kObstacles) add_obstacles(&m);
+        if (extras & kShapes) add_shapes(&m);
         m.r_rep = float(kRRep[k]);
         m.r_ali = 0.35f;
         m.r_att = 0.5f;
@@ -76,9 +95,9 @@ protected:
         m.max_speed = float(kMaxSpeed[k]);
         return m;
     }
-    swcl_swarm ensemble(uint32_t agents = kAgents, bool obstacles = false) {
+    swcl_swarm ensemble(uint32_t agents = kAgents, unsigned extras = 0) {
         swcl_swarm s = make(desc(kWorlds, 0, kSeeds, agents));
-        const swcl_force_model_desc m0 = model(0, obstacles);
+        const swcl_force_model_desc m0 = model(0, extras);
         EXPECT_EQ(swcl_swarm_force_set_model(s, &m0), SWCL_OK) << swcl_last_error();
         set(s, "r_rep", kRRep, kWorlds);
         set(s, "min_distance", kMinDistance, kWorlds);
@@ -87,20 +106,20 @@ protected:
         set(s, "max_speed", kMaxSpeed, kWorlds);
         return s;
     }
-    swcl_swarm alone(uint32_t k, uint32_t agents = kAgents, bool obstacles = false) {
+    swcl_swarm alone(uint32_t k, uint32_t agents = kAgents, unsigned extras = 0) {
         swcl_swarm s = make(desc(1, kSeeds[k], nullptr, agents));
-        const swcl_force_model_desc m = model(k, obstacles);
+        const swcl_force_model_desc m = model(k, extras);
         EXPECT_EQ(swcl_swarm_force_set_model(s, &m), SWCL_OK) << swcl_last_error();
         return s;
     }
 
-    void check_bitwise(uint32_t agents, uint32_t steps, bool expect_mde, bool obstacles = false);
+    void check_bitwise(uint32_t agents, uint32_t steps, bool expect_mde, unsigned extras = 0);
 };
 
 // Every world of the ensemble against its swarm alone after `steps` steps.
-void ForceWorlds::check_bitwise(uint32_t n, uint32_t steps, bool expect_mde, bool obstacles) {
+void ForceWorlds::check_bitwise(uint32_t n, uint32_t steps, bool expect_mde, unsigned extras) {
     const size_t total = size_t(kWorlds) * n;
-    swcl_swarm all = ensemble(n, obstacles);
+    swcl_swarm all = ensemble(n, extras);
     ASSERT_EQ(swcl_swarm_step(all, steps), SWCL_OK) << swcl_last_error();
     const std::vector<float> pos = read(all, SWCL_ATTRIBUTE_POSITION, total);
     const std::vector<float> vel = read(all, SWCL_ATTRIBUTE_VELOCITY, total);
@@ -109,7 +128,7 @@ void ForceWorlds::check_bitwise(uint32_t n, uint32_t steps, bool expect_mde, boo
     ASSERT_EQ(swcl_swarm_take_world_step_stats(all, st.data(), kWorlds), SWCL_OK) << swcl_last_error();
     uint64_t moved = 0;
     for (uint32_t k = 0; k < kWorlds; ++k) {
-        swcl_swarm one = alone(k, n, obstacles);
+        swcl_swarm one = alone(k, n, extras);
         ASSERT_EQ(swcl_swarm_step(one, steps), SWCL_OK) << swcl_last_error();
         expect_world_equal(pos, read(one, SWCL_ATTRIBUTE_POSITION, n), k, kWorlds, "positions");
         expect_world_equal(vel, read(one, SWCL_ATTRIBUTE_VELOCITY, n), k, kWorlds, "velocities");
@@ -130,18 +149,45 @@ TEST_F(ForceWorlds, WorldsAreBitwiseTheSwarmsAlone) { check_bitwise(kAgents, 30,
 
 // Obstacles (issue 25: "any stage ... obstacles"): world 2 without MDE keeps
 // its agents where the primitives' push-out would have moved them, as alone.
-TEST_F(ForceWorlds, WorldsWithObstaclesAreBitwiseTheSwarmsAlone) { check_bitwise(kAgents, 20, true, true); }
-TEST_F(ForceWorlds, SmallWorldsWithObstaclesAreBitwiseTheSwarmsAlone) { check_bitwise(37, 3, false, true); }
+TEST_F(ForceWorlds, WorldsWithObstaclesAreBitwiseTheSwarmsAlone) { check_bitwise(kAgents, 20, true, kObstacles); }
+TEST_F(ForceWorlds, SmallWorldsWithObstaclesAreBitwiseTheSwarmsAlone) { check_bitwise(37, 3, false, kObstacles); }
+
+// Target meshes on a path (issue 25, "any model"): each world assigns its
+// own insects to the targets at each keyframe, as alone; the targets read
+// back world by world are where each world's insects head.
+TEST_F(ForceWorlds, WorldsWithTargetMeshesOnAPathAreBitwiseTheSwarmsAlone) {
+    check_bitwise(kAgents, 20, true, kShapes);
+    swcl_swarm all = ensemble(kAgents, kShapes);
+    ASSERT_EQ(swcl_swarm_step(all, 10), SWCL_OK) << swcl_last_error();
+    std::vector<float> targets(3 * size_t(kWorlds) * kAgents);
+    ASSERT_EQ(swcl_swarm_force_get_targets(all, targets.data(), size_t(kWorlds) * kAgents), SWCL_OK)
+        << swcl_last_error();
+    for (uint32_t k = 0; k < kWorlds; ++k) {
+        swcl_swarm one = alone(k, kAgents, kShapes);
+        ASSERT_EQ(swcl_swarm_step(one, 10), SWCL_OK) << swcl_last_error();
+        std::vector<float> t(3 * size_t(kAgents));
+        ASSERT_EQ(swcl_swarm_force_get_targets(one, t.data(), kAgents), SWCL_OK) << swcl_last_error();
+        expect_world_equal(targets, t, k, kWorlds, "targets");
+    }
+    // Worlds assign from their own positions: not every world the same.
+    EXPECT_NE(std::memcmp(targets.data(), targets.data() + 3 * size_t(kAgents), 3 * kAgents * sizeof(float)), 0);
+    std::vector<float> more(3 * (size_t(kWorlds) * kAgents + 1));
+    EXPECT_EQ(swcl_swarm_force_get_targets(all, more.data(), size_t(kWorlds) * kAgents + 1),
+              SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("all its worlds"), std::string::npos) << swcl_last_error();
+}
 
 // Small, for the Oclgrind check (scripts/oclgrind_check.py).
 TEST_F(ForceWorlds, SmallWorldsAreBitwiseTheSwarmsAlone) { check_bitwise(37, 3, false); }
 
 TEST_F(ForceWorlds, ACheckpointResumesBitwise) {
     const size_t total = size_t(kWorlds) * kAgents;
-    swcl_swarm straight = ensemble();
+    // With target meshes: saved after the second keyframe's assignment
+    // (step 8), which the checkpoint holds for every world.
+    swcl_swarm straight = ensemble(kAgents, kShapes);
     ASSERT_EQ(swcl_swarm_step(straight, 20), SWCL_OK) << swcl_last_error();
-    swcl_swarm first = ensemble();
-    ASSERT_EQ(swcl_swarm_step(first, 8), SWCL_OK) << swcl_last_error();
+    swcl_swarm first = ensemble(kAgents, kShapes);
+    ASSERT_EQ(swcl_swarm_step(first, 10), SWCL_OK) << swcl_last_error();
     const std::string path = ::testing::TempDir() + "swarmcl_force_worlds_checkpoint.swcl";
     ASSERT_EQ(swcl_swarm_save(first, path.c_str()), SWCL_OK) << swcl_last_error();
     swcl_swarm resumed{};
@@ -152,7 +198,7 @@ TEST_F(ForceWorlds, ACheckpointResumesBitwise) {
     ASSERT_EQ(swcl_swarm_get_world_param(resumed, "r_rep", r_rep.data(), kWorlds, nullptr), SWCL_OK)
         << swcl_last_error();
     for (uint32_t k = 0; k < kWorlds; ++k) EXPECT_EQ(float(r_rep[k]), float(kRRep[k]));
-    ASSERT_EQ(swcl_swarm_step(resumed, 12), SWCL_OK) << swcl_last_error();
+    ASSERT_EQ(swcl_swarm_step(resumed, 10), SWCL_OK) << swcl_last_error();
     EXPECT_EQ(read(resumed, SWCL_ATTRIBUTE_POSITION, total), read(straight, SWCL_ATTRIBUTE_POSITION, total));
     EXPECT_EQ(read(resumed, SWCL_ATTRIBUTE_VELOCITY, total), read(straight, SWCL_ATTRIBUTE_VELOCITY, total));
     std::vector<swcl_step_stats> a(kWorlds), b(kWorlds);
@@ -199,16 +245,21 @@ TEST_F(ForceWorlds, BadInputNamesTheParameterAndWorldAndChangesNothing) {
     const double same[kWorlds] = {7, 7, 7, 7};
     set(all, "sample_seed", same, kWorlds);
 
-    // A path does not run in worlds: refused by name, the model in place
-    // still steps.
+    // A path set on a running swarm of worlds moves every world's shape; a
+    // bad one is refused and the model in place still steps.
     const float path[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
-    EXPECT_EQ(swcl_swarm_force_set_path(all, path, 4, 1.0f), SWCL_ERROR_INVALID_ARGUMENT);
-    EXPECT_NE(std::string(swcl_last_error()).find("path"), std::string::npos) << swcl_last_error();
+    EXPECT_EQ(swcl_swarm_force_set_path(all, path, 4, 1.0f), SWCL_OK) << swcl_last_error();
+    EXPECT_EQ(swcl_swarm_force_set_path(all, path, 2, 1.0f), SWCL_ERROR_INVALID_ARGUMENT);
     EXPECT_EQ(swcl_swarm_step(all, 2), SWCL_OK) << swcl_last_error();
+    // The path's speed is one for every world.
+    const double speeds[kWorlds] = {1, 1, 2, 1};
+    EXPECT_EQ(swcl_swarm_set_world_param(all, "path.speed", speeds, kWorlds), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("path.speed cannot differ between worlds"), std::string::npos)
+        << swcl_last_error();
 
     // With mesh obstacles the distance grid, built once, reaches
     // obstacle_range beyond them: the same in every world.
-    swcl_swarm walls = ensemble(kAgents, true);
+    swcl_swarm walls = ensemble(kAgents, kObstacles);
     expect_obstacle_range_refused(walls);
 }
 

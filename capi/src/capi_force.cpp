@@ -183,11 +183,12 @@ swcl_status swcl_swarm_force_set_path(swcl_swarm swarm, const float* points, uin
 swcl_status swcl_swarm_force_get_targets(swcl_swarm swarm, float* out_xyz, size_t count) {
     return with_swarm(__func__, swarm, [&](Swarm& s) {
         check_out(out_xyz, "out_xyz");
-        require(count <= s.agent_count(), "count " + std::to_string(count) + " exceeds the agent count " +
-                                              std::to_string(s.agent_count()));
+        const size_t all = size_t(s.agent_count()) * s.worlds();  // world by world
+        require(count <= all, "count " + std::to_string(count) + " exceeds the agent count " + std::to_string(all) +
+                                  (s.worlds() > 1 ? " (all its worlds)" : ""));
         ForceModel& m = force_model_of(s);
         const ShapeTargets* t = m.current_targets();
-        require(t != nullptr && m.target_of().size() == s.agent_count(),
+        require(t != nullptr && m.target_of().size() == all,
                 "no keyframe is active yet (targets appear at the first keyframe's frame, after a step)");
         const std::vector<float> placed = m.placed(t->points, s.step_count(), s.config().dt);
         for (size_t a = 0; a < count; ++a)

@@ -114,21 +114,10 @@ ForceModel::ForceModel(Swarm& swarm, ForceModelConfig config)
       world_count_(swarm.worlds()),
       fine_(swarm.context()) {
     validate(config_);
-    if (world_count_ > 1) {
-        // What the host builds once from one configuration (targets sampled
-        // from the meshes and assigned, the path's placement) is not laid
-        // out per world yet.  The obstacles are one for every world (their
-        // primitives and the mesh obstacles' distance grid).
-        const auto refuse = [&](bool has, const std::string& what) {
-            if (has)
-                fail(Status::InvalidArgument, "the force model's " + what +
-                                                  " do not run on a swarm of several worlds yet (this one has " +
-                                                  std::to_string(world_count_) +
-                                                  "); docs/architecture.md, \"Worlds\"");
-        };
-        refuse(!config_.keyframes.empty(), "target meshes (keyframes)");
-        refuse(!config_.path.empty(), "path and its shape placement");
-    }
+    // Worlds: the targets sampled from the meshes, the path's placement and
+    // the obstacles are one for every world (what sets them is refused per
+    // world when it differs); each world assigns its insects to the targets
+    // from its own positions (activate).
     Context& ctx = swarm.context();
     noise_ = std::make_unique<NoiseField>(ctx, config_.noise, &swarm.config().domain_min, &swarm.config().domain_max);
     // On CPU devices the explicit-width force kernel (NoiseField::width()
@@ -271,8 +260,8 @@ void ForceModel::prepare(Swarm& swarm) {
                                         same ? &targets_.back().samples : nullptr));
     }
     force_.allocate(ctx, size_t(n) * world_count_, "force model forces");  // every world's
-    target_of_buf_.allocate(ctx, n, "force model target_of");
-    by_target_.allocate(ctx, n, "force model positions by target");
+    target_of_buf_.allocate(ctx, size_t(n) * world_count_, "force model target_of");  // world by world
+    by_target_.allocate(ctx, size_t(n) * world_count_, "force model positions by target");
     kf_buf_.assign(targets_.size(), KeyframeBuffers{});
     for (size_t k = 0; k < targets_.size(); ++k) {
         const ShapeTargets& t = targets_[k];
@@ -344,12 +333,20 @@ void ForceModel::activate(Swarm& swarm, int k) {
                       ((k == active_ + 1 && same_topology_[size_t(k)]) ||
                        (k == 0 && active_ == int(targets_.size()) - 1 && config_.keyframe_period &&
                         std::all_of(same_topology_.begin() + 1, same_topology_.end(), [](bool b) { return b; })));
-    if (!keep) {
-        std::vector<float> agents(3 * size_t(n));
-        swarm.read(Attribute::Position, agents.data(), n);
+    if (!keep) {  // each world from its own insects (target indices within it)
+        const size_t total = size_t(n) * world_count_;
+        std::vector<float> agents(3 * total);
+        swarm.read(Attribute::Position, agents.data(), total);
         const std::vector<float> where = placed(t.points, swarm.step_count(), swarm.config().dt);
-        target_of_ = assign_targets(agents, where, config_.assignment);
-        target_of_buf_.upload(ctx, target_of_.data(), n);
+        std::vector<uint32_t> target_of;
+        target_of.reserve(total);
+        for (uint32_t w = 0; w < world_count_; ++w) {
+            const std::vector<float> mine(agents.begin() + 3 * size_t(w) * n, agents.begin() + 3 * size_t(w + 1) * n);
+            const std::vector<uint32_t> a = assign_targets(mine, where, config_.assignment);
+            target_of.insert(target_of.end(), a.begin(), a.end());
+        }
+        target_of_ = std::move(target_of);
+        target_of_buf_.upload(ctx, target_of_.data(), total);
     }
     active_ = k;
 }
@@ -376,7 +373,7 @@ void ForceModel::enqueue_force(Swarm& swarm, uint64_t step) {
     if (t) {
         set_args(scatter_k_, swarm.positions().get(), swarm.ids().get(), cl_uint(n), target_of_buf_.get(),
                  by_target_.get());
-        launch(swarm.context(), scatter_k_, n);
+        launch_worlds(swarm.context(), scatter_k_, n, world_count_);
     }
     cl_uint i = 0;
     cl::Kernel& kf = force_k_;
@@ -588,8 +585,10 @@ void ForceModel::restore_checkpoint(Swarm& swarm, ByteReader& state) {
     }
     if (active < -1 || active >= int32_t(targets_.size()))
         state.bad("active keyframe " + std::to_string(active) + " of " + std::to_string(targets_.size()));
-    if (count != 0 && count != n) state.bad("an assignment of " + std::to_string(count) + " agents for " + std::to_string(n));
-    if (active >= 0 && count != n) state.bad("an active keyframe without an assignment");
+    const uint64_t all = uint64_t(n) * world_count_;  // world by world
+    if (count != 0 && count != all)
+        state.bad("an assignment of " + std::to_string(count) + " agents for " + std::to_string(all));
+    if (active >= 0 && count != all) state.bad("an active keyframe without an assignment");
     std::vector<uint32_t> target_of(static_cast<size_t>(count));
     for (uint32_t& t : target_of) {
         t = state.u32();

@@ -18,7 +18,10 @@ __kernel void SWCL_KERNEL(force_model_force)(FM_FORCE_PARAMS) {
 #ifdef SWCL_WORLDS
     // World get_global_id(1) (force_model.cl, "worlds"): its agents, forces,
     // repulsion sums, parameter and noise blocks; the grid's view of its
-    // cells.  Targets are refused on worlds (the host), so not offset.
+    // cells; its agents' targets (target_of, by id) and their positions by
+    // target (by_target).  The targets themselves are one for every world.
+    FM_WORLD_AGENTS(target_of)
+    FM_WORLD_AGENTS(by_target)
     FM_WORLD_AGENTS(pos)
     FM_WORLD_AGENTS(vel)
     FM_WORLD_AGENTS(ids)

@@ -117,9 +117,8 @@ def test_a_generation_as_worlds_scores_as_its_runs_alone(ctx, real):
 
 def test_a_force_model_generation_as_worlds_scores_as_its_runs_alone(ctx, real):
     # The force model runs worlds too (its internal forces, curl noise and
-    # MDE): a generation varying r_rep and w_ali scores as its runs alone; a
-    # force scenario with target meshes keeps one swarm a run (refused on
-    # worlds).
+    # MDE): a generation varying r_rep and w_ali scores as its runs alone,
+    # with target meshes too (each world assigns its own insects).
     force = json.loads(json.dumps(SCENARIO))
     force["model"] = {"type": "force", "r_rep": 0.1, "r_ali": 0.3, "r_att": 0.6, "max_speed": 0.5,
                       "cruise_speed": 0.2, "min_distance": 0.02}
@@ -131,8 +130,12 @@ def test_a_force_model_generation_as_worlds_scores_as_its_runs_alone(ctx, real):
     a, b = worlds(pop), alone(pop)
     assert a == b and len(set(a)) == 4
     shaped = json.loads(json.dumps(force))
-    shaped["model"]["keyframes"] = [{"frame": 0, "shape": "sphere"}]
-    assert swarmcl.fitting.PopulationEvaluator(shaped, params, real, ctx, steps=40).world_keys is None
+    shaped["model"]["keyframes"] = [{"frame": 0, "shape": "sphere", "scale": 0.5, "offset": [1, 1, 1]}]
+    worlds = swarmcl.fitting.PopulationEvaluator(shaped, params, real, ctx, steps=40, streamed=False)
+    alone = swarmcl.fitting.PopulationEvaluator(shaped, params, real, ctx, steps=40, streamed=False, worlds=False)
+    c, d = worlds(pop), alone(pop)
+    assert worlds.world_keys == ["r_rep", "w_ali"] and worlds.last_swarms == 1
+    assert c == d and len(set(c)) == 4 and c != a[:4]
     # The scenario's eta and rho (Eq. 4: noise.scale = rho, noise.gain =
     # eta / rho) run as worlds too, each fitted or not, bitwise as alone.
     force["model"].update(eta=0.3, rho=0.25, noise_time_scale=1.0)

@@ -179,16 +179,12 @@ def _with_values(scenario: dict, params: Sequence[Parameter], u) -> dict:
 
 def world_model(scenario) -> bool:
     """Whether the scenario's model runs a swarm of worlds
-    (PopulationEvaluator.WORLD_MODELS): the force model refuses worlds with
-    target meshes (keyframes) or a path, the path model with chasing
-    targets or moving goals
-    (docs/architecture.md, "Worlds"), which their hosts build once for
-    every world or move while it runs."""
+    (PopulationEvaluator.WORLD_MODELS): the path model refuses worlds with
+    chasing targets or moving goals (docs/architecture.md, "Worlds"), which
+    its host moves while it runs."""
     model = scenario.get("model", {}) if isinstance(scenario, dict) else {}
     if not isinstance(model, dict) or model.get("type", "field") not in PopulationEvaluator.WORLD_MODELS:
         return False
-    if model.get("type") == "force":
-        return not (model.get("keyframes") or model.get("path"))
     if model.get("type") == "path":
         moving = model.get("moving_goal")
         return not (model.get("targets") or (isinstance(moving, dict) and moving.get("waypoints")))
@@ -282,9 +278,8 @@ class PopulationEvaluator:
         # _world_groups; otherwise one a run).
         self.last_swarms = 0
 
-    #: The models whose swarms run worlds (the force model without target
-    #: meshes or a path, the
-    #: path model without chasing: world_model above).
+    #: The models whose swarms run worlds (the path model without chasing:
+    #: world_model above).
     WORLD_MODELS = ("field", "force", "energy", "path")
 
     #: The force scenario's keys that stand for rows of its table

@@ -187,8 +187,7 @@ typedef struct swcl_swarm_desc {
      * (swcl_swarm_set_world_param).  All worlds share the domain, the grid's
      * cells and the model's kernel.  Reads and writes hold every world, world
      * by world (count = worlds x agents a world).  The field model, the
-     * force model (without target meshes or a path, which it refuses on
-     * worlds > 1), the energy model, the path model
+     * force model, the energy model, the path model
      * (without chasing targets or moving goals; its goals per world by the
      * keys "groups.G.goals.I.center" / ".radius" / ".half_extents") and
      * ballistic motion run worlds (and are saved with them), and attached
@@ -822,8 +821,8 @@ SWCL_API swcl_status swcl_swarm_force_set_path(swcl_swarm swarm, const float* po
                                                float speed);
 /* The target points of the current keyframe (packed xyz, the shape frame
  * placed on the path at the swarm's current step: moved, and turned with it
- * unless path_orient is 0) for agent ids 0..count-1: where each agent is
- * heading. */
+ * unless path_orient is 0) for agent ids 0..count-1 (world by world on a
+ * swarm of worlds): where each agent is heading. */
 SWCL_API swcl_status swcl_swarm_force_get_targets(swcl_swarm swarm, float* out_xyz, size_t count);
 
 /* ---- Deep-RL swarms: the batched leader-following environment (issue 15) ----
