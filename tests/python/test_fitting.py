@@ -278,6 +278,16 @@ def test_the_scale_penalty_is_the_mean_wasserstein_distance_in_real_spreads(ctx,
     assert e_plain[1] != pytest.approx(e_pen[1])
     with pytest.raises(ValueError, match="scale_penalty"):
         swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, scale_penalty=-1.0)
+    # P over chosen metrics only (scale_metrics): speed and spacing.
+    two = ("speed", "nearest_distance")
+    sel = swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, steps=40, streamed=False,
+                                              scale_penalty=2.0, robust=True, scale_metrics=two)
+    p_two = np.mean([w[n] / spread[swarmcl.METRICS.index(n)] for n in two])
+    assert p_two != pytest.approx(p)
+    assert sel([u_slow])[0] == pytest.approx(e_robust - 2.0 * p_two, abs=1e-6)
+    for bad in (["speed", "nope"], [], ["speed", "speed"]):
+        with pytest.raises(ValueError, match="scale_metrics"):
+            swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, scale_penalty=1.0, scale_metrics=bad)
 
 
 def test_a_fit_recovers_known_parameters(ctx, real):

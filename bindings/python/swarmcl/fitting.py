@@ -220,7 +220,7 @@ class PopulationEvaluator:
                  steps: Optional[int] = None, every: Optional[int] = None, warmup: int = 0, bins: int = 50,
                  half_width: float = 4.0, weights=None, p1=None, p2=None,
                  streamed: Optional[bool] = None, robust: bool = False, scale_penalty: float = 0.0,
-                 seeds: int = 1, worlds: bool = True):
+                 seeds: int = 1, worlds: bool = True, scale_metrics: Optional[Sequence[str]] = None):
         self.scenario, self.params, self.real, self.context = scenario, list(params), real, context
         # seeds S: each individual is run S times, with the scenario's seed
         # replaced by seed, seed + 1, ..., seed + S - 1 (the same S for every
@@ -239,6 +239,13 @@ class PopulationEvaluator:
         self.scale_penalty = float(scale_penalty)
         if not (self.scale_penalty >= 0.0 and np.isfinite(self.scale_penalty)):
             raise ValueError(f"scale_penalty: a finite number >= 0, got {scale_penalty!r}")
+        # scale_metrics: the metrics P averages over (None: all seven); e.g.
+        # ("speed", "nearest_distance") holds the fit to the real speed and
+        # spacing without pulling on the others.
+        self.scale_metrics = list(METRICS) if scale_metrics is None else list(scale_metrics)
+        unknown = [m for m in self.scale_metrics if m not in METRICS]
+        if unknown or not self.scale_metrics or len(set(self.scale_metrics)) != len(self.scale_metrics):
+            raise ValueError(f"scale_metrics: distinct names among {', '.join(METRICS)}; got {scale_metrics!r}")
         self.spread = [1.4826 * real.info(k)["mad"] for k in range(len(METRICS))]
         # streamed True: each run's metrics computed on the device into fine
         # histograms (Metrics.attach, per world on a swarm of worlds; nothing
@@ -372,10 +379,10 @@ class PopulationEvaluator:
         return e, (wasserstein(self.real, sim) if self.scale_penalty > 0.0 else None)
 
     def penalty(self, w1: dict) -> float:
-        """P: the mean over the metrics with samples on both sides and a real
-        spread > 0 of W1 / (1.4826 MAD of the real samples)."""
+        """P: the mean over the scale metrics with samples on both sides and a
+        real spread > 0 of W1 / (1.4826 MAD of the real samples)."""
         ratios = [w1[name] / self.spread[k] for k, name in enumerate(METRICS)
-                  if w1[name] is not None and self.spread[k] > 0.0]
+                  if name in self.scale_metrics and w1[name] is not None and self.spread[k] > 0.0]
         return float(np.mean(ratios)) if ratios else 0.0
 
     def _score(self, terms_or_error) -> float:
@@ -770,7 +777,7 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
         progress: Optional[Callable[[dict], None]] = None, streamed: Optional[bool] = None, robust: bool = False,
         scale_penalty: float = 0.0, seeds: int = 1, restarts: int = 0, tolerance: float = 1e-3,
         step_tolerance: float = 1e-3, patience: Optional[int] = None,
-        start: Optional[Dict[str, float]] = None) -> Optional[dict]:
+        start: Optional[Dict[str, float]] = None, scale_metrics: Optional[Sequence[str]] = None) -> Optional[dict]:
     """Fits the ranged parameters of ``scenario`` (a path or a dict) to
     ``tracks`` (a Metrics) by maximising E.  ``method``: "cmaes" or "ga".
     With ``comm`` (an mpi4py communicator of R ranks), every rank must call
@@ -783,6 +790,7 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
     the host (exact PDFs); None (the default): the host for worlds on a CPU
     device (the faster there), else the device.  ``robust``: PDFs z-scored with median
     and MAD; ``scale_penalty`` λ > 0 maximises E - λ P instead, P the mean
+    (over ``scale_metrics``, default all seven)
     Wasserstein-1 distance in units of the real data's spread
     (PopulationEvaluator, docs/evaluation.md).  ``seeds``: each individual
     scored as the mean of that many runs with consecutive scenario seeds (the
@@ -822,7 +830,7 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
         evaluator = PopulationEvaluator(scenario, params, tracks, ctx, steps=steps, every=every, warmup=warmup,
                                         bins=bins, half_width=half_width, weights=weights, p1=p1, p2=p2,
                                         streamed=streamed, robust=robust, scale_penalty=scale_penalty,
-                                        seeds=seeds)
+                                        seeds=seeds, scale_metrics=scale_metrics)
         if comm is not None:
             evaluator.threads = max(1, (os.cpu_count() or 1) // comm.Get_size())
         ranks = _Ranks(evaluator, comm)
@@ -848,7 +856,8 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
             "ranks": ranks.size, "steps": evaluator.steps, "every": evaluator.every, "warmup": evaluator.warmup,
             "pdf": {"bins": evaluator.bins, "half_width": evaluator.half_width,
                     "standardise": "median_mad" if evaluator.robust else "mean_sigma"},
-            "scale_penalty": evaluator.scale_penalty, "seeds": evaluator.seeds,
+            "scale_penalty": evaluator.scale_penalty, "scale_metrics": evaluator.scale_metrics,
+            "seeds": evaluator.seeds,
             "restarts": int(restarts) if method == "cmaes" else 0, "tolerance": float(tolerance),
             "step_tolerance": float(step_tolerance) if method == "cmaes" else None,
             "patience": None if patience is None else int(patience),
@@ -979,6 +988,9 @@ def _parser() -> argparse.ArgumentParser:
                         "(GA: default 5; CMA-ES: only when given)")
     p.add_argument("--scale-penalty", type=float, default=0.0,
                    help="maximise E - X * (mean Wasserstein-1 distance in the real data's spreads); default 0")
+    p.add_argument("--scale-metrics", type=lambda s: s.split(","),
+                   help="the metrics that mean is over, comma-separated (default all seven), "
+                        "e.g. speed,nearest_distance")
     p.add_argument("--spread", metavar="FITS,RESAMPLES",
                    help="how sure the fit is: fit FITS times (optimiser seeds from --seed) and once to each of "
                         "RESAMPLES block resamples of the tracks, and report every parameter's spread "
@@ -1010,7 +1022,8 @@ def main(argv=None) -> int:
                          warmup=args.warmup, bins=args.bins, half_width=args.half_width, comm=comm, context=ctx,
                          robust=args.robust, scale_penalty=args.scale_penalty, seeds=args.seeds,
                          restarts=args.restarts, tolerance=args.tolerance, step_tolerance=args.step_tolerance,
-                         patience=args.patience, progress=(lambda e: _bar(e, total)) if show else None)
+                         patience=args.patience, scale_metrics=args.scale_metrics,
+                         progress=(lambda e: _bar(e, total)) if show else None)
     except (ValueError, OSError, RuntimeError, SwarmclError) as e:
         print(f"swarmcl fit: {e}", file=sys.stderr)
         if comm is not None:
@@ -1063,7 +1076,8 @@ def _spread_main(args, window, device, comm) -> int:
                             population=args.population, steps=args.steps, every=args.every, warmup=args.warmup,
                             bins=args.bins, half_width=args.half_width, context=ctx, robust=args.robust,
                             scale_penalty=args.scale_penalty, seeds=args.seeds, restarts=args.restarts,
-                            tolerance=args.tolerance, step_tolerance=args.step_tolerance, patience=args.patience)
+                            tolerance=args.tolerance, step_tolerance=args.step_tolerance, patience=args.patience,
+                            scale_metrics=args.scale_metrics)
     _write_json(result, args.out)
     if not args.quiet:
         for path, q in result["parameters"].items():
