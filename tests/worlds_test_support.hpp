@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <functional>
 #include <vector>
 
 #include "swarmcl/swarmcl.h"
@@ -76,6 +77,41 @@ void expect_world_equal(const std::vector<T>& all, const std::vector<T>& one, ui
     for (size_t i = 0; i < per; ++i) differ += std::memcmp(&all[k * per + i], &one[i], sizeof(T)) != 0;
     EXPECT_EQ(differ, 0u) << what << " of world " << k << " differ from the swarm alone in " << differ << " of "
                           << per << " values";
+}
+
+// Steps `all` (`worlds` worlds of n agents) and each world's swarm alone
+// (`alone(k)`) `steps` steps, and compares them byte for byte: positions,
+// velocities and the step statistics, and checks that world 0 and world 1
+// differ (their parameters and seeds do).  Returns the ensemble's step
+// statistics per world (taken here), so a test can say where MDE acted.
+inline std::vector<swcl_step_stats> expect_worlds_are_their_swarms_alone(
+    swcl_swarm all, uint32_t worlds, uint32_t n, uint32_t steps, const std::function<swcl_swarm(uint32_t)>& alone) {
+    const size_t total = size_t(worlds) * n;
+    const auto read = [](swcl_swarm s, swcl_attribute a, size_t agents) {
+        std::vector<float> out(3 * agents);
+        EXPECT_EQ(swcl_swarm_read(s, a, out.data(), agents), SWCL_OK) << swcl_last_error();
+        return out;
+    };
+    EXPECT_EQ(swcl_swarm_step(all, steps), SWCL_OK) << swcl_last_error();
+    const std::vector<float> pos = read(all, SWCL_ATTRIBUTE_POSITION, total);
+    const std::vector<float> vel = read(all, SWCL_ATTRIBUTE_VELOCITY, total);
+    std::vector<swcl_step_stats> st(worlds);
+    for (auto& s : st) s.struct_size = sizeof(swcl_step_stats);
+    EXPECT_EQ(swcl_swarm_take_world_step_stats(all, st.data(), worlds), SWCL_OK) << swcl_last_error();
+    for (uint32_t k = 0; k < worlds; ++k) {
+        swcl_swarm one = alone(k);
+        EXPECT_EQ(swcl_swarm_step(one, steps), SWCL_OK) << swcl_last_error();
+        expect_world_equal(pos, read(one, SWCL_ATTRIBUTE_POSITION, n), k, worlds, "positions");
+        expect_world_equal(vel, read(one, SWCL_ATTRIBUTE_VELOCITY, n), k, worlds, "velocities");
+        swcl_step_stats s1{};
+        s1.struct_size = sizeof(s1);
+        EXPECT_EQ(swcl_swarm_take_step_stats(one, &s1), SWCL_OK);
+        EXPECT_EQ(st[k].mde_moved_total, s1.mde_moved_total) << "world " << k;
+        EXPECT_EQ(st[k].mde_moved_last, s1.mde_moved_last) << "world " << k;
+        EXPECT_EQ(st[k].steps, s1.steps) << "world " << k;
+    }
+    EXPECT_NE(std::memcmp(pos.data(), pos.data() + 3 * size_t(n), 3 * size_t(n) * sizeof(float)), 0);
+    return st;
 }
 
 }  // namespace worlds_test
