@@ -164,31 +164,14 @@ TEST_F(ForceWorlds, WorldsWithTargetMeshesOnAPathAreBitwiseTheSwarmsAlone) {
 TEST_F(ForceWorlds, SmallWorldsAreBitwiseTheSwarmsAlone) { check_bitwise(37, 3, false); }
 
 TEST_F(ForceWorlds, ACheckpointResumesBitwise) {
-    const size_t total = size_t(kWorlds) * kAgents;
     // With target meshes: saved after the second keyframe's assignment
     // (step 8), which the checkpoint holds for every world.
-    swcl_swarm straight = ensemble(kAgents, kShapes);
-    ASSERT_EQ(swcl_swarm_step(straight, 20), SWCL_OK) << swcl_last_error();
-    swcl_swarm first = ensemble(kAgents, kShapes);
-    ASSERT_EQ(swcl_swarm_step(first, 10), SWCL_OK) << swcl_last_error();
-    const std::string path = ::testing::TempDir() + "swarmcl_force_worlds_checkpoint.swcl";
-    ASSERT_EQ(swcl_swarm_save(first, path.c_str()), SWCL_OK) << swcl_last_error();
-    swcl_swarm resumed{};
-    ASSERT_EQ(swcl_swarm_load(ctx_, path.c_str(), &resumed), SWCL_OK) << swcl_last_error();
-    swarms_.push_back(resumed);
-    std::remove(path.c_str());
+    swcl_swarm resumed = expect_checkpoint_resumes(ensemble(kAgents, kShapes), ensemble(kAgents, kShapes), kWorlds,
+                                                   kAgents, 10, 10, "swarmcl_force_worlds_checkpoint.swcl");
     std::vector<double> r_rep(kWorlds);
     ASSERT_EQ(swcl_swarm_get_world_param(resumed, "r_rep", r_rep.data(), kWorlds, nullptr), SWCL_OK)
         << swcl_last_error();
     for (uint32_t k = 0; k < kWorlds; ++k) EXPECT_EQ(float(r_rep[k]), float(kRRep[k]));
-    ASSERT_EQ(swcl_swarm_step(resumed, 10), SWCL_OK) << swcl_last_error();
-    EXPECT_EQ(read(resumed, SWCL_ATTRIBUTE_POSITION, total), read(straight, SWCL_ATTRIBUTE_POSITION, total));
-    EXPECT_EQ(read(resumed, SWCL_ATTRIBUTE_VELOCITY, total), read(straight, SWCL_ATTRIBUTE_VELOCITY, total));
-    std::vector<swcl_step_stats> a(kWorlds), b(kWorlds);
-    for (uint32_t k = 0; k < kWorlds; ++k) a[k].struct_size = b[k].struct_size = sizeof(swcl_step_stats);
-    ASSERT_EQ(swcl_swarm_take_world_step_stats(resumed, a.data(), kWorlds), SWCL_OK);
-    ASSERT_EQ(swcl_swarm_take_world_step_stats(straight, b.data(), kWorlds), SWCL_OK);
-    for (uint32_t k = 0; k < kWorlds; ++k) EXPECT_EQ(a[k].mde_moved_total, b[k].mde_moved_total) << "world " << k;
 }
 
 void expect_obstacle_range_refused(swcl_swarm walls) {

@@ -231,34 +231,14 @@ TEST_F(Worlds, BadInputNamesTheParameterAndWorldAndChangesNothing) {
 }
 
 TEST_F(Worlds, ACheckpointHoldsTheWorldsAndResumesBitwise) {
-    const size_t total = size_t(kWorlds) * kAgents;
-    swcl_swarm straight = ensemble();
-    ASSERT_EQ(swcl_swarm_step(straight, 30), SWCL_OK) << swcl_last_error();
-    swcl_swarm first = ensemble();
-    ASSERT_EQ(swcl_swarm_step(first, 12), SWCL_OK);
-    const std::string path = ::testing::TempDir() + "swarmcl_worlds_checkpoint.swcl";
-    ASSERT_EQ(swcl_swarm_save(first, path.c_str()), SWCL_OK) << swcl_last_error();
-    swcl_swarm resumed{};
-    ASSERT_EQ(swcl_swarm_load(ctx_, path.c_str(), &resumed), SWCL_OK) << swcl_last_error();
-    swarms_.push_back(resumed);
-    std::remove(path.c_str());
+    swcl_swarm resumed = expect_checkpoint_resumes(ensemble(), ensemble(), kWorlds, kAgents, 12, 18,
+                                                   "swarmcl_worlds_checkpoint.swcl");
     uint32_t worlds = 0;
     ASSERT_EQ(swcl_swarm_worlds(resumed, &worlds), SWCL_OK);
     EXPECT_EQ(worlds, kWorlds);
     std::vector<double> scale(kWorlds);
     ASSERT_EQ(swcl_swarm_get_world_param(resumed, "noise.scale", scale.data(), kWorlds, nullptr), SWCL_OK);
     for (uint32_t k = 0; k < kWorlds; ++k) EXPECT_EQ(float(scale[k]), float(kScale[k]));
-    ASSERT_EQ(swcl_swarm_step(resumed, 18), SWCL_OK) << swcl_last_error();
-    EXPECT_EQ(read(resumed, SWCL_ATTRIBUTE_POSITION, total), read(straight, SWCL_ATTRIBUTE_POSITION, total));
-    EXPECT_EQ(read(resumed, SWCL_ATTRIBUTE_VELOCITY, total), read(straight, SWCL_ATTRIBUTE_VELOCITY, total));
-    std::vector<swcl_step_stats> a(kWorlds), b(kWorlds);
-    for (uint32_t k = 0; k < kWorlds; ++k) a[k].struct_size = b[k].struct_size = sizeof(swcl_step_stats);
-    ASSERT_EQ(swcl_swarm_take_world_step_stats(resumed, a.data(), kWorlds), SWCL_OK);
-    ASSERT_EQ(swcl_swarm_take_world_step_stats(straight, b.data(), kWorlds), SWCL_OK);
-    for (uint32_t k = 0; k < kWorlds; ++k) {
-        EXPECT_EQ(a[k].mde_moved_total, b[k].mde_moved_total) << "world " << k;
-        EXPECT_EQ(a[k].steps, b[k].steps);
-    }
 }
 
 // Metrics of every world from the same launches (issue 25: "metrics

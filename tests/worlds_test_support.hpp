@@ -6,8 +6,10 @@
 #pragma once
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstring>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "swarmcl/swarmcl.h"
@@ -59,6 +61,35 @@ protected:
         std::vector<float> out(3 * agents);
         EXPECT_EQ(swcl_swarm_read(s, a, out.data(), agents), SWCL_OK) << swcl_last_error();
         return out;
+    }
+    // `first` stepped `before` steps, saved to `file` (under the test's
+    // temporary folder), loaded and stepped `after` more must be bitwise
+    // `straight` stepped before + after at once: positions, velocities and
+    // each world's MDE and step counts.  Returns the loaded swarm (destroyed with the
+    // test's others) for the caller's checks of what it holds.
+    swcl_swarm expect_checkpoint_resumes(swcl_swarm straight, swcl_swarm first, uint32_t worlds, uint32_t n,
+                                         uint32_t before, uint32_t after, const char* file) {
+        const size_t total = size_t(worlds) * n;
+        EXPECT_EQ(swcl_swarm_step(straight, before + after), SWCL_OK) << swcl_last_error();
+        EXPECT_EQ(swcl_swarm_step(first, before), SWCL_OK) << swcl_last_error();
+        const std::string path = ::testing::TempDir() + file;
+        EXPECT_EQ(swcl_swarm_save(first, path.c_str()), SWCL_OK) << swcl_last_error();
+        swcl_swarm resumed{};
+        EXPECT_EQ(swcl_swarm_load(ctx_, path.c_str(), &resumed), SWCL_OK) << swcl_last_error();
+        swarms_.push_back(resumed);
+        std::remove(path.c_str());
+        EXPECT_EQ(swcl_swarm_step(resumed, after), SWCL_OK) << swcl_last_error();
+        EXPECT_EQ(read(resumed, SWCL_ATTRIBUTE_POSITION, total), read(straight, SWCL_ATTRIBUTE_POSITION, total));
+        EXPECT_EQ(read(resumed, SWCL_ATTRIBUTE_VELOCITY, total), read(straight, SWCL_ATTRIBUTE_VELOCITY, total));
+        std::vector<swcl_step_stats> a(worlds), b(worlds);
+        for (uint32_t k = 0; k < worlds; ++k) a[k].struct_size = b[k].struct_size = sizeof(swcl_step_stats);
+        EXPECT_EQ(swcl_swarm_take_world_step_stats(resumed, a.data(), worlds), SWCL_OK);
+        EXPECT_EQ(swcl_swarm_take_world_step_stats(straight, b.data(), worlds), SWCL_OK);
+        for (uint32_t k = 0; k < worlds; ++k) {
+            EXPECT_EQ(a[k].mde_moved_total, b[k].mde_moved_total) << "world " << k;
+            EXPECT_EQ(a[k].steps, b[k].steps) << "world " << k;
+        }
+        return resumed;
     }
 
     swcl_context ctx_{};

@@ -57,7 +57,7 @@ PathModel::PathModel(Swarm& swarm, PathModelConfig config)
         }
     for (uint32_t g = 0; g < c.groups.size(); ++g) {
         try {
-            check_goals(grid_, goals_of(g, c.targets), slowness_);
+            check_goals(grid_, goals_with_targets(c.groups[g].goals, c.targets, g), slowness_);
         } catch (const Error& e) {
             throw Error(e.status(), "path model group " + std::to_string(g) + ": " + e.what());
         }
@@ -84,7 +84,7 @@ PathModel::PathModel(Swarm& swarm, PathModelConfig config)
     group_end_.upload(ctx_, ends.data(), ends.size());
     costs_.resize(c.groups.size());
     for (uint32_t g = 0; g < c.groups.size(); ++g) {
-        costs_[g] = solve_cost(grid_, slowness_, goals_of(g, c.targets), c.second_order);
+        costs_[g] = solve_cost(grid_, slowness_, goals_with_targets(c.groups[g].goals, c.targets, g), c.second_order);
         upload_directions(g);
     }
     worlds_ = WorldConfigs<PathModelConfig>(path_param_table(), c, swarm.worlds());
@@ -96,16 +96,8 @@ PathModel::PathModel(Swarm& swarm, PathModelConfig config)
     preprocess_seconds_ = seconds_since(t0);
 }
 
-std::vector<Goal> PathModel::goals_of(uint32_t group, const std::vector<PathTarget>& targets) const {
-    PathModelConfig c;
-    c.groups = config_.groups;
-    c.targets = targets;
-    return goals_in(c, group);
-}
-
-std::vector<Goal> PathModel::goals_in(const PathModelConfig& c, uint32_t group) const {
-    const std::vector<PathTarget>& targets = c.targets;
-    std::vector<Goal> goals = c.groups.at(group).goals;
+std::vector<Goal> goals_with_targets(std::vector<Goal> goals, const std::vector<PathTarget>& targets,
+                                     uint32_t group) {
     for (const PathTarget& t : targets)
         if (t.group == group) {
             Goal g;
@@ -227,16 +219,8 @@ double PathModel::set_goals(uint32_t group, std::vector<Goal> goals) {
     require_one_world("path model set_goals");
     const auto t0 = std::chrono::steady_clock::now();
     require(group < config_.groups.size(), "path model: group " + std::to_string(group) + " does not exist");
-    std::vector<Goal> all = goals;
-    for (const PathTarget& t : config_.targets)
-        if (t.group == group) {
-            Goal g;
-            g.kind = Goal::Kind::Sphere;
-            g.center = t.center;
-            g.radius = t.radius;
-            all.push_back(g);
-        }
-    std::vector<double> cost = solve_cost(grid_, slowness_, all, config_.second_order);  // validates
+    std::vector<double> cost =
+        solve_cost(grid_, slowness_, goals_with_targets(goals, config_.targets, group), config_.second_order);
     costs_[group] = std::move(cost);
     config_.groups[group].goals = std::move(goals);
     upload_directions(group);
@@ -250,7 +234,9 @@ double PathModel::retarget(std::vector<PathTarget> targets, uint32_t group, cons
     const auto t0 = std::chrono::steady_clock::now();
     // Everything into temporaries first: an error (a goal check, the noise)
     // leaves the model as it was.
-    std::vector<double> cost = solve_cost(grid_, slowness_, goals_of(group, targets), config_.second_order);
+    std::vector<double> cost = solve_cost(grid_, slowness_,
+                                          goals_with_targets(config_.groups[group].goals, targets, group),
+                                          config_.second_order);
     LocalField local = build_local(config_.noise, targets, &local_, changed);
     std::vector<cl_float4> d(grid_.count());
     direction_field(grid_, cost, phi_, reinterpret_cast<float*>(d.data()));

@@ -75,6 +75,11 @@ struct PathModelConfig {
     PathLamp lamp;                       // phototaxis (off unless enabled)
 };
 
+// Group `group`'s goals with the balls of its chasing targets (§7): what its
+// cost field is solved for.
+std::vector<Goal> goals_with_targets(std::vector<Goal> goals, const std::vector<PathTarget>& targets,
+                                     uint32_t group);
+
 // Its parameters, declared once (models/path_params.cpp).
 const ParamTable& path_param_table();
 
@@ -150,7 +155,6 @@ private:
     // appeared) are rebaked, into a copy of previous's nodes.
     LocalField build_local(const NoiseConfig& noise, const std::vector<PathTarget>& targets,
                            const LocalField* previous = nullptr, const std::vector<PathTarget>& changed = {}) const;
-    std::vector<Goal> goals_of(uint32_t group, const std::vector<PathTarget>& targets) const;
     void check_target(const PathTarget& t, const std::string& what) const;
     // Recomputes group `group`'s field and the local field for `targets`,
     // then commits both (an error leaves everything as it was).
@@ -165,8 +169,6 @@ private:
     // path_param_table()'s block, world_extra and (several worlds) the noise
     // block of every world.
     void upload_world_blocks();
-    // Group g's goals of `c` with its targets' balls (goals_of for any world).
-    std::vector<Goal> goals_in(const PathModelConfig& c, uint32_t group) const;
     // The direction fields of every group of `c` (groups x cells), its
     // slowness and costs into *slowness / *costs when given.
     std::vector<cl_float4> solve_directions(const PathModelConfig& c, std::vector<double>* slowness = nullptr,

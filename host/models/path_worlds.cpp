@@ -111,7 +111,7 @@ std::vector<cl_float4> PathModel::solve_directions(const PathModelConfig& c, std
     std::vector<std::vector<double>> all(c.groups.size());
     for (uint32_t g = 0; g < c.groups.size(); ++g) {
         try {
-            all[g] = solve_cost(grid_, s, goals_in(c, g), c.second_order);
+            all[g] = solve_cost(grid_, s, goals_with_targets(c.groups[g].goals, c.targets, g), c.second_order);
         } catch (const Error& e) {
             throw Error(e.status(), "path model group " + std::to_string(g) + ": " + e.what());
         }
