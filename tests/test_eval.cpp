@@ -31,6 +31,64 @@ Track line_track(const std::string& id, double t0, size_t n, double dt, std::arr
     return s;
 }
 
+// The frames written as one track per agent, the way the track loader would
+// hold them (frame f at t = f dt).
+TrackSet frames_as_tracks(const std::vector<float>& xyz, size_t frames, size_t agents, double dt) {
+    TrackSet set;
+    set.frame_time = dt;
+    for (size_t i = 0; i < agents; ++i) {
+        Track s;
+        s.id = std::to_string(i);
+        for (size_t f = 0; f < frames; ++f) {
+            const float* q = &xyz[3 * (f * agents + i)];
+            s.t.push_back(double(f) * dt);
+            s.p.push_back({q[0], q[1], q[2]});
+        }
+        set.tracks.push_back(std::move(s));
+    }
+    return set;
+}
+
+void expect_same_samples(const MetricSamples& a, const MetricSamples& b) {
+    for (size_t m = 0; m < kMetricCount; ++m) {
+        ASSERT_EQ(a.values[m].size(), b.values[m].size()) << metric_name(Metric(m));
+        for (size_t k = 0; k < a.values[m].size(); ++k)
+            ASSERT_EQ(a.values[m][k], b.values[m][k]) << metric_name(Metric(m)) << " sample " << k;  // bitwise
+    }
+}
+
+// d and η of every frame against a brute force over all pairs in double, the
+// lowest index winning ties (the samples' order: frame by frame, agent by
+// agent).
+void expect_brute_force_neighbours(const MetricSamples& m, const std::vector<float>& xyz, size_t frames,
+                                   size_t agents, double dt) {
+    auto at = [&](size_t f, size_t i) { return &xyz[3 * (f * agents + i)]; };
+    auto dist2 = [](const float* a, const float* b) {
+        double s = 0;
+        for (int c = 0; c < 3; ++c) s += (double(b[c]) - a[c]) * (double(b[c]) - a[c]);
+        return s;
+    };
+    auto dist = [&](const float* a, const float* b) { return std::sqrt(dist2(a, b)); };
+    ASSERT_EQ(m[Metric::NearestDistance].size(), agents * frames);
+    size_t eta_k = 0;
+    for (size_t f = 0; f < frames; ++f)
+        for (size_t i = 0; i < agents; ++i) {
+            double best2 = 1e300;
+            size_t nn = 0;
+            for (size_t j = 0; j < agents; ++j)
+                if (j != i && dist2(at(f, i), at(f, j)) < best2) best2 = dist2(at(f, i), at(f, j)), nn = j;
+            const double best = std::sqrt(best2);
+            EXPECT_NEAR(m[Metric::NearestDistance][f * agents + i], best, 1e-12);
+            if (f + 1 < frames && best > 0.0) {
+                const double v = dist(at(f + 1, i), at(f, i)) / dt, vn = dist(at(f + 1, nn), at(f, nn)) / dt;
+                ASSERT_LT(eta_k, m[Metric::VelocityDifference].size());
+                EXPECT_NEAR(m[Metric::VelocityDifference][eta_k++], std::abs(vn - v) / best, 1e-6)
+                    << "frame " << f << " agent " << i;
+            }
+        }
+    EXPECT_EQ(eta_k, m[Metric::VelocityDifference].size());
+}
+
 }  // namespace
 
 TEST(EvalMetrics, StraightLineHasConstantSpeedAndNoTurning) {
@@ -110,7 +168,7 @@ TEST(EvalMetrics, NearestDistanceOnlyAmongInsectsInViewOnTheSameFrame) {
 TEST(EvalMetrics, FrameMetricsEqualTheTrackPathAndABruteForceReference) {
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> u(-1.f, 1.f);
-    const size_t frames = 12, agents = 60;  // > 32 agents: the kd-tree path
+    const size_t frames = 12, agents = 60;
     std::vector<float> xyz(frames * agents * 3);
     for (size_t i = 0; i < agents; ++i) {
         float p[3] = {u(rng), u(rng), u(rng)};
@@ -120,29 +178,39 @@ TEST(EvalMetrics, FrameMetricsEqualTheTrackPathAndABruteForceReference) {
     const double dt = 0.02;
     const auto m = frame_metrics(xyz.data(), frames, agents, dt);
     ASSERT_EQ(m[Metric::Speed].size(), agents * (frames - 1));
-    ASSERT_EQ(m[Metric::NearestDistance].size(), agents * frames);
-    // Brute-force d and η, frame by frame, agent by agent (the samples' order).
-    auto at = [&](size_t f, size_t i) { return &xyz[3 * (f * agents + i)]; };
-    auto dist = [](const float* a, const float* b) {
-        double s = 0;
-        for (int c = 0; c < 3; ++c) s += (double(a[c]) - b[c]) * (double(a[c]) - b[c]);
-        return std::sqrt(s);
-    };
-    size_t eta_k = 0;
+    expect_brute_force_neighbours(m, xyz, frames, agents, dt);
+    // The dense path gives the track path's samples bitwise, in its order.
+    expect_same_samples(m, track_metrics(frames_as_tracks(xyz, frames, agents, dt)));
+}
+
+// Exact ties and degenerate frames for the nearest-neighbour sweep: a lattice
+// (six neighbours at one distance), coincident pairs, a flat layer (every
+// point on one x) and a far glitch that stretches one axis.  d and η (which
+// depends on which neighbour is taken: the lowest index) against the brute
+// force, and the track path bitwise.
+TEST(EvalMetrics, FrameNeighboursKeepTiesAndDegenerateLayouts) {
+    std::vector<std::array<float, 3>> base;
+    for (int z = 0; z < 5; ++z)
+        for (int y = 0; y < 5; ++y)
+            for (int x = 0; x < 5; ++x) base.push_back({0.125f * x, 0.125f * y, 0.125f * z});
+    for (int k = 0; k < 40; ++k) base.push_back({2.0f, 0.05f * float(k % 8), 0.05f * float(k / 8)});  // flat layer
+    base.push_back(base[3]);                 // coincident with a lattice point
+    base.push_back(base[130]);               // and with a layer point
+    base.push_back({90.0f, -40.0f, 7.0f});   // a tracking glitch far away
+    const size_t agents = base.size(), frames = 40;
+    std::mt19937 rng(3);
+    std::uniform_int_distribution<int> coin(0, 3);
+    std::vector<float> xyz;
     for (size_t f = 0; f < frames; ++f)
         for (size_t i = 0; i < agents; ++i) {
-            double best = 1e30;
-            size_t nn = 0;
-            for (size_t j = 0; j < agents; ++j)
-                if (j != i && dist(at(f, i), at(f, j)) < best) best = dist(at(f, i), at(f, j)), nn = j;
-            EXPECT_NEAR(m[Metric::NearestDistance][f * agents + i], best, 1e-12);
-            if (f + 1 < frames) {
-                const double v = dist(at(f + 1, i), at(f, i)) / dt, vn = dist(at(f + 1, nn), at(f, nn)) / dt;
-                ASSERT_LT(eta_k, m[Metric::VelocityDifference].size());
-                EXPECT_NEAR(m[Metric::VelocityDifference][eta_k++], std::abs(vn - v) / best, 1e-6);
-            }
+            // Whole lattice steps (exact in float) on some frames keep ties.
+            const float shift = 0.125f * float(coin(rng) == 0 && i < 125);
+            for (int c = 0; c < 3; ++c) xyz.push_back(base[i][c] + (c == 0 ? shift : 0.0f) + 0.25f * float(f));
         }
-    EXPECT_EQ(eta_k, m[Metric::VelocityDifference].size());
+    const double dt = 0.05;
+    const auto m = frame_metrics(xyz.data(), frames, agents, dt);
+    expect_brute_force_neighbours(m, xyz, frames, agents, dt);
+    expect_same_samples(m, track_metrics(frames_as_tracks(xyz, frames, agents, dt)));
 }
 
 TEST(EvalMetrics, BadInputIsRefused) {

@@ -26,20 +26,31 @@ struct FrameSample {
     uint32_t index;  // sample index inside the segment
 };
 
-// The per-sample metrics of one gap-free segment (§3.2).  ω_k is NaN where a
-// speed is zero; α and μ need three velocities in a row.
-void segment_metrics(const Track& s, MetricSamples& out) {
-    const size_t n = s.p.size();
+// Scratch vectors of segment_metrics, kept across segments.
+struct SegmentScratch {
+    std::vector<Vec3> v, a;
+    std::vector<double> omega;
+};
+
+// The per-sample metrics of one gap-free segment of n samples, sample k at
+// time t(k) and position p(k) (§3.2).  ω_k is NaN where a speed is zero; α
+// and μ need three velocities in a row.  One template for loaded tracks and
+// dense simulation frames, so both give the same arithmetic.
+template <class Time, class Pos>
+void segment_metrics(size_t n, Time t, Pos p, SegmentScratch& s, MetricSamples& out) {
     if (n < 2) return;
-    std::vector<Vec3> v(n - 1);
+    auto& v = s.v;
+    v.resize(n - 1);
     for (size_t k = 0; k + 1 < n; ++k) {
-        v[k] = scale(sub(s.p[k + 1], s.p[k]), 1.0 / (s.t[k + 1] - s.t[k]));
+        v[k] = scale(sub(p(k + 1), p(k)), 1.0 / (t(k + 1) - t(k)));
         out[Metric::Speed].push_back(norm(v[k]));
     }
-    std::vector<Vec3> a;
-    std::vector<double> omega;
+    auto& a = s.a;
+    auto& omega = s.omega;
+    a.clear();
+    omega.clear();
     for (size_t k = 0; k + 2 < n; ++k) {
-        const double dt = s.t[k + 1] - s.t[k];
+        const double dt = t(k + 1) - t(k);
         a.push_back(scale(sub(v[k + 1], v[k]), 1.0 / dt));
         out[Metric::Acceleration].push_back(norm(a.back()));
         const double n0 = norm(v[k]), n1 = norm(v[k + 1]);
@@ -52,13 +63,18 @@ void segment_metrics(const Track& s, MetricSamples& out) {
         omega.push_back(w);
     }
     for (size_t k = 0; k + 3 < n; ++k) {
-        const double dt = s.t[k + 1] - s.t[k];
+        const double dt = t(k + 1) - t(k);
         if (!std::isnan(omega[k]) && !std::isnan(omega[k + 1]))
             out[Metric::AngularAcceleration].push_back((omega[k + 1] - omega[k]) / dt);
         // μ = |Δv_{k+1} - Δv_k| / Δt², written with the accelerations so an
         // uneven clock inside a segment is honoured.
         out[Metric::Jerk].push_back(norm(sub(a[k + 1], a[k])) / dt);
     }
+}
+
+void segment_metrics(const Track& s, SegmentScratch& scratch, MetricSamples& out) {
+    segment_metrics(
+        s.p.size(), [&](size_t k) { return s.t[k]; }, [&](size_t k) { return s.p[k]; }, scratch, out);
 }
 
 struct FramePoints {
@@ -71,24 +87,118 @@ struct FramePoints {
 using FrameTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, FramePoints>,
                                                       FramePoints, 3, uint32_t>;
 
-// Nearest other point of each point of one frame (the lowest index on ties).
-// Brute force for the few insects a real recording has in view; a kd-tree
-// for simulated frames.
-std::vector<uint32_t> nearest_in_frame(const FramePoints& pts) {
-    const size_t g = pts.p.size();
-    std::vector<uint32_t> nn(g);
-    if (g <= 32) {
-        for (size_t i = 0; i < g; ++i) {
-            double best = std::numeric_limits<double>::infinity();
-            for (size_t j = 0; j < g; ++j) {
-                if (j == i) continue;
-                const Vec3 d = sub(pts.p[j], pts.p[i]);
-                const double r2 = dot(d, d);
-                if (r2 < best) best = r2, nn[i] = uint32_t(j);
-            }
+// Nearest other point of each point of a frame of up to kSweepMax points, by
+// a sweep along one axis: the points sorted on it, each scans outwards from
+// itself until the axis gap alone exceeds the best squared distance found.
+// Exact, and the lowest index wins ties (as the brute force and the device's
+// metrics).  The axis is the one with the widest interquartile range, so a
+// few far glitches do not pick an axis the bulk of the frame is flat on.
+// Frames of one recording follow each other: the last frame's order is
+// re-sorted by insertion (nearly sorted already), and a point's last
+// neighbour gives the scan its first bound.  The scan grows as g^(2/3) a
+// point, so larger frames use a kd-tree.
+constexpr size_t kSweepMax = 2048;
+
+class NearestSweep {
+public:
+    // nn[i]: the nearest other point of p[i]; hint (or null): a candidate
+    // per point, any index other than the point's own.
+    void find(const std::vector<Vec3>& p, const std::vector<uint32_t>* hint, std::vector<uint32_t>& nn) {
+        const size_t g = p.size();
+        nn.resize(g);
+        if (g != order_.size() || frames_since_axis_ >= kAxisEvery) {
+            axis_ = widest_axis(p);
+            frames_since_axis_ = 0;
+            order_.resize(g);
+            for (size_t i = 0; i < g; ++i) order_[i] = {p[i], uint32_t(i)};
+            std::sort(order_.begin(), order_.end(), [this](const Entry& a, const Entry& b) { return before(a, b); });
+        } else {
+            ++frames_since_axis_;
+            for (auto& o : order_) o.p = p[o.index];
+            for (size_t r = 1; r < g; ++r)  // insertion sort: few moves between frames
+                for (size_t k = r; k > 0 && before(order_[k], order_[k - 1]); --k) std::swap(order_[k], order_[k - 1]);
         }
-        return nn;
+        // The points in axis order, position and index side by side: the
+        // scans read memory in sequence.
+        for (size_t r = 0; r < g; ++r) {
+            const Vec3& q = order_[r].p;
+            const size_t i = order_[r].index;
+            const double x = q[axis_];
+            double best = std::numeric_limits<double>::infinity();
+            uint32_t who = std::numeric_limits<uint32_t>::max();
+            if (hint != nullptr && (*hint)[i] != i) consider(q, p[(*hint)[i]], (*hint)[i], best, who);
+            // r2 >= (axis gap)^2 in floating point too (adding non-negative
+            // squares never rounds below one of them), so stopping at a gap
+            // whose square exceeds best skips no nearer point, nor an equal one.
+            for (size_t k = r; k-- > 0;) {
+                const double gap = x - order_[k].p[axis_];
+                if (gap * gap > best) break;
+                consider(q, order_[k].p, order_[k].index, best, who);
+            }
+            for (size_t k = r + 1; k < g; ++k) {
+                const double gap = order_[k].p[axis_] - x;
+                if (gap * gap > best) break;
+                consider(q, order_[k].p, order_[k].index, best, who);
+            }
+            nn[i] = who;
+        }
     }
+
+private:
+    static constexpr size_t kAxisEvery = 32;  // frames between choices of the axis
+
+    struct Entry {
+        Vec3 p;
+        uint32_t index;
+    };
+
+    bool before(const Entry& a, const Entry& b) const {
+        return a.p[axis_] < b.p[axis_] || (a.p[axis_] == b.p[axis_] && a.index < b.index);
+    }
+
+    // q is the searching point; the arithmetic is sub(p[j], p[i]) as the
+    // brute force's, so equal distances compare equal.
+    static void consider(const Vec3& q, const Vec3& pj, uint32_t j, double& best, uint32_t& who) {
+        const Vec3 d = sub(pj, q);
+        const double r2 = dot(d, d);
+        if (r2 < best || (r2 == best && j < who)) best = r2, who = j;
+    }
+
+    size_t widest_axis(const std::vector<Vec3>& p) {
+        auto& c = coords_;
+        c.resize(p.size());
+        size_t axis = 0;
+        double widest = -1.0;
+        for (size_t d = 0; d < 3; ++d) {
+            for (size_t i = 0; i < p.size(); ++i) c[i] = p[i][d];
+            const size_t q1 = c.size() / 4, q3 = (3 * c.size()) / 4;
+            std::nth_element(c.begin(), c.begin() + q3, c.end());
+            const double hi = c[q3];
+            std::nth_element(c.begin(), c.begin() + q1, c.begin() + q3);
+            const double iqr = hi - c[q1];
+            if (iqr > widest) widest = iqr, axis = d;
+        }
+        return axis;
+    }
+
+    std::vector<Entry> order_;
+    std::vector<double> coords_;
+    size_t axis_ = 0;
+    size_t frames_since_axis_ = 0;
+};
+
+// Nearest other point of each point of one frame: up to kSweepMax points
+// (every real recording we hold, a fit's worlds) by the sweep, exact with the
+// lowest index on ties; above, a kd-tree (ties, which float positions almost
+// never have, go to the first the tree visits).
+void nearest_in_frame(const FramePoints& pts, NearestSweep& sweep, const std::vector<uint32_t>* hint,
+                      std::vector<uint32_t>& nn) {
+    const size_t g = pts.p.size();
+    if (g <= kSweepMax) {
+        sweep.find(pts.p, hint, nn);
+        return;
+    }
+    nn.resize(g);
     FrameTree tree(3, pts, nanoflann::KDTreeSingleIndexAdaptorParams(16));
     for (size_t i = 0; i < g; ++i) {
         uint32_t idx[2];
@@ -100,7 +210,6 @@ std::vector<uint32_t> nearest_in_frame(const FramePoints& pts) {
         // with another; take the first that is not i.
         nn[i] = idx[0] == i ? idx[1] : idx[0];
     }
-    return nn;
 }
 
 // d and η frame by frame over the samples of every segment.
@@ -122,13 +231,15 @@ void frame_neighbour_metrics(const TrackSet& tracks, double frame_time, MetricSa
     std::stable_sort(samples.begin(), samples.end(),
                      [](const FrameSample& a, const FrameSample& b) { return a.frame < b.frame; });
     FramePoints pts;
+    NearestSweep sweep;
+    std::vector<uint32_t> nn;
     for (size_t begin = 0; begin < samples.size();) {
         size_t end = begin;
         while (end < samples.size() && samples[end].frame == samples[begin].frame) ++end;
         if (end - begin >= 2) {
             pts.p.clear();
             for (size_t i = begin; i < end; ++i) pts.p.push_back(tracks.tracks[samples[i].segment].p[samples[i].index]);
-            const auto nn = nearest_in_frame(pts);
+            nearest_in_frame(pts, sweep, nullptr, nn);
             for (size_t i = 0; i < pts.p.size(); ++i) {
                 const double d = norm(sub(pts.p[nn[i]], pts.p[i]));
                 out[Metric::NearestDistance].push_back(d);
@@ -154,11 +265,12 @@ MetricSamples track_metrics(const TrackSet& tracks) {
     require(tracks.frame_time > 0.0 && std::isfinite(tracks.frame_time), "metrics: the tracks' frame time must be > 0");
     MetricSamples out;
     out.frame_time = tracks.frame_time;
+    SegmentScratch scratch;
     for (const auto& s : tracks.tracks) {
         require(s.t.size() == s.p.size(), "metrics: a track's times and positions differ in count");
         for (size_t k = 1; k < s.t.size(); ++k)
             require(s.t[k] > s.t[k - 1], "metrics: a track's times must increase");
-        segment_metrics(s, out);
+        segment_metrics(s, scratch, out);
     }
     frame_neighbour_metrics(tracks, tracks.frame_time, out);
     return out;
@@ -169,21 +281,55 @@ MetricSamples frame_metrics(const float* xyz, size_t frames, size_t agents, doub
     require(dt > 0.0 && std::isfinite(dt), "metrics: dt must be > 0");
     require(agents <= std::numeric_limits<uint32_t>::max() && frames <= std::numeric_limits<uint32_t>::max(),
             "metrics: too many frames or agents");
-    TrackSet set;
-    set.frame_time = dt;
-    set.tracks.resize(agents);
-    for (size_t i = 0; i < agents; ++i) {
-        auto& s = set.tracks[i];
-        s.id = std::to_string(i);
-        s.t.resize(frames);
-        s.p.resize(frames);
-        for (size_t f = 0; f < frames; ++f) {
-            const float* q = xyz + 3 * (f * agents + i);
-            s.t[f] = double(f) * dt;
-            s.p[f] = {q[0], q[1], q[2]};
+    // The same samples, in the same order and arithmetic, as track_metrics
+    // on the frames written as one track per agent (tested), without
+    // building those tracks or sorting samples onto frames: here frame f of
+    // every agent is at t = f dt.
+    MetricSamples out;
+    out.frame_time = dt;
+    // Every count is known (ω and what is built on it at most): no regrowth.
+    const size_t intervals = frames > 0 ? frames - 1 : 0;
+    for (Metric m : {Metric::Speed, Metric::Acceleration, Metric::AngularVelocity, Metric::AngularAcceleration,
+                     Metric::Jerk})
+        out[m].reserve(agents * intervals);
+    out[Metric::NearestDistance].reserve(agents * frames);
+    out[Metric::VelocityDifference].reserve(agents * intervals);
+    auto time = [dt](size_t f) { return double(f) * dt; };
+    auto at = [&](size_t f, size_t i) {
+        const float* q = xyz + 3 * (f * agents + i);
+        return Vec3{q[0], q[1], q[2]};
+    };
+    SegmentScratch scratch;
+    for (size_t i = 0; i < agents; ++i)
+        segment_metrics(frames, time, [&](size_t f) { return at(f, i); }, scratch, out);
+    if (agents < 2) return out;
+    // d and η frame by frame (frame_neighbour_metrics), each agent's last
+    // neighbour bounding its next search.
+    FramePoints pts, next;
+    NearestSweep sweep;
+    std::vector<uint32_t> nn, last_nn;
+    std::vector<double> speed(agents);
+    auto positions = [&](size_t f, FramePoints& into) {
+        into.p.resize(agents);
+        for (size_t i = 0; i < agents; ++i) into.p[i] = at(f, i);
+    };
+    if (frames > 0) positions(0, next);
+    for (size_t f = 0; f < frames; ++f) {
+        std::swap(pts, next);
+        const bool moving = f + 1 < frames;  // forward velocities exist
+        if (moving) {
+            positions(f + 1, next);
+            for (size_t i = 0; i < agents; ++i) speed[i] = norm(sub(next.p[i], pts.p[i])) / (time(f + 1) - time(f));
         }
+        nearest_in_frame(pts, sweep, f > 0 ? &last_nn : nullptr, nn);
+        for (size_t i = 0; i < agents; ++i) {
+            const double d = norm(sub(pts.p[nn[i]], pts.p[i]));
+            out[Metric::NearestDistance].push_back(d);
+            if (d > 0.0 && moving) out[Metric::VelocityDifference].push_back(std::abs(speed[nn[i]] - speed[i]) / d);
+        }
+        std::swap(nn, last_nn);
     }
-    return track_metrics(set);
+    return out;
 }
 
 }  // namespace swarmcl
