@@ -52,8 +52,11 @@ TrackSet frames_as_tracks(const std::vector<float>& xyz, size_t frames, size_t a
 void expect_same_samples(const MetricSamples& a, const MetricSamples& b) {
     for (size_t m = 0; m < kMetricCount; ++m) {
         ASSERT_EQ(a.values[m].size(), b.values[m].size()) << metric_name(Metric(m));
-        for (size_t k = 0; k < a.values[m].size(); ++k)
-            ASSERT_EQ(a.values[m][k], b.values[m][k]) << metric_name(Metric(m)) << " sample " << k;  // bitwise
+        for (size_t k = 0; k < a.values[m].size(); ++k) {
+            const double x = a.values[m][k], y = b.values[m][k];
+            ASSERT_TRUE(x == y || (std::isnan(x) && std::isnan(y)))  // the same value (NaN where a run blew up)
+                << metric_name(Metric(m)) << " sample " << k << ": " << x << " vs " << y;
+        }
     }
 }
 
@@ -418,4 +421,46 @@ TEST(EvalRobust, AFewGlitchesMoveTheZScoredDistanceButNotTheRobustOne) {
     PdfOptions bad;
     bad.standardise = Standardise(7);
     EXPECT_THROW(metric_distances(clean, glitched, bad), Error);
+}
+
+// A run that blew up: points with NaN or infinite coordinates have no
+// nearest neighbour (d is NaN) and are no one's; the finite points' d is
+// the brute force over the finite points alone; the track path agrees and
+// nothing crashes (the sweep sorts coordinates, the kd-tree splits on them).
+TEST(EvalMetrics, NonFinitePositionsGiveNaNDistancesAndNoCrash) {
+    for (const size_t agents : {size_t(20), size_t(300), size_t(2500)}) {  // brute-force size, sweep, kd-tree
+        std::mt19937 rng(11);
+        std::uniform_real_distribution<float> u(-1.f, 1.f);
+        const size_t frames = 4;
+        std::vector<float> xyz(frames * agents * 3);
+        for (float& v : xyz) v = u(rng);
+        const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+        xyz[3 * (1 * agents + 2) + 1] = nan;           // frame 1: one agent's y
+        xyz[3 * (2 * agents + 5) + 0] = inf;           // frame 2: one at infinity
+        for (size_t i = 0; i + 1 < agents; ++i)        // frame 3: all but the last
+            xyz[3 * (3 * agents + i) + 2] = nan;
+        const double dt = 0.1;
+        const auto m = frame_metrics(xyz.data(), frames, agents, dt);
+        const auto& d = m[Metric::NearestDistance];
+        ASSERT_EQ(d.size(), frames * agents);
+        auto finite_at = [&](size_t f, size_t i) {
+            const float* q = &xyz[3 * (f * agents + i)];
+            return std::isfinite(q[0]) && std::isfinite(q[1]) && std::isfinite(q[2]);
+        };
+        for (size_t f = 0; f < frames; ++f)
+            for (size_t i = 0; i < agents; ++i) {
+                const float* a = &xyz[3 * (f * agents + i)];
+                double best = std::numeric_limits<double>::infinity();
+                for (size_t j = 0; j < agents; ++j) {
+                    if (j == i || !finite_at(f, j) || !finite_at(f, i)) continue;
+                    const float* b = &xyz[3 * (f * agents + j)];
+                    double s = 0;
+                    for (int c = 0; c < 3; ++c) s += (double(b[c]) - a[c]) * (double(b[c]) - a[c]);
+                    best = std::min(best, s);
+                }
+                if (std::isinf(best)) EXPECT_TRUE(std::isnan(d[f * agents + i])) << agents << " " << f << " " << i;
+                else EXPECT_NEAR(d[f * agents + i], std::sqrt(best), 1e-12) << agents << " " << f << " " << i;
+            }
+        expect_same_samples(m, track_metrics(frames_as_tracks(xyz, frames, agents, dt)));
+    }
 }

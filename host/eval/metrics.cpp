@@ -190,10 +190,26 @@ private:
 // Nearest other point of each point of one frame: up to kSweepMax points
 // (every real recording we hold, a fit's worlds) by the sweep, exact with the
 // lowest index on ties; above, a kd-tree (ties, which float positions almost
-// never have, go to the first the tree visits).
+// never have, go to the first the tree visits).  A point with a non-finite
+// coordinate (a run that blew up) has no neighbour, nn[i] = i, and is no
+// one's: the others are searched alone (the sweep's sort and the tree need
+// ordered coordinates).
 void nearest_in_frame(const FramePoints& pts, NearestSweep& sweep, const std::vector<uint32_t>* hint,
                       std::vector<uint32_t>& nn) {
     const size_t g = pts.p.size();
+    auto finite = [](const Vec3& q) { return std::isfinite(q[0]) && std::isfinite(q[1]) && std::isfinite(q[2]); };
+    if (!std::all_of(pts.p.begin(), pts.p.end(), finite)) {
+        FramePoints kept;
+        std::vector<uint32_t> index, kept_nn;
+        for (size_t i = 0; i < g; ++i)
+            if (finite(pts.p[i])) kept.p.push_back(pts.p[i]), index.push_back(uint32_t(i));
+        nn.resize(g);
+        for (size_t i = 0; i < g; ++i) nn[i] = uint32_t(i);
+        if (kept.p.size() < 2) return;
+        nearest_in_frame(kept, sweep, nullptr, kept_nn);  // indices in the same order: ties unchanged
+        for (size_t k = 0; k < index.size(); ++k) nn[index[k]] = index[kept_nn[k]];
+        return;
+    }
     if (g <= kSweepMax) {
         sweep.find(pts.p, hint, nn);
         return;
@@ -210,6 +226,11 @@ void nearest_in_frame(const FramePoints& pts, NearestSweep& sweep, const std::ve
         // with another; take the first that is not i.
         nn[i] = idx[0] == i ? idx[1] : idx[0];
     }
+}
+
+// d of point i: NaN where it has no neighbour (nearest_in_frame).
+double neighbour_distance(const FramePoints& pts, const std::vector<uint32_t>& nn, size_t i) {
+    return nn[i] == i ? std::numeric_limits<double>::quiet_NaN() : norm(sub(pts.p[nn[i]], pts.p[i]));
 }
 
 // d and η frame by frame over the samples of every segment.
@@ -241,7 +262,7 @@ void frame_neighbour_metrics(const TrackSet& tracks, double frame_time, MetricSa
             for (size_t i = begin; i < end; ++i) pts.p.push_back(tracks.tracks[samples[i].segment].p[samples[i].index]);
             nearest_in_frame(pts, sweep, nullptr, nn);
             for (size_t i = 0; i < pts.p.size(); ++i) {
-                const double d = norm(sub(pts.p[nn[i]], pts.p[i]));
+                const double d = neighbour_distance(pts, nn, i);
                 out[Metric::NearestDistance].push_back(d);
                 // Forward velocity of a sample: defined for all but its segment's last.
                 auto speed = [&](const FrameSample& fs, double& v) {
@@ -323,7 +344,7 @@ MetricSamples frame_metrics(const float* xyz, size_t frames, size_t agents, doub
         }
         nearest_in_frame(pts, sweep, f > 0 ? &last_nn : nullptr, nn);
         for (size_t i = 0; i < agents; ++i) {
-            const double d = norm(sub(pts.p[nn[i]], pts.p[i]));
+            const double d = neighbour_distance(pts, nn, i);
             out[Metric::NearestDistance].push_back(d);
             if (d > 0.0 && moving) out[Metric::VelocityDifference].push_back(std::abs(speed[nn[i]] - speed[i]) / d);
         }
