@@ -30,11 +30,12 @@ PathModel::PathModel(Swarm& swarm, PathModelConfig config)
     // outside [0, inf) (m/s)"); what one row cannot say follows.
     path_param_table().validate(&c);
     require(!c.groups.empty() && c.groups.size() <= 64, "path model needs 1 to 64 groups, each with its goals");
-    // Targets and waypoints move goals and rebake the noise while it runs:
-    // one world's host work, not offset per world.
-    require(swarm.worlds() == 1 || (c.targets.empty() && c.waypoints.empty()),
-            "path model chasing targets and moving goals (waypoints) do not run on a swarm of several worlds (" +
-                std::to_string(swarm.worlds()) + "); give each world its goals with set_world_param");
+    // Targets move goals and rebake the noise while it runs: one world's
+    // host work, not offset per world.  Waypoints without targets move every
+    // world's goals (move_world_goals).
+    require(swarm.worlds() == 1 || c.targets.empty(),
+            "path model chasing targets do not run on a swarm of several worlds (" + std::to_string(swarm.worlds()) +
+                "); give each world its goals with set_world_param");
     for (const auto& w : c.waypoints)
         require(std::isfinite(w[0]) && std::isfinite(w[1]) && std::isfinite(w[2]), "path model waypoints must be finite");
     if (!c.has_grid_box) {
@@ -94,6 +95,14 @@ PathModel::PathModel(Swarm& swarm, PathModelConfig config)
     upload_world_blocks();
     ctx_.queue().finish();
     preprocess_seconds_ = seconds_since(t0);
+}
+
+std::vector<Goal> goals_moved_to(std::vector<Goal> goals, const std::array<float, 3>& to) {
+    if (goals.empty()) return goals;
+    const std::array<float, 3> shift{to[0] - goals[0].center[0], to[1] - goals[0].center[1], to[2] - goals[0].center[2]};
+    for (Goal& g : goals)
+        for (int a = 0; a < 3; ++a) g.center[a] += shift[a];
+    return goals;
 }
 
 std::vector<Goal> goals_with_targets(std::vector<Goal> goals, const std::vector<PathTarget>& targets,
@@ -332,12 +341,8 @@ void PathModel::advance(Swarm& swarm, uint64_t step) {
         set_target(0, config_.waypoints[(step / config_.waypoint_every - 1) % config_.waypoints.size()]);
     } else if (!config_.waypoints.empty() && step > 0 && step % config_.waypoint_every == 0) {
         const auto& w = config_.waypoints[(step / config_.waypoint_every - 1) % config_.waypoints.size()];
-        std::vector<Goal> goals = config_.groups[0].goals;
-        // The first goal moves to the waypoint, the others keep their offsets to it.
-        const std::array<float, 3> shift{w[0] - goals[0].center[0], w[1] - goals[0].center[1], w[2] - goals[0].center[2]};
-        for (Goal& g : goals)
-            for (int a = 0; a < 3; ++a) g.center[a] += shift[a];
-        set_goals(0, std::move(goals));
+        if (worlds_.worlds() > 1) move_world_goals(w);
+        else set_goals(0, goals_moved_to(config_.groups[0].goals, w));
     }
     if (!blocks_current_) upload_world_blocks();
     const uint32_t n = swarm.agent_count();

@@ -80,6 +80,10 @@ struct PathModelConfig {
 std::vector<Goal> goals_with_targets(std::vector<Goal> goals, const std::vector<PathTarget>& targets,
                                      uint32_t group);
 
+// A group's goals moved by waypoints (§7 chasing without targets): the first
+// goal to `to`, the others keeping their offsets to it.
+std::vector<Goal> goals_moved_to(std::vector<Goal> goals, const std::array<float, 3>& to);
+
 // Its parameters, declared once (models/path_params.cpp).
 const ParamTable& path_param_table();
 
@@ -87,8 +91,8 @@ class PathModel : public Behavior {
 public:
     // Preprocesses (signed distance, cost fields); Error(InvalidArgument)
     // naming the problem, and nothing is kept on error.  Every world of the
-    // swarm starts with `config`; chasing targets and moving goals run on a
-    // swarm of one world only.
+    // swarm starts with `config`; chasing targets run on a swarm of one world
+    // only (waypoints without targets move every world's group 0 goals).
     PathModel(Swarm& swarm, PathModelConfig config);
 
     // Per world (models/path_worlds.cpp): any parameter of the table but the
@@ -169,6 +173,14 @@ private:
     // path_param_table()'s block, world_extra and (several worlds) the noise
     // block of every world.
     void upload_world_blocks();
+    // Waypoints on a swarm of worlds: every world's group 0 goals moved to
+    // `to` (goals_moved_to, its own goals: each world as alone) and every
+    // world's direction fields solved again; an error changes nothing.
+    void move_world_goals(const std::array<float, 3>& to);
+    // Commits every world's direction fields (dirs[k], solved from worlds_):
+    // world 0's into dirs_, all into world_dirs_ where the worlds' cost
+    // inputs differ.
+    void upload_world_directions(const std::vector<std::vector<cl_float4>>& dirs);
     // The direction fields of every group of `c` (groups x cells), its
     // slowness and costs into *slowness / *costs when given.
     std::vector<cl_float4> solve_directions(const PathModelConfig& c, std::vector<double>* slowness = nullptr,

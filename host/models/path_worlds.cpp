@@ -5,6 +5,7 @@
 #include "models/path_model.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <optional>
 #include <sstream>
@@ -207,17 +208,7 @@ void PathModel::set_world_param(Swarm& swarm, const std::string& key, const doub
     // Committed; what follows allocates, and an error there undoes it.
     try {
         if (cost) {
-            write_buffer(ctx_, dirs_.get(), 0, dirs[0].size() * sizeof(cl_float4), dirs[0].data());
-            bool differ = false;
-            for (uint32_t k = 1; k < worlds; ++k) differ |= !same_cost_inputs(worlds_[k], worlds_[0]);
-            if (differ) {
-                const size_t per = dirs[0].size();
-                world_dirs_.reserve(ctx_, per * worlds, "path model directions of every world");
-                for (uint32_t k = 0; k < worlds; ++k)
-                    write_buffer(ctx_, world_dirs_.get(), size_t(k) * per * sizeof(cl_float4), per * sizeof(cl_float4),
-                                 dirs[k].data());
-            }
-            world_dirs_on_ = differ;
+            upload_world_directions(dirs);
             slowness_ = std::move(slowness0);
             costs_ = std::move(costs0);
         }
@@ -230,6 +221,51 @@ void PathModel::set_world_param(Swarm& swarm, const std::string& key, const doub
     config_ = worlds_[0];
     blocks_current_ = false;
     (void)swarm;
+}
+
+void PathModel::upload_world_directions(const std::vector<std::vector<cl_float4>>& dirs) {
+    const uint32_t worlds = worlds_.worlds();
+    write_buffer(ctx_, dirs_.get(), 0, dirs[0].size() * sizeof(cl_float4), dirs[0].data());
+    bool differ = false;
+    for (uint32_t k = 1; k < worlds; ++k) differ |= !same_cost_inputs(worlds_[k], worlds_[0]);
+    if (differ) {
+        const size_t per = dirs[0].size();
+        world_dirs_.reserve(ctx_, per * worlds, "path model directions of every world");
+        for (uint32_t k = 0; k < worlds; ++k)
+            write_buffer(ctx_, world_dirs_.get(), size_t(k) * per * sizeof(cl_float4), per * sizeof(cl_float4),
+                         dirs[k].data());
+    }
+    world_dirs_on_ = differ;
+}
+
+void PathModel::move_world_goals(const std::array<float, 3>& to) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const uint32_t worlds = worlds_.worlds();
+    std::vector<std::vector<cl_float4>> dirs(worlds);
+    std::vector<double> slowness0;
+    std::vector<std::vector<double>> costs0;
+    const WorldConfigs<PathModelConfig> before = worlds_;
+    std::optional<PathModelConfig> first;
+    worlds_.change([&](PathModelConfig& c, uint32_t) { c.groups[0].goals = goals_moved_to(c.groups[0].goals, to); },
+                   [&](const PathModelConfig& c, uint32_t k) {
+                       // Worlds with world 0's cost inputs (moved first) share its fields.
+                       if (k == 0) first = c;
+                       else if (same_cost_inputs(c, *first)) return;
+                       dirs[k] = solve_directions(c, k == 0 ? &slowness0 : nullptr, k == 0 ? &costs0 : nullptr);
+                   });
+    try {
+        for (uint32_t k = 1; k < worlds; ++k)
+            if (dirs[k].empty()) dirs[k] = dirs[0];
+        upload_world_directions(dirs);
+    } catch (...) {
+        worlds_ = before;
+        throw;
+    }
+    slowness_ = std::move(slowness0);
+    costs_ = std::move(costs0);
+    config_ = worlds_[0];
+    ++recomputes_;  // one move, as alone
+    recompute_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 std::vector<double> PathModel::world_param(const std::string& key) const {

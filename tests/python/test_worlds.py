@@ -2,6 +2,8 @@
 parameters as arrays of length W, (W, N, 3) views, each world bitwise the
 swarm alone; bad input names the parameter and the world."""
 
+import json
+
 import numpy as np
 import pytest
 
@@ -152,3 +154,45 @@ def test_force_model_worlds_are_the_swarms_alone(ctx):
             one.step(steps)
             assert pos[k].tobytes() == one.positions.tobytes()
             assert vel[k].tobytes() == one.velocities.tobytes()
+
+
+def test_path_model_moving_goals_run_as_worlds_bitwise_alone(ctx, tmp_path):
+    # Waypoints without targets (§7 chasing, moving goals) on worlds: every
+    # world's goals move at each waypoint and its cost field is solved again,
+    # each world as alone; worlds 0 and 2 share their goals (one field), the
+    # others have their own radius.  A checkpoint taken after the first move
+    # resumes bitwise.  Chasing targets stay refused by name.
+    doc = {"name": "moving_goals", "seed": 3, "dt": 0.02, "steps": 40,
+           "domain": {"min": [0, 0, 0], "max": [2, 2, 2]}, "interaction_radius": 0.2,
+           "agents": {"count": 60, "initial": {"type": "uniform", "min": [0.3, 0.3, 0.3], "max": [1.0, 1.0, 1.0]}},
+           "model": {"type": "path", "noise": {"type": "curl", "scale": 0.5, "gain": 0.3, "seed": 1},
+                     "grid": {"resolution": [12, 12, 12]}, "speed": 0.8, "goal_falloff": 0.3,
+                     "goals": [{"type": "sphere", "center": [1.5, 1.5, 1.5], "radius": 0.2}],
+                     "moving_goal": {"waypoints": [[0.5, 1.5, 0.5], [1.5, 0.5, 1.0]], "every": 10},
+                     "min_distance": 0.04},
+           "output": {"dir": "out", "formats": ["npy"], "every": 10}}
+    radii, seeds, steps = [0.2, 0.35, 0.2, 0.1], [3, 4, 5, 6], 35
+    with swarmcl.Scenario.parse(json.dumps(doc)) as scn, scn.create_world_swarm(ctx, 4, seeds) as s:
+        s.set_world_param("goals.0.radius", radii)
+        s.step(12)  # past the first move
+        s.save(tmp_path / "moving.swcl")
+        s.step(steps - 12)
+        pos, vel = s.positions, s.velocities
+        centre = s.world_param("goals.0.center")
+    with swarmcl.Swarm.load(ctx, tmp_path / "moving.swcl") as resumed:
+        resumed.step(steps - 12)
+        assert resumed.positions.tobytes() == pos.tobytes()
+    # The goals moved twice (steps 10 and 20, then 30): every world's first goal at the waypoint.
+    np.testing.assert_array_equal(np.asarray(centre).reshape(4, 3), np.float32([[0.5, 1.5, 0.5]] * 4))
+    for k, (radius, seed) in enumerate(zip(radii, seeds)):
+        one = json.loads(json.dumps(doc))
+        one["seed"], one["model"]["goals"][0]["radius"] = seed, radius
+        with swarmcl.Scenario.parse(json.dumps(one)).create_swarm(ctx) as alone:
+            alone.step(steps)
+            assert pos[k].tobytes() == alone.positions.tobytes(), f"world {k}"
+            assert vel[k].tobytes() == alone.velocities.tobytes(), f"world {k}"
+    chasing = json.loads(json.dumps(doc))
+    chasing["model"]["targets"] = [{"center": [1.0, 1.0, 1.0], "radius": 0.2}]
+    with swarmcl.Scenario.parse(json.dumps(chasing)) as scn:
+        with pytest.raises(swarmcl.InvalidArgumentError, match="chasing targets do not run on a swarm of several"):
+            scn.create_world_swarm(ctx, 2)

@@ -180,14 +180,14 @@ def _with_values(scenario: dict, params: Sequence[Parameter], u) -> dict:
 def world_model(scenario) -> bool:
     """Whether the scenario's model runs a swarm of worlds
     (PopulationEvaluator.WORLD_MODELS): the path model refuses worlds with
-    chasing targets or moving goals (docs/architecture.md, "Worlds"), which
-    its host moves while it runs."""
+    chasing targets (docs/architecture.md, "Worlds"), which its host moves
+    and bakes into the noise while it runs; moving goals (waypoints alone)
+    run as worlds."""
     model = scenario.get("model", {}) if isinstance(scenario, dict) else {}
     if not isinstance(model, dict) or model.get("type", "field") not in PopulationEvaluator.WORLD_MODELS:
         return False
     if model.get("type") == "path":
-        moving = model.get("moving_goal")
-        return not (model.get("targets") or (isinstance(moving, dict) and moving.get("waypoints")))
+        return not model.get("targets")
     return True
 
 
