@@ -5,8 +5,8 @@
 // the goal ramp, MDE, the lamp) and goals (each world's own cost field); a
 // checkpoint resumes them bitwise; bad input gets a status naming the
 // parameter and world and changes nothing; what does not run in worlds
-// (chasing targets, the run-time setters, the grid per world) is refused by
-// name.  Moving goals (waypoints) on worlds: tests/python/test_worlds.py.
+// (set_goals, set_lamp, the grid per world) is refused by name.  Moving
+// goals and chasing targets on worlds: tests/python/test_worlds.py.
 #include <gtest/gtest.h>
 
 #include <cmath>

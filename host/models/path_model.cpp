@@ -30,12 +30,12 @@ PathModel::PathModel(Swarm& swarm, PathModelConfig config)
     // outside [0, inf) (m/s)"); what one row cannot say follows.
     path_param_table().validate(&c);
     require(!c.groups.empty() && c.groups.size() <= 64, "path model needs 1 to 64 groups, each with its goals");
-    // Targets move goals and rebake the noise while it runs: one world's
-    // host work, not offset per world.  Waypoints without targets move every
-    // world's goals (move_world_goals).
-    require(swarm.worlds() == 1 || c.targets.empty(),
-            "path model chasing targets do not run on a swarm of several worlds (" + std::to_string(swarm.worlds()) +
-                "); give each world its goals with set_world_param");
+    // Targets move goals and rebake the noise while it runs: on worlds they
+    // are one for every world (retarget_worlds), and a noise baked with them
+    // would be rebaked per world: refused.
+    require(swarm.worlds() == 1 || c.targets.empty() || !c.noise.baked,
+            "path model chasing targets with a baked noise do not run on a swarm of several worlds (" +
+                std::to_string(swarm.worlds()) + "); bake the noise off");
     for (const auto& w : c.waypoints)
         require(std::isfinite(w[0]) && std::isfinite(w[1]) && std::isfinite(w[2]), "path model waypoints must be finite");
     if (!c.has_grid_box) {
@@ -97,6 +97,18 @@ PathModel::PathModel(Swarm& swarm, PathModelConfig config)
     preprocess_seconds_ = seconds_since(t0);
 }
 
+NoiseConfig noise_with_targets(NoiseConfig noise, const std::vector<PathTarget>& targets) {
+    // §7 chasing: the target ball is a boundary of Eq. 2, after the others.
+    for (const PathTarget& t : targets) {
+        Boundary b;
+        b.kind = Boundary::Kind::Sphere;
+        b.center = t.center;
+        b.radius = t.radius;
+        noise.boundaries.push_back(b);
+    }
+    return noise;
+}
+
 std::vector<Goal> goals_moved_to(std::vector<Goal> goals, const std::array<float, 3>& to) {
     if (goals.empty()) return goals;
     const std::array<float, 3> shift{to[0] - goals[0].center[0], to[1] - goals[0].center[1], to[2] - goals[0].center[2]};
@@ -142,16 +154,8 @@ PathModel::LocalField PathModel::build_local(const NoiseConfig& noise, const std
                                              const LocalField* previous,
                                              const std::vector<PathTarget>& changed) const {
     LocalField out;
-    NoiseConfig nc = noise;
+    NoiseConfig nc = noise_with_targets(noise, targets);
     if (!nc.has_region()) nc.region_min = domain_min_, nc.region_max = domain_max_;
-    // §7 chasing: the target ball is a boundary of Eq. 2, after the others.
-    for (const PathTarget& t : targets) {
-        Boundary b;
-        b.kind = Boundary::Kind::Sphere;
-        b.center = t.center;
-        b.radius = t.radius;
-        nc.boundaries.push_back(b);
-    }
     NoiseField::validate(nc);  // as given (what can be baked), before the mesh-aware bake takes over
     if (mesh_noise_) nc.baked = false;  // baked below, with the mesh
     out.noise = std::make_unique<NoiseField>(ctx_, nc, &domain_min_, &domain_max_);
@@ -240,6 +244,7 @@ double PathModel::set_goals(uint32_t group, std::vector<Goal> goals) {
 }
 
 double PathModel::retarget(std::vector<PathTarget> targets, uint32_t group, const std::vector<PathTarget>& changed) {
+    if (worlds_.worlds() > 1) return retarget_worlds(std::move(targets), changed);
     const auto t0 = std::chrono::steady_clock::now();
     // Everything into temporaries first: an error (a goal check, the noise)
     // leaves the model as it was.
@@ -262,7 +267,6 @@ double PathModel::retarget(std::vector<PathTarget> targets, uint32_t group, cons
 }
 
 double PathModel::set_target(uint32_t index, const std::array<float, 3>& center) {
-    require_one_world("path model set_target");
     require(index < config_.targets.size(), "path model: target " + std::to_string(index) + " does not exist (" +
                                                 std::to_string(config_.targets.size()) + " targets)");
     if (config_.targets[index].center == center) return 0.0;  // not moved: nothing to recompute
@@ -275,7 +279,8 @@ double PathModel::set_target(uint32_t index, const std::array<float, 3>& center)
 }
 
 uint32_t PathModel::add_target(const PathTarget& target) {
-    require_one_world("path model add_target");
+    require(worlds_.worlds() == 1 || !config_.noise.baked,
+            "path model add_target: chasing targets with a baked noise do not run on a swarm of several worlds");
     const uint32_t index = uint32_t(config_.targets.size());
     check_target(target, "path model target " + std::to_string(index));
     if (index == 0)  // the waypoints will move it: each must be a place it may be

@@ -80,6 +80,10 @@ struct PathModelConfig {
 std::vector<Goal> goals_with_targets(std::vector<Goal> goals, const std::vector<PathTarget>& targets,
                                      uint32_t group);
 
+// The noise's configuration with the chasing targets' balls as boundaries
+// (§7: after the others).
+NoiseConfig noise_with_targets(NoiseConfig noise, const std::vector<PathTarget>& targets);
+
 // A group's goals moved by waypoints (§7 chasing without targets): the first
 // goal to `to`, the others keeping their offsets to it.
 std::vector<Goal> goals_moved_to(std::vector<Goal> goals, const std::array<float, 3>& to);
@@ -91,8 +95,8 @@ class PathModel : public Behavior {
 public:
     // Preprocesses (signed distance, cost fields); Error(InvalidArgument)
     // naming the problem, and nothing is kept on error.  Every world of the
-    // swarm starts with `config`; chasing targets run on a swarm of one world
-    // only (waypoints without targets move every world's group 0 goals).
+    // swarm starts with `config`; chasing targets and waypoints are one for
+    // every world (each world's goals and fields move as alone).
     PathModel(Swarm& swarm, PathModelConfig config);
 
     // Per world (models/path_worlds.cpp): any parameter of the table but the
@@ -177,6 +181,10 @@ private:
     // `to` (goals_moved_to, its own goals: each world as alone) and every
     // world's direction fields solved again; an error changes nothing.
     void move_world_goals(const std::array<float, 3>& to);
+    // retarget on a swarm of worlds: the targets (one for every world) into
+    // every world's configuration, its fields and noise block; the local
+    // field (the targets' boundaries) rebuilt once.
+    double retarget_worlds(std::vector<PathTarget> targets, const std::vector<PathTarget>& changed);
     // Commits every world's direction fields (dirs[k], solved from worlds_):
     // world 0's into dirs_, all into world_dirs_ where the worlds' cost
     // inputs differ.

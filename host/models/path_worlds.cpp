@@ -174,8 +174,8 @@ void PathModel::set_world_param(Swarm& swarm, const std::string& key, const doub
         if (lamp && c.lamp.enabled) check_lamp(c.lamp);
         if (cost) dirs[k] = solve_directions(c, k == 0 ? &slowness0 : nullptr, k == 0 ? &costs0 : nullptr);
         if (noise && worlds > 1)
-            write_world_noise_block(ctx_, c.noise, &domain_min_, &domain_max_, *local_.noise, "path model " + key,
-                                    noise_next, k);
+            write_world_noise_block(ctx_, noise_with_targets(c.noise, c.targets), &domain_min_, &domain_max_,
+                                    *local_.noise, "path model " + key, noise_next, k);
         if (noise && worlds == 1) local = std::make_unique<LocalField>(build_local(c.noise, c.targets));
     };
     const WorldConfigs<PathModelConfig> before = worlds_;
@@ -266,6 +266,55 @@ void PathModel::move_world_goals(const std::array<float, 3>& to) {
     config_ = worlds_[0];
     ++recomputes_;  // one move, as alone
     recompute_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+double PathModel::retarget_worlds(std::vector<PathTarget> targets, const std::vector<PathTarget>& changed) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const uint32_t worlds = worlds_.worlds();
+    LocalField local = build_local(config_.noise, targets, &local_, changed);  // the boundaries: one for all
+    std::vector<cl_float> noise_next = noise_host_;
+    const std::vector<cl_float> block = local.noise->block();
+    bool noise_varied = false;
+    for (const std::string& key : worlds_.varied_keys()) noise_varied |= key.compare(0, 6, "noise.") == 0;
+    std::vector<std::vector<cl_float4>> dirs(worlds);
+    std::vector<double> slowness0;
+    std::vector<std::vector<double>> costs0;
+    std::optional<PathModelConfig> first;
+    const WorldConfigs<PathModelConfig> before = worlds_;
+    worlds_.change([&](PathModelConfig& c, uint32_t) { c.targets = targets; },
+                   [&](const PathModelConfig& c, uint32_t k) {
+                       // Each world's noise block with the new boundaries
+                       // (world 0's where no world's noise differs).
+                       if (noise_varied)
+                           write_world_noise_block(ctx_, noise_with_targets(c.noise, c.targets), &domain_min_,
+                                                   &domain_max_, *local.noise, "path model targets", noise_next, k);
+                       else
+                           std::copy(block.begin(), block.end(), noise_next.begin() + size_t(k) * block.size());
+                       // Worlds with world 0's goals and weights (the
+                       // targets are every world's) share its fields.
+                       if (k == 0) first = c;
+                       else if (same_cost_inputs(c, *first)) return;
+                       dirs[k] = solve_directions(c, k == 0 ? &slowness0 : nullptr, k == 0 ? &costs0 : nullptr);
+                   });
+    try {
+        for (uint32_t k = 1; k < worlds; ++k)
+            if (dirs[k].empty()) dirs[k] = dirs[0];
+        upload_world_directions(dirs);
+    } catch (...) {
+        worlds_ = before;
+        throw;
+    }
+    slowness_ = std::move(slowness0);
+    costs_ = std::move(costs0);
+    local_ = std::move(local);
+    noise_host_ = std::move(noise_next);
+    config_ = worlds_[0];
+    blocks_current_ = false;
+    ctx_.queue().finish();
+    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    ++recomputes_;
+    recompute_seconds_ += t;
+    return t;
 }
 
 std::vector<double> PathModel::world_param(const std::string& key) const {

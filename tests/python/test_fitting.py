@@ -228,7 +228,8 @@ def test_a_path_model_generation_as_worlds_scores_as_its_runs_alone(ctx, real):
     # keys of examples/evaluation/path_mosquito.ranges.json (the noise, s0,
     # the goal ramp and the goal's radius, which gives each world its own
     # cost field) scores as its runs alone, streamed or measured on the
-    # host; a path scenario that chases a target keeps one swarm a run.
+    # host; so does one that chases a target (one swarm a run only with a
+    # baked noise).
     path = json.loads(json.dumps(SCENARIO))
     path["model"] = {"type": "path", "noise": {"type": "curl", "scale": 0.4, "gain": 0.5, "seed": 2,
                                                "boundary_distance": 0.3, "domain_walls": True},
@@ -246,8 +247,13 @@ def test_a_path_model_generation_as_worlds_scores_as_its_runs_alone(ctx, real):
         a, b = worlds(pop), alone(pop)
         assert worlds.last_swarms == 1 and alone.last_swarms == 10
         assert a == b and len(set(a)) == 5 and worlds.refused == 0
+    # A chasing target runs as worlds too; with a baked noise, one swarm a run.
     chasing = json.loads(json.dumps(path))
     chasing["model"]["targets"] = [{"center": [1.2, 1, 1], "radius": 0.1}]
+    worlds = swarmcl.fitting.PopulationEvaluator(chasing, params, real, ctx, steps=40, streamed=False)
+    alone = swarmcl.fitting.PopulationEvaluator(chasing, params, real, ctx, steps=40, worlds=False, streamed=False)
+    assert worlds.world_keys is not None and worlds(pop) == alone(pop) and worlds.last_swarms == 1
+    chasing["model"]["noise"]["baked"] = True
     assert swarmcl.fitting.PopulationEvaluator(chasing, swarmcl.load_ranges(ranges, chasing), real, ctx,
                                                steps=40).world_keys is None
 

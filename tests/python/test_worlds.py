@@ -161,7 +161,7 @@ def test_path_model_moving_goals_run_as_worlds_bitwise_alone(ctx, tmp_path):
     # world's goals move at each waypoint and its cost field is solved again,
     # each world as alone; worlds 0 and 2 share their goals (one field), the
     # others have their own radius.  A checkpoint taken after the first move
-    # resumes bitwise.  Chasing targets stay refused by name.
+    # resumes bitwise.
     doc = {"name": "moving_goals", "seed": 3, "dt": 0.02, "steps": 40,
            "domain": {"min": [0, 0, 0], "max": [2, 2, 2]}, "interaction_radius": 0.2,
            "agents": {"count": 60, "initial": {"type": "uniform", "min": [0.3, 0.3, 0.3], "max": [1.0, 1.0, 1.0]}},
@@ -191,8 +191,56 @@ def test_path_model_moving_goals_run_as_worlds_bitwise_alone(ctx, tmp_path):
             alone.step(steps)
             assert pos[k].tobytes() == alone.positions.tobytes(), f"world {k}"
             assert vel[k].tobytes() == alone.velocities.tobytes(), f"world {k}"
-    chasing = json.loads(json.dumps(doc))
-    chasing["model"]["targets"] = [{"center": [1.0, 1.0, 1.0], "radius": 0.2}]
-    with swarmcl.Scenario.parse(json.dumps(chasing)) as scn:
-        with pytest.raises(swarmcl.InvalidArgumentError, match="chasing targets do not run on a swarm of several"):
+
+
+@pytest.mark.parametrize("scales", [[0.5, 0.5, 0.35], [0.5, 0.5, 0.5]], ids=["noise per world", "one noise"])
+def test_path_model_chasing_targets_run_as_worlds_bitwise_alone(ctx, tmp_path, scales):
+    # Chasing (§7) on worlds: the targets are one for every world; the
+    # waypoints move target 0, every world's fields (its own goal radius and
+    # noise scale) and noise boundaries follow as alone; a target added and
+    # moved through the run-time setters too.  A checkpoint after a move
+    # resumes bitwise.  A baked noise with targets is refused by name.
+    doc = {"name": "chasing", "seed": 3, "dt": 0.02, "steps": 40,
+           "domain": {"min": [0, 0, 0], "max": [2, 2, 2]}, "interaction_radius": 0.2,
+           "agents": {"count": 50, "initial": {"type": "uniform", "min": [0.3, 0.3, 0.3], "max": [1.0, 1.0, 1.0]}},
+           "model": {"type": "path", "noise": {"type": "curl", "scale": 0.5, "gain": 0.4, "seed": 1,
+                                               "boundary_distance": 0.3},
+                     "grid": {"resolution": [12, 12, 12]}, "speed": 0.8, "goal_falloff": 0.3,
+                     "goals": [{"type": "sphere", "center": [1.5, 1.5, 1.5], "radius": 0.2}],
+                     "targets": [{"center": [1.2, 0.8, 1.0], "radius": 0.15}],
+                     "moving_goal": {"waypoints": [[0.6, 1.4, 0.7], [1.4, 0.6, 1.2]], "every": 8},
+                     "min_distance": 0.04},
+           "output": {"dir": "out", "formats": ["npy"], "every": 10}}
+    radii, seeds, steps = [0.2, 0.3, 0.2], [3, 4, 5], 30
+    extra = swarmcl.PathTarget(center=(0.5, 0.5, 1.5), radius=0.1)
+
+    def drive(s, first, last):
+        # Steps first..last-1; at step 12 a second target, at 20 it moves.
+        for step in range(first, last):
+            if step == 12:
+                assert s.add_path_target(extra) == 1
+            if step == 20:
+                s.set_path_target(1, (0.6, 0.6, 1.4))
+            s.step(1)
+
+    with swarmcl.Scenario.parse(json.dumps(doc)) as scn, scn.create_world_swarm(ctx, 3, seeds) as s:
+        s.set_world_param("goals.0.radius", radii)
+        s.set_world_param("noise.scale", scales)
+        drive(s, 0, 14)
+        s.save(tmp_path / "chasing.swcl")
+        drive(s, 14, steps)
+        pos = s.positions
+    with swarmcl.Swarm.load(ctx, tmp_path / "chasing.swcl") as resumed:
+        drive(resumed, 14, steps)
+        assert resumed.positions.tobytes() == pos.tobytes()
+    for k, (radius, scale, seed) in enumerate(zip(radii, scales, seeds)):
+        one = json.loads(json.dumps(doc))
+        one["seed"], one["model"]["goals"][0]["radius"], one["model"]["noise"]["scale"] = seed, radius, scale
+        with swarmcl.Scenario.parse(json.dumps(one)).create_swarm(ctx) as alone:
+            drive(alone, 0, steps)
+            assert pos[k].tobytes() == alone.positions.tobytes(), f"world {k}"
+    baked = json.loads(json.dumps(doc))
+    baked["model"]["noise"]["baked"] = True
+    with swarmcl.Scenario.parse(json.dumps(baked)) as scn:
+        with pytest.raises(swarmcl.InvalidArgumentError, match="chasing targets with a baked noise"):
             scn.create_world_swarm(ctx, 2)

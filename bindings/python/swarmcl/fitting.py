@@ -180,14 +180,14 @@ def _with_values(scenario: dict, params: Sequence[Parameter], u) -> dict:
 def world_model(scenario) -> bool:
     """Whether the scenario's model runs a swarm of worlds
     (PopulationEvaluator.WORLD_MODELS): the path model refuses worlds with
-    chasing targets (docs/architecture.md, "Worlds"), which its host moves
-    and bakes into the noise while it runs; moving goals (waypoints alone)
-    run as worlds."""
+    chasing targets and a baked noise (docs/architecture.md, "Worlds"),
+    which its host would rebake for every world as the targets move."""
     model = scenario.get("model", {}) if isinstance(scenario, dict) else {}
     if not isinstance(model, dict) or model.get("type", "field") not in PopulationEvaluator.WORLD_MODELS:
         return False
     if model.get("type") == "path":
-        return not model.get("targets")
+        noise = model.get("noise")
+        return not (model.get("targets") and isinstance(noise, dict) and noise.get("baked"))
     return True
 
 
@@ -285,7 +285,7 @@ class PopulationEvaluator:
         # _world_groups; otherwise one a run).
         self.last_swarms = 0
 
-    #: The models whose swarms run worlds (the path model without chasing:
+    #: The models whose swarms run worlds (the path model unless chasing with a baked noise:
     #: world_model above).
     WORLD_MODELS = ("field", "force", "energy", "path")
 
