@@ -11,8 +11,9 @@
 //   with_s       the same steps with a sample() after each group, and result()
 //   metrics_s    with_s - step_s: what sampling adds
 // agent-frames/s = agents x frames / metrics_s.
-// Peer: the host path (eval/metrics.cpp frame_metrics, nanoflann kd-tree per
-// frame, one thread) on --host-frames of the same frames, read back from the
+// Peer: the host path (eval/metrics.cpp frame_metrics, one thread: each
+// frame's nearest neighbours by a sweep up to 2,048 agents, nanoflann's
+// kd-tree above) on --host-frames of the same frames, read back from the
 // device; its agent-frames/s and the ratio.
 //
 // --worlds W (issue 25): a swarm of W worlds of --agents agents each, every
