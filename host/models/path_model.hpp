@@ -6,6 +6,7 @@
 // third limitation); a goal can move, which recomputes its group's field.
 #pragma once
 #include <array>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -177,6 +178,12 @@ private:
     // path_param_table()'s block, world_extra and (several worlds) the noise
     // block of every world.
     void upload_world_blocks();
+    // Every world's configuration changed by `apply` (also(c, k) run on each
+    // changed one first) and its direction fields solved again, worlds with
+    // world 0's cost inputs sharing its solve; commits them, world 0's
+    // slowness and costs and config_.  An error changes nothing.
+    void resolve_worlds(const std::function<void(PathModelConfig&)>& apply,
+                        const std::function<void(const PathModelConfig&, uint32_t)>& also);
     // Waypoints on a swarm of worlds: every world's group 0 goals moved to
     // `to` (goals_moved_to, its own goals: each world as alone) and every
     // world's direction fields solved again; an error changes nothing.

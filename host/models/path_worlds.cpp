@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -238,17 +239,18 @@ void PathModel::upload_world_directions(const std::vector<std::vector<cl_float4>
     world_dirs_on_ = differ;
 }
 
-void PathModel::move_world_goals(const std::array<float, 3>& to) {
-    const auto t0 = std::chrono::steady_clock::now();
+void PathModel::resolve_worlds(const std::function<void(PathModelConfig&)>& apply,
+                               const std::function<void(const PathModelConfig&, uint32_t)>& also) {
     const uint32_t worlds = worlds_.worlds();
     std::vector<std::vector<cl_float4>> dirs(worlds);
     std::vector<double> slowness0;
     std::vector<std::vector<double>> costs0;
-    const WorldConfigs<PathModelConfig> before = worlds_;
     std::optional<PathModelConfig> first;
-    worlds_.change([&](PathModelConfig& c, uint32_t) { c.groups[0].goals = goals_moved_to(c.groups[0].goals, to); },
+    const WorldConfigs<PathModelConfig> before = worlds_;
+    worlds_.change([&](PathModelConfig& c, uint32_t) { apply(c); },
                    [&](const PathModelConfig& c, uint32_t k) {
-                       // Worlds with world 0's cost inputs (moved first) share its fields.
+                       if (also) also(c, k);
+                       // Worlds with world 0's cost inputs (changed first) share its fields.
                        if (k == 0) first = c;
                        else if (same_cost_inputs(c, *first)) return;
                        dirs[k] = solve_directions(c, k == 0 ? &slowness0 : nullptr, k == 0 ? &costs0 : nullptr);
@@ -264,24 +266,23 @@ void PathModel::move_world_goals(const std::array<float, 3>& to) {
     slowness_ = std::move(slowness0);
     costs_ = std::move(costs0);
     config_ = worlds_[0];
+}
+
+void PathModel::move_world_goals(const std::array<float, 3>& to) {
+    const auto t0 = std::chrono::steady_clock::now();
+    resolve_worlds([&](PathModelConfig& c) { c.groups[0].goals = goals_moved_to(c.groups[0].goals, to); }, {});
     ++recomputes_;  // one move, as alone
     recompute_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 double PathModel::retarget_worlds(std::vector<PathTarget> targets, const std::vector<PathTarget>& changed) {
     const auto t0 = std::chrono::steady_clock::now();
-    const uint32_t worlds = worlds_.worlds();
     LocalField local = build_local(config_.noise, targets, &local_, changed);  // the boundaries: one for all
     std::vector<cl_float> noise_next = noise_host_;
     const std::vector<cl_float> block = local.noise->block();
     bool noise_varied = false;
     for (const std::string& key : worlds_.varied_keys()) noise_varied |= key.compare(0, 6, "noise.") == 0;
-    std::vector<std::vector<cl_float4>> dirs(worlds);
-    std::vector<double> slowness0;
-    std::vector<std::vector<double>> costs0;
-    std::optional<PathModelConfig> first;
-    const WorldConfigs<PathModelConfig> before = worlds_;
-    worlds_.change([&](PathModelConfig& c, uint32_t) { c.targets = targets; },
+    resolve_worlds([&](PathModelConfig& c) { c.targets = targets; },
                    [&](const PathModelConfig& c, uint32_t k) {
                        // Each world's noise block with the new boundaries
                        // (world 0's where no world's noise differs).
@@ -290,25 +291,9 @@ double PathModel::retarget_worlds(std::vector<PathTarget> targets, const std::ve
                                                    &domain_max_, *local.noise, "path model targets", noise_next, k);
                        else
                            std::copy(block.begin(), block.end(), noise_next.begin() + size_t(k) * block.size());
-                       // Worlds with world 0's goals and weights (the
-                       // targets are every world's) share its fields.
-                       if (k == 0) first = c;
-                       else if (same_cost_inputs(c, *first)) return;
-                       dirs[k] = solve_directions(c, k == 0 ? &slowness0 : nullptr, k == 0 ? &costs0 : nullptr);
                    });
-    try {
-        for (uint32_t k = 1; k < worlds; ++k)
-            if (dirs[k].empty()) dirs[k] = dirs[0];
-        upload_world_directions(dirs);
-    } catch (...) {
-        worlds_ = before;
-        throw;
-    }
-    slowness_ = std::move(slowness0);
-    costs_ = std::move(costs0);
     local_ = std::move(local);
     noise_host_ = std::move(noise_next);
-    config_ = worlds_[0];
     blocks_current_ = false;
     ctx_.queue().finish();
     const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
