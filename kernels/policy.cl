@@ -150,11 +150,22 @@ SWCL_INLINE bool po_rows_w(const Grid* g, float4 p, float r, int y, int z, int* 
 
 // ---- Eq. 2: the actions applied (rl_agents_step on the swarm's layout) -------
 __kernel void policy_apply(__global float4* pos, __global float4* vel, __global const float* actions, uint n,
-                           __global const float4* lst_before, __global const float* params, float dq_max, float dt) {
+                           __global const float4* lst_before, __global const float* params, float dt) {
     const uint s = get_global_id(0);
     if (s >= n) return;
-    // du_max and u_max from the model's block; dq_max in radians from the host.
+#ifdef SWCL_WORLDS
+    // World get_global_id(1): its agents, actions, leader state and block.
+    const size_t world = get_global_id(1), world_base = world * n;
+    pos += world_base;
+    vel += world_base;
+    actions += world_base * 4;
+    lst_before += 2 * world;
+    params += world * POLICY_FLOATS;
+#endif
+    // du_max, u_max and dq_max (degrees to radians, as the host did) from
+    // the model's block.
     const float du_max = params[POLICY_DU_MAX], u_max = params[POLICY_U_MAX];
+    const float dq_max = params[POLICY_DQ_MAX_DEG] * 0.017453292519943295f;
     const float3 p = pos[s].xyz;
     const float4 qu = policy_qu(vel[s], p, lst_before[0].xyz);
     const float du = clamp(actions[4 * s], -du_max, du_max);
@@ -165,11 +176,14 @@ __kernel void policy_apply(__global float4* pos, __global float4* vel, __global 
     pos[s] = (float4)(p + (u * dt) * q, 0.0f);
 }
 
-// The leader's state as policy_observe reads it: lst[0] = position,
-// lst[1] = (q, u); copied before the leader moves, so the followers'
-// actions and rest headings use the state they were observed in.
-__kernel void policy_leader_copy(__global const float4* lpos, __global const float4* lvel, __global float4* lst) {
-    if (get_global_id(0) != 0) return;
-    lst[0] = lpos[0];
-    lst[1] = lvel[0];
+// The leader's state as policy_observe reads it: lst[2 w] = world w's
+// leader position, lst[2 w + 1] = its (q, u); copied before the leader
+// moves, so the followers' actions and rest headings use the state they were
+// observed in.
+__kernel void policy_leader_copy(__global const float4* lpos, __global const float4* lvel, __global float4* lst,
+                                 uint worlds) {
+    const uint w = get_global_id(0);
+    if (w >= worlds) return;
+    lst[2 * w] = lpos[w];
+    lst[2 * w + 1] = lvel[w];
 }

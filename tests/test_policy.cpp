@@ -682,13 +682,22 @@ TEST(PolicyCapi, BadWeightsGiveAParseErrorAndTheSwarmStaysUsable) {
     lm.leader_mode = static_cast<swcl_policy_leader_mode>(7);
     EXPECT_EQ(swcl_swarm_policy_set_model(swarm, &lm), SWCL_ERROR_INVALID_ARGUMENT);
     EXPECT_TRUE(contains(swcl_last_error(), "leader_mode")) << swcl_last_error();
-    // A swarm of several worlds: the policy model does not run worlds yet.
+    // A swarm of several worlds runs the policy model (bitwise each world
+    // alone: tests/python/test_worlds.py); the leader's parameters are one
+    // for every world, and observations count every world's agents.
     swcl_swarm_desc wd = sd;
     wd.worlds = 2;
     swcl_swarm two{};
     ASSERT_EQ(swcl_swarm_create(ctx, &wd, &two), SWCL_OK) << swcl_last_error();
-    EXPECT_EQ(swcl_swarm_policy_set_model(two, &d), SWCL_ERROR_INVALID_ARGUMENT);
-    EXPECT_TRUE(contains(swcl_last_error(), "several worlds")) << swcl_last_error();
+    ASSERT_EQ(swcl_swarm_policy_set_model(two, &d), SWCL_OK) << swcl_last_error();
+    const double u_max[2] = {3.0, 2.0};
+    EXPECT_EQ(swcl_swarm_set_world_param(two, "u_max", u_max, 2), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_TRUE(contains(swcl_last_error(), "u_max cannot differ between worlds")) << swcl_last_error();
+    std::vector<float> wobs(size_t(2) * wd.agent_count * 54);
+    EXPECT_EQ(swcl_swarm_policy_observe(two, wobs.data(), nullptr, wd.agent_count), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_swarm_policy_observe(two, wobs.data(), nullptr, size_t(2) * wd.agent_count), SWCL_OK)
+        << swcl_last_error();
+    EXPECT_EQ(swcl_swarm_step(two, 2), SWCL_OK) << swcl_last_error();
     swcl_swarm_destroy(two);
     // A missing file: an I/O error naming it.
     swcl_policy_model_desc m = d;

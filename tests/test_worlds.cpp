@@ -212,8 +212,7 @@ TEST_F(Worlds, BadInputNamesTheParameterAndWorldAndChangesNothing) {
     EXPECT_EQ(swcl_swarm_set_world_param(all, "goal.center", goals.data(), kWorlds), SWCL_ERROR_INVALID_ARGUMENT);
     EXPECT_NE(std::string(swcl_last_error()).find("3 per world"), std::string::npos) << swcl_last_error();
 
-    // What does not run worlds yet (a recorder; the policy model, which
-    // needs weights to get that far: test_policy) says so.
+    // What does not run worlds yet (a recorder) says so.
     swcl_recorder rec{};
     ASSERT_EQ(swcl_recorder_create(::testing::TempDir().c_str(), "swarmcl_worlds_refused", SWCL_EXPORT_CSV, &rec),
               SWCL_OK)

@@ -127,8 +127,9 @@ swcl_status swcl_swarm_policy_get_info(swcl_swarm swarm, uint32_t* out_obs_dim, 
 swcl_status swcl_swarm_policy_observe(swcl_swarm swarm, float* out_obs, float* out_actions, size_t count) {
     return with_swarm(__func__, swarm, [&](Swarm& s) {
         PolicyModel& p = policy_of(s, __func__);
-        require(count == s.agent_count(), std::string(__func__) + ": count is " + std::to_string(count) +
-                                              " but the swarm has " + std::to_string(s.agent_count()) + " agents");
+        require(count == s.total_agents(), std::string(__func__) + ": count is " + std::to_string(count) +
+                                               " but the swarm has " + std::to_string(s.total_agents()) +
+                                               " agents (all worlds)");
         std::vector<float> obs, act;
         p.observe(s, out_obs ? &obs : nullptr, out_actions ? &act : nullptr);
         if (out_obs) std::copy(obs.begin(), obs.end(), out_obs);

@@ -86,8 +86,8 @@ std::array<float, 4> policy_forward(const PolicyWeights& w, const float* obs) {
 }
 
 PolicyModel::PolicyModel(Swarm& swarm, PolicyModelConfig config, std::shared_ptr<const std::string> bytes)
-    : config_(std::move(config)), bytes_(std::move(bytes)), ctx_(swarm.context()) {
-    swarm.require_one_world("the policy model");
+    : config_(std::move(config)), worlds_(policy_param_table(), config_, 1), bytes_(std::move(bytes)),
+      ctx_(swarm.context()) {
     require(bytes_ != nullptr, "policy model: no weights");
     weights_ = parse_policy_weights(reinterpret_cast<const uint8_t*>(bytes_->data()), bytes_->size());
     validate(config_);
@@ -118,17 +118,21 @@ PolicyModel::PolicyModel(Swarm& swarm, PolicyModelConfig config, std::shared_ptr
                                c.leader_heading[2] * c.leader_heading[2]);
     const cl_float4 lp = f4(c.leader_position[0], c.leader_position[1], c.leader_position[2], 0.0f);
     const cl_float4 lv = f4(c.leader_heading[0] / hl, c.leader_heading[1] / hl, c.leader_heading[2] / hl, c.leader_speed);
-    lpos_.allocate(ctx, 1, "policy leader position");
-    lvel_.allocate(ctx, 1, "policy leader velocity");
-    lst_.allocate(ctx, 2, "policy leader state");
-    ctl_.allocate(ctx, 1, "policy leader controls");
-    lpos_.upload(ctx, &lp, 1);
-    lvel_.upload(ctx, &lv, 1);
-    ctl_.fill(ctx, f4(0, 0, 0, 0), 1);
-    wp_.allocate(ctx, 1, "policy leader waypoint");
-    done_.allocate(ctx, 1, "policy leader done");
-    wp_.fill(ctx, 0u, 1);
-    done_.fill(ctx, 0u, 1);
+    // Worlds: one leader each, every one starting alike (the leader's
+    // parameters are one for every world).
+    const uint32_t worlds = swarm.worlds();
+    worlds_ = WorldConfigs<PolicyModelConfig>(policy_param_table(), config_, worlds);
+    lpos_.allocate(ctx, worlds, "policy leader position");
+    lvel_.allocate(ctx, worlds, "policy leader velocity");
+    lst_.allocate(ctx, size_t(2) * worlds, "policy leader state");
+    ctl_.allocate(ctx, worlds, "policy leader controls");
+    lpos_.fill(ctx, lp, worlds);
+    lvel_.fill(ctx, lv, worlds);
+    ctl_.fill(ctx, f4(0, 0, 0, 0), worlds);
+    wp_.allocate(ctx, worlds, "policy leader waypoint");
+    done_.allocate(ctx, worlds, "policy leader done");
+    wp_.fill(ctx, 0u, worlds);
+    done_.fill(ctx, 0u, worlds);
     std::vector<cl_float4> wps;
     for (const auto& w : c.waypoints) wps.push_back(f4(w[0], w[1], w[2], w[3]));
     waypoints_.allocate(ctx, wps.size(), "policy waypoints");
@@ -151,7 +155,7 @@ PolicyModel::PolicyModel(Swarm& swarm, PolicyModelConfig config, std::shared_ptr
         lanes_ = uint32_t(std::stoul(env));
     if (const uint32_t w = kernel_width_override()) lanes_ = w;
     // Every build of policy.cl names the parameter block's slots (POLICY_*).
-    const std::string slots = policy_param_table().device_defines("POLICY");
+    const std::string slots = policy_param_table().device_defines("POLICY") + world_defines(worlds);
     const std::string lanes_define = "-DPM_W=" + std::to_string(lanes_) + slots;
     // With lanes, the observations too come PM_W agents per work-item.
     observe_k_ = lanes_ > 1 ? ctx.kernel("policy.cl", "policy_observe_w", lanes_define)
@@ -159,40 +163,80 @@ PolicyModel::PolicyModel(Swarm& swarm, PolicyModelConfig config, std::shared_ptr
     mlp_k_ = ctx.kernel("policy.cl", "policy_mlp", lanes_define);
     apply_k_ = ctx.kernel("policy.cl", "policy_apply", slots);
     copy_k_ = ctx.kernel("policy.cl", "policy_leader_copy", slots);
-    block_ = upload_param_block(ctx, policy_param_table(), &config_);
+    upload_world_blocks();
     leader_k_ = ctx.kernel("rl_env.cl", "rl_leader_step");
-    set_args(copy_k_, lpos_.get(), lvel_.get(), lst_.get());
-    launch(ctx, copy_k_, 1);
-    (void)swarm;
+    set_args(copy_k_, lpos_.get(), lvel_.get(), lst_.get(), cl_uint(worlds));
+    launch(ctx, copy_k_, worlds);
+}
+
+void PolicyModel::upload_world_blocks() {
+    const std::vector<float> blocks = worlds_.device_blocks();
+    block_.reserve(ctx_, blocks.size(), "policy parameter blocks");
+    block_.upload(ctx_, blocks.data(), blocks.size());
+    blocks_current_ = true;
+}
+
+namespace {
+// Read by the leader's kernel (rl_leader_step), one value for every world.
+bool leader_key(const std::string& key) { return key == "u_max" || key.compare(0, 7, "leader.") == 0; }
+}  // namespace
+
+void PolicyModel::set_world_param(Swarm&, const std::string& key, const double* values, size_t count) {
+    if (leader_key(key))
+        fail(Status::InvalidArgument, "policy model " + key + " cannot differ between worlds: the leader's kernel "
+                                      "reads it once for every world (every world has the same leader)");
+    worlds_.set(key, values, count, [](const PolicyModelConfig& c, uint32_t) { validate(c); });
+    config_ = worlds_[0];
+    blocks_current_ = false;
+}
+
+std::vector<double> PolicyModel::world_param(const std::string& key) const { return worlds_.get(key); }
+
+std::vector<std::string> PolicyModel::varied_world_params() const {
+    return worlds_.worlds() > 1 ? worlds_.varied_keys() : std::vector<std::string>{};
 }
 
 void PolicyModel::set_leader_controls(const std::array<float, 4>& ctl) {
     require(finite_all(ctl.data(), 4), "policy model: leader controls must be finite");
-    const cl_float4 v = f4(ctl[0], ctl[1], ctl[2], ctl[3]);
-    ctl_.upload(ctx_, &v, 1);
+    ctl_.fill(ctx_, f4(ctl[0], ctl[1], ctl[2], ctl[3]), worlds_.worlds());
 }
 
-void PolicyModel::read_leader(cl_float4* position, cl_float4* heading_speed) {
-    if (position) lpos_.download(ctx_, position, 1);
-    if (heading_speed) lvel_.download(ctx_, heading_speed, 1);
+void PolicyModel::read_leader(cl_float4* position, cl_float4* heading_speed, uint32_t world) {
+    require(world < worlds_.worlds(), "policy model: world " + std::to_string(world) + " does not exist (" +
+                                          std::to_string(worlds_.worlds()) + " worlds)");
+    std::vector<cl_float4> all(worlds_.worlds());
+    if (position) {
+        lpos_.download(ctx_, all.data(), all.size());
+        *position = all[world];
+    }
+    if (heading_speed) {
+        lvel_.download(ctx_, all.data(), all.size());
+        *heading_speed = all[world];
+    }
 }
 
 void PolicyModel::enqueue_observe(Swarm& swarm) {
-    const uint32_t n = swarm.agent_count();
+    const uint32_t n = swarm.agent_count(), worlds = swarm.worlds();
     swarm.ensure_grid();
-    obs_.reserve(ctx_, size_t(n) * weights_.obs_dim, "policy observations");
+    if (!blocks_current_) upload_world_blocks();
+    obs_.reserve(ctx_, size_t(n) * worlds * weights_.obs_dim, "policy observations");
+    // The walk's reach: every world's (a wider one only adds candidates
+    // that fail every test, policy_observe.inc.cl).
+    float search = 0.0f;
+    for (uint32_t k = 0; k < worlds; ++k) {
+        const PolicyModelConfig& c = worlds_[k];
+        const float r_nbr = c.neighbor_radius > 0 ? c.neighbor_radius : c.r_coh;
+        search = std::max(search, std::max(c.r_coh + c.body_radius, r_nbr));
+    }
     const auto& c = config_;
-    const float r_nbr = c.neighbor_radius > 0 ? c.neighbor_radius : c.r_coh;
-    const float search = std::max(c.r_coh + c.body_radius, r_nbr);
     cl_uint i = 0;
     observe_k_.setArg(i++, swarm.positions().get());
     observe_k_.setArg(i++, swarm.velocities().get());
     observe_k_.setArg(i++, n);
-    i = swarm.grid().set_grid_args(observe_k_, i);
+    i = swarm.grid().set_world_grid_args(observe_k_, i);  // the cells of a world (unread with one)
     observe_k_.setArg(i++, lst_.get());
     observe_k_.setArg(i++, search);
     observe_k_.setArg(i++, block_.get());
-    observe_k_.setArg(i++, r_nbr);
     observe_k_.setArg(i++, box_c_.get());
     observe_k_.setArg(i++, box_h_.get());
     observe_k_.setArg(i++, cl_uint(c.obstacles.size()));
@@ -202,8 +246,8 @@ void PolicyModel::enqueue_observe(Swarm& swarm) {
     check_arg_count(observe_k_, i);
     // Two 42-float arrays per work-item (42 vectors with lanes): small
     // work-groups (buffer.hpp).
-    if (lanes_ > 1) launch(ctx_, observe_k_, (size_t(n) + lanes_ - 1) / lanes_, 16);
-    else launch(ctx_, observe_k_, n, 256);
+    if (lanes_ > 1) launch_worlds(ctx_, observe_k_, (size_t(n) + lanes_ - 1) / lanes_, worlds, 16);
+    else launch_worlds(ctx_, observe_k_, n, worlds, 256);
 }
 
 void PolicyModel::enqueue_mlp(DeviceBuffer<float>& obs, uint32_t n, DeviceBuffer<float>& actions) {
@@ -221,26 +265,27 @@ void PolicyModel::enqueue_mlp(DeviceBuffer<float>& obs, uint32_t n, DeviceBuffer
 }
 
 void PolicyModel::advance(Swarm& swarm, uint64_t) {
-    const uint32_t n = swarm.agent_count();
+    const uint32_t n = swarm.agent_count(), worlds = swarm.worlds();
     const auto& c = config_;
-    set_args(copy_k_, lpos_.get(), lvel_.get(), lst_.get());
-    launch(ctx_, copy_k_, 1);
+    set_args(copy_k_, lpos_.get(), lvel_.get(), lst_.get(), cl_uint(worlds));
+    launch(ctx_, copy_k_, worlds);
     if (n > 0) {
         enqueue_observe(swarm);
-        actions_.reserve(ctx_, size_t(n) * 4, "policy actions");
-        enqueue_mlp(obs_, n, actions_);
+        actions_.reserve(ctx_, size_t(n) * worlds * 4, "policy actions");
+        // Every world's agents in one batch: the MLP is per agent.
+        enqueue_mlp(obs_, n * worlds, actions_);
     }
-    // The leader moves (rl_env.cl, one world), then the followers by the
+    // The leaders move (rl_env.cl, one a world), then the followers by the
     // actions of the state they observed: the environment's order.
-    set_args(leader_k_, lpos_.get(), lvel_.get(), ctl_.get(), cl_uint(1),
+    set_args(leader_k_, lpos_.get(), lvel_.get(), ctl_.get(), cl_uint(worlds),
              cl_int(c.leader_mode == PolicyLeaderMode::Joystick ? 0 : c.leader_mode == PolicyLeaderMode::Navigation ? 1 : 2),
              waypoints_.get(), cl_uint(c.waypoints.size()), wp_.get(), done_.get(), c.reach_radius, c.leader_du_max,
              c.leader_dq_max_deg * kDegToRad, c.u_max, swarm.config().dt);
-    launch(ctx_, leader_k_, 1);
+    launch(ctx_, leader_k_, worlds);
     if (n > 0) {
         set_args(apply_k_, swarm.positions().get(), swarm.velocities().get(), actions_.get(), n, lst_.get(),
-                 block_.get(), c.dq_max_deg * kDegToRad, swarm.config().dt);
-        launch(ctx_, apply_k_, n);
+                 block_.get(), swarm.config().dt);
+        launch_worlds(ctx_, apply_k_, n, worlds);
         swarm.positions_changed();
     }
 }
@@ -248,9 +293,10 @@ void PolicyModel::advance(Swarm& swarm, uint64_t) {
 StepStages PolicyModel::stages() const { return {}; }
 
 void PolicyModel::observe(Swarm& swarm, std::vector<float>* obs, std::vector<float>* actions) {
-    const uint32_t n = swarm.agent_count();
-    set_args(copy_k_, lpos_.get(), lvel_.get(), lst_.get());
-    launch(ctx_, copy_k_, 1);
+    const uint32_t per_world = swarm.agent_count(), worlds = swarm.worlds();
+    const uint32_t n = per_world * worlds;
+    set_args(copy_k_, lpos_.get(), lvel_.get(), lst_.get(), cl_uint(worlds));
+    launch(ctx_, copy_k_, worlds);
     if (n == 0) {
         if (obs) obs->clear();
         if (actions) actions->clear();
@@ -259,8 +305,10 @@ void PolicyModel::observe(Swarm& swarm, std::vector<float>* obs, std::vector<flo
     enqueue_observe(swarm);
     actions_.reserve(ctx_, size_t(n) * 4, "policy actions");
     enqueue_mlp(obs_, n, actions_);
+    // Slot s of world k holds agent k n + ids[s] (ids count from 0 in each world).
     std::vector<cl_uint> ids(n);
     swarm.ids().download(ctx_, ids.data(), n);
+    for (uint32_t s = 0; s < n; ++s) ids[s] += (s / per_world) * per_world;
     const uint32_t d = weights_.obs_dim;
     if (obs) {
         std::vector<float> by_slot(size_t(n) * d);
@@ -288,39 +336,50 @@ std::vector<float> PolicyModel::infer(const std::vector<float>& obs, uint32_t co
     return out;
 }
 
-// Checkpoints: the descriptor (config and the weights file's bytes) and, as
-// state, the leader (position, (q, u), waypoint index, done, controls).
+// Checkpoints: the descriptor (config and the weights file's bytes; the
+// other worlds' parameters beside it) and, as state, each world's leader
+// (position, (q, u), controls, waypoint index, done), world by world.
 void PolicyModel::save_checkpoint(Swarm&, ByteWriter& descriptor, ByteWriter& state) {
     write_model_descriptor(descriptor, config_, *bytes_);
-    cl_float4 v[3];
-    cl_uint u[2];
-    lpos_.download(ctx_, &v[0], 1);
-    lvel_.download(ctx_, &v[1], 1);
-    ctl_.download(ctx_, &v[2], 1);
-    wp_.download(ctx_, &u[0], 1);
-    done_.download(ctx_, &u[1], 1);
-    for (const cl_float4& x : v)
-        for (int k = 0; k < 4; ++k) state.f32(x.s[k]);
-    state.u32(u[0]);
-    state.u32(u[1]);
+    const uint32_t worlds = worlds_.worlds();
+    std::vector<cl_float4> p(worlds), v(worlds), ctl(worlds);
+    std::vector<cl_uint> wp(worlds), done(worlds);
+    lpos_.download(ctx_, p.data(), worlds);
+    lvel_.download(ctx_, v.data(), worlds);
+    ctl_.download(ctx_, ctl.data(), worlds);
+    wp_.download(ctx_, wp.data(), worlds);
+    done_.download(ctx_, done.data(), worlds);
+    for (uint32_t w = 0; w < worlds; ++w) {
+        for (const cl_float4* x : {&p[w], &v[w], &ctl[w]})
+            for (int k = 0; k < 4; ++k) state.f32(x->s[k]);
+        state.u32(wp[w]);
+        state.u32(done[w]);
+    }
 }
 
 void PolicyModel::restore_checkpoint(Swarm&, ByteReader& state) {
-    cl_float4 v[3];
-    for (cl_float4& x : v)
-        for (int k = 0; k < 4; ++k) x.s[k] = state.f32();
-    const cl_uint wp = state.u32(), done = state.u32();
+    const uint32_t worlds = worlds_.worlds();
+    std::vector<cl_float4> p(worlds), v(worlds), ctl(worlds);
+    std::vector<cl_uint> wp(worlds), done(worlds);
+    for (uint32_t w = 0; w < worlds; ++w) {
+        for (cl_float4* x : {&p[w], &v[w], &ctl[w]})
+            for (int k = 0; k < 4; ++k) x->s[k] = state.f32();
+        wp[w] = state.u32();
+        done[w] = state.u32();
+    }
     state.expect_end();
-    for (const cl_float4& x : v)
-        if (!finite_all(x.s, 4)) state.bad("the policy model's leader state is not finite");
-    if (done > 1 || (!config_.waypoints.empty() && wp > config_.waypoints.size()) ||
-        (config_.waypoints.empty() && wp != 0))
-        state.bad("the policy model's waypoint index is out of range");
-    lpos_.upload(ctx_, &v[0], 1);
-    lvel_.upload(ctx_, &v[1], 1);
-    ctl_.upload(ctx_, &v[2], 1);
-    wp_.upload(ctx_, &wp, 1);
-    done_.upload(ctx_, &done, 1);
+    for (uint32_t w = 0; w < worlds; ++w) {
+        for (const cl_float4* x : {&p[w], &v[w], &ctl[w]})
+            if (!finite_all(x->s, 4)) state.bad("the policy model's leader state is not finite");
+        if (done[w] > 1 || (!config_.waypoints.empty() && wp[w] > config_.waypoints.size()) ||
+            (config_.waypoints.empty() && wp[w] != 0))
+            state.bad("the policy model's waypoint index is out of range");
+    }
+    lpos_.upload(ctx_, p.data(), worlds);
+    lvel_.upload(ctx_, v.data(), worlds);
+    ctl_.upload(ctx_, ctl.data(), worlds);
+    wp_.upload(ctx_, wp.data(), worlds);
+    done_.upload(ctx_, done.data(), worlds);
 }
 
 }  // namespace swarmcl

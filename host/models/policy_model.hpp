@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "params/world_params.hpp"
 #include "rl/leader_env.hpp"
 #include "rl/policy_weights.hpp"
 #include "swarm/behavior.hpp"
@@ -71,19 +72,34 @@ public:
 
     void advance(Swarm& swarm, uint64_t step) override;
     StepStages stages() const override;
+    // Checkpoints: every world's leader (position, (q, u), controls,
+    // waypoint, done), world by world.
     void save_checkpoint(Swarm& swarm, ByteWriter& descriptor, ByteWriter& state) override;
     void restore_checkpoint(Swarm& swarm, ByteReader& state) override;
 
+    // Per world (a swarm of worlds): the followers' parameters of the table
+    // (r_sep, r_ali, r_coh, neighbor_radius, body_radius, du_max,
+    // dq_max_deg), each world checked as the model alone.  The leader's
+    // parameters and u_max, which the leader's kernel reads once for every
+    // world, are refused: every world has the same leader.
+    void set_world_param(Swarm& swarm, const std::string& key, const double* values, size_t count) override;
+    std::vector<double> world_param(const std::string& key) const override;
+    std::vector<std::string> varied_world_params() const override;
+
+    // World 0's configuration (the swarm's, with one world).
     const PolicyModelConfig& config() const { return config_; }
     const PolicyWeights& weights() const { return weights_; }
     uint32_t obs_dim() const { return weights_.obs_dim; }
 
-    // Joystick controls {Δu, Δq.xyz} (finite), used from the next step on.
+    // Joystick controls {Δu, Δq.xyz} (finite), used from the next step on,
+    // by every world's leader.
     void set_leader_controls(const std::array<float, 4>& controls);
-    // Leader position (x, y, z, 0) and (q.xyz, u), waits for the device.
-    void read_leader(cl_float4* position, cl_float4* heading_speed);
+    // World `world`'s leader position (x, y, z, 0) and (q.xyz, u), waits
+    // for the device.
+    void read_leader(cl_float4* position, cl_float4* heading_speed, uint32_t world = 0);
     // The observations of the current state (obs_dim per agent, agent-id
-    // order) and the actions the policy takes on them (4 per agent).
+    // order, world by world) and the actions the policy takes on them (4 per
+    // agent).
     void observe(Swarm& swarm, std::vector<float>* obs, std::vector<float>* actions);
     // The MLP alone on `count` observations (tests, benchmarks): 4 actions each.
     std::vector<float> infer(const std::vector<float>& obs, uint32_t count);
@@ -92,9 +108,12 @@ public:
 
 private:
     void enqueue_observe(Swarm& swarm);
+    void upload_world_blocks();
     void enqueue_mlp(DeviceBuffer<float>& obs, uint32_t n, DeviceBuffer<float>& actions);
 
     PolicyModelConfig config_;
+    WorldConfigs<PolicyModelConfig> worlds_;
+    bool blocks_current_ = false;
     std::shared_ptr<const std::string> bytes_;
     PolicyWeights weights_;
     uint32_t lanes_ = 1, max_width_ = 0, mean_off_ = 0, std_off_ = 0;

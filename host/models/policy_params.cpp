@@ -21,13 +21,14 @@ const ParamTable& policy_param_table() {
         t.add("r_coh", T::Float, &C::r_coh).positive().in("m")
             .says("R_coh: cohesion radius, the observation's reach").cites("DRL paper §III-B, Table 1").on_device();
         t.add("neighbor_radius", T::Float, &C::neighbor_radius).non_negative().in("m")
-            .says("neighbours of the embedded swarm features (EFS); 0: r_coh").cites("DRL paper §III-B, Eq. 12 (ours: the radius)");
+            .says("neighbours of the embedded swarm features (EFS); 0: r_coh").cites("DRL paper §III-B, Eq. 12 (ours: the radius)")
+            .on_device();
         t.add("body_radius", T::Float, &C::body_radius).positive().in("m")
             .says("the agents' sphere the observation's rays hit").cites("ours (DRL paper §III-B's rays)").on_device();
         t.add("du_max", T::Float, &C::du_max).non_negative().in("m/s")
             .says("clamp of an action's speed change per step").cites("DRL paper §III-A, Eq. 2, Table 1").on_device();
         t.add("dq_max_deg", T::Float, &C::dq_max_deg).non_negative().in("deg")
-            .says("clamp of an action's turn per step").cites("DRL paper §III-A, Eq. 2, Table 1");
+            .says("clamp of an action's turn per step").cites("DRL paper §III-A, Eq. 2, Table 1").on_device();
         t.add("u_max", T::Float, &C::u_max).positive().in("m/s")
             .says("the followers' top speed").cites("ours (Eq. 2's speed bound)").on_device();
         t.add("leader.mode", T::Enum, &C::leader_mode).c("leader_mode").names({"joystick", "navigation", "tour"})

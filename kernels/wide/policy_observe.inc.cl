@@ -21,20 +21,34 @@
 // the leader (rays only).  The candidates' sums (Eq. 12's EFS) and ray
 // minima are lib/rl_common.cl's rl_obs_target written out in lanes; the
 // agent's own entries and the finish are rl_obs_local / rl_obs_finish.
+// A reach beyond the world's own (worlds with other radii) only adds
+// candidates that fail every test.
 // Included by policy.cl once per width.
 #include "wide/width.inc.cl"
 
 __kernel void SWCL_KERNEL(policy_observe)(__global const float4* pos, __global const float4* vel, uint n,
-                                          GRID_PARAMS, __global const float4* lst, float search,
-                                          __global const float* params, float r_nbr,
+                                          GRID_WORLD_PARAMS, __global const float4* lst, float search,
+                                          __global const float* params,
                                           __global const float4* box_c, __global const float4* box_h, uint nbox,
                                           int efs, uint obs_dim, __global float* obs) {
     const uint base = get_global_id(0) * SWCL_BW;
-    // The model's parameter block (models/policy_params.cpp, POLICY_<KEY>
-    // slots); r_nbr and the search reach are derived on the host.
-    const float r_coh = params[POLICY_R_COH], body = params[POLICY_BODY_RADIUS];
     if (base >= n) return;
-    const Grid g = GRID_MAKE();
+#ifdef SWCL_WORLDS
+    // World get_global_id(1) of a swarm of worlds, n agents each
+    // (lib/grid_common.cl): its agents, observations, leader state and
+    // parameter block.
+    const size_t world = get_global_id(1), world_base = world * n;
+    pos += world_base;
+    vel += world_base;
+    obs += world_base * obs_dim;
+    lst += 2 * world;
+    params += world * POLICY_FLOATS;
+#endif
+    // The model's parameter block (models/policy_params.cpp, POLICY_<KEY>
+    // slots); the search reach (at least every world's) comes from the host.
+    const float r_coh = params[POLICY_R_COH], body = params[POLICY_BODY_RADIUS];
+    const float r_nbr = params[POLICY_NEIGHBOR_RADIUS] > 0.0f ? params[POLICY_NEIGHBOR_RADIUS] : r_coh;
+    const Grid g = GRID_MAKE_WORLD(n);
     const float3 lp = lst[0].xyz;
     const float4 lv = lst[1];
     // Each lane's agent (lanes past n repeat agent n - 1): position, (q, u)

@@ -244,3 +244,58 @@ def test_path_model_chasing_targets_run_as_worlds_bitwise_alone(ctx, tmp_path, s
     with swarmcl.Scenario.parse(json.dumps(baked)) as scn:
         with pytest.raises(swarmcl.InvalidArgumentError, match="chasing targets with a baked noise"):
             scn.create_world_swarm(ctx, 2)
+
+
+def test_policy_model_worlds_are_bitwise_the_swarms_alone(ctx, tmp_path):
+    # The policy model on worlds: a leader a world (alike), each world with
+    # its own seed, r_coh, body radius, du_max and dq_max_deg, bitwise its
+    # swarm alone; the observations come back world by world; a checkpoint
+    # resumes bitwise; the leader's parameters are refused per world by name.
+    from conftest import TOUR
+    n, steps, seeds = 70, 12, [3, 11, 29]
+    per_world = {"r_coh": [18.0, 12.0, 18.0], "body_radius": [0.5, 0.8, 0.3], "du_max": [0.1, 0.05, 0.2],
+                 "dq_max_deg": [4.0, 2.0, 8.0]}
+    domain = ((-60, -60, -30), (60, 60, 30))
+
+    def model(k=0):
+        return swarmcl.PolicyModel(leader_mode="tour", leader_speed=0.6, waypoints=TOUR,
+                                   **{key: v[k] for key, v in per_world.items()})
+
+    def start(s, k):
+        rng = np.random.default_rng(seeds[k])
+        return rng.normal(0, 4, (n, 3)).astype(np.float32) + np.float32([-8, 0, 0])
+
+    with swarmcl.Swarm(ctx, agent_count=n, domain=domain, interaction_radius=18.5, dt=0.1, worlds=3,
+                       world_seeds=seeds) as s:
+        s.write_positions(np.stack([start(s, k) for k in range(3)]))
+        s.write_velocities(np.tile(np.float32([0.5, 0, 0]), (3, n, 1)))
+        s.set_policy_model(model(0))
+        for key, v in per_world.items():
+            s.set_world_param(key, v)
+        with pytest.raises(swarmcl.InvalidArgumentError, match="u_max cannot differ between worlds"):
+            s.set_world_param("u_max", [3.0, 2.0, 3.0])
+        with pytest.raises(swarmcl.InvalidArgumentError, match="leader.du_max cannot differ between worlds"):
+            s.set_world_param("leader.du_max", [0.1, 0.2, 0.1])
+        with pytest.raises(swarmcl.InvalidArgumentError, match="world 1"):
+            s.set_world_param("r_coh", [18.0, 0.5, 18.0])  # below r_ali: refused, nothing set
+        np.testing.assert_allclose(s.world_param("r_coh"), per_world["r_coh"])
+        s.step(steps // 2)
+        s.save(tmp_path / "policy.swcl")
+        s.step(steps - steps // 2)
+        pos, vel = s.positions, s.velocities
+        obs, act = s.policy_observe()
+    assert obs.shape == (3, n, 54) and act.shape == (3, n, 4)
+    with swarmcl.Swarm.load(ctx, tmp_path / "policy.swcl") as resumed:
+        resumed.step(steps - steps // 2)
+        assert resumed.positions.tobytes() == pos.tobytes()
+    for k in range(3):
+        with swarmcl.Swarm(ctx, agent_count=n, domain=domain, interaction_radius=18.5, dt=0.1, seed=seeds[k]) as one:
+            one.write_positions(start(one, k))
+            one.write_velocities(np.tile(np.float32([0.5, 0, 0]), (n, 1)))
+            one.set_policy_model(model(k))
+            one.step(steps)
+            assert pos[k].tobytes() == one.positions.tobytes(), f"world {k}"
+            assert vel[k].tobytes() == one.velocities.tobytes(), f"world {k}"
+            o, a = one.policy_observe()
+            assert obs[k].tobytes() == o.tobytes() and act[k].tobytes() == a.tobytes(), f"world {k}"
+    assert pos[0].tobytes() != pos[1].tobytes()

@@ -378,14 +378,14 @@ class Swarm(_Handle):
 
     def policy_observe(self):
         """Observations (N, obs_dim) of the current state and the policy's
-        actions (N, 4) on them, agent-id order."""
+        actions (N, 4) on them, agent-id order ((W, N, ...) with worlds)."""
         dim = ffi.new("uint32_t*")
         check(lib.swcl_swarm_policy_get_info(self._h, dim, ffi.NULL, ffi.NULL))
-        n = self.agent_count
+        n = self.agent_count * self.worlds
         obs = np.zeros((n, int(dim[0])), np.float32)
         act = np.zeros((n, 4), np.float32)
         check(lib.swcl_swarm_policy_observe(self._h, _fptr(obs), _fptr(act), n))
-        return obs, act
+        return obs.reshape(self._shape(int(dim[0]))[0]), act.reshape(self._shape(4)[0])
 
     # ---- the path model (bindings/python/swarmcl/path.py) -----------------------------
 

@@ -946,14 +946,17 @@ SWCL_API swcl_status swcl_swarm_policy_set_model(swcl_swarm swarm, const swcl_po
 /* Joystick leader: {du, dq.xyz} applied every step (Eq. 1 with h = one step),
  * kept until changed. */
 SWCL_API swcl_status swcl_swarm_policy_set_leader_controls(swcl_swarm swarm, const float controls[4]);
-/* The leader now: position xyz and (q.xyz, u); either pointer may be NULL. */
+/* The leader now: position xyz and (q.xyz, u); either pointer may be NULL.
+ * A swarm of worlds has a leader a world, all alike at the start and driven
+ * alike: these are world 0's. */
 SWCL_API swcl_status swcl_swarm_policy_get_leader(swcl_swarm swarm, float out_position[3], float out_heading_speed[4]);
 /* The loaded policy: observation size (54 or 51), layer count, widths of
  * its layers' outputs (up to 8 written to out_widths, may be NULL). */
 SWCL_API swcl_status swcl_swarm_policy_get_info(swcl_swarm swarm, uint32_t* out_obs_dim, uint32_t* out_layers,
                                                 uint32_t* out_widths);
 /* The observations of the current state (count * obs_dim floats) and the
- * policy's actions on them (count * 4), agent-id order; either may be NULL. */
+ * policy's actions on them (count * 4), agent-id order (world by world:
+ * count is every world's agents); either may be NULL. */
 SWCL_API swcl_status swcl_swarm_policy_observe(swcl_swarm swarm, float* out_obs, float* out_actions, size_t count);
 
 /* ---- evaluation against real insects -----------------------------------------
