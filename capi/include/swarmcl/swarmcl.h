@@ -187,12 +187,14 @@ typedef struct swcl_swarm_desc {
      * (swcl_swarm_set_world_param).  All worlds share the domain, the grid's
      * cells and the model's kernel.  Reads and writes hold every world, world
      * by world (count = worlds x agents a world).  The field model, the
-     * force model, the energy model, the path model
-     * (without chasing targets or moving goals; its goals per world by the
-     * keys "groups.G.goals.I.center" / ".radius" / ".half_extents") and
-     * ballistic motion run worlds (and are saved with them), and attached
-     * metrics measure each world (swcl_metrics_world); the policy model and
-     * recorders refuse worlds > 1 with SWCL_ERROR_INVALID_ARGUMENT for now. */
+     * force model, the energy model, the path model (its goals per world by
+     * the keys "groups.G.goals.I.center" / ".radius" / ".half_extents";
+     * moving goals and chasing targets one for every world, not with a
+     * baked noise), the policy model (a leader a world, all alike: the
+     * leader's parameters and u_max are not set per world) and ballistic
+     * motion run worlds (and are saved with them), and attached metrics
+     * measure each world (swcl_metrics_world); recorders refuse worlds > 1
+     * with SWCL_ERROR_INVALID_ARGUMENT for now. */
     uint32_t worlds;               /* >= 1 */
     const uint64_t* world_seeds;   /* NULL or `worlds` seeds (copied) */
 } swcl_swarm_desc;
