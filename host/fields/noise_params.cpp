@@ -13,7 +13,8 @@ const ParamTable& noise_param_table() {
         using T = ParamType;
         ParamTable t("noise", "NoiseConfig");
         t.add("type", T::Enum, &C::type).on_device().names({"curl", "perlin", "white", "gaussian"})
-            .says("the noise function").cites("noise paper §4.2.1; curl: curl-noise paper §4, Eq. 1-3");
+            .says("the noise function").cites("noise paper §4.2.1; curl: curl-noise paper §4, Eq. 1-3")
+            .same_in_every_world("it selects the noise kernel");
         t.add("scale", T::Float, &C::scale).on_device().positive().in("m")
             .says("feature size of the noise").cites("curl-noise paper Table 1");
         t.add("gain", T::Float, &C::gain).on_device().non_negative().in("m/s")
@@ -30,11 +31,14 @@ const ParamTable& noise_param_table() {
         t.add("region_max", T::Vec3, &C::region_max).in("m")
             .says("walls and bake region, high corner").cites("ours");
         t.add("baked", T::Bool, &C::baked)
-            .says("bake onto a grid over the region, then sample trilinearly (curl, perlin; static)").cites("ours");
+            .says("bake onto a grid over the region, then sample trilinearly (curl, perlin; static)").cites("ours")
+            .same_in_every_world("it selects the noise kernel");
         t.add("bake_resolution", T::UInt3, &C::bake_resolution).range(2, 4096)
-            .says("grid nodes per axis of the bake").cites("ours");
+            .says("grid nodes per axis of the bake").cites("ours")
+            .same_in_every_world("it selects the noise kernel");
         t.add("finite_difference", T::Bool, &C::finite_difference)
-            .says("curl by central differences (for checking)").cites("ours");
+            .says("curl by central differences (for checking)").cites("ours")
+            .same_in_every_world("it selects the noise kernel");
         t.add("fd_step", T::Float, &C::fd_step).on_device().non_negative().in("m")
             .says("finite-difference step; 0: scale / 100").cites("ours");
         t.finish<C>();

@@ -412,12 +412,10 @@ std::array<float, 4> EnergyModel::centre(Swarm&, uint32_t world) {
 
 void EnergyModel::set_world_param(Swarm& swarm, const std::string& key, const double* values, size_t count) {
     // What selects a kernel (EM_KEEP_OUT, EM_MAX_CAND from span, the noise's
-    // defines), what the host uses once for every world (accel_time is one
+    // defines) or what the host uses once for every world (accel_time is one
     // kernel argument, bidirectional sets the goals, has_fixed_centre whether
-    // the centre is reduced at all): the same in every world, checked
-    // before anything changes.
-    static const char* const kShared[] = {"span", "keep_out", "has_fixed_centre", "accel_time", "bidirectional"};
-    const bool shared = std::find(std::begin(kShared), std::end(kShared), key) != std::end(kShared);
+    // the centre is reduced at all) is one for every world in the table,
+    // checked by worlds_.set before anything changes.
     const bool noise = key.compare(0, 6, "noise.") == 0;
     std::vector<cl_float> noise_next = noise_host_;
     const auto& domain_min = swarm.config().domain_min;
@@ -425,16 +423,6 @@ void EnergyModel::set_world_param(Swarm& swarm, const std::string& key, const do
     const float dt = swarm.config().dt;
     worlds_.set(key, values, count, [&](const EnergyModelConfig& changed, uint32_t k) {
         validate(changed);  // what the table cannot say (d_rep <= d_att1 <= d_att2)
-        if (shared) {
-            const Param& row = world_param_row(energy_param_table(), key);
-            for (int a = 0; a < row.components(); ++a)
-                if (!(values[size_t(k) * row.components() + a] == values[a]))
-                    fail(Status::InvalidArgument,
-                         "energy model " + key + " cannot differ between worlds: " +
-                             (key == "span" || key == "keep_out"
-                                  ? "it selects the kernel (the candidates per agent, the keep-out test)"
-                                  : "the host uses it once for every world"));
-        }
         // rho, d_att1 (and exact_attraction) choose Eq. 6's expansion
         // (EM_TAYLOR_OA) for the kernel of every world.
         if (taylor_for(changed, dt) != taylor_)

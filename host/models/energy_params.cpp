@@ -69,29 +69,34 @@ const ParamTable& energy_param_table() {
             .on_device();
         t.add("has_fixed_centre", T::Bool, &C::has_fixed_centre).implied()
             .says("E_cos pulls to a fixed point, not the swarm's mean (scenario files: set when \"centre\" is given)")
-            .cites("FASTSWARM §5.1.1 (\"unchanged swarm centre\"; ours)");
+            .cites("FASTSWARM §5.1.1 (\"unchanged swarm centre\"; ours)")
+            .same_in_every_world("the host uses it once for every world");
         t.add("centre", T::Vec3, &C::fixed_centre).c("fixed_centre").in("m")
             .says("the fixed point E_cos pulls towards; not given: the swarm's mean position")
             .cites("FASTSWARM §4.1.2, Eq. 7; §5.1.1");
         t.add("span", T::UInt32, &C::span).range(0, 1024)
             .says("neighbouring speed groups searched on each side").cites("FASTSWARM §5.2.1 (reduced search; value ours)")
-            .on_device();
+            .on_device()
+            .same_in_every_world("it selects the kernel (the candidates per agent, the keep-out test)");
         t.add("accel_time", T::Float, &C::accel_time).non_negative().in("s")
             .says("scale of E_amag, the acceleration magnitudes' difference, per data frame; 0: the dataset's frame time")
-            .cites("FASTSWARM §4.2.1, Eq. 10 (units ours, docs/energy-model.md)");
+            .cites("FASTSWARM §4.2.1, Eq. 10 (units ours, docs/energy-model.md)")
+            .same_in_every_world("the host uses it once for every world");
         t.add("danger_horizon", T::Float, &C::danger_horizon).non_negative().in("s")
             .says("look-ahead of the startled prediction").cites("FASTSWARM §4.2.2, Eq. 12 (ours)").on_device();
         t.include("noise.", noise_param_table(), &C::noise, ParamTable::Block::Own);
         t.add("keypoints_closed", T::Bool, &C::keypoints_closed)
             .says("the keypoint curve is a loop").cites("FASTSWARM §5.1.2").on_device();
         t.add("bidirectional", T::Bool, &C::bidirectional)
-            .says("odd agent ids traverse the keypoint curve backwards").cites("FASTSWARM §5.1.2 (a bidirectional curve)");
+            .says("odd agent ids traverse the keypoint curve backwards").cites("FASTSWARM §5.1.2 (a bidirectional curve)")
+            .same_in_every_world("the host uses it once for every world");
         t.add("keypoint_reach", T::Float, &C::keypoint_reach).positive().in("m")
             .says("a keypoint counts as reached within this distance").cites("FASTSWARM §4.4, Eq. 15 (value ours)")
             .on_device();
         t.add("keep_out", T::Bool, &C::keep_out)
             .says("a velocity that would bring an agent within a startling stimulus' d_danger is chosen only when every one would")
-            .cites("ours (docs/energy-model.md)");
+            .cites("ours (docs/energy-model.md)")
+            .same_in_every_world("it selects the kernel (the candidates per agent, the keep-out test)");
         t.finish<C>();
         return t;
     }();

@@ -195,37 +195,18 @@ void ForceModel::upload_world_blocks(Context& ctx) {
 }
 
 void ForceModel::set_world_param(Swarm& swarm, const std::string& key, const double* values, size_t count) {
-    // Used by the host once for every world, or selecting what runs: the
-    // same in every world (checked before anything changes).
-    static const char* const kShared[] = {"sample_seed", "min_spacing", "neighbor_k", "assignment",
-                                          "keyframe_period", "path.speed", "path.orient", "mesh_cell", "terms"};
-    // The mesh obstacles' distance grid reaches obstacle_range beyond them.
-    const bool shared = std::find(std::begin(kShared), std::end(kShared), key) != std::end(kShared) ||
-                        (key == "obstacle_range" && !config_.mesh_obstacles.empty());
+    // The table's rows one for every world are checked by worlds_.set; the
+    // mesh obstacles' distance grid, built once, reaches obstacle_range.
+    const bool shared = key == "obstacle_range" && !config_.mesh_obstacles.empty();
     const bool noise = key.compare(0, 6, "noise.") == 0;
     std::vector<float> noise_next = noise_host_;
     const auto& domain_min = swarm.config().domain_min;
     const auto& domain_max = swarm.config().domain_max;
     worlds_.set(key, values, count, [&](const ForceModelConfig& changed, uint32_t k) {
         validate(changed);  // what the table cannot say (zone order, cruise <= max speed)
-        if (shared) {
-            const std::vector<double> first = [&] {
-                std::vector<double> v;
-                const Param& row = world_param_row(force_param_table(), key);
-                for (int a = 0; a < row.components(); ++a) v.push_back(values[a]);
-                return v;
-            }();
-            for (size_t a = 0; a < first.size(); ++a)
-                if (!(values[size_t(k) * first.size() + a] == first[a]))
-                    fail(Status::InvalidArgument,
-                         "force model " + key + " cannot differ between worlds: " +
-                             (key == "terms" ? "it selects the kernels that run (the fine grid with repulsion)"
-                              : key == "sample_seed"
-                                  ? "the neighbour sample's seed is one for every world"
-                              : key == "obstacle_range"
-                                  ? "the mesh obstacles' distance grid, built once for every world, reaches it"
-                                  : "the targets, path and meshes it sets are refused on a swarm of several worlds"));
-        }
+        if (shared && !(values[k] == values[0]))
+            fail(Status::InvalidArgument, "force model obstacle_range cannot differ between worlds: the mesh "
+                                          "obstacles' distance grid, built once for every world, reaches it");
         if (!noise) return;
         write_world_noise_block(swarm.context(), changed.noise, &domain_min, &domain_max, *noise_,
                                 "force model " + key, noise_next, k);

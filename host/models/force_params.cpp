@@ -10,6 +10,10 @@
 
 namespace swarmcl {
 
+namespace {
+constexpr const char* kTargetsRefused = "the target meshes, their placement and the path are one for every world";
+}  // namespace
+
 const ParamTable& force_param_table() {
     static const ParamTable table = [] {
         using C = ForceModelConfig;
@@ -38,7 +42,8 @@ const ParamTable& force_param_table() {
         t.add("omega", T::Float, &C::omega).positive()
             .says("sigma = omega sqrt(A/N), the Gaussian's width").cites("shape paper §5.2, Eq. 5").on_device();
         t.add("neighbor_k", T::Float, &C::neighbor_k).positive()
-            .says("target neighbours within k sqrt(A/N), Manhattan").cites("shape paper §5.2");
+            .says("target neighbours within k sqrt(A/N), Manhattan").cites("shape paper §5.2")
+            .same_in_every_world(kTargetsRefused);
         t.add("distance_scale", T::Float, &C::distance_scale).non_negative().in("m")
             .says("normalises d of the distance force; 0: 2 sqrt(A/N)").cites("ours (shape paper §5.3, Eq. 6)")
             .on_device();
@@ -58,27 +63,35 @@ const ParamTable& force_param_table() {
         t.add("min_distance", T::Float, &C::min_distance).non_negative().in("m")
             .says("minimum distance enforcement threshold; 0: off").cites("shape paper §6");
         t.add("min_spacing", T::Float, &C::min_spacing).non_negative().in("m")
-            .says("meshes scaled so sqrt(A/N) >= this (R_rep); 0: as given").cites("shape paper §5.1");
+            .says("meshes scaled so sqrt(A/N) >= this (R_rep); 0: as given").cites("shape paper §5.1")
+            .same_in_every_world(kTargetsRefused);
         t.add("assignment", T::Enum, &C::assignment).names({"nearest", "curve"})
             .says("agents to targets: nearest free target in id order, or by rank along a Hilbert curve")
-            .cites("ours (shape paper §5.1)");
+            .cites("ours (shape paper §5.1)")
+            .same_in_every_world(kTargetsRefused);
         t.add("sample_seed", T::UInt64, &C::sample_seed)
-            .says("seeds the stratified sampling of the target meshes").cites("shape paper §5.1");
+            .says("seeds the stratified sampling of the target meshes").cites("shape paper §5.1")
+            .same_in_every_world("the neighbour sample's seed is one for every world");
         t.add("keyframe_period", T::UInt64, &C::keyframe_period).range(0, 4294967295.0).in("steps")
-            .says("> 0: the keyframes repeat every this many steps").cites("ours");
+            .says("> 0: the keyframes repeat every this many steps").cites("ours")
+            .same_in_every_world(kTargetsRefused);
         t.add("path.speed", T::Float, &C::path_speed).non_negative().in("m/s")
-            .says("speed of the shape along the B-spline path").cites("shape paper §6");
+            .says("speed of the shape along the B-spline path").cites("shape paper §6")
+            .same_in_every_world(kTargetsRefused);
         t.add("path.orient", T::Bool, &C::path_orient)
             .says("the shape's frame turns with the path (+x along its tangent); false: translated only")
-            .cites("shape paper §6");
+            .cites("shape paper §6")
+            .same_in_every_world(kTargetsRefused);
         t.add("obstacle_range", T::Float, &C::obstacle_range).positive().in("m")
             .says("L: distance over which obstacles ramp the velocity").cites("shape paper §6, Eq. 8-9").on_device();
         t.add("mesh_cell", T::Float, &C::mesh_cell).non_negative().in("m")
             .says("cell edge of the mesh obstacles' distance grid; 0: obstacle_range / 4")
-            .cites("ours (docs/force-model.md)");
+            .cites("ours (docs/force-model.md)")
+            .same_in_every_world(kTargetsRefused);
         t.add("terms", T::UInt32, &C::terms).range(0, kForceAll).implied()
             .says("which forces are on (bits: repulsion 1, alignment 2, attraction 4, curl 8, shape 16, distance 32)")
-            .cites("ours (tests)").on_device();
+            .cites("ours (tests)").on_device()
+            .same_in_every_world("it selects the kernels that run (the fine grid with repulsion)");
         t.finish<C>();
         return t;
     }();

@@ -17,14 +17,18 @@ const ParamTable& path_param_table() {
         t.include("noise.", noise_param_table(), &C::noise, ParamTable::Block::Own);
         t.add("has_grid_box", T::Bool, &C::has_grid_box).implied()
             .says("the grid covers grid.min..grid.max (scenario files: set when they are given); false: the domain")
-            .cites("ours");
+            .cites("ours")
+            .same_in_every_world("the path grid is built once, for every world");
         t.add("grid.min", T::Vec3, &C::grid_min).c("grid_min").in("m")
-            .says("the path grid's low corner (with grid.max)").cites("curl-noise paper §5.1");
+            .says("the path grid's low corner (with grid.max)").cites("curl-noise paper §5.1")
+            .same_in_every_world("the path grid is built once, for every world");
         t.add("grid.max", T::Vec3, &C::grid_max).c("grid_max").in("m")
-            .says("the path grid's high corner (with grid.min)").cites("curl-noise paper §5.1");
+            .says("the path grid's high corner (with grid.min)").cites("curl-noise paper §5.1")
+            .same_in_every_world("the path grid is built once, for every world");
         // No bound per axis: the grid's cell count is (at most 2^26, make_grid).
         t.add("grid.resolution", T::UInt3, &C::resolution).c("resolution").range(2, 4294967295.0)
-            .says("cells per axis at most (cubic cells; at most 2^26 cells in all)").cites("curl-noise paper §5.1");
+            .says("cells per axis at most (cubic cells; at most 2^26 cells in all)").cites("curl-noise paper §5.1")
+            .same_in_every_world("the path grid is built once, for every world");
         t.add("cost.A", T::Double, &C::weights, &CostWeights::A).c("cost_a").positive()
             .says("A: weight of the path length in the cost").cites("curl-noise paper §5, Eq. 4 (0.6)");
         t.add("cost.B", T::Double, &C::weights, &CostWeights::B).c("cost_b").non_negative()

@@ -176,15 +176,13 @@ void PolicyModel::upload_world_blocks() {
     blocks_current_ = true;
 }
 
-namespace {
-// Read by the leader's kernel (rl_leader_step), one value for every world.
-bool leader_key(const std::string& key) { return key == "u_max" || key.compare(0, 7, "leader.") == 0; }
-}  // namespace
-
 void PolicyModel::set_world_param(Swarm&, const std::string& key, const double* values, size_t count) {
-    if (leader_key(key))
-        fail(Status::InvalidArgument, "policy model " + key + " cannot differ between worlds: the leader's kernel "
-                                      "reads it once for every world (every world has the same leader)");
+    // The leader's parameters and u_max (one for every world in the table)
+    // are refused even where every world has the same value: the leader
+    // state is set once, at creation.
+    const Param& row = world_param_row(policy_param_table(), key);
+    if (!row.one_world.empty())
+        fail(Status::InvalidArgument, "policy model " + row.key + " cannot differ between worlds: " + row.one_world);
     worlds_.set(key, values, count, [](const PolicyModelConfig& c, uint32_t) { validate(c); });
     config_ = worlds_[0];
     blocks_current_ = false;

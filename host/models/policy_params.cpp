@@ -9,6 +9,11 @@
 
 namespace swarmcl {
 
+namespace {
+// Read by the leader's kernel (rl_leader_step) once for every world.
+constexpr const char* kLeaderOnce = "the leader's kernel reads it once for every world (every world has the same leader)";
+}  // namespace
+
 const ParamTable& policy_param_table() {
     static const ParamTable table = [] {
         using C = PolicyModelConfig;
@@ -30,22 +35,30 @@ const ParamTable& policy_param_table() {
         t.add("dq_max_deg", T::Float, &C::dq_max_deg).non_negative().in("deg")
             .says("clamp of an action's turn per step").cites("DRL paper §III-A, Eq. 2, Table 1").on_device();
         t.add("u_max", T::Float, &C::u_max).positive().in("m/s")
-            .says("the followers' top speed").cites("ours (Eq. 2's speed bound)").on_device();
+            .says("the followers' top speed").cites("ours (Eq. 2's speed bound)").on_device()
+            .same_in_every_world(kLeaderOnce);
         t.add("leader.mode", T::Enum, &C::leader_mode).c("leader_mode").names({"joystick", "navigation", "tour"})
             .says("controls set through the API; waypoints, stopping after the last; waypoints round and round")
-            .cites("DRL paper §IV (scenarios); tour ours");
+            .cites("DRL paper §IV (scenarios); tour ours")
+            .same_in_every_world(kLeaderOnce);
         t.add("leader.position", T::Vec3, &C::leader_position).c("leader_position").in("m")
-            .says("the leader's start").cites("ours");
+            .says("the leader's start").cites("ours")
+            .same_in_every_world(kLeaderOnce);
         t.add("leader.heading", T::Vec3, &C::leader_heading).c("leader_heading")
-            .says("the leader's start direction (normalised; not zero)").cites("ours");
+            .says("the leader's start direction (normalised; not zero)").cites("ours")
+            .same_in_every_world(kLeaderOnce);
         t.add("leader.speed", T::Float, &C::leader_speed).c("leader_speed").non_negative().in("m/s")
-            .says("the leader's start speed").cites("ours");
+            .says("the leader's start speed").cites("ours")
+            .same_in_every_world(kLeaderOnce);
         t.add("leader.du_max", T::Float, &C::leader_du_max).c("leader_du_max").non_negative().in("m/s")
-            .says("clamp of the leader's speed change per step").cites("DRL paper §III-A, Eq. 1-2 (the leader's)");
+            .says("clamp of the leader's speed change per step").cites("DRL paper §III-A, Eq. 1-2 (the leader's)")
+            .same_in_every_world(kLeaderOnce);
         t.add("leader.dq_max_deg", T::Float, &C::leader_dq_max_deg).c("leader_dq_max_deg").non_negative().in("deg")
-            .says("clamp of the leader's turn per step").cites("DRL paper §III-A, Eq. 1-2 (the leader's)");
+            .says("clamp of the leader's turn per step").cites("DRL paper §III-A, Eq. 1-2 (the leader's)")
+            .same_in_every_world(kLeaderOnce);
         t.add("leader.reach_radius", T::Float, &C::reach_radius).c("reach_radius").positive().in("m")
-            .says("a waypoint counts as reached within this distance").cites("ours");
+            .says("a waypoint counts as reached within this distance").cites("ours")
+            .same_in_every_world(kLeaderOnce);
         t.finish<C>();
         return t;
     }();

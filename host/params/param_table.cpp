@@ -371,6 +371,7 @@ json ParamTable::to_json() const {
         r["ref"] = p.ref;
         r["device"] = p.device >= 0;
         r["scenario"] = p.in_scenario;
+        r["per_world"] = p.one_world.empty();
         rows.push_back(std::move(r));
     }
     return rows;
@@ -428,6 +429,15 @@ void check_world_values(const ParamTable& table, const Param& row, const double*
                                           row.range_text() + (row.unit.empty() ? "" : " (" + row.unit + ")") +
                                           "; nothing was set");
     }
+}
+
+void check_same_in_every_world(const ParamTable& table, const Param& row, const double* values, uint32_t worlds) {
+    if (row.one_world.empty()) return;
+    const size_t c = size_t(row.components());
+    for (size_t i = c; i < size_t(worlds) * c; ++i)
+        if (!(values[i] == values[i % c]))
+            fail(Status::InvalidArgument, table.model() + " model " + row.key +
+                                              " cannot differ between worlds: " + row.one_world + "; nothing was set");
 }
 
 }  // namespace swarmcl

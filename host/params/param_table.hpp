@@ -44,6 +44,11 @@ struct Param {
     bool required = false;  // must be given when its enclosing object is
     bool in_scenario = true;  // false: implied by a scenario's structure (has_goal), not a key
     int device = -1;        // first float of its slot in the device block; -1: host only
+    // Why the value is one for every world of a swarm (what selects a kernel,
+    // what the host uses once for all worlds); empty: it may differ between
+    // worlds (set_world_param).  Fits and sweeps read it from the table
+    // ("per_world") to know what they may run as worlds.
+    std::string one_world;
     // Where the value lives in a config of the table's model.
     std::function<void*(void*)> field;
     double def[3] = {0, 0, 0};  // read from a default-constructed config
@@ -60,6 +65,7 @@ struct Param {
     Param& needed() { required = true; return *this; }
     Param& implied() { in_scenario = false; return *this; }
     Param& on_device() { device = 0; return *this; }  // the slot is laid out by ParamTable::finish
+    Param& same_in_every_world(const char* why) { one_world = why; return *this; }
 
     int components() const { return type == ParamType::Vec3 || type == ParamType::UInt3 ? 3 : 1; }
     // "a number >= 0", "an integer in [2, 4096]", ...: the phrase of errors and docs.

@@ -24,6 +24,11 @@ const Param& world_param_row(const ParamTable& table, const std::string& key);
 void check_world_values(const ParamTable& table, const Param& row, const double* values, size_t count,
                         uint32_t worlds);
 
+// Error(InvalidArgument) "<model> model <key> cannot differ between worlds:
+// <why>" where the row is one for every world (Param::one_world) and the
+// worlds' values differ.
+void check_same_in_every_world(const ParamTable& table, const Param& row, const double* values, uint32_t worlds);
+
 template <class Config>
 class WorldConfigs {
 public:
@@ -42,6 +47,7 @@ public:
              const std::function<void(const Config& changed, uint32_t world)>& also = {}) {
         const Param& row = world_param_row(*table_, key);
         check_world_values(*table_, row, values, count, worlds());
+        check_same_in_every_world(*table_, row, values, worlds());
         std::vector<Config> next = configs_;
         for (uint32_t k = 0; k < worlds(); ++k) {
             for (int a = 0; a < row.components(); ++a) row.set(&next[k], values[size_t(k) * row.components() + a], a);

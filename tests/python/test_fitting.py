@@ -258,6 +258,33 @@ def test_a_path_model_generation_as_worlds_scores_as_its_runs_alone(ctx, real):
                                                steps=40).world_keys is None
 
 
+def test_a_policy_model_generation_as_worlds_scores_as_its_runs_alone(ctx, real):
+    # The policy model runs worlds too: a generation varying the followers'
+    # parameters is one swarm and scores as its runs alone; a range over the
+    # leader's parameters (one for every world in the table) runs one swarm
+    # a run.
+    from conftest import REPO, TOUR
+    policy = {"name": "policy_fit", "seed": 3, "dt": 0.1, "steps": 40,
+              "domain": {"min": [-40, -40, -20], "max": [40, 40, 20]}, "interaction_radius": 18.5,
+              "agents": {"count": 16, "velocity": [0.5, 0, 0],
+                         "initial": {"type": "sphere", "center": [-4, 0, 0], "radius": 3}},
+              "model": {"type": "policy", "weights": str(REPO / "models" / "policy_roaming.safetensors"),
+                        "leader": {"mode": "tour", "speed": 0.6, "waypoints": [list(w) for w in TOUR]}}}
+    ranges = {"model.du_max": [0.02, 0.3], "model.dq_max_deg": [1.0, 10.0], "model.body_radius": [0.2, 1.0]}
+    params = swarmcl.load_ranges(ranges, policy)
+    pop = [list(u) for u in np.random.default_rng(5).uniform(size=(4, len(ranges)))]
+    for streamed in (False, True):
+        worlds = swarmcl.fitting.PopulationEvaluator(policy, params, real, ctx, steps=20, seeds=2, streamed=streamed)
+        alone = swarmcl.fitting.PopulationEvaluator(policy, params, real, ctx, steps=20, seeds=2, streamed=streamed,
+                                                    worlds=False)
+        assert worlds.world_keys == ["du_max", "dq_max_deg", "body_radius"]
+        a, b = worlds(pop), alone(pop)
+        assert worlds.last_swarms == 1 and alone.last_swarms == 8
+        assert a == b and len(set(a)) == 4 and worlds.refused == 0
+    leader = swarmcl.load_ranges({"model.leader.speed": [0.2, 1.0]}, policy)
+    assert swarmcl.fitting.PopulationEvaluator(policy, leader, real, ctx, steps=20).world_keys is None
+
+
 def test_the_scale_penalty_is_the_mean_wasserstein_distance_in_real_spreads(ctx, real, truth):
     # Host path (exact): the penalised score is E - λ P, P recomputed here
     # from the same run's frames; the true parameters are 0 away, a slower

@@ -96,6 +96,52 @@ def test_a_path_grid_over_goal_radii_runs_as_worlds_and_rows_are_the_runs_alone(
     assert len({row["mean_speed"] for row in r["rows"]}) == 4
 
 
+def test_rows_the_model_refuses_together_run_in_swarms_of_their_own(ctx):
+    # A noise time scale of 0 selects the static kernel: such a row cannot be
+    # a world beside moving ones, so the rows are split into swarms the
+    # model takes (0 | 1 | 2, 3), each row still the scenario alone.
+    r = swarmcl.sweep(SCENARIO, {"model.noise.time_scale": [0.0, 1.0, 2.0, 3.0]}, context=ctx)
+    assert r["worlds"] and r["swarms"] == 3 and len(r["rows"]) == 4
+    for row in r["rows"]:
+        vel, nn, stats, _ = alone(ctx, {"model.noise.time_scale": row["model.noise.time_scale"]})
+        assert row["mean_speed"] == float(np.linalg.norm(vel, axis=1).mean())
+        assert row["median_nearest_distance"] == float(np.median(nn))
+        assert row["mde_moved_total"] == stats.mde_moved_total
+    assert len({row["mean_speed"] for row in r["rows"]}) == 4
+
+
+def policy_scenario():
+    from conftest import REPO, TOUR
+    return {"name": "policy_tiny", "seed": 5, "dt": 0.1, "steps": 8,
+            "domain": {"min": [-40, -40, -20], "max": [40, 40, 20]}, "interaction_radius": 18.5,
+            "agents": {"count": 40, "velocity": [0.5, 0, 0],
+                       "initial": {"type": "sphere", "center": [-8, 0, 0], "radius": 5}},
+            "model": {"type": "policy", "weights": str(REPO / "models" / "policy_roaming.safetensors"),
+                      "leader": {"mode": "tour", "speed": 0.6, "waypoints": [list(w) for w in TOUR]}},
+            "output": {"dir": "results", "formats": ["npy"], "every": 5}}
+
+
+def test_a_policy_grid_runs_as_worlds_and_its_leaders_keys_one_swarm_a_row(ctx):
+    # The followers' parameters vary per world (one swarm for the grid, each
+    # row the scenario alone); the leader's are one for every world in the
+    # model's table, so a grid over them runs one swarm a row.
+    policy = policy_scenario()
+    grid = {"model.du_max": [0.05, 0.2], "model.body_radius": [0.3, 0.8]}
+    r = swarmcl.sweep(policy, grid, context=ctx)
+    assert r["worlds"] and r["swarms"] == 1 and len(r["rows"]) == 4
+    for row in r["rows"]:
+        doc = json.loads(json.dumps(policy))
+        doc["model"]["du_max"], doc["model"]["body_radius"] = row["model.du_max"], row["model.body_radius"]
+        with swarmcl.Scenario.parse(json.dumps(doc)).create_swarm(ctx) as s:
+            s.step(8)
+            assert row["mean_speed"] == float(np.linalg.norm(s.read_velocities(), axis=1).mean())
+            assert row["median_nearest_distance"] == float(np.median(s.nearest_neighbor()[0]))
+    assert len({row["mean_speed"] for row in r["rows"]}) == 4
+    leader = swarmcl.sweep(policy, {"model.leader.speed": [0.3, 0.9]}, context=ctx)
+    assert not leader["worlds"] and leader["swarms"] == 2
+    assert leader["rows"][0]["mean_speed"] != leader["rows"][1]["mean_speed"]
+
+
 @pytest.mark.parametrize("grid, says", [
     ({"model.noise.nope": [1, 2]}, "neither in the scenario nor a parameter of the field model"),
     ({"model.goal.speed": [0.5, -1.0]}, "leaves the parameter's valid range"),

@@ -196,17 +196,34 @@ def world_model(scenario) -> bool:
 _PATH_GOAL_RADIUS = re.compile(r"model\.((?:groups\.\d+\.)?goals\.\d+\.radius)")
 
 
+def world_groups(make: Callable[[list], object], idx: list) -> list:
+    """idx as few swarms of worlds as the model allows: make(part) gives the
+    swarm of the items `part` or None where the model refuses them together
+    (a kernel-selecting value that differs within them, such as a noise
+    time scale of 0 beside one above 0); a refused group is halved until
+    each part runs or is one item.  [(swarm, part)], or (None, [i]) for an
+    item that must run alone."""
+    swarm = make(idx)
+    if swarm is not None:
+        return [(swarm, idx)]
+    if len(idx) == 1:
+        return [(None, idx)]
+    half = len(idx) // 2
+    return world_groups(make, idx[:half]) + world_groups(make, idx[half:])
+
+
 def world_key(scenario: dict, path: str) -> Optional[str]:
     """The key Swarm.set_world_param takes for a scenario path ("model.speed"
     -> "speed", a path model's "model.goals.0.radius" -> "goals.0.radius"),
-    or None where the value cannot be set per world."""
+    or None where the value cannot be set per world (not a row of the
+    model's table, or one the table says is the same in every world)."""
     model = scenario.get("model") if isinstance(scenario, dict) else None
     if isinstance(model, dict) and model.get("type") == "path":
         goal = _PATH_GOAL_RADIUS.fullmatch(path)
         if goal:
             return goal.group(1)
     row = _table_row(scenario, path)[1]
-    return row["key"] if row is not None else None
+    return row["key"] if row is not None and row.get("per_world", True) else None
 
 
 class PopulationEvaluator:
@@ -287,7 +304,7 @@ class PopulationEvaluator:
 
     #: The models whose swarms run worlds (the path model unless chasing with a baked noise:
     #: world_model above).
-    WORLD_MODELS = ("field", "force", "energy", "path")
+    WORLD_MODELS = ("field", "force", "energy", "path", "policy")
 
     #: The force scenario's keys that stand for rows of its table
     #: (host/scenario/force_section.cpp); eta and rho set noise.scale = rho and
@@ -419,17 +436,9 @@ class PopulationEvaluator:
             return None
 
     def _world_groups(self, runs, idx) -> list:
-        """The runs idx as few swarms of worlds as the model allows: (swarm,
-        idx), or (None, [i]) for a run that must run alone.  A group the
-        model refuses (a kernel-selecting value that differs within it) is
-        halved until each part runs or is one run."""
-        swarm = self._world_swarm(runs, idx)
-        if swarm is not None:
-            return [(swarm, idx)]
-        if len(idx) == 1:
-            return [(None, idx)]
-        half = len(idx) // 2
-        return self._world_groups(runs, idx[:half]) + self._world_groups(runs, idx[half:])
+        """The runs idx as few swarms of worlds as the model allows
+        (world_groups)."""
+        return world_groups(lambda part: self._world_swarm(runs, part), idx)
 
     def _parses(self, u) -> bool:
         """Whether the scenario parser takes an individual's values."""

@@ -29,8 +29,8 @@ import numpy as np
 from ._core import Context, Scenario
 from .errors import SwarmclError
 from .evaluation import METRICS, Metrics, distances, score, wasserstein
-from .fitting import (_check_against_table, _context_for_rank,
-                      add_track_options, mpi_comm, numeric_param, track_window, world_key, world_model)
+from .fitting import (_check_against_table, _context_for_rank, add_track_options, mpi_comm, numeric_param,
+                      track_window, world_groups, world_key, world_model)
 
 __all__ = ["load_grid", "sweep"]
 
@@ -130,47 +130,72 @@ class _Runner:
         self.warmup = int(warmup)
         self.bins, self.half_width, self.robust = bins, half_width, robust
         self.worlds = world_model(scenario) and all(world_key(scenario, k) is not None for k in keys)
+        self.swarms = 0  # how many swarms run() stepped
 
     def run(self, rows: List[List[float]]) -> List[dict]:
+        """Each row's result: the rows as few swarms of worlds as the model
+        allows (world_groups: rows the model refuses together, such as a
+        noise time scale of 0 beside one above 0, are split), else one
+        swarm a row."""
         if not rows:
             return []
-        if self.worlds:
-            return self._run_worlds(rows)
-        out = []
-        for r in rows:
-            out.extend(self._run_worlds([r], alone=True))
+        idx = list(range(len(rows)))
+        groups = world_groups(lambda part: self._world_swarm([rows[i] for i in part]), idx) if self.worlds \
+            else [(None, [i]) for i in idx]
+        self.swarms += len(groups)
+        out = [None] * len(rows)
+        try:
+            for swarm, part in groups:
+                if swarm is None:
+                    with Scenario.parse(json.dumps(self._scenario_for(rows[part[0]]))) as parsed:
+                        swarm = parsed.create_swarm(self.context)
+                    alone = True
+                else:
+                    alone = False
+                with swarm:
+                    for i, r in zip(part, self._run_swarm(swarm, [rows[i] for i in part], alone)):
+                        out[i] = r
+        finally:
+            for swarm, _ in groups:
+                if swarm is not None:
+                    swarm.close()
         return out
 
-    def _run_worlds(self, rows, alone: bool = False) -> List[dict]:
-        parsed = Scenario.parse(json.dumps(self.scenario if not alone else self._scenario_for(rows[0])))
-        # Every world with the scenario's seed: a row is the scenario alone
-        # with its values, wherever it falls in the swarm or the ranks.
+    def _world_swarm(self, rows):
+        """The rows as the worlds of one swarm, made from the first row's
+        values (so what selects a kernel is the group's own) and every world
+        with the scenario's seed (a row is the scenario alone with its
+        values, wherever it falls in the swarm or the ranks); None where the
+        model refuses the values together."""
         seed = int(self.scenario.get("seed", 0))
-        swarm = (parsed.create_swarm(self.context) if alone
-                 else parsed.create_world_swarm(self.context, len(rows), [seed] * len(rows)))
-        frames = []
+        with Scenario.parse(json.dumps(self._scenario_for(rows[0]))) as parsed:
+            swarm = parsed.create_world_swarm(self.context, len(rows), [seed] * len(rows))
         try:
-            if not alone:
-                for k, p in enumerate(self.params):
-                    swarm.set_world_param(world_key(self.scenario, p.path), [p.value(r[k]) for r in rows])
-            w = len(rows)
-
-            def sample():
-                if self.tracks is not None:
-                    frames.append(swarm.read_positions().reshape(w, -1, 3))
-            for done in range(0, self.warmup, self.every):
-                swarm.step(min(self.every, self.warmup - done))
-            sample()
-            for _ in range(self.steps // self.every):
-                swarm.step(self.every)
-                sample()
-            pos = swarm.read_positions().reshape(w, -1, 3)
-            vel = swarm.read_velocities().reshape(w, -1, 3)
-            nn, _ = swarm.nearest_neighbor()
-            nn = nn.reshape(w, -1)
-            stats = swarm.take_world_step_stats() if not alone else [swarm.take_step_stats()]
-        finally:
+            for k, p in enumerate(self.params):
+                swarm.set_world_param(world_key(self.scenario, p.path), [p.value(r[k]) for r in rows])
+        except SwarmclError:
             swarm.close()
+            return None
+        return swarm
+
+    def _run_swarm(self, swarm, rows, alone: bool) -> List[dict]:
+        frames = []
+        w = len(rows)
+
+        def sample():
+            if self.tracks is not None:
+                frames.append(swarm.read_positions().reshape(w, -1, 3))
+        for done in range(0, self.warmup, self.every):
+            swarm.step(min(self.every, self.warmup - done))
+        sample()
+        for _ in range(self.steps // self.every):
+            swarm.step(self.every)
+            sample()
+        pos = swarm.read_positions().reshape(w, -1, 3)
+        vel = swarm.read_velocities().reshape(w, -1, 3)
+        nn, _ = swarm.nearest_neighbor()
+        nn = nn.reshape(w, -1)
+        stats = swarm.take_world_step_stats() if not alone else [swarm.take_step_stats()]
         out = []
         for k, r in enumerate(rows):
             row = {p.path: p.value(v) for p, v in zip(self.params, r)}
@@ -201,8 +226,9 @@ def sweep(scenario, grid, *, tracks: Optional[Metrics] = None, context: Optional
     """Runs every row of ``grid`` (load_grid) on ``scenario`` (a path or a
     dict): a dict with the keys, one row per world (the parameter values,
     the statistics of its last state and, with ``tracks``, its score E and
-    the seven E_phi and W1), whether the rows ran as worlds, the ranks and
-    the seconds.  With ``comm`` (mpi4py, R ranks) every rank calls it with
+    the seven E_phi and W1), whether the rows ran as worlds, how many swarms
+    were stepped (rows the model refuses together are split, world_groups),
+    the ranks and the seconds.  With ``comm`` (mpi4py, R ranks) every rank calls it with
     the same arguments: the rows are split into R contiguous blocks and rank
     0 returns the result, the others None."""
     if isinstance(scenario, (str, os.PathLike)):
@@ -221,13 +247,13 @@ def sweep(scenario, grid, *, tracks: Optional[Metrics] = None, context: Optional
     finally:
         if own:
             ctx.close()
-    parts = comm.gather(mine, root=0) if comm is not None else [mine]
+    parts = comm.gather((mine, runner.swarms), root=0) if comm is not None else [(mine, runner.swarms)]
     if rank != 0:
         return None
-    out_rows = [r for part in parts for r in part]
+    out_rows = [r for part, _ in parts for r in part]
     return {"scenario": scenario.get("name", ""), "keys": keys, "rows": out_rows, "worlds": bool(runner.worlds),
-            "ranks": size, "steps": runner.steps, "seconds": time.perf_counter() - began,
-            "scored": tracks is not None}
+            "swarms": sum(n for _, n in parts), "ranks": size, "steps": runner.steps,
+            "seconds": time.perf_counter() - began, "scored": tracks is not None}
 
 
 def _write(result: dict, path: str) -> None:
@@ -284,7 +310,7 @@ def main(argv=None) -> int:
     if rank == 0:
         _write(result, args.out)
         if not args.quiet:
-            how = "as the worlds of one swarm" if result["worlds"] else "one swarm a row"
+            how = (f"as the worlds of {result['swarms']} swarm(s)" if result["worlds"] else "one swarm a row")
             print(f"{len(result['rows'])} rows ({how}) on {result['ranks']} rank(s) in {result['seconds']:.1f} s; "
                   f"written to {args.out}")
     return 0

@@ -104,7 +104,9 @@ SWCL_API const char* swcl_last_error(void);
  * "model" object), "c_field" (the descriptor's field), "type" (float, uint32,
  * uint64, bool, vec3, uint3, enum), "default", "min", "max" (null: none),
  * "min_exclusive", "values" (enum names), "range", "unit", "doc", "ref" (the
- * paper's section/equation), "device", "scenario"}.  `model`: "field",
+ * paper's section/equation), "device", "scenario", "per_world" (false: the
+ * same in every world of a swarm, e.g. what selects a kernel; see
+ * swcl_swarm_set_world_param)}.  `model`: "field",
  * "noise", ... (swcl_scenario_info.model's names); NULL: an object of every
  * model's array.  The text is the library's own, valid while it is loaded;
  * an unknown model is SWCL_ERROR_INVALID_ARGUMENT naming the known ones. */
@@ -248,6 +250,10 @@ SWCL_API swcl_status swcl_swarm_take_world_step_stats(swcl_swarm swarm, swcl_ste
  * Every value is checked before any is set: a value outside its range, NaN,
  * a wrong count or an unknown name give SWCL_ERROR_INVALID_ARGUMENT naming
  * the parameter, the world and the valid range, and nothing changes.  A
+ * parameter whose row says "per_world": false must have one value in every
+ * world (the policy model refuses its leader's parameters and u_max per
+ * world outright); values that switch a kernel (a noise time scale of 0
+ * beside one above 0, ...) are refused the same way, naming why.  A
  * model set later starts every world from its descriptor again. */
 SWCL_API swcl_status swcl_swarm_set_world_param(swcl_swarm swarm, const char* name, const double* values,
                                                 size_t count);
