@@ -39,6 +39,12 @@ CPU_ONLY = {
     "force_model_force_w", "force_model_repulsion_w", "policy_observe_w", "metrics_histogram",
 }
 
+# Builds the GPU profile never makes: the policy MLP's lanes (PM_W 8 or 16
+# agents per work-item, the CPU's SIMD width; GPUs take PM_W 1,
+# host/models/policy_model.cpp), which the width tests build on any device.
+# Only their CPU-only kernels (policy_observe_w) are counted from them.
+CPU_ONLY_DEFINES = {"-DPM_W=8", "-DPM_W=16"}
+
 # Kernels allowed to spill or to exceed 128 registers, with the reason
 # (docs/benchmarks.md, "NVIDIA compile (sm_90)", repeats it).
 EXPLAINED = {
@@ -179,6 +185,7 @@ def main():
                 failures.append(f"{prog}: no build-options line")
                 continue
             options = m.group(1).split()
+            cpu_lanes = bool(CPU_ONLY_DEFINES.intersection(options))
             base = os.path.basename(prog)[:-3]
             file = re.sub(r"-[0-9a-f]{16}$", "", base) + ".cl"
             ptx = os.path.join(tmp, base + ".ptx")
@@ -200,6 +207,8 @@ def main():
             defines = [o for o in options if o.startswith("-D") and not o.startswith("-DSWCL_CPU_PROFILE")]
             variants.append({"program": file, "defines": defines, "kernels": stats})
             for k, s in stats.items():
+                if cpu_lanes and k not in CPU_ONLY:
+                    continue  # a GPU builds it with PM_W 1: checked in that variant
                 # A swarm of several worlds builds its kernels with the world
                 # offsets (-DSWCL_WORLDS, docs/architecture.md "Worlds"):
                 # counted apart, so a one-world kernel keeps its own limit.
@@ -229,7 +238,8 @@ def main():
 
     report = {"arch": args.arch, "ptx_target": ptx_cpu, "clang": os.path.basename(clang), "ptxas": ptxas_version,
               "libclc": os.path.basename(libclc), "programs": len(programs), "kernels": per_kernel,
-              "variants": variants, "cpu_only_not_compiled": sorted(CPU_ONLY), "failures": failures}
+              "variants": variants, "cpu_only_not_compiled": sorted(CPU_ONLY),
+              "cpu_only_defines": sorted(CPU_ONLY_DEFINES), "failures": failures}
     if args.json:
         os.makedirs(os.path.dirname(os.path.abspath(args.json)), exist_ok=True)
         with open(args.json, "w") as f:

@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <functional>
+#include <limits>
 #include <random>
 
 #include "core/error.hpp"
@@ -719,6 +720,19 @@ TEST(PolicyCapi, BadWeightsGiveAParseErrorAndTheSwarmStaysUsable) {
     std::vector<float> obs(54 * 64), act(4 * 64);
     EXPECT_EQ(swcl_swarm_policy_observe(swarm, obs.data(), act.data(), 64), SWCL_OK);
     EXPECT_EQ(swcl_swarm_policy_observe(swarm, obs.data(), act.data(), 63), SWCL_ERROR_INVALID_ARGUMENT);
+    // The MLP alone on those observations: the same actions; NULL pointers
+    // and a non-finite observation refused with nothing written.
+    std::vector<float> again(4 * 64, -7.0f);
+    EXPECT_EQ(swcl_swarm_policy_infer(swarm, obs.data(), 64, again.data()), SWCL_OK) << swcl_last_error();
+    EXPECT_EQ(again, act);
+    EXPECT_EQ(swcl_swarm_policy_infer(swarm, nullptr, 64, again.data()), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_swarm_policy_infer(swarm, obs.data(), 64, nullptr), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_swarm_policy_infer(swarm, nullptr, 0, nullptr), SWCL_OK);
+    obs[54 * 10 + 2] = std::numeric_limits<float>::infinity();
+    std::fill(again.begin(), again.end(), -7.0f);
+    EXPECT_EQ(swcl_swarm_policy_infer(swarm, obs.data(), 64, again.data()), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_TRUE(contains(swcl_last_error(), "finite")) << swcl_last_error();
+    EXPECT_EQ(again, std::vector<float>(4 * 64, -7.0f));
     swcl_swarm_destroy(swarm);
     swcl_context_destroy(ctx);
 }

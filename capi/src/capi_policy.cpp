@@ -137,4 +137,13 @@ swcl_status swcl_swarm_policy_observe(swcl_swarm swarm, float* out_obs, float* o
     });
 }
 
+swcl_status swcl_swarm_policy_infer(swcl_swarm swarm, const float* obs, size_t count, float* out_actions) {
+    return with_swarm(__func__, swarm, [&](Swarm& s) {
+        PolicyModel& p = policy_of(s, __func__);
+        require(count <= 0xFFFFFFFFu, std::string(__func__) + ": count " + std::to_string(count) + " is too large");
+        require(count == 0 || (obs && out_actions), std::string(__func__) + ": obs and out_actions must not be NULL");
+        p.infer(obs, uint32_t(count), out_actions);
+    });
+}
+
 }  // extern "C"

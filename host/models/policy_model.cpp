@@ -324,14 +324,22 @@ void PolicyModel::observe(Swarm& swarm, std::vector<float>* obs, std::vector<flo
 }
 
 std::vector<float> PolicyModel::infer(const std::vector<float>& obs, uint32_t count) {
-    require(obs.size() == size_t(count) * weights_.obs_dim, "policy model infer: obs size != count * obs_dim");
     std::vector<float> out(size_t(count) * 4);
-    if (!count) return out;
-    DeviceBuffer<float> in(ctx_, obs.size(), "policy infer input"), act(ctx_, out.size(), "policy infer actions");
-    in.upload(ctx_, obs.data(), obs.size());
-    enqueue_mlp(in, count, act);
-    act.download(ctx_, out.data(), out.size());
+    infer(obs.data(), count, out.data());
     return out;
+}
+
+void PolicyModel::infer(const float* obs, uint32_t count, float* actions) {
+    if (!count) return;
+    const size_t floats = size_t(count) * weights_.obs_dim;
+    require(finite_all(obs, floats), "policy model infer: the observations must be finite");
+    // The inputs of the next infer reuse these (a benchmark's repeated calls
+    // time the MLP and the copies, not allocations).
+    infer_obs_.reserve(ctx_, floats, "policy infer input");
+    infer_actions_.reserve(ctx_, size_t(count) * 4, "policy infer actions");
+    infer_obs_.upload(ctx_, obs, floats);
+    enqueue_mlp(infer_obs_, count, infer_actions_);
+    infer_actions_.download(ctx_, actions, size_t(count) * 4);
 }
 
 // Checkpoints: the descriptor (config and the weights file's bytes; the

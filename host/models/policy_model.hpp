@@ -103,6 +103,9 @@ public:
     void observe(Swarm& swarm, std::vector<float>* obs, std::vector<float>* actions);
     // The MLP alone on `count` observations (tests, benchmarks): 4 actions each.
     std::vector<float> infer(const std::vector<float>& obs, uint32_t count);
+    // The same from count * obs_dim floats into count * 4 (non-finite
+    // observations refused, nothing written).
+    void infer(const float* obs, uint32_t count, float* actions);
     // Agents per work-item of the MLP kernel.
     uint32_t lanes() const { return lanes_; }
 
@@ -118,7 +121,7 @@ private:
     PolicyWeights weights_;
     uint32_t lanes_ = 1, max_width_ = 0, mean_off_ = 0, std_off_ = 0;
     Context& ctx_;
-    DeviceBuffer<float> params_, obs_, actions_, scratch_;
+    DeviceBuffer<float> params_, obs_, actions_, scratch_, infer_obs_, infer_actions_;
     DeviceBuffer<cl_float> block_;  // policy_param_table()'s device block (params_ holds the MLP's weights)
     DeviceBuffer<cl_uint> layers_, wp_, done_;
     DeviceBuffer<cl_float4> lpos_, lvel_, lst_, ctl_, waypoints_, box_c_, box_h_;

@@ -101,3 +101,39 @@ def test_example_scenario_runs(ctx):
         with sc.create_swarm(ctx) as s:
             s.step(20)
             assert np.isfinite(s.read_positions()).all()
+
+
+def test_policy_infer_is_the_mlp_a_step_runs_and_a_numpy_forward(ctx):
+    """swarm.policy_infer runs the MLP alone on given observations: on the
+    swarm's own observations it gives policy_observe's actions bitwise, on
+    any it matches a float64 numpy forward of the same weights (relu, relu,
+    tanh); non-finite observations are refused with nothing written, a
+    wrong width is a ValueError, a swarm without the policy model an
+    InvalidArgumentError."""
+    rng = np.random.default_rng(7)
+    weights = [rng.normal(0, 0.3, shape).astype(np.float32) for shape in ((32, 54), (16, 32), (4, 16))]
+    with follower_swarm(ctx, 40) as s:
+        s.set_policy_model(swarmcl.PolicyModel(weights=policy_bytes(weights)))
+        s.step(3)
+        obs, act = s.policy_observe()
+        assert np.array_equal(s.policy_infer(obs), act)
+        x = rng.normal(0, 2, (1000, 54)).astype(np.float32)
+        h = x.astype(np.float64)
+        for i, w in enumerate(weights):
+            h = h @ w.astype(np.float64).T
+            h = np.tanh(h) if i == len(weights) - 1 else np.maximum(h, 0.0)
+        got = s.policy_infer(x)
+        assert got.shape == (1000, 4) and np.abs(got).max() > 0.1
+        np.testing.assert_allclose(got, h, atol=2e-5)
+        assert s.policy_infer(x.reshape(10, 100, 54)).shape == (10, 100, 4)
+        assert s.policy_infer(np.zeros((0, 54), np.float32)).shape == (0, 4)
+        bad = x.copy()
+        bad[500, 3] = np.nan
+        with pytest.raises(swarmcl.InvalidArgumentError, match="finite"):
+            s.policy_infer(bad)
+        with pytest.raises(ValueError, match="54"):
+            s.policy_infer(x[:, :50])
+        assert np.array_equal(s.policy_infer(x), got)  # still usable, the same answer
+    with follower_swarm(ctx, 10) as s:
+        with pytest.raises(swarmcl.InvalidArgumentError, match="not the policy model"):
+            s.policy_infer(np.zeros((2, 54), np.float32))

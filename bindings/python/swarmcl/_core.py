@@ -387,6 +387,20 @@ class Swarm(_Handle):
         check(lib.swcl_swarm_policy_observe(self._h, _fptr(obs), _fptr(act), n))
         return obs.reshape(self._shape(int(dim[0]))[0]), act.reshape(self._shape(4)[0])
 
+    def policy_infer(self, obs) -> np.ndarray:
+        """The policy's MLP alone on observations (N, obs_dim) (or (W, N,
+        obs_dim)): its actions (N, 4) (same leading shape), as a step
+        computes them.  Non-finite observations are refused."""
+        dim = ffi.new("uint32_t*")
+        check(lib.swcl_swarm_policy_get_info(self._h, dim, ffi.NULL, ffi.NULL))
+        x = np.ascontiguousarray(obs, dtype=np.float32)
+        if x.ndim < 1 or x.shape[-1] != int(dim[0]):
+            raise ValueError(f"policy_infer: expected observations (..., {int(dim[0])}), got shape {x.shape}")
+        n = x.size // int(dim[0])
+        act = np.zeros((n, 4), np.float32)
+        check(lib.swcl_swarm_policy_infer(self._h, _fptr(x), n, _fptr(act)))
+        return act.reshape(x.shape[:-1] + (4,))
+
     # ---- the path model (bindings/python/swarmcl/path.py) -----------------------------
 
     def set_path_model(self, model) -> None:

@@ -303,7 +303,7 @@ class PopulationEvaluator:
         self.last_swarms = 0
 
     #: The models whose swarms run worlds (the path model unless chasing with a baked noise:
-    #: world_model above).
+    #: world_model above; the policy model with its followers' parameters, world_key).
     WORLD_MODELS = ("field", "force", "energy", "path", "policy")
 
     #: The force scenario's keys that stand for rows of its table
@@ -793,7 +793,8 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
     fit() with the same arguments: rank 0 returns the result, the others
     serve evaluations and return None.  The same seed gives the same result
     for any R.  A generation's runs are the worlds of one swarm where the
-    model runs worlds (the field, force, energy and path models: world_model), else each run is a swarm
+    model runs worlds (the field, force, energy, path and policy models: world_model) and every ranged
+    parameter may differ between worlds (world_key), else each run is a swarm
     of its own.  ``streamed`` True: each run's metrics on the device (fine
     histograms, per world); False reads positions back and measures them on
     the host (exact PDFs); None (the default): the host for worlds on a CPU

@@ -966,6 +966,12 @@ SWCL_API swcl_status swcl_swarm_policy_get_info(swcl_swarm swarm, uint32_t* out_
  * policy's actions on them (count * 4), agent-id order (world by world:
  * count is every world's agents); either may be NULL. */
 SWCL_API swcl_status swcl_swarm_policy_observe(swcl_swarm swarm, float* out_obs, float* out_actions, size_t count);
+/* The policy's MLP alone on `count` given observations (count * obs_dim
+ * floats, any source: recorded, synthetic) into count * 4 actions, on the
+ * device as a step runs it (the same actions policy_observe gives for the
+ * same observations).  Non-finite observations are
+ * SWCL_ERROR_INVALID_ARGUMENT and nothing is written. */
+SWCL_API swcl_status swcl_swarm_policy_infer(swcl_swarm swarm, const float* obs, size_t count, float* out_actions);
 
 /* ---- evaluation against real insects -----------------------------------------
  * The data-driven evaluation of the noise paper (§3, docs/evaluation.md):
