@@ -126,21 +126,6 @@ __kernel void policy_mlp(__global const float* obs, uint n, uint obs_dim, uint f
             PM_STORE(pm_activate(c6, act), o + 6, xb);
             PM_STORE(pm_activate(c7, act), o + 7, xb);
         }
-        for (; o + 4 <= out; o += 4) {  // four outputs per pass over the inputs
-            pm_f c0 = (pm_f)(B[o]), c1 = (pm_f)(B[o + 1]), c2 = (pm_f)(B[o + 2]), c3 = (pm_f)(B[o + 3]);
-            __global const float* w0 = W + (size_t)o * in;
-            for (uint i = 0; i < in; ++i) {
-                const pm_f x = PM_LOAD(i, xa);
-                c0 = fma((pm_f)(w0[i]), x, c0);
-                c1 = fma((pm_f)(w0[in + i]), x, c1);
-                c2 = fma((pm_f)(w0[2 * in + i]), x, c2);
-                c3 = fma((pm_f)(w0[3 * in + i]), x, c3);
-            }
-            PM_STORE(pm_activate(c0, act), o, xb);
-            PM_STORE(pm_activate(c1, act), o + 1, xb);
-            PM_STORE(pm_activate(c2, act), o + 2, xb);
-            PM_STORE(pm_activate(c3, act), o + 3, xb);
-        }
         for (; o < out; ++o) {
             pm_f c = (pm_f)(B[o]);
             __global const float* w0 = W + (size_t)o * in;
