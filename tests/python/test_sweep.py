@@ -110,6 +110,21 @@ def test_rows_the_model_refuses_together_run_in_swarms_of_their_own(ctx):
     assert len({row["mean_speed"] for row in r["rows"]}) == 4
 
 
+def test_seeds_are_replicates_run_as_worlds(ctx):
+    # "seed" is each world's seed: replicates of a scenario (here beside a
+    # model parameter) run as one swarm, each row the scenario alone with
+    # that seed.
+    r = swarmcl.sweep(SCENARIO, {"seed": [3, 8, 21], "model.goal.speed": [0.4, 0.9]}, context=ctx)
+    assert r["worlds"] and r["swarms"] == 1 and len(r["rows"]) == 6
+    for row in r["rows"]:
+        assert isinstance(row["seed"], int)
+        vel, nn, stats, _ = alone(ctx, {"seed": row["seed"], "model.goal.speed": row["model.goal.speed"]})
+        assert row["mean_speed"] == float(np.linalg.norm(vel, axis=1).mean())
+        assert row["median_nearest_distance"] == float(np.median(nn))
+        assert row["mde_moved_total"] == stats.mde_moved_total
+    assert len({row["mean_speed"] for row in r["rows"]}) == 6
+
+
 def policy_scenario():
     from conftest import REPO, TOUR
     return {"name": "policy_tiny", "seed": 5, "dt": 0.1, "steps": 8,
@@ -149,6 +164,8 @@ def test_a_policy_grid_runs_as_worlds_and_its_leaders_keys_one_swarm_a_row(ctx):
     ({"model.goal.speed": [0.5, float("nan")]}, "not a finite number"),
     ({"runs": [{"model.goal.speed": 0.5}, {"model.noise.gain": 0.5}]}, "every run sets the same keys"),
     ({"model.noise.type": [0, 1]}, "not a number"),
+    ({"seed": [1, -2]}, "integers in"),
+    ({"seed": [1.5]}, "not an integer"),
     ({}, "expected"),
 ])
 def test_bad_grids_are_refused(ctx, grid, says):

@@ -11,6 +11,7 @@ GRID.json is either a grid, ``{"model.noise.scale": [0.2, 0.4], "model.goal.spee
 ``{"runs": [{"model.noise.scale": 0.2, "model.goal.speed": 0.5}, ...]}``.
 Keys are scenario paths as in a fit's ranges file; each value is checked
 against the scenario and the model's parameter table before anything runs.
+"seed" gives each row its own seed (replicates run as worlds too).
 """
 from __future__ import annotations
 
@@ -89,6 +90,8 @@ def load_grid(grid, scenario: dict) -> Tuple[List[str], List[List[float]]]:
     for k, values in zip(keys, columns):
         integer, row, model = _key_info(scenario, k)
         vals = [_number(k, v, integer) for v in values]
+        if k == "seed" and not all(0 <= v < 2**64 for v in vals):
+            raise ValueError(f"grid: 'seed': expected integers in [0, 2**64), got {values!r}")
         if row is not None:
             _check_against_table(k, model, row, min(vals), max(vals))
         checked.append(vals)
@@ -129,7 +132,10 @@ class _Runner:
             if every is None else int(every)
         self.warmup = int(warmup)
         self.bins, self.half_width, self.robust = bins, half_width, robust
-        self.worlds = world_model(scenario) and all(world_key(scenario, k) is not None for k in keys)
+        # "seed" (the scenario's) is each world's seed: replicates of a
+        # scenario run as worlds too.
+        self.seed_index = keys.index("seed") if "seed" in keys else None
+        self.worlds = world_model(scenario) and all(k == "seed" or world_key(scenario, k) is not None for k in keys)
         self.swarms = 0  # how many swarms run() stepped
 
     def run(self, rows: List[List[float]]) -> List[dict]:
@@ -164,15 +170,17 @@ class _Runner:
     def _world_swarm(self, rows):
         """The rows as the worlds of one swarm, made from the first row's
         values (so what selects a kernel is the group's own) and every world
-        with the scenario's seed (a row is the scenario alone with its
-        values, wherever it falls in the swarm or the ranks); None where the
-        model refuses the values together."""
+        with the row's "seed" or else the scenario's (a row is the scenario
+        alone with its values, wherever it falls in the swarm or the ranks);
+        None where the model refuses the values together."""
         seed = int(self.scenario.get("seed", 0))
+        seeds = [int(r[self.seed_index]) if self.seed_index is not None else seed for r in rows]
         with Scenario.parse(json.dumps(self._scenario_for(rows[0]))) as parsed:
-            swarm = parsed.create_world_swarm(self.context, len(rows), [seed] * len(rows))
+            swarm = parsed.create_world_swarm(self.context, len(rows), seeds)
         try:
             for k, p in enumerate(self.params):
-                swarm.set_world_param(world_key(self.scenario, p.path), [p.value(r[k]) for r in rows])
+                if k != self.seed_index:
+                    swarm.set_world_param(world_key(self.scenario, p.path), [p.value(r[k]) for r in rows])
         except SwarmclError:
             swarm.close()
             return None
