@@ -3,15 +3,17 @@
 // at the same density (its domain W^(1/3) times as wide) in the same run,
 // rounds alternated.  And W swarms of N stepped one after another (what a fit
 // did before worlds), timed over fewer steps.
-//   worlds_bench [--model field|force|energy|path] [--worlds 1000] [--agents 300] [--steps 20]
+//   worlds_bench [--model field|force|energy|path|policy] [--worlds 1000] [--agents 300] [--steps 20]
 //                [--rounds 3] [--alone-worlds 64] [--json PATH]
 // The model: the field model (curl noise, a goal, MDE), the force model
 // (examples/evaluation/force_mosquito.json's zones and weights, curl noise,
 // MDE) or the energy model (Table 1 aggregation about each swarm's own
 // centre, the synthetic dataset of energy_bench) or the path model
 // (examples/evaluation/path_mosquito.json's: curl noise, a sphere goal's cost
-// field on a 24^3 grid, MDE).  Writes bench/results/worlds.json
-// (worlds_force.json, worlds_energy.json, worlds_path.json).
+// field on a 24^3 grid, MDE) or the policy model (the shipped policy after
+// a leader, at policy_bench's density: each world a 27.8 m cube, cells of
+// 6.17 m).  Writes bench/results/worlds.json (worlds_force.json,
+// worlds_energy.json, worlds_path.json, worlds_policy.json).
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -29,6 +31,8 @@
 #include "models/energy_model.hpp"
 #include "models/force_model.hpp"
 #include "models/path_model.hpp"
+#include "models/policy_model.hpp"
+#include "rl/policy_weights.hpp"
 #include "swarm/swarm.hpp"
 
 using namespace swarmcl;
@@ -39,6 +43,9 @@ namespace {
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 constexpr float kHalfSide = 1.5f;  // m: one world's domain is [-1.5, 1.5]^3
+// The policy model at policy_bench's density (200 agents in a ball of radius
+// 15 m): 300 agents a world in [-13.9, 13.9]^3, cells of (r_coh + body) / 3.
+constexpr float kPolicyHalfSide = 13.9f, kPolicyCell = 6.17f;
 
 FieldModelConfig model() {
     FieldModelConfig m;
@@ -97,7 +104,9 @@ PathModelConfig path_model() {
 bool g_force = false;   // --model force
 bool g_energy = false;  // --model energy
 bool g_path = false;    // --model path
+bool g_policy = false;  // --model policy
 std::shared_ptr<const Dataset> g_dataset;
+std::shared_ptr<const std::string> g_policy_bytes;  // the shipped policy
 
 std::unique_ptr<Swarm> make(std::shared_ptr<Context> ctx, uint32_t worlds, uint32_t agents, float half,
                             uint64_t seed) {
@@ -108,9 +117,13 @@ std::unique_ptr<Swarm> make(std::shared_ptr<Context> ctx, uint32_t worlds, uint3
     c.worlds = worlds;
     c.domain_min = {-half, -half, -half};
     c.domain_max = {half, half, half};
-    c.interaction_radius = 0.2f;
-    c.dt = 0.01f;
+    c.interaction_radius = g_policy ? kPolicyCell : 0.2f;
+    c.dt = g_policy ? 0.1f : 0.01f;
     auto s = std::make_unique<Swarm>(std::move(ctx), c);
+    if (g_policy) {
+        s->set_behavior(std::make_shared<PolicyModel>(*s, PolicyModelConfig{}, g_policy_bytes));
+        return s;
+    }
     if (g_force) {
         s->set_behavior(std::make_shared<ForceModel>(*s, force_model()));
         return s;
@@ -158,13 +171,14 @@ int main(int argc, char** argv) {
         };
         if (a == "--model") {
             const std::string m = next();
-            if (m != "field" && m != "force" && m != "energy" && m != "path") {
-                std::fprintf(stderr, "worlds_bench: --model field, force, energy or path\n");
+            if (m != "field" && m != "force" && m != "energy" && m != "path" && m != "policy") {
+                std::fprintf(stderr, "worlds_bench: --model field, force, energy, path or policy\n");
                 return 2;
             }
             g_force = m == "force";
             g_energy = m == "energy";
             g_path = m == "path";
+            g_policy = m == "policy";
         } else if (a == "--worlds") worlds = uint32_t(std::atoi(next()));
         else if (a == "--agents") agents = uint32_t(std::atoi(next()));
         else if (a == "--steps") steps = std::atoi(next());
@@ -172,7 +186,7 @@ int main(int argc, char** argv) {
         else if (a == "--alone-worlds") alone_worlds = uint32_t(std::atoi(next()));
         else if (a == "--json") json = next();
         else {
-            std::fprintf(stderr, "usage: worlds_bench [--model field|force|energy|path] [--worlds W] [--agents N] [--steps S] [--rounds R] "
+            std::fprintf(stderr, "usage: worlds_bench [--model field|force|energy|path|policy] [--worlds W] [--agents N] [--steps S] [--rounds R] "
                                  "[--alone-worlds K] [--json PATH]\n");
             return 2;
         }
@@ -183,24 +197,32 @@ int main(int argc, char** argv) {
     }
     if (json.empty())
         json = std::string(SWARMCL_BENCH_RESULTS_DIR) +
-               (g_force ? "/worlds_force.json" : g_energy ? "/worlds_energy.json" : g_path ? "/worlds_path.json"
-                                                                                    : "/worlds.json");
+               (g_force    ? "/worlds_force.json"
+                : g_energy ? "/worlds_energy.json"
+                : g_path   ? "/worlds_path.json"
+                : g_policy ? "/worlds_policy.json"
+                           : "/worlds.json");
     const char* model_name = g_force    ? "force (force_mosquito zones and weights, curl noise, MDE 0.03 m)"
                              : g_energy ? "energy (Table 1 aggregation, each swarm's centre, synthetic dataset)"
                              : g_path   ? "path (path_mosquito: curl noise, a sphere goal's field on 24^3 cells, MDE 0.02 m)"
+                             : g_policy ? "policy (the shipped policy after a leader, policy_bench's density, dt 0.1 s)"
                                         : "field (curl noise, goal, MDE 0.03 m)";
     if (g_energy) g_dataset = std::make_shared<const Dataset>(synthetic_dataset(DatasetOptions{}));
+    if (g_policy)
+        g_policy_bytes = std::make_shared<const std::string>(
+            read_policy_file(std::string(SWARMCL_SOURCE_DIR) + "/models/policy_roaming.safetensors"));
+    const float half_side = g_policy ? kPolicyHalfSide : kHalfSide;
     auto ctx = std::make_shared<Context>("", "");
     const auto& dev = ctx->device();
     std::printf("device: %s (%s; %u compute units); load %.1f\n", dev.device_name.c_str(), dev.platform_name.c_str(),
                 dev.compute_units, bench::load_average());
     const size_t total = size_t(worlds) * agents;
-    const float big_half = kHalfSide * std::cbrt(float(worlds));
+    const float big_half = half_side * std::cbrt(float(worlds));
     std::printf("%s model: %u worlds x %u agents in [-%.1f, %.1f]^3 each, "
                 "against one swarm of %zu agents in [-%.1f, %.1f]^3 (the same density); %d steps, %d rounds\n",
-                model_name, worlds, agents, kHalfSide, kHalfSide, total, big_half, big_half, steps, rounds);
+                model_name, worlds, agents, half_side, half_side, total, big_half, big_half, steps, rounds);
 
-    auto ensemble = make(ctx, worlds, agents, kHalfSide, 1);
+    auto ensemble = make(ctx, worlds, agents, half_side, 1);
     auto single = make(ctx, 1, uint32_t(total), big_half, 1);
     std::vector<double> t_worlds, t_single;
     for (int r = 0; r < rounds; ++r) {
@@ -214,7 +236,7 @@ int main(int argc, char** argv) {
     // Before worlds: K swarms of N stepped one after another, each its own
     // launches (the fit's way), per agent-step.
     std::vector<std::unique_ptr<Swarm>> alone;
-    for (uint32_t k = 0; k < alone_worlds; ++k) alone.push_back(make(ctx, 1, agents, kHalfSide, k + 1));
+    for (uint32_t k = 0; k < alone_worlds; ++k) alone.push_back(make(ctx, 1, agents, half_side, k + 1));
     for (auto& s : alone) s->step(1);
     ctx->queue().finish();
     const int alone_steps = std::max(1, steps / 2);
