@@ -324,6 +324,7 @@ void PolicyModel::observe(Swarm& swarm, std::vector<float>* obs, std::vector<flo
 }
 
 std::vector<float> PolicyModel::infer(const std::vector<float>& obs, uint32_t count) {
+    require(obs.size() == size_t(count) * weights_.obs_dim, "policy model infer: obs size != count * obs_dim");
     std::vector<float> out(size_t(count) * 4);
     infer(obs.data(), count, out.data());
     return out;
