@@ -14,6 +14,7 @@
 // a leader, at policy_bench's density: each world a 27.8 m cube, cells of
 // 6.17 m).  Writes bench/results/worlds.json (worlds_force.json,
 // worlds_energy.json, worlds_path.json, worlds_policy.json).
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -101,10 +102,20 @@ PathModelConfig path_model() {
     return m;
 }
 
-bool g_force = false;   // --model force
-bool g_energy = false;  // --model energy
-bool g_path = false;    // --model path
-bool g_policy = false;  // --model policy
+// The models this bench runs: --model's name and what the JSON says of it.
+struct BenchModel {
+    const char* name;
+    const char* description;
+};
+constexpr BenchModel kModels[] = {
+    {"field", "field (curl noise, goal, MDE 0.03 m)"},
+    {"force", "force (force_mosquito zones and weights, curl noise, MDE 0.03 m)"},
+    {"energy", "energy (Table 1 aggregation, each swarm's centre, synthetic dataset)"},
+    {"path", "path (path_mosquito: curl noise, a sphere goal's field on 24^3 cells, MDE 0.02 m)"},
+    {"policy", "policy (the shipped policy after a leader, policy_bench's density, dt 0.1 s)"},
+};
+std::string g_model = "field";  // --model
+bool g_policy = false;          // g_model == "policy": its own scale and time step
 std::shared_ptr<const Dataset> g_dataset;
 std::shared_ptr<const std::string> g_policy_bytes;  // the shipped policy
 
@@ -124,16 +135,16 @@ std::unique_ptr<Swarm> make(std::shared_ptr<Context> ctx, uint32_t worlds, uint3
         s->set_behavior(std::make_shared<PolicyModel>(*s, PolicyModelConfig{}, g_policy_bytes));
         return s;
     }
-    if (g_force) {
+    if (g_model == "force") {
         s->set_behavior(std::make_shared<ForceModel>(*s, force_model()));
         return s;
     }
-    if (g_energy) {
+    if (g_model == "energy") {
         EnergyModelConfig e;  // Table 1 aggregation; the centre: each swarm's own
         s->set_behavior(std::make_shared<EnergyModel>(*s, e, g_dataset));
         return s;
     }
-    if (g_path) {
+    if (g_model == "path") {
         s->set_behavior(std::make_shared<PathModel>(*s, path_model()));
         return s;
     }
@@ -171,13 +182,11 @@ int main(int argc, char** argv) {
         };
         if (a == "--model") {
             const std::string m = next();
-            if (m != "field" && m != "force" && m != "energy" && m != "path" && m != "policy") {
+            if (std::none_of(std::begin(kModels), std::end(kModels), [&](const BenchModel& b) { return m == b.name; })) {
                 std::fprintf(stderr, "worlds_bench: --model field, force, energy, path or policy\n");
                 return 2;
             }
-            g_force = m == "force";
-            g_energy = m == "energy";
-            g_path = m == "path";
+            g_model = m;
             g_policy = m == "policy";
         } else if (a == "--worlds") worlds = uint32_t(std::atoi(next()));
         else if (a == "--agents") agents = uint32_t(std::atoi(next()));
@@ -197,17 +206,11 @@ int main(int argc, char** argv) {
     }
     if (json.empty())
         json = std::string(SWARMCL_BENCH_RESULTS_DIR) +
-               (g_force    ? "/worlds_force.json"
-                : g_energy ? "/worlds_energy.json"
-                : g_path   ? "/worlds_path.json"
-                : g_policy ? "/worlds_policy.json"
-                           : "/worlds.json");
-    const char* model_name = g_force    ? "force (force_mosquito zones and weights, curl noise, MDE 0.03 m)"
-                             : g_energy ? "energy (Table 1 aggregation, each swarm's centre, synthetic dataset)"
-                             : g_path   ? "path (path_mosquito: curl noise, a sphere goal's field on 24^3 cells, MDE 0.02 m)"
-                             : g_policy ? "policy (the shipped policy after a leader, policy_bench's density, dt 0.1 s)"
-                                        : "field (curl noise, goal, MDE 0.03 m)";
-    if (g_energy) g_dataset = std::make_shared<const Dataset>(synthetic_dataset(DatasetOptions{}));
+               (g_model == "field" ? std::string("/worlds.json") : "/worlds_" + g_model + ".json");
+    const char* model_name =
+        std::find_if(std::begin(kModels), std::end(kModels), [](const BenchModel& b) { return g_model == b.name; })
+            ->description;
+    if (g_model == "energy") g_dataset = std::make_shared<const Dataset>(synthetic_dataset(DatasetOptions{}));
     if (g_policy)
         g_policy_bytes = std::make_shared<const std::string>(
             read_policy_file(std::string(SWARMCL_SOURCE_DIR) + "/models/policy_roaming.safetensors"));
