@@ -33,26 +33,40 @@ static inline uint chunk_size(uint n, uint nchunks) { return (n + nchunks - 1u) 
 // [0, dims-1]; below 0 and above dims-1 both clamp to the same bound; NaN
 // goes through the same clamp) and is several times faster on PoCL than the
 // scalar floor.
-// With worlds (grid_common.cl) the key is w cells + cell for the slots of
-// world w = s / world_agents (a swarm without worlds: world_agents >= n).
+// With worlds (grid_common.cl) the key is world w's first cell + its cell
+// in w's grid, for the slots of world w = s / world_agents (a swarm without
+// worlds: world_agents >= n).
 __kernel void grid_keys_count(__global const float4* pos, uint n, GRID_PARAMS, __global const uint* old_key,
                               uint nchunks, __global uint* keys, __global uint* counts, uint world_agents,
-                              uint world_cells) {
+                              __global const float4* grid_worlds) {
     const uint b = get_global_id(0);
     if (b >= nchunks) return;
     const uint size = chunk_size(n, nchunks);
     const uint begin = min(b * size, n), end = min(begin + size, n);
-    const float4 hi = convert_float4(grid_dims - 1);
-    const uint dx = (uint)grid_dims.x, dxy = (uint)grid_dims.x * (uint)grid_dims.y;
+    float4 origin = grid_origin;
+    float inv_cell = grid_inv_cell;
+    int4 dims = grid_dims;
+    uint first = 0u;
+#ifdef SWCL_WORLDS
+    uint world = 0xFFFFFFFFu;
+#endif
     uint count = 0;
     for (uint s = begin; s < end; ++s) {
-        const float4 f = clamp((pos[s] - grid_origin) * grid_inv_cell, (float4)(0.0f), hi);
-        const uint4 q = convert_uint4(f);
 #ifdef SWCL_WORLDS
-        const uint key = q.x + dx * q.y + dxy * q.z + (s / world_agents) * world_cells;
-#else
-        const uint key = q.x + dx * q.y + dxy * q.z;
+        if (s / world_agents != world) {  // a chunk spans few worlds
+            world = s / world_agents;
+            const Grid g = grid_of_world(GRID_MAKE(), grid_worlds, world);
+            origin = g.origin;
+            inv_cell = g.inv_cell;
+            dims = g.dims;
+            first = (uint)(g.cell_start - grid_cell_start);
+        }
 #endif
+        const float4 hi = convert_float4(dims - 1);
+        const uint dx = (uint)dims.x, dxy = (uint)dims.x * (uint)dims.y;
+        const float4 f = clamp((pos[s] - origin) * inv_cell, (float4)(0.0f), hi);
+        const uint4 q = convert_uint4(f);
+        const uint key = q.x + dx * q.y + dxy * q.z + first;
         keys[s] = key;
         count += key != old_key[s] ? 1u : 0u;
     }

@@ -187,33 +187,34 @@ __kernel void min_distance_enforce_w(__global const float4* pos, __global const 
     const uint base = get_global_id(0) * MDE_WIDTH;
     if (base >= n) return;
     MDE_WORLD_VIEW()
-    const int slot_base = (int)world_base;  // the world's cell ranges count from its first slot
+    const Grid g = GRID_MAKE_WORLD(n);
+    const int slot_base = (int)g.slot_base;  // the world's cell ranges count from its first slot
     const mde_iw slot = (int)base + MDE_LANE_IDS;
     const mde_iw live = slot < (int)n;
     mde_fw px, py, pz;
     mde_gather_xyz(pos, select((mde_iw)(0), slot, live), &px, &py, &pz);
     // grid_search_box: the cells of p - r and p + r.
-    const mde_iw x0 = mde_axis(px - d_min, grid_origin.x, grid_inv_cell, grid_dims.x);
-    const mde_iw x1 = mde_axis(px + d_min, grid_origin.x, grid_inv_cell, grid_dims.x);
-    const mde_iw y0 = mde_axis(py - d_min, grid_origin.y, grid_inv_cell, grid_dims.y);
-    const mde_iw y1 = mde_axis(py + d_min, grid_origin.y, grid_inv_cell, grid_dims.y);
-    const mde_iw z0 = mde_axis(pz - d_min, grid_origin.z, grid_inv_cell, grid_dims.z);
-    const mde_iw z1 = mde_axis(pz + d_min, grid_origin.z, grid_inv_cell, grid_dims.z);
+    const mde_iw x0 = mde_axis(px - d_min, g.origin.x, g.inv_cell, g.dims.x);
+    const mde_iw x1 = mde_axis(px + d_min, g.origin.x, g.inv_cell, g.dims.x);
+    const mde_iw y0 = mde_axis(py - d_min, g.origin.y, g.inv_cell, g.dims.y);
+    const mde_iw y1 = mde_axis(py + d_min, g.origin.y, g.inv_cell, g.dims.y);
+    const mde_iw z0 = mde_axis(pz - d_min, g.origin.z, g.inv_cell, g.dims.z);
+    const mde_iw z1 = mde_axis(pz + d_min, g.origin.z, g.inv_cell, g.dims.z);
     const int ny = mde_hmax(select((mde_iw)(0), y1 - y0, live));
     const int nz = mde_hmax(select((mde_iw)(0), z1 - z0, live));
     const float d2_min = d_min * d_min;
     mde_fw sx = (mde_fw)(0.0f), sy = (mde_fw)(0.0f), sz = (mde_fw)(0.0f);
     mde_iw touched = (mde_iw)(0);
-    __global const int* cs = (__global const int*)grid_cell_start + (size_t)world * grid_world_cells;
+    __global const int* cs = (__global const int*)g.cell_start;
     {
         // The slots are in cell order, so the 4 rows' cell starts are read as
         // 4 forward streams through a start array far larger than the caches
         // (a sparse grid: ~0.3 agents per cell), and each gather of them
         // waited on memory.  Prefetch a few lines of each stream ahead of
         // the last lane (MDE 20.5 -> 15 ms at 1M locusts).
-        const int row = grid_dims.x, plane = grid_dims.x * grid_dims.y;
-        const int c = MDE_LAST(x0) + row * (MDE_LAST(y0) + grid_dims.y * MDE_LAST(z0)) + MDE_PREFETCH_CELLS;
-        if (c + row + plane + 16 * MDE_PREFETCH_LINES < plane * grid_dims.z) {
+        const int row = g.dims.x, plane = g.dims.x * g.dims.y;
+        const int c = MDE_LAST(x0) + row * (MDE_LAST(y0) + g.dims.y * MDE_LAST(z0)) + MDE_PREFETCH_CELLS;
+        if (c + row + plane + 16 * MDE_PREFETCH_LINES < plane * g.dims.z) {
             for (int l = 0; l < MDE_PREFETCH_LINES; ++l) {
                 SWCL_PREFETCH(cs + c + 16 * l);
                 SWCL_PREFETCH(cs + c + row + 16 * l);
@@ -228,7 +229,7 @@ __kernel void min_distance_enforce_w(__global const float4* pos, __global const 
             const mde_iw y = y0 + dy;
             const mde_iw row_ok = live & (z <= z1) & (y <= y1);
             // grid_row_range (indices below 2^31: the host checks the cell count)
-            const mde_iw row = grid_dims.x * (y + grid_dims.y * z);
+            const mde_iw row = g.dims.x * (y + g.dims.y * z);
             const mde_iw j0 = mde_gather_i(cs, select((mde_iw)(0), row + x0, row_ok)) - slot_base;
             const mde_iw j1 = mde_gather_i(cs, select((mde_iw)(0), row + x1 + 1, row_ok)) - slot_base;
             const mde_iw len = select((mde_iw)(0), j1 - j0, row_ok);

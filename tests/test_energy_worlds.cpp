@@ -72,7 +72,7 @@ protected:
         return m;
     }
     swcl_swarm ensemble(bool fixed, bool keypoints = false) {
-        swcl_swarm s = make(desc(kWorlds, 0, kSeeds));
+        swcl_swarm s = make(in_own_domains(desc(kWorlds, 0, kSeeds)));
         const swcl_energy_model_desc m0 = model(0, fixed, keypoints);
         EXPECT_EQ(swcl_swarm_energy_set_model(s, data_, &m0), SWCL_OK) << swcl_last_error();
         set(s, "weights.cos", kWCos, kWorlds);
@@ -85,7 +85,7 @@ protected:
         return s;
     }
     swcl_swarm alone(uint32_t k, bool fixed, bool keypoints = false) {
-        swcl_swarm s = make(desc(1, kSeeds[k], nullptr));
+        swcl_swarm s = make(in_own_domains(desc(1, kSeeds[k], nullptr), int(k)));
         const swcl_energy_model_desc m = model(k, fixed, keypoints);
         EXPECT_EQ(swcl_swarm_energy_set_model(s, data_, &m), SWCL_OK) << swcl_last_error();
         return s;
@@ -130,6 +130,11 @@ void EnergyWorlds::check_bitwise(bool fixed, uint32_t steps, bool keypoints) {
 TEST_F(EnergyWorlds, WorldsAreBitwiseTheSwarmsAloneWithTheSwarmCentre) { check_bitwise(false, 20); }
 TEST_F(EnergyWorlds, WorldsAreBitwiseTheSwarmsAloneWithAFixedCentre) { check_bitwise(true, 20); }
 TEST_F(EnergyWorlds, WorldsWithKeypointsAreBitwiseTheSwarmsAlone) { check_bitwise(false, 20, true); }
+// Each world in a box of its own (placement, grid).
+TEST_F(EnergyWorlds, WorldsOfTheirOwnDomainsAreBitwiseTheSwarmsAlone) {
+    boxes_ = own_domains(kWorlds, 0.3f);
+    check_bitwise(false, 20);
+}
 
 TEST_F(EnergyWorlds, ACheckpointResumesBitwise) {
     const size_t total = size_t(kWorlds) * kAgents;

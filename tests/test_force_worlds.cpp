@@ -96,7 +96,7 @@ protected:
         return m;
     }
     swcl_swarm ensemble(uint32_t agents = kAgents, unsigned extras = 0) {
-        swcl_swarm s = make(desc(kWorlds, 0, kSeeds, agents));
+        swcl_swarm s = make(in_own_domains(desc(kWorlds, 0, kSeeds, agents)));
         const swcl_force_model_desc m0 = model(0, extras);
         EXPECT_EQ(swcl_swarm_force_set_model(s, &m0), SWCL_OK) << swcl_last_error();
         set(s, "r_rep", kRRep, kWorlds);
@@ -107,7 +107,7 @@ protected:
         return s;
     }
     swcl_swarm alone(uint32_t k, uint32_t agents = kAgents, unsigned extras = 0) {
-        swcl_swarm s = make(desc(1, kSeeds[k], nullptr, agents));
+        swcl_swarm s = make(in_own_domains(desc(1, kSeeds[k], nullptr, agents), int(k)));
         const swcl_force_model_desc m = model(k, extras);
         EXPECT_EQ(swcl_swarm_force_set_model(s, &m), SWCL_OK) << swcl_last_error();
         return s;
@@ -129,6 +129,12 @@ void ForceWorlds::check_bitwise(uint32_t n, uint32_t steps, bool expect_mde, uns
 }
 
 TEST_F(ForceWorlds, WorldsAreBitwiseTheSwarmsAlone) { check_bitwise(kAgents, 30, true); }
+
+// Each world in a box of its own (placement, grid), obstacles among them.
+TEST_F(ForceWorlds, WorldsOfTheirOwnDomainsAreBitwiseTheSwarmsAlone) {
+    boxes_ = own_domains(kWorlds, 1.0f);
+    check_bitwise(kAgents, 20, true, kObstacles);
+}
 
 // Obstacles (issue 25: "any stage ... obstacles"): world 2 without MDE keeps
 // its agents where the primitives' push-out would have moved them, as alone.

@@ -55,7 +55,7 @@ protected:
     }
     // The ensemble: world k gets model(k) through the per-world setters.
     swcl_swarm ensemble(uint32_t agents = kAgents, uint32_t worlds = kWorlds) {
-        swcl_swarm s = make(desc(worlds, 0, kSeeds, agents));
+        swcl_swarm s = make(in_own_domains(desc(worlds, 0, kSeeds, agents)));
         const swcl_field_model_desc m0 = model(0);
         EXPECT_EQ(swcl_swarm_field_set_model(s, &m0), SWCL_OK) << swcl_last_error();
         set(s, "noise.scale", kScale, worlds);
@@ -66,7 +66,7 @@ protected:
         return s;
     }
     swcl_swarm alone(uint32_t k, uint32_t agents = kAgents) {
-        swcl_swarm s = make(desc(1, kSeeds[k], nullptr, agents));
+        swcl_swarm s = make(in_own_domains(desc(1, kSeeds[k], nullptr, agents), int(k)));
         const swcl_field_model_desc m = model(k);
         EXPECT_EQ(swcl_swarm_field_set_model(s, &m), SWCL_OK) << swcl_last_error();
         return s;
@@ -134,6 +134,81 @@ void Worlds::check_bitwise(uint32_t n, uint32_t steps, bool expect_mde) {
 }
 
 TEST_F(Worlds, FieldModelWorldsAreBitwiseTheSwarmsAlone) { check_bitwise(kAgents, 40, true); }
+
+// Worlds each in a box of its own (its placement and its grid: origin, cell
+// edge and cells per axis): each world is its swarm alone in that box.
+TEST_F(Worlds, WorldsOfTheirOwnDomainsAreBitwiseTheSwarmsAlone) {
+    boxes_ = own_domains(kWorlds, 1.0f);
+    check_bitwise(kAgents, 40, true);
+    // Each world was placed in its own box.
+    swcl_swarm all = ensemble();
+    const std::vector<float> pos = read(all, SWCL_ATTRIBUTE_POSITION, size_t(kWorlds) * kAgents);
+    std::vector<float> boxes(6 * kWorlds);
+    ASSERT_EQ(swcl_swarm_world_domains(all, boxes.data(), kWorlds), SWCL_OK) << swcl_last_error();
+    EXPECT_EQ(boxes, boxes_);
+    for (uint32_t k = 0; k < kWorlds; ++k)
+        for (uint32_t i = 0; i < kAgents; ++i)
+            for (int a = 0; a < 3; ++a) {
+                const float x = pos[(size_t(k) * kAgents + i) * 3 + a];
+                ASSERT_GE(x, boxes_[6 * k + a]) << "world " << k;
+                ASSERT_LT(x, boxes_[6 * k + 3 + a]) << "world " << k;
+            }
+    float one[6] = {};
+    EXPECT_EQ(swcl_swarm_world_domains(all, one, 1), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("4 worlds"), std::string::npos) << swcl_last_error();
+}
+
+TEST_F(Worlds, WorldsOfTheirOwnDomainsResumeFromACheckpoint) {
+    boxes_ = own_domains(kWorlds, 1.0f);
+    swcl_swarm resumed = expect_checkpoint_resumes(ensemble(), ensemble(), kWorlds, kAgents, 12, 18,
+                                                   "swarmcl_world_domains_checkpoint.swcl");
+    std::vector<float> boxes(6 * kWorlds);
+    ASSERT_EQ(swcl_swarm_world_domains(resumed, boxes.data(), kWorlds), SWCL_OK) << swcl_last_error();
+    EXPECT_EQ(boxes, boxes_);
+}
+
+TEST_F(Worlds, BadWorldDomainsAreRefusedNamingTheWorld) {
+    std::vector<float> boxes = own_domains(kWorlds, 1.0f);
+    boxes[6 * 2 + 4] = boxes[6 * 2 + 1] - 0.5f;  // world 2: max y below min y
+    swcl_swarm_desc d = desc(kWorlds, 0, kSeeds);
+    d.world_domains = boxes.data();
+    swcl_swarm s{12345};
+    EXPECT_EQ(swcl_swarm_create(ctx_, &d, &s), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("world 2 domain min[1]"), std::string::npos) << swcl_last_error();
+    EXPECT_EQ(s.id, 12345u);
+    boxes = own_domains(kWorlds, 1.0f);
+    boxes[6 * 3 + 2] = NAN;
+    d.world_domains = boxes.data();
+    EXPECT_EQ(swcl_swarm_create(ctx_, &d, &s), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("world 3 domain bounds must be finite"), std::string::npos)
+        << swcl_last_error();
+    // Domain walls and a baked noise without a region would cover one
+    // domain (the noise's boundaries are one for every world): refused, and
+    // with a region they run.
+    boxes = own_domains(kWorlds, 1.0f);
+    d.world_domains = boxes.data();
+    swcl_swarm all = make(d);
+    for (const char* what : {"domain walls", "a baked noise"}) {
+        swcl_field_model_desc m = model(0);
+        if (what[0] == 'd') {
+            m.noise.domain_walls = 1;
+        } else {
+            m.noise.baked = 1;
+            m.noise.bake_resolution[0] = m.noise.bake_resolution[1] = m.noise.bake_resolution[2] = 8;
+        }
+        EXPECT_EQ(swcl_swarm_field_set_model(all, &m), SWCL_ERROR_INVALID_ARGUMENT) << what;
+        EXPECT_NE(std::string(swcl_last_error()).find(std::string(what) + " without region_min/max"),
+                  std::string::npos)
+            << swcl_last_error();
+        EXPECT_NE(std::string(swcl_last_error()).find("give the noise a region"), std::string::npos);
+        for (int a = 0; a < 3; ++a) {
+            m.noise.region_min[a] = -2.0f;
+            m.noise.region_max[a] = 2.0f;
+        }
+        EXPECT_EQ(swcl_swarm_field_set_model(all, &m), SWCL_OK) << what << ": " << swcl_last_error();
+        EXPECT_EQ(swcl_swarm_step(all, 2), SWCL_OK) << swcl_last_error();
+    }
+}
 
 // Small, for the Oclgrind check (scripts/oclgrind_check.py): every world
 // kernel at a few dozen agents.

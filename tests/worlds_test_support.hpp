@@ -48,6 +48,31 @@ protected:
         d.world_seeds = seeds;
         return d;
     }
+    // Boxes of their own for `worlds` worlds (6 floats each: min xyz, max
+    // xyz) around [-half, half]^3, each of another size, shape and place, so
+    // each world's grid differs in origin, cell edge and cells per axis.
+    static std::vector<float> own_domains(uint32_t worlds, float half) {
+        std::vector<float> boxes;
+        for (uint32_t k = 0; k < worlds; ++k) {
+            for (int a = 0; a < 3; ++a) boxes.push_back(-half * (1.0f + 0.25f * float((k + a) % 3)) + 0.1f * half * k);
+            for (int a = 0; a < 3; ++a) boxes.push_back(half * (0.6f + 0.5f * float((2 * k + a) % 3)) + 0.1f * half * k);
+        }
+        return boxes;
+    }
+    // With boxes_ set (own_domains): an ensemble's descriptor (world = -1)
+    // gets every world's box, world k's swarm alone box k as its domain.
+    swcl_swarm_desc in_own_domains(swcl_swarm_desc d, int world = -1) const {
+        if (boxes_.empty()) return d;
+        if (world < 0) {
+            d.world_domains = boxes_.data();
+            return d;
+        }
+        for (int a = 0; a < 3; ++a) {
+            d.domain_min[a] = boxes_[6 * size_t(world) + a];
+            d.domain_max[a] = boxes_[6 * size_t(world) + 3 + a];
+        }
+        return d;
+    }
     swcl_swarm make(const swcl_swarm_desc& d) {
         swcl_swarm s{};
         EXPECT_EQ(swcl_swarm_create(ctx_, &d, &s), SWCL_OK) << swcl_last_error();
@@ -94,6 +119,7 @@ protected:
 
     swcl_context ctx_{};
     std::vector<swcl_swarm> swarms_;
+    std::vector<float> boxes_;  // in_own_domains
 };
 
 // Bitwise equality of world k's slice of `all` (`worlds` equal slices) with

@@ -43,6 +43,7 @@ swcl_swarm_desc swcl_swarm_desc_default(void) {
     d.dt = 1.0f / 60.0f;
     d.worlds = 1;
     d.world_seeds = nullptr;
+    d.world_domains = nullptr;
     return d;
 }
 
@@ -66,6 +67,15 @@ swcl_status swcl_swarm_create(swcl_context context, const swcl_swarm_desc* desc,
             require(c.worlds > 0, "swcl_swarm_desc.worlds must be >= 1 (1: one swarm)");
             if (desc->world_seeds) c.world_seeds.assign(desc->world_seeds, desc->world_seeds + c.worlds);
         }
+        if (desc->struct_size >= offsetof(swcl_swarm_desc, world_domains) + sizeof(desc->world_domains) &&
+            desc->world_domains) {
+            c.world_domains.resize(c.worlds);
+            for (uint32_t k = 0; k < c.worlds; ++k)
+                for (int a = 0; a < 3; ++a) {
+                    c.world_domains[k].min[a] = desc->world_domains[6 * size_t(k) + a];
+                    c.world_domains[k].max[a] = desc->world_domains[6 * size_t(k) + 3 + a];
+                }
+        }
         out->id = swarms().add(std::make_shared<Swarm>(std::move(ctx), c));
     });
 }
@@ -85,6 +95,19 @@ swcl_status swcl_swarm_worlds(swcl_swarm swarm, uint32_t* out_worlds) {
     return with_swarm(__func__, swarm, [&](Swarm& s) {
         check_out(out_worlds, "out_worlds");
         *out_worlds = s.worlds();
+    });
+}
+
+swcl_status swcl_swarm_world_domains(swcl_swarm swarm, float* out, size_t count) {
+    return with_swarm(__func__, swarm, [&](Swarm& s) {
+        check_out(out, "out");
+        require(count == s.worlds(), "swcl_swarm_world_domains: count is " + std::to_string(count) +
+                                         " but the swarm has " + std::to_string(s.worlds()) + " worlds");
+        for (uint32_t k = 0; k < s.worlds(); ++k)
+            for (int a = 0; a < 3; ++a) {
+                out[6 * size_t(k) + a] = s.world_domain(k).min[a];
+                out[6 * size_t(k) + 3 + a] = s.world_domain(k).max[a];
+            }
     });
 }
 

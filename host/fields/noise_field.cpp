@@ -345,4 +345,13 @@ void write_world_noise_block(Context& ctx, const NoiseConfig& config, const std:
     std::copy(block.begin(), block.end(), blocks.begin() + size_t(world) * block.size());
 }
 
+void check_noise_for_world_domains(const NoiseConfig& c, const std::vector<Domain>& domains,
+                                   const std::string& what) {
+    const bool same = std::all_of(domains.begin(), domains.end(), [&](const Domain& d) { return d == domains[0]; });
+    if (same || c.has_region() || !(c.baked || c.domain_walls)) return;
+    fail(Status::InvalidArgument, what + ": " + (c.baked ? "a baked noise" : "domain walls") +
+                                      " without region_min/max would cover world 0's domain, and the worlds' "
+                                      "domains differ; give the noise a region");
+}
+
 }  // namespace swarmcl

@@ -11,6 +11,7 @@
 
 #include "device/buffer.hpp"
 #include "device/context.hpp"
+#include "spatial/grid_geometry.hpp"
 
 namespace swarmcl {
 
@@ -161,5 +162,12 @@ private:
 void write_world_noise_block(Context& ctx, const NoiseConfig& config, const std::array<float, 3>* domain_min,
                              const std::array<float, 3>* domain_max, const NoiseField& current,
                              const std::string& what, std::vector<cl_float>& blocks, uint32_t world);
+// Worlds of their own domains (SwarmConfig::world_domains) share the
+// noise's boundaries: a noise without a region would put its walls, or its
+// baked grid, at world 0's domain.  Error(InvalidArgument) starting with
+// `what` for domain walls or baking without a region where the domains
+// differ; nothing else in the noise depends on the domain.
+void check_noise_for_world_domains(const NoiseConfig& config, const std::vector<Domain>& domains,
+                                   const std::string& what);
 
 }  // namespace swarmcl

@@ -92,6 +92,7 @@ EnergyModel::EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr
                                           std::to_string(kMaxCandidates) + "): use more groups or a smaller span");
     accel_time_ = config_.accel_time > 0.0f ? config_.accel_time
                                             : (d.frame_time > 0.0 ? float(d.frame_time) : 0.01f);
+    check_noise_for_world_domains(config_.noise, swarm.world_domains(), "energy model noise");
     noise_ = std::make_unique<NoiseField>(ctx, config_.noise, &swarm.config().domain_min,
                                           &swarm.config().domain_max);
     for (const auto& v : d.v) vmax_ = std::max(vmax_, std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
@@ -418,8 +419,6 @@ void EnergyModel::set_world_param(Swarm& swarm, const std::string& key, const do
     // checked by worlds_.set before anything changes.
     const bool noise = key.compare(0, 6, "noise.") == 0;
     std::vector<cl_float> noise_next = noise_host_;
-    const auto& domain_min = swarm.config().domain_min;
-    const auto& domain_max = swarm.config().domain_max;
     const float dt = swarm.config().dt;
     worlds_.set(key, values, count, [&](const EnergyModelConfig& changed, uint32_t k) {
         validate(changed);  // what the table cannot say (d_rep <= d_att1 <= d_att2)
@@ -431,7 +430,8 @@ void EnergyModel::set_world_param(Swarm& swarm, const std::string& key, const do
                                               " the attraction's expansion (rho / d_att1 x the fastest sample x "
                                               "dt <= 0.4), which is the same kernel in every world");
         if (!noise) return;
-        write_world_noise_block(swarm.context(), changed.noise, &domain_min, &domain_max, *noise_,
+        write_world_noise_block(swarm.context(), changed.noise, &swarm.world_domain(k).min,
+                                &swarm.world_domain(k).max, *noise_,
                                 "energy model " + key, noise_next, k);
     });
     noise_host_ = std::move(noise_next);

@@ -18,6 +18,7 @@ FieldModel::FieldModel(Swarm& swarm, FieldModelConfig config)
     const ParamTable& table = field_param_table();
     table.validate(const_cast<FieldModelConfig*>(&c));
     Context& ctx = swarm.context();
+    check_noise_for_world_domains(c.noise, swarm.world_domains(), "field model noise");
     noise_ = std::make_unique<NoiseField>(ctx, c.noise, &swarm.config().domain_min, &swarm.config().domain_max);
     // Built for this noise configuration (NoiseField::defines).
     // On CPU devices the explicit-width variant (NoiseField::width() agents per
@@ -43,11 +44,10 @@ void FieldModel::upload_world_blocks(Context& ctx) {
 void FieldModel::set_world_param(Swarm& swarm, const std::string& key, const double* values, size_t count) {
     const bool noise = key.compare(0, 6, "noise.") == 0;
     std::vector<float> noise_next = noise_host_;
-    const auto& domain_min = swarm.config().domain_min;
-    const auto& domain_max = swarm.config().domain_max;
     worlds_.set(key, values, count, [&](const FieldModelConfig& changed, uint32_t k) {
         if (!noise) return;
-        write_world_noise_block(swarm.context(), changed.noise, &domain_min, &domain_max, *noise_,
+        write_world_noise_block(swarm.context(), changed.noise, &swarm.world_domain(k).min,
+                                &swarm.world_domain(k).max, *noise_,
                                 "field model " + key, noise_next, k);
     });
     noise_host_ = std::move(noise_next);

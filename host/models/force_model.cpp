@@ -119,6 +119,7 @@ ForceModel::ForceModel(Swarm& swarm, ForceModelConfig config)
     // world when it differs); each world assigns its insects to the targets
     // from its own positions (activate).
     Context& ctx = swarm.context();
+    check_noise_for_world_domains(config_.noise, swarm.world_domains(), "force model noise");
     noise_ = std::make_unique<NoiseField>(ctx, config_.noise, &swarm.config().domain_min, &swarm.config().domain_max);
     // On CPU devices the explicit-width force kernel (NoiseField::width()
     // agents per work-item; kernels/force_model.cl).
@@ -200,15 +201,14 @@ void ForceModel::set_world_param(Swarm& swarm, const std::string& key, const dou
     const bool shared = key == "obstacle_range" && !config_.mesh_obstacles.empty();
     const bool noise = key.compare(0, 6, "noise.") == 0;
     std::vector<float> noise_next = noise_host_;
-    const auto& domain_min = swarm.config().domain_min;
-    const auto& domain_max = swarm.config().domain_max;
     worlds_.set(key, values, count, [&](const ForceModelConfig& changed, uint32_t k) {
         validate(changed);  // what the table cannot say (zone order, cruise <= max speed)
         if (shared && !(values[k] == values[0]))
             fail(Status::InvalidArgument, "force model obstacle_range cannot differ between worlds: the mesh "
                                           "obstacles' distance grid, built once for every world, reaches it");
         if (!noise) return;
-        write_world_noise_block(swarm.context(), changed.noise, &domain_min, &domain_max, *noise_,
+        write_world_noise_block(swarm.context(), changed.noise, &swarm.world_domain(k).min,
+                                &swarm.world_domain(k).max, *noise_,
                                 "force model " + key, noise_next, k);
     });
     noise_host_ = std::move(noise_next);

@@ -29,6 +29,8 @@ PathModel::PathModel(Swarm& swarm, PathModelConfig config)
     // Each parameter's range: path_param_table() ("path model speed = -1 is
     // outside [0, inf) (m/s)"); what one row cannot say follows.
     path_param_table().validate(&c);
+    // The path field's grid and the noise cover one domain for every world.
+    swarm.require_one_domain("the path model");
     require(!c.groups.empty() && c.groups.size() <= 64, "path model needs 1 to 64 groups, each with its goals");
     // Targets move goals and rebake the noise while it runs: on worlds they
     // are one for every world (retarget_worlds), and a noise baked with them

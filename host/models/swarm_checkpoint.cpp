@@ -79,7 +79,15 @@ std::string swarm_checkpoint_bytes(Swarm& swarm) {
             w.u64(v.size());
             for (double x : v) w.f64(x);
         }
-        sections.push_back(section("WRLD", kWorldsSectionVersion, w.take()));
+        // Version 2 when the worlds have domains of their own (version 1
+        // readers can still read the others).
+        const bool domains = !swarm.same_domain_in_every_world();
+        if (domains)
+            for (uint32_t k = 0; k < swarm.worlds(); ++k) {
+                for (float v : swarm.world_domain(k).min) w.f32(v);
+                for (float v : swarm.world_domain(k).max) w.f32(v);
+            }
+        sections.push_back(section("WRLD", domains ? 2 : 1, w.take()));
     }
     sections.push_back(section("SWRM", kSwarmSectionVersion, cfg.take()));
     sections.push_back(section("AGNT", kAgentSectionVersion, agents.take()));
@@ -138,6 +146,16 @@ SwarmCheckpoint decode_swarm_checkpoint(const std::string& bytes, bool verify_ch
             std::vector<double> v(static_cast<size_t>(count));
             for (double& x : v) x = r.f64();
             cp.world_params.emplace_back(std::move(key), std::move(v));
+        }
+        if (s.version >= 2) {
+            if (uint64_t(c.worlds) * 24 > r.remaining())
+                r.bad(std::to_string(c.worlds) + " world domains do not fit in the " + std::to_string(r.remaining()) +
+                      " bytes left");
+            c.world_domains.resize(c.worlds);
+            for (Domain& d : c.world_domains) {
+                for (float& v : d.min) v = r.f32();
+                for (float& v : d.max) v = r.f32();
+            }
         }
         r.expect_end();
     }

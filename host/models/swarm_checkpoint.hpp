@@ -18,7 +18,7 @@ constexpr uint32_t kSwarmSectionVersion = 1;   // SWRM: the SwarmConfig
 constexpr uint32_t kAgentSectionVersion = 1;   // AGNT: steps, state in slot order
 constexpr uint32_t kStatsSectionVersion = 1;   // STAT: step statistics counters
 constexpr uint32_t kStateSectionVersion = 1;   // MDST: the model's state
-constexpr uint32_t kWorldsSectionVersion = 1;  // WRLD: worlds (only in a swarm of several)
+constexpr uint32_t kWorldsSectionVersion = 2;  // WRLD: worlds (only in a swarm of several); 2: domains of their own
 
 // A checkpoint decoded without a device: everything but the model's state,
 // which the rebuilt model reads (Behavior::restore_checkpoint).

@@ -5,6 +5,12 @@
 
 namespace swarmcl {
 
+// An axis-aligned box: a swarm's (or one world's) domain.
+struct Domain {
+    std::array<float, 3> min, max;
+    bool operator==(const Domain& o) const { return min == o.min && max == o.max; }
+};
+
 struct GridGeometry {
     std::array<float, 3> origin{};
     float cell = 1.0f;

@@ -1,7 +1,10 @@
 #include "spatial/neighbor_grid.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <utility>
+
+#include "core/error.hpp"
 
 namespace swarmcl {
 namespace {
@@ -20,12 +23,38 @@ constexpr uint32_t kOutputsPerItemCpu = 4096, kOutputsPerItemGpu = 256;
 constexpr uint32_t kMaxRadixBits = 11;
 
 uint32_t div_up(uint32_t a, uint32_t b) { return (a + b - 1) / b; }
+
+uint32_t total_cells(const std::vector<GridGeometry>& worlds) {
+    require(!worlds.empty(), "neighbour grid: at least one world expected");
+    uint64_t total = 0;
+    for (const GridGeometry& g : worlds) total += g.cell_count();
+    require(total < (uint64_t(1) << 31), "neighbour grid: the worlds' grids exceed 2^31 cells");
+    return uint32_t(total);
+}
 }  // namespace
 
 NeighborGrid::NeighborGrid(Context& ctx, const GridGeometry& geometry, uint32_t capacity, uint32_t worlds)
-    : ctx_(ctx), geometry_(geometry), worlds_(worlds), ncells_(geometry.cell_count() * worlds),
+    : NeighborGrid(ctx, std::vector<GridGeometry>(worlds, geometry), capacity) {}
+
+NeighborGrid::NeighborGrid(Context& ctx, std::vector<GridGeometry> world_geometry, uint32_t capacity)
+    : ctx_(ctx), geometry_(std::move(world_geometry)), worlds_(uint32_t(geometry_.size())),
+      ncells_(total_cells(geometry_)),
       outputs_per_item_(ctx.device().cpu_profile ? kOutputsPerItemCpu : kOutputsPerItemGpu),
-      radix_(ctx, geometry.cell_count() * worlds - 1u, kRadixBlocks, kMaxRadixBits) {
+      radix_(ctx, ncells_ - 1u, kRadixBlocks, kMaxRadixBits) {
+    std::vector<cl_float4> worlds_geo;
+    uint32_t first = 0;
+    for (const GridGeometry& g : geometry_) {
+        same_geometry_ = same_geometry_ && g.origin == geometry_[0].origin && g.cell == geometry_[0].cell &&
+                         g.dims == geometry_[0].dims;
+        cl_float4 dims;
+        for (int a = 0; a < 3; ++a) std::memcpy(&dims.s[a], &g.dims[a], sizeof(float));
+        std::memcpy(&dims.s[3], &first, sizeof(float));
+        worlds_geo.push_back(cl_float4{{g.origin[0], g.origin[1], g.origin[2], 1.0f / g.cell}});
+        worlds_geo.push_back(dims);
+        first += g.cell_count();
+    }
+    world_geometry_.allocate(ctx, worlds_geo.size(), "grid world geometry");
+    world_geometry_.upload(ctx, worlds_geo.data(), worlds_geo.size());
     capacity_ = capacity;
     keys_.allocate(ctx, capacity, "grid keys");
     perm_.allocate(ctx, capacity, "grid permutation");
@@ -41,7 +70,7 @@ NeighborGrid::NeighborGrid(Context& ctx, const GridGeometry& geometry, uint32_t 
     // An invalid layout (see invalidate_layout).
     layout_key_.fill(ctx, ncells_, capacity);
 
-    keys_k_ = ctx.kernel("grid.cl", "grid_keys_count", world_defines(worlds));
+    keys_k_ = ctx.kernel("grid.cl", "grid_keys_count", world_defines(worlds_));
     movers_write_ = ctx.kernel("grid.cl", "grid_movers_write");
     sort_runs_ = ctx.kernel("grid.cl", "grid_sort_runs");
     merge_ = ctx.kernel("grid.cl", "grid_merge");
@@ -49,8 +78,14 @@ NeighborGrid::NeighborGrid(Context& ctx, const GridGeometry& geometry, uint32_t 
     permute_state_ = ctx.kernel("grid.cl", "permute_state");
 }
 
+float NeighborGrid::largest_cell() const {
+    float cell = 0.0f;
+    for (const GridGeometry& g : geometry_) cell = std::max(cell, g.cell);
+    return cell;
+}
+
 cl_uint NeighborGrid::set_grid_args(cl::Kernel& kernel, cl_uint index) {
-    const auto& g = geometry_;
+    const auto& g = geometry_[0];
     kernel.setArg(index++, cl_float4{{g.origin[0], g.origin[1], g.origin[2], 0.0f}});
     kernel.setArg(index++, 1.0f / g.cell);
     kernel.setArg(index++, cl_int4{{g.dims[0], g.dims[1], g.dims[2], 0}});
@@ -60,7 +95,7 @@ cl_uint NeighborGrid::set_grid_args(cl::Kernel& kernel, cl_uint index) {
 
 cl_uint NeighborGrid::set_world_grid_args(cl::Kernel& kernel, cl_uint index) {
     index = set_grid_args(kernel, index);
-    kernel.setArg(index++, cl_uint(geometry_.cell_count()));
+    kernel.setArg(index++, world_geometry_.get());
     return index;
 }
 
@@ -105,7 +140,7 @@ void NeighborGrid::build(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<
     keys_k_.setArg(8, keys_.get());
     keys_k_.setArg(9, chunk_counts_.get());
     keys_k_.setArg(10, cl_uint(world_agents ? world_agents : 0xFFFFFFFFu));
-    keys_k_.setArg(11, cl_uint(geometry_.cell_count()));
+    keys_k_.setArg(11, world_geometry_.get());
     check_arg_count(keys_k_, 12);
     launch_chunks(ctx_, keys_k_, chunks);
     stage("grid_keys_count");

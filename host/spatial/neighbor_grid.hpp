@@ -11,6 +11,7 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 #include "device/buffer.hpp"
 #include "device/context.hpp"
@@ -24,6 +25,9 @@ public:
     // `worlds` grids of `geometry` in one (lib/grid_common.cl, "Worlds"):
     // the cells of world k are k * geometry.cell_count() + cell.
     NeighborGrid(Context& ctx, const GridGeometry& geometry, uint32_t capacity, uint32_t worlds = 1);
+    // One grid per world, each of its own geometry (its own domain): world
+    // k's cells follow world k - 1's in cell_start().
+    NeighborGrid(Context& ctx, std::vector<GridGeometry> world_geometry, uint32_t capacity);
 
     // Called after each stage of build() (for the benchmark's stage timings).
     using StageHook = std::function<void(const char* stage)>;
@@ -58,19 +62,27 @@ public:
     // back in id order): the next build sorts from scratch.
     void invalidate_layout();
 
-    const GridGeometry& geometry() const { return geometry_; }
+    // World 0's geometry (the grid's, with one world).
+    const GridGeometry& geometry() const { return geometry_[0]; }
+    const GridGeometry& world_geometry(uint32_t k) const { return geometry_[k]; }
+    // Whether every world has world 0's geometry.
+    bool same_geometry_in_every_world() const { return same_geometry_; }
+    // The largest cell edge of any world, and the cells of all worlds.
+    float largest_cell() const;
+    uint32_t cell_count() const { return ncells_; }
     DeviceBuffer<cl_uint>& cell_start() { return start_in_layout_ ? layout_start_ : start_; }
     DeviceBuffer<cl_uint>& permutation() { return perm_; }
 
     // Appends the GRID_PARAMS arguments (grid_common.cl) from `index` on;
-    // set_world_grid_args the GRID_WORLD_PARAMS (the cells of one world too).
+    // set_world_grid_args the GRID_WORLD_PARAMS (every world's grid too).
     cl_uint set_grid_args(cl::Kernel& kernel, cl_uint index);
     cl_uint set_world_grid_args(cl::Kernel& kernel, cl_uint index);
     uint32_t worlds() const { return worlds_; }
 
 private:
     Context& ctx_;
-    GridGeometry geometry_;
+    std::vector<GridGeometry> geometry_;  // per world
+    bool same_geometry_ = true;
     uint32_t worlds_ = 1;
     uint32_t ncells_;  // of all worlds
     uint32_t outputs_per_item_;  // grid_merge, grid_starts
@@ -86,6 +98,7 @@ private:
         movers_;
     DeviceBuffer<cl_uint>* pending_key_ = nullptr;  // the last build's keys in its order (r_key_ or t_key_)
     DeviceBuffer<cl_uint> start_, layout_start_, chunk_counts_;
+    DeviceBuffer<cl_float4> world_geometry_;  // grid_common.cl's grid_worlds
     RadixSort radix_;  // of the movers, by cell
     cl::Kernel keys_k_, movers_write_, sort_runs_, merge_, starts_, permute_state_;
 };

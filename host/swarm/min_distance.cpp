@@ -127,7 +127,9 @@ void MinDistance::apply(Swarm& swarm, DeviceBuffer<cl_uint>& moved) {
     swarm.ensure_grid();
     const uint32_t n = swarm.agent_count(), worlds = swarm.worlds();
     require(worlds == d_min_.size(), "minimum distance enforcement: built for another number of worlds");
-    const bool wide = uses_wide_kernel(swarm.grid().geometry(), uint32_t(swarm.total_agents()));
+    bool wide = true;  // where every world's grid suits it
+    for (uint32_t k = 0; k < worlds; ++k)
+        wide = wide && uses_wide_kernel(swarm.grid().world_geometry(k), uint32_t(swarm.total_agents()));
     cl::Kernel& k = wide ? wide_ : kernel_;
     cl_uint i = 0;
     k.setArg(i++, swarm.positions().get());

@@ -22,11 +22,22 @@ void validate(const SwarmConfig& c) {
                 std::to_string(c.world_seeds.size()));
     require(c.agent_count <= c.capacity, "swarm agent_count " + std::to_string(c.agent_count) +
                                              " exceeds capacity " + std::to_string(c.capacity));
-    for (int a = 0; a < 3; ++a) {
-        require(finite(c.domain_min[a]) && finite(c.domain_max[a]), "swarm domain bounds must be finite");
-        require(c.domain_min[a] < c.domain_max[a],
-                "swarm domain_min[" + std::to_string(a) + "] must be below domain_max[" + std::to_string(a) + "]");
-    }
+    require(c.world_domains.empty() || c.world_domains.size() == c.worlds,
+            "swarm world_domains must be empty or hold one domain per world (" + std::to_string(c.worlds) +
+                "), not " + std::to_string(c.world_domains.size()));
+    // "swarm domain_min[1] (2.000000) must be below domain_max[1] (1.000000)"
+    const auto check_domain = [](const Domain& d, const std::string& what, const std::string& lo,
+                                 const std::string& hi) {
+        for (int a = 0; a < 3; ++a) {
+            const std::string i = "[" + std::to_string(a) + "]";
+            require(finite(d.min[a]) && finite(d.max[a]), what + " domain bounds must be finite");
+            require(d.min[a] < d.max[a], what + " " + lo + i + " (" + std::to_string(d.min[a]) + ") must be below " +
+                                             hi + i + " (" + std::to_string(d.max[a]) + ")");
+        }
+    };
+    if (c.world_domains.empty()) check_domain({c.domain_min, c.domain_max}, "swarm", "domain_min", "domain_max");
+    for (size_t k = 0; k < c.world_domains.size(); ++k)
+        check_domain(c.world_domains[k], "swarm world " + std::to_string(k), "domain min", "domain max");
     require(finite(c.interaction_radius) && c.interaction_radius > 0.0f,
             "swarm interaction_radius must be a finite number > 0");
     require(finite(c.dt) && c.dt > 0.0f, "swarm dt must be a finite number > 0");
@@ -38,13 +49,32 @@ uint32_t max_cells_for(uint32_t capacity) {
     return uint32_t(std::clamp<uint64_t>(uint64_t(capacity) * 4u, 1u << 12, 1u << 24));
 }
 
-const SwarmConfig& checked(const SwarmConfig& c, Context& ctx) {
+std::vector<Domain> domains_of(const SwarmConfig& c) {
+    return c.world_domains.empty() ? std::vector<Domain>(c.worlds, Domain{c.domain_min, c.domain_max})
+                                   : c.world_domains;
+}
+
+std::vector<GridGeometry> world_grids(const SwarmConfig& c) {
+    std::vector<GridGeometry> grids;
+    for (const Domain& d : domains_of(c))
+        grids.push_back(GridGeometry::cover(d.min.data(), d.max.data(), c.interaction_radius,
+                                            max_cells_for(c.capacity)));
+    return grids;
+}
+
+SwarmConfig checked(SwarmConfig c, Context& ctx) {
     validate(c);
-    const uint64_t cells = GridGeometry::cover(c.domain_min.data(), c.domain_max.data(), c.interaction_radius,
-                                               max_cells_for(c.capacity)).cell_count();
-    if (cells * c.worlds >= (uint64_t(1) << 31))
+    if (!c.world_domains.empty()) {  // world 0's is the swarm's domain
+        c.domain_min = c.world_domains[0].min;
+        c.domain_max = c.world_domains[0].max;
+    }
+    uint64_t cells = 0;
+    for (const Domain& d : domains_of(c))
+        cells += GridGeometry::cover(d.min.data(), d.max.data(), c.interaction_radius, max_cells_for(c.capacity))
+                     .cell_count();
+    if (cells >= (uint64_t(1) << 31))
         fail(Status::InvalidArgument, "swarm worlds: " + std::to_string(c.worlds) + " worlds of " +
-                                          std::to_string(cells) + " grid cells each exceed 2^31 cells; use fewer "
+                                          std::to_string(cells) + " grid cells in all exceed 2^31 cells; use fewer "
                                           "worlds or a larger interaction_radius");
     // State, scratch and grid buffers per agent (float4 x4, uint x13, packed
     // xyz), and the grid's per-cell arrays (2 uints).
@@ -75,9 +105,9 @@ void check_finite(const float* src, size_t count, const char* what) {
 Swarm::Swarm(std::shared_ptr<Context> ctx, const SwarmConfig& config)
     : ctx_(std::move(ctx)),
       config_(checked(config, *ctx_)),
-      grid_(*ctx_, GridGeometry::cover(config.domain_min.data(), config.domain_max.data(),
-                                       config.interaction_radius, max_cells_for(config.capacity)),
-            config.capacity * config.worlds, config.worlds),
+      domains_(domains_of(config_)),
+      same_domain_(std::all_of(domains_.begin(), domains_.end(), [&](const Domain& d) { return d == domains_[0]; })),
+      grid_(*ctx_, world_grids(config_), config.capacity * config.worlds),
       worlds_(config.worlds),
       stats_(*ctx_, config.worlds) {
     Context& c = *ctx_;
@@ -120,6 +150,12 @@ void Swarm::require_one_world(const std::string& what) const {
                                           std::to_string(worlds_) + "); docs/architecture.md, \"Worlds\"");
 }
 
+void Swarm::require_one_domain(const std::string& what) const {
+    if (!same_domain_)
+        fail(Status::InvalidArgument, what + " needs one domain for every world (this swarm's worlds have domains "
+                                             "of their own); docs/architecture.md, \"Worlds\"");
+}
+
 void Swarm::place_uniformly(uint32_t count) {
     // Philox keyed by (seed, agent id, step 0, stream 0): the same seed gives
     // the same swarm on every device; world k's by its own seed.
@@ -130,7 +166,7 @@ void Swarm::place_uniformly(uint32_t count) {
         for (uint32_t id = 0; id < count; ++id) {
             const auto r = philox_for(seed, id, 0, 0);
             for (int a = 0; a < 3; ++a) {
-                const float lo = config_.domain_min[a], hi = config_.domain_max[a];
+                const float lo = domains_[k].min[a], hi = domains_[k].max[a];
                 out[size_t(id) * 3 + a] = std::min(lo + uniform01(r[a]) * (hi - lo), std::nextafter(hi, lo));
             }
         }

@@ -22,8 +22,9 @@ namespace swarmcl {
 // Worlds (docs/architecture.md, "Worlds"): `worlds` independent swarms of
 // agent_count agents each (capacity each), stepped by the same launches.
 // World k is placed, seeded and stepped as a swarm alone with seed
-// world_seeds[k] (default: seed + k) would be, bitwise; all worlds share the
-// domain, the grid and the model's kernel, each has its own parameter block.
+// world_seeds[k] (default: seed + k) would be, bitwise, in its own domain
+// (world_domains[k]; default domain_min..domain_max); all worlds share the
+// model's kernel, each has its own parameter block and grid.
 struct SwarmConfig {
     uint32_t capacity = 1024;
     uint32_t agent_count = 0;
@@ -32,6 +33,9 @@ struct SwarmConfig {
     std::vector<uint64_t> world_seeds;  // empty, or one per world
     std::array<float, 3> domain_min{-1.0f, -1.0f, -1.0f};
     std::array<float, 3> domain_max{1.0f, 1.0f, 1.0f};
+    // Empty: every world's domain is domain_min..domain_max.  Else one per
+    // world; the swarm then sets domain_min/max to world 0's.
+    std::vector<Domain> world_domains;
     float interaction_radius = 0.1f;
     float dt = 1.0f / 60.0f;
 };
@@ -69,6 +73,14 @@ public:
     size_t total_agents() const { return size_t(n_) * worlds_; }
     // World k's seed (SwarmConfig::world_seeds).
     uint64_t world_seed(uint32_t k) const;
+    // World k's domain (SwarmConfig::world_domains), and whether every world
+    // has world 0's.
+    const Domain& world_domain(uint32_t k) const { return domains_[k]; }
+    const std::vector<Domain>& world_domains() const { return domains_; }
+    bool same_domain_in_every_world() const { return same_domain_; }
+    // Error(InvalidArgument) naming `what` when the worlds' domains differ
+    // (for the parts that need one domain: the path model's grid).
+    void require_one_domain(const std::string& what) const;
     uint64_t step_count() const { return steps_; }
     const SwarmConfig& config() const { return config_; }
     Context& context() { return *ctx_; }
@@ -147,6 +159,8 @@ private:
 
     std::shared_ptr<Context> ctx_;
     SwarmConfig config_;
+    std::vector<Domain> domains_;  // per world
+    bool same_domain_ = true;
     NeighborGrid grid_;
     uint32_t n_ = 0;  // agents a world
     uint32_t worlds_ = 1;

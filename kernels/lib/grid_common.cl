@@ -38,25 +38,37 @@ static inline Grid grid_make(float4 origin, float inv_cell, int4 dims, __global 
 }
 
 // Worlds (docs/architecture.md, "Worlds"): a swarm of W worlds of n agents
-// each keeps world w's agents in slots [w n, (w + 1) n) and its cells at
-// [w cells, (w + 1) cells) of one cell_start array of W cells + 1 entries
-// (the grid's keys are w cells + cell, kernels/grid.cl).  A kernel launched
-// over (work-items, W) works on world get_global_id(1): it offsets its
-// per-agent pointers by w n, and sees its world's cells through this view,
-// whose ranges are slots of the world (from 0), so the kernel body is the one
-// of a swarm alone, and world w gives bitwise that swarm's run.  The world
-// offsets are compiled in with -DSWCL_WORLDS only (a swarm of several
-// worlds): on sm_90 they cost the field model's kernel 30 registers, so a
-// swarm of one world keeps the kernels as they were (the same arguments).
-#define GRID_WORLD_PARAMS GRID_PARAMS, uint grid_world_cells
+// each keeps world w's agents in slots [w n, (w + 1) n) and its cells in a
+// range of one cell_start array (the grid's keys are the world's first cell
+// + cell, kernels/grid.cl).  Each world has the grid of its own domain:
+// grid_worlds[2 w] holds its origin (xyz) and 1 / cell edge (w),
+// grid_worlds[2 w + 1] its cells per axis (xyz, int bits) and its first
+// cell (w, uint bits); the host writes the values a swarm alone passes as
+// GRID_PARAMS.  A kernel launched over (work-items, W) works on world
+// get_global_id(1): it offsets its per-agent pointers by w n, and sees its
+// world's grid through this view, whose ranges are slots of the world (from
+// 0), so the kernel body is the one of a swarm alone, and world w gives
+// bitwise that swarm's run.  The view is compiled in with -DSWCL_WORLDS only
+// (a swarm of several worlds): on sm_90 world offsets cost the field model's
+// kernel registers, so a swarm of one world keeps the kernels as they were.
+#define GRID_WORLD_PARAMS GRID_PARAMS, __global const float4* grid_worlds
 #ifdef SWCL_WORLDS
-#define GRID_MAKE_WORLD(n) grid_world_view(GRID_MAKE(), grid_world_cells, (n))
+#define GRID_MAKE_WORLD(n) grid_world_view(GRID_MAKE(), grid_worlds, (n))
 #else
 #define GRID_MAKE_WORLD(n) GRID_MAKE()
 #endif
-static inline Grid grid_world_view(Grid g, uint world_cells, uint n) {
+// World w's grid (its cell ranges still count slots from the swarm's first).
+static inline Grid grid_of_world(Grid g, __global const float4* worlds, uint w) {
+    const float4 a = worlds[2u * w], b = worlds[2u * w + 1u];
+    g.origin = (float4)(a.xyz, 0.0f);
+    g.inv_cell = a.w;
+    g.dims = (int4)(as_int(b.x), as_int(b.y), as_int(b.z), 0);
+    g.cell_start += as_uint(b.w);
+    return g;
+}
+static inline Grid grid_world_view(Grid g, __global const float4* worlds, uint n) {
     const uint w = (uint)get_global_id(1);
-    g.cell_start += (size_t)w * world_cells;
+    g = grid_of_world(g, worlds, w);
     g.slot_base = w * n;
     return g;
 }

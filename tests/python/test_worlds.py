@@ -246,16 +246,20 @@ def test_path_model_chasing_targets_run_as_worlds_bitwise_alone(ctx, tmp_path, s
             scn.create_world_swarm(ctx, 2)
 
 
-def test_policy_model_worlds_are_bitwise_the_swarms_alone(ctx, tmp_path):
+@pytest.mark.parametrize("own_domains", [False, True])
+def test_policy_model_worlds_are_bitwise_the_swarms_alone(ctx, tmp_path, own_domains):
     # The policy model on worlds: a leader a world (alike), each world with
-    # its own seed, r_coh, body radius, du_max and dq_max_deg, bitwise its
-    # swarm alone; the observations come back world by world; a checkpoint
-    # resumes bitwise; the leader's parameters are refused per world by name.
+    # its own seed, r_coh, body radius, du_max and dq_max_deg (and, with
+    # own_domains, its own domain: its own grid), bitwise its swarm alone;
+    # the observations come back world by world; a checkpoint resumes
+    # bitwise; the leader's parameters are refused per world by name.
     from conftest import TOUR
     n, steps, seeds = 70, 12, [3, 11, 29]
     per_world = {"r_coh": [18.0, 12.0, 18.0], "body_radius": [0.5, 0.8, 0.3], "du_max": [0.1, 0.05, 0.2],
                  "dq_max_deg": [4.0, 2.0, 8.0]}
     domain = ((-60, -60, -30), (60, 60, 30))
+    domains = ([((-60 - 10 * k, -60 + 5 * k, -30), (60 + 7 * k, 60, 30 + 10 * k)) for k in range(3)]
+               if own_domains else [domain] * 3)
 
     def model(k=0):
         return swarmcl.PolicyModel(leader_mode="tour", leader_speed=0.6, waypoints=TOUR,
@@ -266,7 +270,8 @@ def test_policy_model_worlds_are_bitwise_the_swarms_alone(ctx, tmp_path):
         return rng.normal(0, 4, (n, 3)).astype(np.float32) + np.float32([-8, 0, 0])
 
     with swarmcl.Swarm(ctx, agent_count=n, domain=domain, interaction_radius=18.5, dt=0.1, worlds=3,
-                       world_seeds=seeds) as s:
+                       world_seeds=seeds, world_domains=domains if own_domains else None) as s:
+        np.testing.assert_array_equal(s.world_domains, np.float64(domains))
         s.write_positions(np.stack([start(s, k) for k in range(3)]))
         s.write_velocities(np.tile(np.float32([0.5, 0, 0]), (3, n, 1)))
         s.set_policy_model(model(0))
@@ -286,10 +291,12 @@ def test_policy_model_worlds_are_bitwise_the_swarms_alone(ctx, tmp_path):
         obs, act = s.policy_observe()
     assert obs.shape == (3, n, 54) and act.shape == (3, n, 4)
     with swarmcl.Swarm.load(ctx, tmp_path / "policy.swcl") as resumed:
+        np.testing.assert_array_equal(resumed.world_domains, np.float64(domains))
         resumed.step(steps - steps // 2)
         assert resumed.positions.tobytes() == pos.tobytes()
     for k in range(3):
-        with swarmcl.Swarm(ctx, agent_count=n, domain=domain, interaction_radius=18.5, dt=0.1, seed=seeds[k]) as one:
+        with swarmcl.Swarm(ctx, agent_count=n, domain=domains[k], interaction_radius=18.5, dt=0.1,
+                           seed=seeds[k]) as one:
             one.write_positions(start(one, k))
             one.write_velocities(np.tile(np.float32([0.5, 0, 0]), (n, 1)))
             one.set_policy_model(model(k))
@@ -299,3 +306,24 @@ def test_policy_model_worlds_are_bitwise_the_swarms_alone(ctx, tmp_path):
             o, a = one.policy_observe()
             assert obs[k].tobytes() == o.tobytes() and act[k].tobytes() == a.tobytes(), f"world {k}"
     assert pos[0].tobytes() != pos[1].tobytes()
+
+
+def test_world_domains_place_each_world_in_its_box_and_bad_ones_are_refused(ctx):
+    boxes = np.array([[(-1, -1, -1), (1, 1, 1)], [(2, 0, 0), (5, 1, 0.5)]])
+    with swarmcl.Swarm(ctx, agent_count=200, worlds=2, world_domains=boxes, interaction_radius=0.2) as s:
+        pos = s.positions
+        for k in range(2):
+            assert (pos[k] >= np.float32(boxes[k, 0])).all() and (pos[k] < np.float32(boxes[k, 1])).all()
+    with pytest.raises(ValueError, match=r"world_domains must be shaped \(2, 2, 3\)"):
+        swarmcl.Swarm(ctx, agent_count=10, worlds=2, world_domains=boxes[:1])
+    bad = boxes.copy()
+    bad[1, 1, 2] = -1.0  # world 1: max z below min z
+    with pytest.raises(swarmcl.InvalidArgumentError, match=r"world 1 domain min\[2\]"):
+        swarmcl.Swarm(ctx, agent_count=10, worlds=2, world_domains=bad)
+    bad[1, 1, 2] = np.nan
+    with pytest.raises(swarmcl.InvalidArgumentError, match="world 1 domain bounds must be finite"):
+        swarmcl.Swarm(ctx, agent_count=10, worlds=2, world_domains=bad)
+    # The path model's grid covers one domain for every world.
+    with swarmcl.Swarm(ctx, agent_count=10, worlds=2, world_domains=boxes) as s:
+        with pytest.raises(swarmcl.InvalidArgumentError, match="the path model needs one domain for every world"):
+            s.set_path_model(swarmcl.PathModel())

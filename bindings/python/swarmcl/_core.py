@@ -159,12 +159,16 @@ class Swarm(_Handle):
     seeded with ``world_seeds[k]`` (default ``seed + k``) and runs bitwise as
     the same swarm alone; positions, velocities and query results are then
     shaped (W, N, ...), and ``set_world_param`` gives the model's parameters
-    one value per world."""
+    one value per world.  ``world_domains`` (shape (W, 2, 3): world k's
+    minimum and maximum corner) gives each world a domain of its own, in
+    place of ``domain``: world k is then placed in, and its grid and noise
+    cover, its own box, as the same swarm alone with that domain."""
 
     def __init__(self, context: Context, capacity: Optional[int] = None,
                  agent_count: Optional[int] = None, seed: Optional[int] = None,
                  domain=None, interaction_radius: Optional[float] = None,
-                 dt: Optional[float] = None, worlds: Optional[int] = None, world_seeds=None):
+                 dt: Optional[float] = None, worlds: Optional[int] = None, world_seeds=None,
+                 world_domains=None):
         if not isinstance(context, Context):
             raise TypeError(f"context must be a swarmcl.Context, got {type(context).__name__}")
         desc = ffi.new("swcl_swarm_desc*", _SWARM_DEFAULT)
@@ -200,6 +204,14 @@ class Swarm(_Handle):
                 raise ValueError("Swarm: world_seeds must be >= 0")
             keep = np.ascontiguousarray(seeds, dtype=np.uint64)
             desc.world_seeds = ffi.cast("const uint64_t*", keep.ctypes.data)
+        keep_domains = None
+        if world_domains is not None:
+            boxes = np.asarray(world_domains, dtype=np.float64)
+            if boxes.shape != (int(desc.worlds), 2, 3):
+                raise ValueError(f"Swarm: world_domains must be shaped ({int(desc.worlds)}, 2, 3) (a minimum and a "
+                                 f"maximum corner per world), got {boxes.shape}")
+            keep_domains = np.ascontiguousarray(boxes, dtype=np.float32)
+            desc.world_domains = ffi.cast("const float*", keep_domains.ctypes.data)
         out = ffi.new("swcl_swarm*")
         check(lib.swcl_swarm_create(context._h, desc, out))
         self._init_handle(out, context)
@@ -230,6 +242,15 @@ class Swarm(_Handle):
         """Independent worlds in the swarm (1 unless created with ``worlds``)."""
         check(lib.swcl_swarm_worlds(self._h, self._u32))
         return int(self._u32[0])
+
+    @property
+    def world_domains(self) -> np.ndarray:
+        """Each world's domain, shaped (W, 2, 3): its minimum and maximum
+        corner (every world's is the swarm's unless created with
+        ``world_domains``)."""
+        out = np.empty((self.worlds, 2, 3), dtype=np.float32)
+        check(lib.swcl_swarm_world_domains(self._h, ffi.cast("float*", out.ctypes.data), out.shape[0]))
+        return out.astype(np.float64)
 
     def _shape(self, *tail):
         """(N, *tail) with one world, (W, N, *tail) with several, and the

@@ -185,9 +185,9 @@ typedef struct swcl_swarm_desc {
     /* Worlds (added in 0.x; older struct sizes mean 1): independent swarms of
      * capacity / agent_count agents each, stepped by the same launches.  World
      * k is seeded with world_seeds[k] (NULL: seed + k) and runs bitwise as a
-     * swarm alone with that seed and its own model parameters
-     * (swcl_swarm_set_world_param).  All worlds share the domain, the grid's
-     * cells and the model's kernel.  Reads and writes hold every world, world
+     * swarm alone with that seed, its own model parameters
+     * (swcl_swarm_set_world_param) and its domain (world_domains).  All
+     * worlds share the model's kernel; each has the grid of its domain.  Reads and writes hold every world, world
      * by world (count = worlds x agents a world).  The field model, the
      * force model, the energy model, the path model (its goals per world by
      * the keys "groups.G.goals.I.center" / ".radius" / ".half_extents";
@@ -199,6 +199,15 @@ typedef struct swcl_swarm_desc {
      * with SWCL_ERROR_INVALID_ARGUMENT for now. */
     uint32_t worlds;               /* >= 1 */
     const uint64_t* world_seeds;   /* NULL or `worlds` seeds (copied) */
+    /* Domains per world (added after world_seeds; older struct sizes mean
+     * NULL): NULL, every world in domain_min..domain_max; else 6 x `worlds`
+     * floats (copied), world k's min xyz then max xyz, which replace
+     * domain_min/max (the swarm's domain is then world 0's).  Each world is
+     * placed in, and its grid and noise cover, its own domain.  The path
+     * model needs one domain for every world (SWCL_ERROR_INVALID_ARGUMENT
+     * otherwise); so do noise domain walls and a baked noise without a
+     * region (the noise's boundaries are one for every world). */
+    const float* world_domains;
 } swcl_swarm_desc;
 
 SWCL_API swcl_swarm_desc swcl_swarm_desc_default(void);
@@ -208,6 +217,9 @@ SWCL_API swcl_status swcl_swarm_destroy(swcl_swarm swarm);
 /* Agents of each world (of the swarm, with one world). */
 SWCL_API swcl_status swcl_swarm_agent_count(swcl_swarm swarm, uint32_t* out_count);
 SWCL_API swcl_status swcl_swarm_worlds(swcl_swarm swarm, uint32_t* out_worlds);
+/* Every world's domain: out[6 k .. 6 k + 5] = world k's min xyz, max xyz;
+ * count = worlds (swcl_swarm_desc.world_domains, or domain_min/max for all). */
+SWCL_API swcl_status swcl_swarm_world_domains(swcl_swarm swarm, float* out, size_t count);
 /* Steps simulated so far. */
 SWCL_API swcl_status swcl_swarm_step_count(swcl_swarm swarm, uint64_t* out_steps);
 
