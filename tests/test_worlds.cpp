@@ -406,6 +406,19 @@ TEST_F(Worlds, OlderDescriptorsAreOneWorld) {
     uint32_t worlds = 0;
     ASSERT_EQ(swcl_swarm_worlds(s, &worlds), SWCL_OK);
     EXPECT_EQ(worlds, 1u);
+    // A caller built before world_domains: its memory there is not read.
+    const float garbage[12] = {5, 5, 5, -5, -5, -5, 5, 5, 5, -5, -5, -5};
+    d = desc(2, 3, nullptr);
+    d.world_domains = garbage;
+    d.struct_size = uint32_t(offsetof(swcl_swarm_desc, world_domains));
+    s = make(d);
+    std::vector<float> boxes(12);
+    ASSERT_EQ(swcl_swarm_world_domains(s, boxes.data(), 2), SWCL_OK) << swcl_last_error();
+    for (uint32_t k = 0; k < 2; ++k)
+        for (int a = 0; a < 3; ++a) {
+            EXPECT_EQ(boxes[6 * k + a], -1.0f);
+            EXPECT_EQ(boxes[6 * k + 3 + a], 1.0f);
+        }
 }
 
 }  // namespace
