@@ -1,8 +1,10 @@
 // Worlds (issue 25): agent-steps per second of W worlds x N agents stepped
 // as one swarm of worlds, against one swarm of W x N agents of the same model
 // at the same density (its domain W^(1/3) times as wide) in the same run,
-// rounds alternated.  And W swarms of N stepped one after another (what a fit
-// did before worlds), timed over fewer steps.
+// rounds alternated, beside the same W worlds each in a domain of its own
+// (own grid and placement; not the path model, whose grid covers one
+// domain).  And W swarms of N stepped one after another (what a fit did
+// before worlds), timed over fewer steps.
 //   worlds_bench [--model field|force|energy|path|policy] [--worlds 1000] [--agents 300] [--steps 20]
 //                [--rounds 3] [--alone-worlds 64] [--json PATH]
 // The model: the field model (curl noise, a goal, MDE), the force model
@@ -119,8 +121,11 @@ bool g_policy = false;          // g_model == "policy": its own scale and time s
 std::shared_ptr<const Dataset> g_dataset;
 std::shared_ptr<const std::string> g_policy_bytes;  // the shipped policy
 
+// own_domains: world k in a box of its own, each axis 0.8 to 1.2 times the
+// cube's and shifted (so each world has its own grid and placement; the
+// noise region stays the cube's).
 std::unique_ptr<Swarm> make(std::shared_ptr<Context> ctx, uint32_t worlds, uint32_t agents, float half,
-                            uint64_t seed) {
+                            uint64_t seed, bool own_domains = false) {
     SwarmConfig c;
     c.capacity = agents;
     c.agent_count = agents;
@@ -128,6 +133,16 @@ std::unique_ptr<Swarm> make(std::shared_ptr<Context> ctx, uint32_t worlds, uint3
     c.worlds = worlds;
     c.domain_min = {-half, -half, -half};
     c.domain_max = {half, half, half};
+    for (uint32_t k = 0; own_domains && k < worlds; ++k) {
+        Domain d;
+        for (int a = 0; a < 3; ++a) {
+            const float f = 0.8f + 0.4f * float((k * 7 + a * 3) % 11) / 10.0f;
+            const float shift = 0.1f * half * float((k + a) % 3);
+            d.min[a] = -half * f + shift;
+            d.max[a] = half * f + shift;
+        }
+        c.world_domains.push_back(d);
+    }
     c.interaction_radius = g_policy ? kPolicyCell : 0.2f;
     c.dt = g_policy ? 0.1f : 0.01f;
     auto s = std::make_unique<Swarm>(std::move(ctx), c);
@@ -136,7 +151,12 @@ std::unique_ptr<Swarm> make(std::shared_ptr<Context> ctx, uint32_t worlds, uint3
         return s;
     }
     if (g_model == "force") {
-        s->set_behavior(std::make_shared<ForceModel>(*s, force_model()));
+        ForceModelConfig m = force_model();
+        if (m.noise.domain_walls && !m.noise.has_region()) {  // the cube's walls for every world
+            m.noise.region_min = c.domain_min;
+            m.noise.region_max = c.domain_max;
+        }
+        s->set_behavior(std::make_shared<ForceModel>(*s, m));
         return s;
     }
     if (g_model == "energy") {
@@ -227,15 +247,20 @@ int main(int argc, char** argv) {
 
     auto ensemble = make(ctx, worlds, agents, half_side, 1);
     auto single = make(ctx, 1, uint32_t(total), big_half, 1);
-    std::vector<double> t_worlds, t_single;
+    // Worlds of their own domains (not the path model's: its grid covers one).
+    auto own = g_model == "path" ? nullptr : make(ctx, worlds, agents, half_side, 1, true);
+    std::vector<double> t_worlds, t_single, t_own;
     for (int r = 0; r < rounds; ++r) {
         t_worlds.push_back(time_steps(*ctx, *ensemble, steps));
         t_single.push_back(time_steps(*ctx, *single, steps));
-        std::printf("  round %d: worlds %8.2f ms/step   one swarm %8.2f ms/step  (load %.1f)\n", r + 1,
-                    1e3 * t_worlds.back(), 1e3 * t_single.back(), bench::load_average());
+        if (own) t_own.push_back(time_steps(*ctx, *own, steps));
+        std::printf("  round %d: worlds %8.2f ms/step   one swarm %8.2f ms/step   worlds of own domains %8.2f "
+                    "ms/step  (load %.1f)\n", r + 1, 1e3 * t_worlds.back(), 1e3 * t_single.back(),
+                    own ? 1e3 * t_own.back() : 0.0, bench::load_average());
     }
     ensemble.reset();
     single.reset();
+    own.reset();
     // Before worlds: K swarms of N stepped one after another, each its own
     // launches (the fit's way), per agent-step.
     std::vector<std::unique_ptr<Swarm>> alone;
@@ -254,6 +279,10 @@ int main(int argc, char** argv) {
     const double rate_w = double(total) / w, rate_s = double(total) / s;
     std::printf("worlds:        %8.2f ms/step  %6.2f M agent-steps/s\n", 1e3 * w, rate_w / 1e6);
     std::printf("one swarm:     %8.2f ms/step  %6.2f M agent-steps/s\n", 1e3 * s, rate_s / 1e6);
+    const double o = t_own.empty() ? 0.0 : bench::median(t_own), rate_o = o > 0.0 ? double(total) / o : 0.0;
+    if (o > 0.0)
+        std::printf("worlds of their own domains: %8.2f ms/step  %6.2f M agent-steps/s (%.2f x the worlds of one)\n",
+                    1e3 * o, rate_o / 1e6, rate_o / rate_w);
     std::printf("swarms alone:  %u x %u stepped one after another: %6.2f M agent-steps/s\n", alone_worlds, agents,
                 alone_rate / 1e6);
     std::printf("worlds / one swarm = %.2f (target >= 0.70: %s); worlds / swarms alone = %.1fx\n", rate_w / rate_s,
@@ -270,6 +299,8 @@ int main(int argc, char** argv) {
       << "  \"worlds\": " << worlds << ",\n  \"agents_per_world\": " << agents << ",\n  \"steps\": " << steps
       << ",\n  \"rounds\": " << rounds << ",\n  \"worlds_s_per_step\": " << bench::json_array(t_worlds, 1.0)
       << ",\n  \"one_swarm_s_per_step\": " << bench::json_array(t_single, 1.0)
+      << ",\n  \"own_domains_s_per_step\": " << bench::json_array(t_own, 1.0)
+      << ",\n  \"own_domains_agent_steps_per_s\": " << rate_o
       << ",\n  \"worlds_agent_steps_per_s\": " << rate_w << ",\n  \"one_swarm_agent_steps_per_s\": " << rate_s
       << ",\n  \"ratio\": " << rate_w / rate_s << ",\n  \"target_ratio\": 0.7,\n  \"alone_swarms\": " << alone_worlds
       << ",\n  \"alone_agent_steps_per_s\": " << alone_rate << ",\n  \"worlds_over_alone\": " << rate_w / alone_rate
