@@ -190,6 +190,7 @@ static inline emv em_closestv(float3 r0, float3 vs, emv vx, emv vy, emv vz, floa
 #define EM_WORLD_BLOCKS(params, noise, centre)                        \
     params += (size_t)get_global_id(1) * ENERGY_FLOATS;               \
     noise += (size_t)get_global_id(1) * NOISE_BLOCK_FLOATS;           \
+    noise_prims += get_global_id(1) * 2u * as_uint(noise[NOISE_SLOT_NPRIMS]); \
     centre += get_global_id(1);
 #else  // one world: the kernels as before worlds
 #define EM_WORLD_AGENTS(p)

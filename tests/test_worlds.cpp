@@ -39,8 +39,19 @@ protected:
     static swcl_swarm_desc desc(uint32_t worlds, uint64_t seed, const uint64_t* seeds, uint32_t agents = kAgents) {
         return cube_desc(worlds, seed, seeds, agents, 512, 1.0f, 0.1f, 0.02f);
     }
-    static swcl_field_model_desc model(uint32_t k) {
+    swcl_field_model_desc model(uint32_t k) const {
         swcl_field_model_desc m = swcl_field_model_desc_default();
+        m.noise.domain_walls = walls_;  // at the domain: each world's own
+        if (box_) {
+            // A box boundary of radius 0: its edges rounded by noise.scale / 8,
+            // which differs per world.
+            static swcl_obstacle box{};
+            box.type = SWCL_OBSTACLE_BOX;
+            box.center[0] = 0.2f;
+            box.half_extents[0] = box.half_extents[1] = box.half_extents[2] = 0.25f;
+            m.noise.boundaries = &box;
+            m.noise.boundary_count = 1;
+        }
         m.noise.scale = float(kScale[k]);
         m.noise.seed = uint64_t(kNoiseSeed[k]);
         m.has_goal = 1;
@@ -73,6 +84,8 @@ protected:
     }
 
     void check_bitwise(uint32_t agents, uint32_t steps, bool expect_mde);
+    int32_t walls_ = 0;
+    bool box_ = false;
     void check_world_metrics(uint32_t agents, uint32_t worlds, uint32_t samples);
 };
 
@@ -135,10 +148,12 @@ void Worlds::check_bitwise(uint32_t n, uint32_t steps, bool expect_mde) {
 
 TEST_F(Worlds, FieldModelWorldsAreBitwiseTheSwarmsAlone) { check_bitwise(kAgents, 40, true); }
 
-// Worlds each in a box of its own (its placement and its grid: origin, cell
-// edge and cells per axis): each world is its swarm alone in that box.
+// Worlds each in a box of its own (its placement, its grid: origin, cell
+// edge and cells per axis, and the noise's walls at its box): each world is
+// its swarm alone in that box.
 TEST_F(Worlds, WorldsOfTheirOwnDomainsAreBitwiseTheSwarmsAlone) {
     boxes_ = own_domains(kWorlds, 1.0f);
+    walls_ = 1;
     check_bitwise(kAgents, 40, true);
     // Each world was placed in its own box.
     swcl_swarm all = ensemble();
@@ -158,8 +173,16 @@ TEST_F(Worlds, WorldsOfTheirOwnDomainsAreBitwiseTheSwarmsAlone) {
     EXPECT_NE(std::string(swcl_last_error()).find("4 worlds"), std::string::npos) << swcl_last_error();
 }
 
+// Each world's noise boundaries are its own: a box's rounding follows the
+// world's noise.scale (before, every world had world 0's primitives).
+TEST_F(Worlds, WorldsWithABoxBoundaryAreBitwiseTheSwarmsAlone) {
+    box_ = true;
+    check_bitwise(kAgents, 20, true);
+}
+
 TEST_F(Worlds, WorldsOfTheirOwnDomainsResumeFromACheckpoint) {
     boxes_ = own_domains(kWorlds, 1.0f);
+    walls_ = 1;
     swcl_swarm resumed = expect_checkpoint_resumes(ensemble(), ensemble(), kWorlds, kAgents, 12, 18,
                                                    "swarmcl_world_domains_checkpoint.swcl");
     std::vector<float> boxes(6 * kWorlds);
@@ -182,30 +205,24 @@ TEST_F(Worlds, BadWorldDomainsAreRefusedNamingTheWorld) {
     EXPECT_EQ(swcl_swarm_create(ctx_, &d, &s), SWCL_ERROR_INVALID_ARGUMENT);
     EXPECT_NE(std::string(swcl_last_error()).find("world 3 domain bounds must be finite"), std::string::npos)
         << swcl_last_error();
-    // Domain walls and a baked noise without a region would cover one
-    // domain (the noise's boundaries are one for every world): refused, and
-    // with a region they run.
+    // A baked noise without a region would cover world 0's domain (one
+    // grid for every world): refused, and with a region it runs.
     boxes = own_domains(kWorlds, 1.0f);
     d.world_domains = boxes.data();
     swcl_swarm all = make(d);
-    for (const char* what : {"domain walls", "a baked noise"}) {
+    {
         swcl_field_model_desc m = model(0);
-        if (what[0] == 'd') {
-            m.noise.domain_walls = 1;
-        } else {
-            m.noise.baked = 1;
-            m.noise.bake_resolution[0] = m.noise.bake_resolution[1] = m.noise.bake_resolution[2] = 8;
-        }
-        EXPECT_EQ(swcl_swarm_field_set_model(all, &m), SWCL_ERROR_INVALID_ARGUMENT) << what;
-        EXPECT_NE(std::string(swcl_last_error()).find(std::string(what) + " without region_min/max"),
-                  std::string::npos)
+        m.noise.baked = 1;
+        m.noise.bake_resolution[0] = m.noise.bake_resolution[1] = m.noise.bake_resolution[2] = 8;
+        EXPECT_EQ(swcl_swarm_field_set_model(all, &m), SWCL_ERROR_INVALID_ARGUMENT);
+        EXPECT_NE(std::string(swcl_last_error()).find("a baked noise without region_min/max"), std::string::npos)
             << swcl_last_error();
         EXPECT_NE(std::string(swcl_last_error()).find("give the noise a region"), std::string::npos);
         for (int a = 0; a < 3; ++a) {
             m.noise.region_min[a] = -2.0f;
             m.noise.region_max[a] = 2.0f;
         }
-        EXPECT_EQ(swcl_swarm_field_set_model(all, &m), SWCL_OK) << what << ": " << swcl_last_error();
+        EXPECT_EQ(swcl_swarm_field_set_model(all, &m), SWCL_OK) << swcl_last_error();
         EXPECT_EQ(swcl_swarm_step(all, 2), SWCL_OK) << swcl_last_error();
     }
 }

@@ -169,6 +169,7 @@ NoiseField::NoiseField(Context& ctx, NoiseConfig config, const std::array<float,
     prim_count_ = uint32_t(prims.size() / 2);
     prims_.allocate(ctx_, std::max<size_t>(prims.size(), 2), "noise boundaries");
     prims_.upload(ctx_, prims.data(), prims.size());
+    prims_host_ = std::move(prims);
     baked_.allocate(ctx_, 1, "baked noise");
     upload_block();
     if (config_.baked) bake();
@@ -332,7 +333,8 @@ void NoiseField::sample(const float* xyz, size_t n, float time, uint32_t step, f
 
 void write_world_noise_block(Context& ctx, const NoiseConfig& config, const std::array<float, 3>* domain_min,
                              const std::array<float, 3>* domain_max, const NoiseField& current,
-                             const std::string& what, std::vector<cl_float>& blocks, uint32_t world) {
+                             const std::string& what, std::vector<cl_float>& blocks, uint32_t world,
+                             std::vector<cl_float4>* prims) {
     const NoiseField field(ctx, config, domain_min, domain_max);
     if (field.defines() != current.defines())
         fail(Status::InvalidArgument, what + " cannot differ between worlds here: it selects the noise kernel "
@@ -342,16 +344,34 @@ void write_world_noise_block(Context& ctx, const NoiseConfig& config, const std:
         fail(Status::InvalidArgument, what + ": a baked noise field is the same in every world (bake it off to vary "
                                              "the noise per world)");
     const std::vector<cl_float> block = field.block();
+    const std::vector<cl_float4>& p = field.prims();
+    if (prims && p.size() != current.prims().size())
+        fail(Status::Internal, what + ": the noise boundaries of a world must be as many as every world's");
     std::copy(block.begin(), block.end(), blocks.begin() + size_t(world) * block.size());
+    if (prims) std::copy(p.begin(), p.end(), prims->begin() + size_t(world) * p.size());
+}
+
+std::vector<cl_float4> world_noise_prims(Context& ctx, const std::vector<Domain>& domains, const NoiseConfig& config,
+                                         const NoiseField& current, const std::string& what,
+                                         std::vector<cl_float>& blocks) {
+    std::vector<cl_float4> prims;
+    for (size_t k = 0; k < domains.size(); ++k)
+        prims.insert(prims.end(), current.prims().begin(), current.prims().end());
+    const bool same = std::all_of(domains.begin(), domains.end(), [&](const Domain& d) { return d == domains[0]; });
+    if (prims.empty()) prims.resize(2, cl_float4{});  // a buffer to pass; none is read
+    if (same || config.has_region()) return prims;
+    for (size_t k = 0; k < domains.size(); ++k)
+        write_world_noise_block(ctx, config, &domains[k].min, &domains[k].max, current, what, blocks, uint32_t(k),
+                                &prims);
+    return prims;
 }
 
 void check_noise_for_world_domains(const NoiseConfig& c, const std::vector<Domain>& domains,
                                    const std::string& what) {
     const bool same = std::all_of(domains.begin(), domains.end(), [&](const Domain& d) { return d == domains[0]; });
-    if (same || c.has_region() || !(c.baked || c.domain_walls)) return;
-    fail(Status::InvalidArgument, what + ": " + (c.baked ? "a baked noise" : "domain walls") +
-                                      " without region_min/max would cover world 0's domain, and the worlds' "
-                                      "domains differ; give the noise a region");
+    if (same || c.has_region() || !c.baked) return;
+    fail(Status::InvalidArgument, what + ": a baked noise without region_min/max would cover world 0's domain, "
+                                         "and the worlds' domains differ; give the noise a region");
 }
 
 }  // namespace swarmcl

@@ -99,6 +99,10 @@ public:
     // derived from them (flags, 1/time_scale, the seed's halves, the Perlin
     // channel offsets, the primitive count, the baked grid's placement).
     std::vector<cl_float> block() const;
+    // The boundary primitives as uploaded (2 float4 each: the domain walls
+    // first where there are any); a swarm of worlds keeps one run a world
+    // (lib/noise_field.cl, NOISE_WORLD_PRIMS).
+    const std::vector<cl_float4>& prims() const { return prims_host_; }
 
     // Build options that specialise kernels/noise_field.cl (and files that
     // include it) for this field: -DNOISE_KIND, NOISE_TIMED, NOISE_FD,
@@ -145,6 +149,7 @@ private:
     std::array<cl_uint4, 3> offsets_{};
     DeviceBuffer<cl_float> block_;  // block(), uploaded at construction and after a bake
     DeviceBuffer<cl_float4> prims_;
+    std::vector<cl_float4> prims_host_;
     uint32_t prim_count_ = 0;
     DeviceBuffer<cl_float4> baked_;
     cl_float4 bake_min_{}, bake_cell_{};
@@ -154,18 +159,29 @@ private:
 };
 
 // World `world`'s noise block for a swarm of worlds (docs/architecture.md,
-// "Worlds"): `config`'s block() written at blocks[world * floats, ...).  The
+// "Worlds"): `config`'s block() written at blocks[world * floats, ...) and,
+// with `prims`, its boundary primitives (the walls at its region, or at the
+// world's domain without one) at prims[world * current's count, ...).  The
 // noise kernel is built once for every world, so what selects it
 // (defines()) must stay `current`'s, and a baked field is one grid:
 // Error(InvalidArgument) starting with `what` ("field model noise.scale")
 // otherwise, nothing written.
 void write_world_noise_block(Context& ctx, const NoiseConfig& config, const std::array<float, 3>* domain_min,
                              const std::array<float, 3>* domain_max, const NoiseField& current,
-                             const std::string& what, std::vector<cl_float>& blocks, uint32_t world);
-// Worlds of their own domains (SwarmConfig::world_domains) share the
-// noise's boundaries: a noise without a region would put its walls, or its
-// baked grid, at world 0's domain.  Error(InvalidArgument) starting with
-// `what` for domain walls or baking without a region where the domains
+                             const std::string& what, std::vector<cl_float>& blocks, uint32_t world,
+                             std::vector<cl_float4>* prims = nullptr);
+// The boundary primitives of worlds in `domains` (one a world), each
+// world's `current`'s; where the domains differ and the noise has no region
+// (its walls at the domain), each world's written for its own domain, with
+// its block in `blocks` (write_world_noise_block).
+std::vector<cl_float4> world_noise_prims(Context& ctx, const std::vector<Domain>& domains, const NoiseConfig& config,
+                                         const NoiseField& current, const std::string& what,
+                                         std::vector<cl_float>& blocks);
+
+// Worlds of their own domains (SwarmConfig::world_domains): each world's
+// walls follow its domain (its own primitives, write_world_noise_block), but
+// a baked noise is one grid, which without a region would cover world 0's
+// domain: Error(InvalidArgument) starting with `what` where the domains
 // differ; nothing else in the noise depends on the domain.
 void check_noise_for_world_domains(const NoiseConfig& config, const std::vector<Domain>& domains,
                                    const std::string& what);

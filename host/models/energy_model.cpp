@@ -170,6 +170,7 @@ EnergyModel::EnergyModel(Swarm& swarm, EnergyModelConfig config, std::shared_ptr
     // world's noise parameters as set_world_param leaves them.
     const std::vector<cl_float> block = noise_->block();
     for (uint32_t k = 0; k < world_count_; ++k) noise_host_.insert(noise_host_.end(), block.begin(), block.end());
+    noise_prims_host_ = world_noise_prims(ctx, swarm.world_domains(), config_.noise, *noise_, "energy model noise", noise_host_);
     upload_noise_blocks();
     upload_params();
     set_keypoints(config_.keypoints, config_.keypoints_closed);
@@ -198,14 +199,20 @@ void EnergyModel::upload_params() {
 void EnergyModel::upload_noise_blocks() {
     noise_blocks_.reserve(ctx_, noise_host_.size(), "noise parameter blocks");
     noise_blocks_.upload(ctx_, noise_host_.data(), noise_host_.size());
+    noise_prims_.reserve(ctx_, noise_prims_host_.size(), "noise boundaries of the worlds");
+    noise_prims_.upload(ctx_, noise_prims_host_.data(), noise_prims_host_.size());
     if (world_count_ == 1 || !noise_pre_) return;
     // noise_sample_w reads one block: each world's apart (sample_noise).
-    const size_t floats = noise_->block().size();
+    const size_t floats = noise_->block().size(), prims = noise_->prims().size();
     noise_world_blocks_.clear();
+    noise_world_prims_.clear();
     for (uint32_t k = 0; k < world_count_; ++k) {
         DeviceBuffer<cl_float> b(ctx_, floats, "noise parameter block");
         b.upload(ctx_, noise_host_.data() + k * floats, floats);
         noise_world_blocks_.push_back(std::move(b));
+        DeviceBuffer<cl_float4> p(ctx_, std::max<size_t>(prims, 2), "noise boundaries");
+        p.upload(ctx_, noise_prims_host_.data() + k * prims, prims);
+        noise_world_prims_.push_back(std::move(p));
     }
 }
 
@@ -295,6 +302,7 @@ void EnergyModel::sample_noise(Swarm& swarm, uint64_t step) {
         const cl_uint block_at = i;
         i = noise_->set_args(noise_sample_, i);
         noise_sample_.setArg(block_at, noise_world_blocks_[k].get());
+        noise_sample_.setArg(block_at + 1, noise_world_prims_[k].get());
         noise_sample_.setArg(i++, noise_one_.get());
         check_arg_count(noise_sample_, i);
         launch(ctx_, noise_sample_, (size_t(n) + noise_->width() - 1) / noise_->width());
@@ -333,7 +341,8 @@ cl_uint EnergyModel::set_common_args(cl::Kernel& k, Swarm& swarm, uint64_t step)
     i = swarm.grid().set_world_grid_args(k, i);  // the cells of a world (unread with one)
     const cl_uint noise_at = i;
     i = noise_->set_args(k, i);
-    k.setArg(noise_at, noise_blocks_.get());  // the worlds' blocks (world 0's with one)
+    k.setArg(noise_at, noise_blocks_.get());      // the worlds' blocks (world 0's with one)
+    k.setArg(noise_at + 1, noise_prims_.get());  // and their boundaries
     return i;
 }
 
@@ -419,6 +428,7 @@ void EnergyModel::set_world_param(Swarm& swarm, const std::string& key, const do
     // checked by worlds_.set before anything changes.
     const bool noise = key.compare(0, 6, "noise.") == 0;
     std::vector<cl_float> noise_next = noise_host_;
+    std::vector<cl_float4> prims_next = noise_prims_host_;
     const float dt = swarm.config().dt;
     worlds_.set(key, values, count, [&](const EnergyModelConfig& changed, uint32_t k) {
         validate(changed);  // what the table cannot say (d_rep <= d_att1 <= d_att2)
@@ -431,10 +441,11 @@ void EnergyModel::set_world_param(Swarm& swarm, const std::string& key, const do
                                               "dt <= 0.4), which is the same kernel in every world");
         if (!noise) return;
         write_world_noise_block(swarm.context(), changed.noise, &swarm.world_domain(k).min,
-                                &swarm.world_domain(k).max, *noise_,
-                                "energy model " + key, noise_next, k);
+                                &swarm.world_domain(k).max, *noise_, "energy model " + key, noise_next, k,
+                                &prims_next);
     });
     noise_host_ = std::move(noise_next);
+    noise_prims_host_ = std::move(prims_next);
     // config_ is world 0's; the stimuli and keypoints are not table rows.
     EnergyModelConfig first = worlds_[0];
     first.stimuli = std::move(config_.stimuli);

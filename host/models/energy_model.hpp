@@ -143,6 +143,10 @@ private:
     WorldConfigs<EnergyModelConfig> worlds_;
     uint32_t world_count_ = 1;
     std::vector<cl_float> noise_host_;  // each world's NoiseField::block(), one after another
+    // Each world's noise boundary primitives (NoiseField::prims(), world
+    // k's walls at its own domain), one run after another.
+    std::vector<cl_float4> noise_prims_host_;
+    DeviceBuffer<cl_float4> noise_prims_;
     float vmax_ = 0.0f;                 // the dataset's fastest sample (taylor_for)
     std::shared_ptr<const Dataset> dataset_;
     std::unique_ptr<NoiseField> noise_;
@@ -160,6 +164,7 @@ private:
     DeviceBuffer<cl_float> params_;  // energy_param_table()'s device block, one per world (upload_params)
     DeviceBuffer<cl_float> noise_blocks_;  // noise_host_ on the device
     std::vector<DeviceBuffer<cl_float>> noise_world_blocks_;  // noise_sample_w on worlds: world k's block
+    std::vector<DeviceBuffer<cl_float4>> noise_world_prims_;  // ... and its primitives
     DeviceBuffer<cl_float4> noise_pts_, noise_one_;  // worlds with different noises: one world's positions, noise
     uint32_t capacity_ = 0, pxyz_stride_ = 0;
 };

@@ -29,6 +29,7 @@ FieldModel::FieldModel(Swarm& swarm, FieldModelConfig config)
     const std::vector<cl_float> block = noise_->block();
     noise_host_.reserve(block.size() * worlds_.worlds());
     for (uint32_t k = 0; k < worlds_.worlds(); ++k) noise_host_.insert(noise_host_.end(), block.begin(), block.end());
+    noise_prims_host_ = world_noise_prims(ctx, swarm.world_domains(), c.noise, *noise_, "field model noise", noise_host_);
     upload_world_blocks(ctx);
 }
 
@@ -38,19 +39,23 @@ void FieldModel::upload_world_blocks(Context& ctx) {
     params_.upload(ctx, blocks.data(), blocks.size());
     noise_blocks_.reserve(ctx, noise_host_.size(), "noise parameter blocks");
     noise_blocks_.upload(ctx, noise_host_.data(), noise_host_.size());
+    noise_prims_.reserve(ctx, noise_prims_host_.size(), "noise boundaries of the worlds");
+    noise_prims_.upload(ctx, noise_prims_host_.data(), noise_prims_host_.size());
     blocks_current_ = true;
 }
 
 void FieldModel::set_world_param(Swarm& swarm, const std::string& key, const double* values, size_t count) {
     const bool noise = key.compare(0, 6, "noise.") == 0;
     std::vector<float> noise_next = noise_host_;
+    std::vector<cl_float4> prims_next = noise_prims_host_;
     worlds_.set(key, values, count, [&](const FieldModelConfig& changed, uint32_t k) {
         if (!noise) return;
         write_world_noise_block(swarm.context(), changed.noise, &swarm.world_domain(k).min,
-                                &swarm.world_domain(k).max, *noise_,
-                                "field model " + key, noise_next, k);
+                                &swarm.world_domain(k).max, *noise_, "field model " + key, noise_next, k,
+                                &prims_next);
     });
     noise_host_ = std::move(noise_next);
+    noise_prims_host_ = std::move(prims_next);
     blocks_current_ = false;
 }
 
@@ -62,7 +67,8 @@ void FieldModel::advance(Swarm& swarm, uint64_t step) {
     cl_uint i = swarm.set_step_args(advance_, step);
     const cl_uint noise_at = i;
     i = noise_->set_args(advance_, i);
-    advance_.setArg(noise_at, noise_blocks_.get());  // the worlds' blocks (world 0's with one)
+    advance_.setArg(noise_at, noise_blocks_.get());      // the worlds' blocks (world 0's with one)
+    advance_.setArg(noise_at + 1, noise_prims_.get());  // and their boundaries
     advance_.setArg(i++, params_.get());
     check_arg_count(advance_, i);
     launch_worlds(swarm.context(), advance_, (size_t(n) + width_ - 1) / width_, swarm.worlds());

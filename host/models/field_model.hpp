@@ -60,6 +60,10 @@ private:
     DeviceBuffer<cl_float> params_;  // field_param_table()'s device block, one per world
     DeviceBuffer<cl_float> noise_blocks_;  // NoiseField::block() of each world
     std::vector<cl_float> noise_host_;     // noise_blocks_' contents
+    // Each world's noise boundary primitives (NoiseField::prims(), world
+    // k's walls at its own domain), one run after another.
+    std::vector<cl_float4> noise_prims_host_;
+    DeviceBuffer<cl_float4> noise_prims_;
     bool blocks_current_ = false;
     uint32_t width_ = 1;  // agents per work-item of advance_ (NoiseField::width)
 };

@@ -134,6 +134,7 @@ ForceModel::ForceModel(Swarm& swarm, ForceModelConfig config)
     const std::vector<cl_float> block = noise_->block();
     noise_host_.reserve(block.size() * world_count_);
     for (uint32_t k = 0; k < world_count_; ++k) noise_host_.insert(noise_host_.end(), block.begin(), block.end());
+    noise_prims_host_ = world_noise_prims(ctx, swarm.world_domains(), config_.noise, *noise_, "force model noise", noise_host_);
     upload_world_blocks(ctx);
     force_k_ = noise_->kernel("force_model.cl", width_ > 1 ? "force_model_force_w" : "force_model_force", defines);
     fine_gather_k_ = noise_->kernel("force_model.cl", "force_model_fine_gather", defines);
@@ -180,6 +181,8 @@ void ForceModel::upload_world_blocks(Context& ctx) {
     params_.upload(ctx, blocks.data(), blocks.size());
     noise_blocks_.reserve(ctx, noise_host_.size(), "noise parameter blocks");
     noise_blocks_.upload(ctx, noise_host_.data(), noise_host_.size());
+    noise_prims_.reserve(ctx, noise_prims_host_.size(), "noise boundaries of the worlds");
+    noise_prims_.upload(ctx, noise_prims_host_.data(), noise_prims_host_.size());
     if (world_count_ > 1) {
         std::vector<cl_float> d_min(world_count_);
         std::vector<cl_ulong> seed(world_count_);
@@ -201,6 +204,7 @@ void ForceModel::set_world_param(Swarm& swarm, const std::string& key, const dou
     const bool shared = key == "obstacle_range" && !config_.mesh_obstacles.empty();
     const bool noise = key.compare(0, 6, "noise.") == 0;
     std::vector<float> noise_next = noise_host_;
+    std::vector<cl_float4> prims_next = noise_prims_host_;
     worlds_.set(key, values, count, [&](const ForceModelConfig& changed, uint32_t k) {
         validate(changed);  // what the table cannot say (zone order, cruise <= max speed)
         if (shared && !(values[k] == values[0]))
@@ -208,10 +212,11 @@ void ForceModel::set_world_param(Swarm& swarm, const std::string& key, const dou
                                           "obstacles' distance grid, built once for every world, reaches it");
         if (!noise) return;
         write_world_noise_block(swarm.context(), changed.noise, &swarm.world_domain(k).min,
-                                &swarm.world_domain(k).max, *noise_,
-                                "force model " + key, noise_next, k);
+                                &swarm.world_domain(k).max, *noise_, "force model " + key, noise_next, k,
+                                &prims_next);
     });
     noise_host_ = std::move(noise_next);
+    noise_prims_host_ = std::move(prims_next);
     config_ = worlds_[0];
     blocks_current_ = false;
 }
@@ -395,7 +400,8 @@ void ForceModel::enqueue_force(Swarm& swarm, uint64_t step) {
     kf.setArg(i++, rep_.get());
     const cl_uint noise_at = i;
     i = noise_->set_args(kf, i);
-    kf.setArg(noise_at, noise_blocks_.get());  // the worlds' blocks (world 0's with one)
+    kf.setArg(noise_at, noise_blocks_.get());      // the worlds' blocks (world 0's with one)
+    kf.setArg(noise_at + 1, noise_prims_.get());  // and their boundaries
     check_arg_count(kf, i);
     launch_worlds(swarm.context(), kf, (n + width_ - 1) / width_, world_count_);
 }

@@ -183,6 +183,10 @@ private:
     DeviceBuffer<cl_float> params_;  // force_param_table()'s device block, one per world
     DeviceBuffer<cl_float> noise_blocks_;  // NoiseField::block() of each world
     std::vector<cl_float> noise_host_;     // noise_blocks_' contents
+    // Each world's noise boundary primitives (NoiseField::prims(), world
+    // k's walls at its own domain), one run after another.
+    std::vector<cl_float4> noise_prims_host_;
+    DeviceBuffer<cl_float4> noise_prims_;
     DeviceBuffer<cl_float> mde_d_min_;     // worlds: each world's min_distance
     DeviceBuffer<cl_ulong> mde_seed_;      // worlds: each world's noise.seed
     bool blocks_current_ = false;

@@ -11,13 +11,15 @@ __kernel void SWCL_KERNEL(field_model_advance)(__global float4* pos, __global fl
     if (base >= n) return;
 #ifdef SWCL_WORLDS
     // World get_global_id(1) of a swarm of worlds, n agents each
-    // (lib/grid_common.cl): its agents, its parameter and noise blocks.
+    // (lib/grid_common.cl): its agents, its parameter and noise blocks and
+    // its noise boundaries (its walls at its own domain).
     const size_t world = get_global_id(1), world_base = world * n;
     pos += world_base;
     vel += world_base;
     ids += world_base;
     params += world * FIELD_FLOATS;
     noise_block += world * NOISE_BLOCK_FLOATS;
+    noise_prims += world * 2u * NOISE_B_UINT(NOISE_SLOT_NPRIMS);
 #endif
     // The model's parameter block (models/field_params.cpp lays it out; the
     // host defines FIELD_<KEY> as each parameter's slot).  goal.w: the goal

@@ -29,6 +29,7 @@ __kernel void SWCL_KERNEL(force_model_force)(FM_FORCE_PARAMS) {
     FM_WORLD_AGENTS(rep_in)
     FM_WORLD_PARAMS(params)
     noise_block += get_global_id(1) * NOISE_BLOCK_FLOATS;
+    noise_prims += get_global_id(1) * 2u * NOISE_B_UINT(NOISE_SLOT_NPRIMS);  // its walls at its own domain
 #endif
     swcl_bf px, py, pz, ux, uy, uz;
     SWCL_BFN(fm_load_xyz)(pos, base, n, &px, &py, &pz);

@@ -203,10 +203,10 @@ typedef struct swcl_swarm_desc {
      * NULL): NULL, every world in domain_min..domain_max; else 6 x `worlds`
      * floats (copied), world k's min xyz then max xyz, which replace
      * domain_min/max (the swarm's domain is then world 0's).  Each world is
-     * placed in, and its grid and noise cover, its own domain.  The path
-     * model needs one domain for every world (SWCL_ERROR_INVALID_ARGUMENT
-     * otherwise); so do noise domain walls and a baked noise without a
-     * region (the noise's boundaries are one for every world). */
+     * placed in, and its grid and noise walls (without a noise region)
+     * cover, its own domain.  The path model needs one domain for every
+     * world (SWCL_ERROR_INVALID_ARGUMENT otherwise); so does a baked noise
+     * without a region (one grid for every world). */
     const float* world_domains;
 } swcl_swarm_desc;
 
