@@ -416,6 +416,39 @@ TEST_F(Worlds, WorldMetricsRefuseTracksAndWorldsTooSmall) {
         << swcl_last_error();
 }
 
+// swcl_swarm_step_frames: the frames of step(every) then read, bitwise, for
+// worlds and for one; bad input changes nothing (no step taken).
+TEST_F(Worlds, StepFramesAreTheFramesOfStepThenRead) {
+    for (uint32_t worlds : {kWorlds, 1u}) {
+        swcl_swarm a = ensemble(kAgents, worlds), b = ensemble(kAgents, worlds);
+        const size_t total = size_t(worlds) * kAgents;
+        constexpr uint32_t kFrames = 7, kEvery = 3;
+        std::vector<float> frames(kFrames * total * 3, -1.0f);
+        ASSERT_EQ(swcl_swarm_step_frames(a, kFrames, kEvery, frames.data(), kFrames * total), SWCL_OK)
+            << swcl_last_error();
+        for (uint32_t f = 0; f < kFrames; ++f) {
+            ASSERT_EQ(swcl_swarm_step(b, kEvery), SWCL_OK);
+            const std::vector<float> one = read(b, SWCL_ATTRIBUTE_POSITION, total);
+            EXPECT_EQ(std::memcmp(one.data(), frames.data() + f * total * 3, one.size() * sizeof(float)), 0)
+                << "frame " << f << " of " << worlds << " worlds";
+        }
+        uint64_t steps = 0;
+        ASSERT_EQ(swcl_swarm_step_count(a, &steps), SWCL_OK);
+        EXPECT_EQ(steps, uint64_t(kFrames) * kEvery);
+        EXPECT_EQ(swcl_swarm_step_frames(a, 2, 0, frames.data(), 2 * total), SWCL_ERROR_INVALID_ARGUMENT);
+        EXPECT_NE(std::string(swcl_last_error()).find("every must be >= 1"), std::string::npos) << swcl_last_error();
+        EXPECT_EQ(swcl_swarm_step_frames(a, 2, 1, frames.data(), 2 * total - 1), SWCL_ERROR_INVALID_ARGUMENT);
+        EXPECT_NE(std::string(swcl_last_error()).find("2 frames of " + std::to_string(total) + " agents"),
+                  std::string::npos)
+            << swcl_last_error();
+        EXPECT_EQ(swcl_swarm_step_frames(a, 2, 1, nullptr, 2 * total), SWCL_ERROR_INVALID_ARGUMENT);
+        ASSERT_EQ(swcl_swarm_step_count(a, &steps), SWCL_OK);
+        EXPECT_EQ(steps, uint64_t(kFrames) * kEvery);  // nothing stepped
+        EXPECT_EQ(swcl_swarm_step_frames(a, 0, 1, nullptr, 0), SWCL_OK);
+        destroy_swarms();
+    }
+}
+
 TEST_F(Worlds, OlderDescriptorsAreOneWorld) {
     swcl_swarm_desc d = desc(7, 3, nullptr);
     d.struct_size = uint32_t(offsetof(swcl_swarm_desc, worlds));  // a caller built before worlds

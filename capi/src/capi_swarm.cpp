@@ -130,6 +130,10 @@ swcl_status swcl_swarm_step(swcl_swarm swarm, uint32_t steps) {
     return with_swarm(__func__, swarm, [&](Swarm& s) { s.step(steps); });
 }
 
+swcl_status swcl_swarm_step_frames(swcl_swarm swarm, uint32_t frames, uint32_t every, float* dst, size_t count) {
+    return with_swarm(__func__, swarm, [&](Swarm& s) { s.step_frames(frames, every, dst, count); });
+}
+
 swcl_status swcl_swarm_neighbor_count(swcl_swarm swarm, float radius, uint32_t* out_counts, size_t count) {
     return with_swarm(__func__, swarm, [&](Swarm& s) { s.neighbor_count(radius, out_counts, count); });
 }

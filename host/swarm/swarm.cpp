@@ -255,6 +255,40 @@ void Swarm::read(Attribute attribute, float* dst, size_t count) {
     packed_.download(*ctx_, dst, size_t(total) * 3);
 }
 
+void Swarm::step_frames(uint32_t frames, uint32_t every, float* dst, size_t count) {
+    const char* what = "swcl_swarm_step_frames";
+    require(every > 0, std::string(what) + ": every must be >= 1 step");
+    require(dst != nullptr || count == 0, std::string(what) + ": dst is NULL");
+    const size_t total = total_agents();
+    if (uint64_t(count) != uint64_t(frames) * total)
+        fail(Status::InvalidArgument, std::string(what) + ": count is " + std::to_string(count) + " but " +
+                                          std::to_string(frames) + " frames of " + std::to_string(total) +
+                                          " agents are " + std::to_string(uint64_t(frames) * total));
+    if (uint64_t(frames) * every > 0xFFFFFFFFull)
+        fail(Status::InvalidArgument, std::string(what) + ": frames x every exceeds 2^32 steps");
+    if (frames == 0) return;
+    if (total == 0) {
+        step(frames * every);
+        return;
+    }
+    // Frames per read-back: up to 64 MB of them (one at least).
+    const size_t frame_floats = total * 3;
+    const uint32_t chunk = uint32_t(std::clamp<size_t>((size_t(64) << 20) / (frame_floats * sizeof(float)), 1, frames));
+    frames_.reserve(*ctx_, size_t(chunk) * frame_floats, "step_frames frames");
+    for (uint32_t f0 = 0; f0 < frames; f0 += chunk) {
+        const uint32_t in_chunk = std::min(chunk, frames - f0);
+        for (uint32_t f = 0; f < in_chunk; ++f) {
+            step(every);
+            ensure_slot_of();
+            set_args(gather_, pos_.get(), slot_of_.get(), cl_uint(total), packed_.get());
+            launch(*ctx_, gather_, total);
+            copy_buffer(*ctx_, packed_.get(), frames_.get(), 0, size_t(f) * frame_floats * sizeof(float),
+                        frame_floats * sizeof(float));
+        }
+        frames_.download(*ctx_, dst + size_t(f0) * frame_floats, size_t(in_chunk) * frame_floats);
+    }
+}
+
 void Swarm::set_behavior(std::shared_ptr<Behavior> behavior) {
     behavior_ = std::move(behavior);
     stats_.reset(*ctx_);

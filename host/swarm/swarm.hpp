@@ -89,6 +89,12 @@ public:
     // world).  See swcl_swarm_write / swcl_swarm_read.
     void write(Attribute attribute, const float* src, size_t count);
     void read(Attribute attribute, float* dst, size_t count);
+    // Steps `frames` x `every` steps and writes the positions after each
+    // `every` steps into dst, frame after frame (each as read(Position)
+    // gives it; count = frames x total_agents()).  The frames gather on the
+    // device and come back a few at a time, so the device is not waited on
+    // after every frame (swcl_swarm_step_frames).
+    void step_frames(uint32_t frames, uint32_t every, float* dst, size_t count);
     void step(uint32_t steps);
 
     // Neighbour queries at the current positions, outputs in agent-id order.
@@ -170,6 +176,7 @@ private:
     DeviceBuffer<cl_float4> pos_, vel_, scratch_, vel_scratch_;  // vel_scratch_: reorder only
     DeviceBuffer<cl_uint> ids_, ids_scratch_, slot_of_;
     DeviceBuffer<cl_float> packed_;  // 3 floats per agent: the caller's layout
+    DeviceBuffer<cl_float> frames_;  // step_frames: a few frames of packed positions
     DeviceBuffer<cl_uint> query_u32_;
     DeviceBuffer<cl_float> query_f32_;
     cl::Kernel gather_, scatter_, identity_, integrate_, slot_of_k_;

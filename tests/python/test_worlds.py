@@ -327,3 +327,21 @@ def test_world_domains_place_each_world_in_its_box_and_bad_ones_are_refused(ctx)
     with swarmcl.Swarm(ctx, agent_count=10, worlds=2, world_domains=boxes) as s:
         with pytest.raises(swarmcl.InvalidArgumentError, match="the path model needs one domain for every world"):
             s.set_path_model(swarmcl.PathModel())
+
+
+def test_step_frames_are_the_frames_of_step_then_read(ctx):
+    def swarm(worlds):
+        s = swarmcl.Swarm(ctx, agent_count=40, worlds=worlds, interaction_radius=0.2, dt=0.02)
+        s.set_field_model(swarmcl.FieldModel(min_distance=0.05))
+        return s
+    for worlds in (3, 1):
+        with swarm(worlds) as a, swarm(worlds) as b:
+            frames = a.step_frames(5, every=2)
+            assert frames.shape == ((5, 3, 40, 3) if worlds == 3 else (5, 40, 3))
+            for f in range(5):
+                b.step(2)
+                assert frames[f].tobytes() == b.positions.tobytes(), f"frame {f}"
+            assert a.step_count == 10
+            with pytest.raises(ValueError, match="every >= 1"):
+                a.step_frames(2, every=0)
+            assert a.step_frames(0).shape[0] == 0 and a.step_count == 10

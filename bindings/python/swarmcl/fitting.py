@@ -494,9 +494,13 @@ class PopulationEvaluator:
         """Each world's E_phi, streamed on the device or measured on the host."""
         if self.streamed:
             return self._streamed_world_terms(swarm, worlds)
-        frames = []
-        self._advance([swarm], lambda i: frames.append(swarm.read_positions().reshape(worlds, -1, 3)))
-        stacked = np.stack(frames, axis=1)  # (worlds, frames, agents, 3)
+        # The frames _advance would sample (after the warm-up, then every
+        # `every` steps), gathered on the device without a wait after each.
+        if self.warmup:
+            swarm.step(self.warmup)
+        first = swarm.read_positions().reshape(1, worlds, -1, 3)
+        rest = swarm.step_frames(self.steps // self.every, self.every).reshape(-1, worlds, first.shape[2], 3)
+        stacked = np.concatenate([first, rest]).transpose(1, 0, 2, 3)  # (worlds, frames, agents, 3)
         sample_dt = self.every * self.dt
 
         def measure(k):

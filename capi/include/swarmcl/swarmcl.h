@@ -236,6 +236,14 @@ SWCL_API swcl_status swcl_swarm_read(swcl_swarm swarm, swcl_attribute attribute,
 /* Advances the swarm by `steps` time steps of desc.dt.  Without a behaviour
  * model agents move ballistically (p += v dt). */
 SWCL_API swcl_status swcl_swarm_step(swcl_swarm swarm, uint32_t steps);
+/* Advances the swarm by frames x every steps and writes its positions after
+ * each `every` steps into dst: frame after frame, each as swcl_swarm_read
+ * gives it (3 floats an agent, agent-id order, world by world); count =
+ * frames x worlds x agents a world.  Gathered on the device and read back a
+ * few frames at a time: the same frames as swcl_swarm_step(every) then
+ * swcl_swarm_read, without waiting for the device after each. */
+SWCL_API swcl_status swcl_swarm_step_frames(swcl_swarm swarm, uint32_t frames, uint32_t every, float* dst,
+                                            size_t count);
 
 /* Back to ballistic motion. */
 SWCL_API swcl_status swcl_swarm_clear_model(swcl_swarm swarm);
