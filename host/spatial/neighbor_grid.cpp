@@ -44,8 +44,6 @@ NeighborGrid::NeighborGrid(Context& ctx, std::vector<GridGeometry> world_geometr
     std::vector<cl_float4> worlds_geo;
     uint32_t first = 0;
     for (const GridGeometry& g : geometry_) {
-        same_geometry_ = same_geometry_ && g.origin == geometry_[0].origin && g.cell == geometry_[0].cell &&
-                         g.dims == geometry_[0].dims;
         cl_float4 dims;
         for (int a = 0; a < 3; ++a) std::memcpy(&dims.s[a], &g.dims[a], sizeof(float));
         std::memcpy(&dims.s[3], &first, sizeof(float));
@@ -76,12 +74,6 @@ NeighborGrid::NeighborGrid(Context& ctx, std::vector<GridGeometry> world_geometr
     merge_ = ctx.kernel("grid.cl", "grid_merge");
     starts_ = ctx.kernel("grid.cl", "grid_starts");
     permute_state_ = ctx.kernel("grid.cl", "permute_state");
-}
-
-float NeighborGrid::largest_cell() const {
-    float cell = 0.0f;
-    for (const GridGeometry& g : geometry_) cell = std::max(cell, g.cell);
-    return cell;
 }
 
 cl_uint NeighborGrid::set_grid_args(cl::Kernel& kernel, cl_uint index) {

@@ -65,11 +65,7 @@ public:
     // World 0's geometry (the grid's, with one world).
     const GridGeometry& geometry() const { return geometry_[0]; }
     const GridGeometry& world_geometry(uint32_t k) const { return geometry_[k]; }
-    // Whether every world has world 0's geometry.
-    bool same_geometry_in_every_world() const { return same_geometry_; }
-    // The largest cell edge of any world, and the cells of all worlds.
-    float largest_cell() const;
-    uint32_t cell_count() const { return ncells_; }
+
     DeviceBuffer<cl_uint>& cell_start() { return start_in_layout_ ? layout_start_ : start_; }
     DeviceBuffer<cl_uint>& permutation() { return perm_; }
 
@@ -82,7 +78,6 @@ public:
 private:
     Context& ctx_;
     std::vector<GridGeometry> geometry_;  // per world
-    bool same_geometry_ = true;
     uint32_t worlds_ = 1;
     uint32_t ncells_;  // of all worlds
     uint32_t outputs_per_item_;  // grid_merge, grid_starts
