@@ -43,8 +43,10 @@ protected:
     static swcl_swarm_desc desc(uint32_t worlds, uint64_t seed, const uint64_t* seeds, uint32_t agents = kAgents) {
         return cube_desc(worlds, seed, seeds, agents, 512, 1.0f, 0.1f, 0.02f);
     }
-    // A 16^3 path grid over the domain, one sphere goal.
-    static swcl_path_model_desc model(uint32_t k, swcl_goal* goal) {
+    // A 16^3 path grid over the domain, one sphere goal; with box_ a box
+    // boundary of the noise of radius 0, its edges rounded by noise.scale /
+    // 8, which differs per world.
+    swcl_path_model_desc model(uint32_t k, swcl_goal* goal) const {
         *goal = swcl_goal{};
         goal->type = SWCL_GOAL_SPHERE;
         goal->center[0] = float(kGoalX[k]);
@@ -52,6 +54,14 @@ protected:
         goal->center[2] = -0.1f;
         goal->radius = float(kGoalRadius[k]);
         swcl_path_model_desc m = swcl_path_model_desc_default();
+        if (box_) {
+            static swcl_obstacle box{};
+            box.type = SWCL_OBSTACLE_BOX;
+            box.center[0] = -0.2f;
+            box.half_extents[0] = box.half_extents[1] = box.half_extents[2] = 0.25f;
+            m.noise.boundaries = &box;
+            m.noise.boundary_count = 1;
+        }
         m.noise.scale = float(kScale[k]);
         m.noise.seed = uint64_t(kNoiseSeed[k]);
         for (int a = 0; a < 3; ++a) m.resolution[a] = 16;
@@ -106,6 +116,7 @@ protected:
     }
 
     void check_bitwise(uint32_t agents, uint32_t steps, bool expect_mde);
+    bool box_ = false;
 };
 
 // Every world of the ensemble against its swarm alone after `steps` steps
@@ -121,6 +132,13 @@ void PathWorlds::check_bitwise(uint32_t n, uint32_t steps, bool expect_mde) {
 }
 
 TEST_F(PathWorlds, WorldsAreBitwiseTheSwarmsAlone) { check_bitwise(kAgents, 30, true); }
+
+// Each world's noise boundaries are its own (the box's rounding follows its
+// noise.scale), as the field model's (test_worlds.cpp).
+TEST_F(PathWorlds, WorldsWithABoxBoundaryAreBitwiseTheSwarmsAlone) {
+    box_ = true;
+    check_bitwise(kAgents, 20, true);
+}
 
 // Small, for the Oclgrind check (scripts/oclgrind_check.py).
 TEST_F(PathWorlds, SmallWorldsAreBitwiseTheSwarmsAlone) { check_bitwise(37, 3, false); }

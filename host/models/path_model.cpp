@@ -93,7 +93,11 @@ PathModel::PathModel(Swarm& swarm, PathModelConfig config)
     worlds_ = WorldConfigs<PathModelConfig>(path_param_table(), c, swarm.worlds());
     local_ = build_local(c.noise, c.targets);
     const std::vector<cl_float> block = local_.noise->block();
-    for (uint32_t k = 0; k < swarm.worlds(); ++k) noise_host_.insert(noise_host_.end(), block.begin(), block.end());
+    const std::vector<cl_float4>& prims = local_.noise->prims();
+    for (uint32_t k = 0; k < swarm.worlds(); ++k) {
+        noise_host_.insert(noise_host_.end(), block.begin(), block.end());
+        noise_prims_host_.insert(noise_prims_host_.end(), prims.begin(), prims.end());
+    }
     upload_world_blocks();
     ctx_.queue().finish();
     preprocess_seconds_ = seconds_since(t0);
@@ -358,7 +362,10 @@ void PathModel::advance(Swarm& swarm, uint64_t step) {
     cl_uint i = swarm.set_step_args(advance_, step);
     const cl_uint noise_at = i;
     i = local_.noise->set_args(advance_, i);
-    if (worlds > 1) advance_.setArg(noise_at, noise_blocks_.get());  // the worlds' blocks
+    if (worlds > 1) {
+        advance_.setArg(noise_at, noise_blocks_.get());       // the worlds' blocks
+        advance_.setArg(noise_at + 1, noise_prims_.get());  // and their boundaries
+    }
     advance_.setArg(i++, world_dirs_on_ ? world_dirs_.get() : dirs_.get());
     advance_.setArg(i++, grid_dims_arg());
     advance_.setArg(i++, grid_origin_arg());

@@ -222,6 +222,8 @@ private:
     WorldConfigs<PathModelConfig> worlds_;
     std::vector<cl_float> noise_host_;
     DeviceBuffer<cl_float> noise_blocks_;
+    std::vector<cl_float4> noise_prims_host_;  // each world's noise boundaries (a box's rounding is its noise.scale's)
+    DeviceBuffer<cl_float4> noise_prims_;
     DeviceBuffer<cl_float4> world_extra_;
     DeviceBuffer<cl_float4> world_dirs_;
     bool world_dirs_on_ = false;

@@ -148,6 +148,10 @@ void PathModel::upload_world_blocks() {
     if (worlds > 1) {
         noise_blocks_.reserve(ctx_, noise_host_.size(), "noise parameter blocks");
         noise_blocks_.upload(ctx_, noise_host_.data(), noise_host_.size());
+        std::vector<cl_float4> prims = noise_prims_host_;
+        if (prims.empty()) prims.resize(2, cl_float4{});  // a buffer to pass; none is read
+        noise_prims_.reserve(ctx_, prims.size(), "noise boundaries of the worlds");
+        noise_prims_.upload(ctx_, prims.data(), prims.size());
     }
     blocks_current_ = true;
 }
@@ -161,6 +165,7 @@ void PathModel::set_world_param(Swarm& swarm, const std::string& key, const doub
     const bool cost = goal || key.compare(0, 5, "cost.") == 0;
     const bool grid = key == "has_grid_box" || key.compare(0, 5, "grid.") == 0;
     std::vector<float> noise_next = noise_host_;
+    std::vector<cl_float4> prims_next = noise_prims_host_;
     std::vector<std::vector<cl_float4>> dirs(worlds);
     std::vector<double> slowness0;
     std::vector<std::vector<double>> costs0;
@@ -176,7 +181,7 @@ void PathModel::set_world_param(Swarm& swarm, const std::string& key, const doub
         if (cost) dirs[k] = solve_directions(c, k == 0 ? &slowness0 : nullptr, k == 0 ? &costs0 : nullptr);
         if (noise && worlds > 1)
             write_world_noise_block(ctx_, noise_with_targets(c.noise, c.targets), &domain_min_, &domain_max_,
-                                    *local_.noise, "path model " + key, noise_next, k);
+                                    *local_.noise, "path model " + key, noise_next, k, &prims_next);
         if (noise && worlds == 1) local = std::make_unique<LocalField>(build_local(c.noise, c.targets));
     };
     const WorldConfigs<PathModelConfig> before = worlds_;
@@ -218,7 +223,10 @@ void PathModel::set_world_param(Swarm& swarm, const std::string& key, const doub
         throw;
     }
     if (local) local_ = std::move(*local);
-    if (noise) noise_host_ = std::move(noise_next);
+    if (noise) {
+        noise_host_ = std::move(noise_next);
+        noise_prims_host_ = std::move(prims_next);
+    }
     config_ = worlds_[0];
     blocks_current_ = false;
     (void)swarm;
@@ -280,6 +288,8 @@ double PathModel::retarget_worlds(std::vector<PathTarget> targets, const std::ve
     LocalField local = build_local(config_.noise, targets, &local_, changed);  // the boundaries: one for all
     std::vector<cl_float> noise_next = noise_host_;
     const std::vector<cl_float> block = local.noise->block();
+    const std::vector<cl_float4>& prims = local.noise->prims();  // the targets' balls changed: as many per world
+    std::vector<cl_float4> prims_next(prims.size() * worlds_.worlds());
     bool noise_varied = false;
     for (const std::string& key : worlds_.varied_keys()) noise_varied |= key.compare(0, 6, "noise.") == 0;
     resolve_worlds([&](PathModelConfig& c) { c.targets = targets; },
@@ -288,12 +298,16 @@ double PathModel::retarget_worlds(std::vector<PathTarget> targets, const std::ve
                        // (world 0's where no world's noise differs).
                        if (noise_varied)
                            write_world_noise_block(ctx_, noise_with_targets(c.noise, c.targets), &domain_min_,
-                                                   &domain_max_, *local.noise, "path model targets", noise_next, k);
-                       else
+                                                   &domain_max_, *local.noise, "path model targets", noise_next, k,
+                                                   &prims_next);
+                       else {
                            std::copy(block.begin(), block.end(), noise_next.begin() + size_t(k) * block.size());
+                           std::copy(prims.begin(), prims.end(), prims_next.begin() + size_t(k) * prims.size());
+                       }
                    });
     local_ = std::move(local);
     noise_host_ = std::move(noise_next);
+    noise_prims_host_ = std::move(prims_next);
     blocks_current_ = false;
     ctx_.queue().finish();
     const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -17,7 +17,7 @@ __kernel void SWCL_KERNEL(path_model_advance)(__global float4* pos, __global flo
     if (base >= n) return;
 #ifdef SWCL_WORLDS
     // World get_global_id(1) of a swarm of worlds, n agents each: its
-    // agents, its parameter and noise blocks, its row of world_extra and its
+    // agents, its parameter and noise blocks and noise boundaries, its row of world_extra and its
     // direction fields (dirs_stride 0: one set for every world, same goals).
     const size_t world = get_global_id(1), world_base = world * n;
     pos += world_base;
@@ -25,6 +25,7 @@ __kernel void SWCL_KERNEL(path_model_advance)(__global float4* pos, __global flo
     ids += world_base;
     params += world * PATH_FLOATS;
     noise_block += world * NOISE_BLOCK_FLOATS;
+    noise_prims += world * 2u * NOISE_B_UINT(NOISE_SLOT_NPRIMS);  // its boundaries' rounding follows its noise.scale
     world_extra += world;
     dirs += world * dirs_stride;
 #endif
