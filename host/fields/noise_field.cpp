@@ -357,7 +357,7 @@ std::vector<cl_float4> world_noise_prims(Context& ctx, const std::vector<Domain>
     std::vector<cl_float4> prims;
     for (size_t k = 0; k < domains.size(); ++k)
         prims.insert(prims.end(), current.prims().begin(), current.prims().end());
-    const bool same = std::all_of(domains.begin(), domains.end(), [&](const Domain& d) { return d == domains[0]; });
+    const bool same = same_domains(domains);
     if (prims.empty()) prims.resize(2, cl_float4{});  // a buffer to pass; none is read
     if (same || config.has_region()) return prims;
     for (size_t k = 0; k < domains.size(); ++k)
@@ -368,7 +368,7 @@ std::vector<cl_float4> world_noise_prims(Context& ctx, const std::vector<Domain>
 
 void check_noise_for_world_domains(const NoiseConfig& c, const std::vector<Domain>& domains,
                                    const std::string& what) {
-    const bool same = std::all_of(domains.begin(), domains.end(), [&](const Domain& d) { return d == domains[0]; });
+    const bool same = same_domains(domains);
     if (same || c.has_region() || !c.baked) return;
     fail(Status::InvalidArgument, what + ": a baked noise without region_min/max would cover world 0's domain, "
                                          "and the worlds' domains differ; give the noise a region");

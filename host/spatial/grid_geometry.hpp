@@ -1,7 +1,9 @@
 // Where the grid's cells are: origin, cell edge and cells per axis.
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cstdint>
+#include <vector>
 
 namespace swarmcl {
 
@@ -10,6 +12,11 @@ struct Domain {
     std::array<float, 3> min, max;
     bool operator==(const Domain& o) const { return min == o.min && max == o.max; }
 };
+
+// Whether every world has world 0's domain (none: true).
+inline bool same_domains(const std::vector<Domain>& domains) {
+    return std::all_of(domains.begin(), domains.end(), [&](const Domain& d) { return d == domains[0]; });
+}
 
 struct GridGeometry {
     std::array<float, 3> origin{};

@@ -69,9 +69,7 @@ SwarmConfig checked(SwarmConfig c, Context& ctx) {
         c.domain_max = c.world_domains[0].max;
     }
     uint64_t cells = 0;
-    for (const Domain& d : domains_of(c))
-        cells += GridGeometry::cover(d.min.data(), d.max.data(), c.interaction_radius, max_cells_for(c.capacity))
-                     .cell_count();
+    for (const GridGeometry& g : world_grids(c)) cells += g.cell_count();
     if (cells >= (uint64_t(1) << 31))
         fail(Status::InvalidArgument, "swarm worlds: " + std::to_string(c.worlds) + " worlds of " +
                                           std::to_string(cells) + " grid cells in all exceed 2^31 cells; use fewer "
@@ -106,7 +104,7 @@ Swarm::Swarm(std::shared_ptr<Context> ctx, const SwarmConfig& config)
     : ctx_(std::move(ctx)),
       config_(checked(config, *ctx_)),
       domains_(domains_of(config_)),
-      same_domain_(std::all_of(domains_.begin(), domains_.end(), [&](const Domain& d) { return d == domains_[0]; })),
+      same_domain_(same_domains(domains_)),
       grid_(*ctx_, world_grids(config_), config.capacity * config.worlds),
       worlds_(config.worlds),
       stats_(*ctx_, config.worlds) {
