@@ -216,6 +216,31 @@ TEST(EvalMetrics, FrameNeighboursKeepTiesAndDegenerateLayouts) {
     expect_same_samples(m, track_metrics(frames_as_tracks(xyz, frames, agents, dt)));
 }
 
+// A swarm that shrinks 100-fold and spreads again (the last frame's
+// neighbour, the sweep's first bound, far from the nearest; the axis chosen
+// every few frames), far from the origin (1e4 m: coordinates of few bits in
+// float, so many exact ties) and in a plane on some frames, against the
+// brute force.
+TEST(EvalMetrics, FrameNeighboursStayExactAsTheSwarmShrinksAndSpreads) {
+    const size_t agents = 300, frames = 70;
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<float> u(-1.f, 1.f);
+    std::vector<std::array<float, 3>> base(agents);
+    for (auto& b : base) b = {u(rng), u(rng), u(rng)};
+    std::vector<float> xyz;
+    for (size_t f = 0; f < frames; ++f) {
+        const double scale = f < 35 ? std::pow(0.877, double(f)) : std::pow(0.877, 70.0 - double(f));
+        for (size_t i = 0; i < agents; ++i)
+            for (int c = 0; c < 3; ++c) {
+                const float flat = (f % 9 == 4 && c == 2) ? 0.0f : 1.0f;  // every 9th frame in a plane
+                xyz.push_back(float(1e4 + scale * flat * (base[i][c] + 0.01f * u(rng))));
+            }
+    }
+    const double dt = 0.01;
+    const auto m = frame_metrics(xyz.data(), frames, agents, dt);
+    expect_brute_force_neighbours(m, xyz, frames, agents, dt);
+}
+
 TEST(EvalMetrics, BadInputIsRefused) {
     TrackSet set;
     set.frame_time = 0.0;
