@@ -55,14 +55,57 @@
             }                                                                 \
         }                                                                     \
     }
+// fm_ali_att_s with the repulsion zone too (FM_REP_IN_WALK): a candidate
+// below R_rep adds its unit direction away (-r_ij/|r_ij|, as
+// force_model_repulsion) unless it coincides with the agent.
+#define fm_rep_ali_att_s(j)                                                   \
+    {                                                                         \
+        const float4 q = (float4)(pos[j].xyz, 0.0f);                          \
+        const float d2 = dist2(q, p);                                         \
+        if (self != (j) && d2 <= r_att2) {                                    \
+            if (d2 < r_rep2) {                                                \
+                if (d2 != 0.0f) {                                             \
+                    rep -= (q - p) * rsqrt(d2);                               \
+                    ++n_rep;                                                  \
+                }                                                             \
+            } else if (d2 < r_ali2) {                                         \
+                const float4 du = (float4)(vel[j].xyz, 0.0f) - u;             \
+                const float m2 = du.x * du.x + du.y * du.y + du.z * du.z;     \
+                if (m2 > 0.0f) ali += du * rsqrt(m2);                         \
+                ++n_ali;                                                      \
+            } else {                                                          \
+                att += (q - p) * rsqrt(d2);                                   \
+                ++n_att;                                                      \
+            }                                                                 \
+        }                                                                     \
+    }
 // Around the zone pass at width 1: the float4 position, velocity and sums
 // fm_ali_att_s works on, and the sums back into the body's components.
 #define fm_zones_begin_s                                                          \
     const float4 p = (float4)(px, py, pz, 0.0f), u = (float4)(ux, uy, uz, 0.0f);  \
-    float4 ali = (float4)(ali_x, ali_y, ali_z, 0.0f), att = (float4)(att_x, att_y, att_z, 0.0f);
+    float4 ali = (float4)(ali_x, ali_y, ali_z, 0.0f), att = (float4)(att_x, att_y, att_z, 0.0f); \
+    float4 rep = (float4)(rep_x, rep_y, rep_z, 0.0f);
 #define fm_zones_end_s                    \
     ali_x = ali.x; ali_y = ali.y; ali_z = ali.z; \
-    att_x = att.x; att_y = att.y; att_z = att.z;
+    att_x = att.x; att_y = att.y; att_z = att.z; \
+    rep_x = rep.x; rep_y = rep.y; rep_z = rep.z;
+
+// Whether the force kernel sums the repulsion zone in its walk of the exact
+// zones (every candidate within R_att is met there, so those within R_rep
+// too) instead of reading force_model_repulsion's sums, for worlds of up to
+// FM_REP_WALK_MAX_AGENTS agents (the host defines it): in a fit's small,
+// dense swarms the repulsion kernel's own walk of the fine grid cost nearly
+// as much as the force kernel's (300 insects in 0.2 m, 14-34 within R_rep,
+// ~125 candidates each), and the fine grid's build is a dozen launches.  In
+// larger swarms the walk meets many more candidates than the fine grid's
+// box holds, and the separate kernel is faster (force_bench, moon and horse
+// with exact zones: 1.07x at 1000 agents, even at 2000, 0.9x at 5000 and
+// 20000).  Per world, from its parameter block and agent count, so a world
+// of an ensemble decides as alone; models/force_model.cpp decides the same
+// on the host (rep_in_walk).
+#define FM_REP_IN_WALK(terms, sample_cap, r_rep, r_att, n)                                                  \
+    (((terms) & FM_REP) != 0u && ((terms) & (FM_ALI | FM_ATT)) != 0u && (sample_cap) == 0u && (r_rep) <= (r_att) && \
+     (n) <= FM_REP_WALK_MAX_AGENTS)
 
 // ---- the fine grid of repulsion and MDE -----------------------------------
 //
@@ -326,6 +369,34 @@ SWCL_INLINE swcl_uw fm_gather_u_w(__global const uint* a, swcl_uw j) { return (s
         att_y = select(att_y, att_y + dy * rs, is_att);                           \
         att_z = select(att_z, att_z + dz * rs, is_att);                           \
         n_ali -= swcl_as_uw(is_ali); /* true is -1 */                             \
+        n_att -= swcl_as_uw(is_att);                                              \
+    }
+// fm_rep_ali_att_s in all lanes: fm_ali_att_w with the repulsion zone (a
+// repulsion lane's rs is rsqrt(d2), as its attraction lane's would be).
+#define fm_rep_ali_att_w(j)                                                       \
+    {                                                                             \
+        const float4 q = pos[j], v = vel[j];                                      \
+        const swcl_fw dx = q.x - px, dy = q.y - py, dz = q.z - pz;                \
+        const swcl_fw d2 = dx * dx + dy * dy + dz * dz;                           \
+        const swcl_iw near = (self != (j)) & (d2 <= r_att2);                      \
+        const swcl_iw is_rep = near & (d2 < r_rep2) & (d2 != 0.0f);               \
+        const swcl_iw in = near & (d2 >= r_rep2);                                 \
+        const swcl_iw is_ali = in & (d2 < r_ali2), is_att = in & ~(d2 < r_ali2);  \
+        const swcl_fw dux = v.x - ux, duy = v.y - uy, duz = v.z - uz;             \
+        const swcl_fw m2 = dux * dux + duy * duy + duz * duz;                     \
+        const swcl_fw rs = rsqrt(select(d2, m2, is_ali));                         \
+        const swcl_iw add_ali = is_ali & (m2 > 0.0f);                             \
+        ali_x = select(ali_x, ali_x + dux * rs, add_ali);                         \
+        ali_y = select(ali_y, ali_y + duy * rs, add_ali);                         \
+        ali_z = select(ali_z, ali_z + duz * rs, add_ali);                         \
+        att_x = select(att_x, att_x + dx * rs, is_att);                           \
+        att_y = select(att_y, att_y + dy * rs, is_att);                           \
+        att_z = select(att_z, att_z + dz * rs, is_att);                           \
+        rep_x = select(rep_x, rep_x - dx * rs, is_rep);                           \
+        rep_y = select(rep_y, rep_y - dy * rs, is_rep);                           \
+        rep_z = select(rep_z, rep_z - dz * rs, is_rep);                           \
+        n_rep -= swcl_as_uw(is_rep);                                              \
+        n_ali -= swcl_as_uw(is_ali);                                              \
         n_att -= swcl_as_uw(is_att);                                              \
     }
 

@@ -208,6 +208,28 @@ TEST_F(ForceTerms, InteractionZonesMatchBruteForce) {
     }
 }
 
+// All three zones at once.  Exact zones: the force kernel sums the
+// repulsion zone in its walk (FM_REP_IN_WALK); sampled zones: the fine
+// grid's repulsion kernel does, checked alone by zeroing the sampled terms'
+// weights.
+TEST_F(ForceTerms, AllZonesTogetherMatchBruteForce) {
+    ForceModelConfig c = term_config(kForceRepulsion | kForceAlignment | kForceAttraction);
+    {
+        ForceModel model(*swarm, c);
+        std::vector<D3> want = interaction(c, kForceRepulsion);
+        for (uint32_t term : {kForceAlignment, kForceAttraction}) {
+            const std::vector<D3> part = interaction(c, term);
+            for (uint32_t i = 0; i < n; ++i) add(want[i], part[i], 1.0);
+        }
+        expect_close(forces_by_id(*swarm, model), want, "all zones, exact");
+    }
+    c.neighbor_sample = 32;
+    c.w_ali = 0.0f;
+    c.w_att = 0.0f;
+    ForceModel sampled(*swarm, c);
+    expect_close(forces_by_id(*swarm, sampled), interaction(c, kForceRepulsion), "repulsion beside sampled zones");
+}
+
 TEST_F(ForceTerms, RepulsionStaysExactWithFarOutliers) {
     // The fine grid spans the agents' bounding box with at most 8 cells per
     // agent: two agents thousands of metres out make its cells huge, and
@@ -319,9 +341,12 @@ TEST_F(ForceTerms, NeighbourSampleMatchesItsRule) {
 TEST(ForceModel, WideKernelMatchesTheScalarOne) {
     if (!shared_context()->device().cpu_profile)
         GTEST_SKIP() << "the wide kernel runs on CPU devices only (this device has the GPU profile)";
-    const uint32_t n = 1003;  // not a multiple of 16: the last work-item is partial
-    const auto pos = test::random_points(n, -2.0f, 2.0f, 21), vel = test::random_points(n, -0.5f, 0.5f, 22);
-    for (uint32_t cap : {0u, 64u}) {
+    // 1003: not a multiple of 16 (the last work-item is partial), the exact
+    // zones' walk sums the repulsion zone; 2101 exact: above
+    // FM_REP_WALK_MAX_AGENTS, the repulsion kernel's sums, as with a sample.
+    for (const auto& run : {std::pair<uint32_t, uint32_t>{1003u, 0u}, {1003u, 64u}, {2101u, 0u}}) {
+        const uint32_t n = run.first, cap = run.second;
+        const auto pos = test::random_points(n, -2.0f, 2.0f, 21), vel = test::random_points(n, -0.5f, 0.5f, 22);
         auto forces = [&](uint32_t width) {
             test::ScopedKernelWidth w(width);
             auto swarm = make_swarm(n, -3.0f, 3.0f, 0.5f, 3);
@@ -335,7 +360,7 @@ TEST(ForceModel, WideKernelMatchesTheScalarOne) {
             return forces_by_id(*swarm, model, 5);
         };
         const auto scalar = forces(1), wide = forces(16);
-        EXPECT_EQ(scalar, wide) << "cap " << cap;
+        EXPECT_EQ(scalar, wide) << n << " agents, cap " << cap;
     }
 }
 

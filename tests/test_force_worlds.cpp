@@ -36,6 +36,11 @@ const double kMinDistance[kWorlds] = {0.03, 0.05, 0.0, 0.04};
 const double kWAli[kWorlds] = {3.0, 1.0, 0.5, 2.0};
 const double kNoiseSeed[kWorlds] = {1, 2, 3, 4000000000.0};
 const double kMaxSpeed[kWorlds] = {0.75, 0.5, 1.0, 0.6};
+// With sampled_: alignment and attraction sampled in worlds 1 and 3, exact in
+// 0 and 2.  An exact world's force kernel sums the repulsion zone in its
+// walk of the zones; a sampled world's comes from the fine grid's kernel.
+// World 2 (exact, no MDE) alone builds no fine grid at all.
+const double kNeighborSample[kWorlds] = {0, 48, 0, 24};
 
 class ForceWorlds : public worlds_test::WorldsFixture {
 protected:
@@ -82,7 +87,7 @@ protected:
         m->min_spacing = 0.0f;
     }
     static constexpr unsigned kObstacles = 1, kShapes = 2;
-    static swcl_force_model_desc model(uint32_t k, unsigned extras = 0) {
+    swcl_force_model_desc model(uint32_t k, unsigned extras = 0) const {
         swcl_force_model_desc m = swcl_force_model_desc_default();
         if (extras & kObstacles) add_obstacles(&m);
         if (extras & kShapes) add_shapes(&m);
@@ -93,6 +98,7 @@ protected:
         m.noise_seed = uint64_t(kNoiseSeed[k]);
         m.min_distance = float(kMinDistance[k]);
         m.max_speed = float(kMaxSpeed[k]);
+        if (sampled_) m.neighbor_sample = uint32_t(kNeighborSample[k]);
         return m;
     }
     swcl_swarm ensemble(uint32_t agents = kAgents, unsigned extras = 0) {
@@ -104,6 +110,7 @@ protected:
         set(s, "w_ali", kWAli, kWorlds);
         set(s, "noise.seed", kNoiseSeed, kWorlds);
         set(s, "max_speed", kMaxSpeed, kWorlds);
+        if (sampled_) set(s, "neighbor_sample", kNeighborSample, kWorlds);
         return s;
     }
     swcl_swarm alone(uint32_t k, uint32_t agents = kAgents, unsigned extras = 0) {
@@ -114,6 +121,7 @@ protected:
     }
 
     void check_bitwise(uint32_t agents, uint32_t steps, bool expect_mde, unsigned extras = 0);
+    bool sampled_ = false;
 };
 
 // Every world of the ensemble against its swarm alone after `steps` steps
@@ -129,6 +137,13 @@ void ForceWorlds::check_bitwise(uint32_t n, uint32_t steps, bool expect_mde, uns
 }
 
 TEST_F(ForceWorlds, WorldsAreBitwiseTheSwarmsAlone) { check_bitwise(kAgents, 30, true); }
+
+// Worlds whose repulsion comes from different kernels (sampled_): each as
+// alone.
+TEST_F(ForceWorlds, WorldsOfSampledAndExactZonesAreBitwiseTheSwarmsAlone) {
+    sampled_ = true;
+    check_bitwise(kAgents, 20, true);
+}
 
 // Each world in a box of its own (placement, grid), obstacles among them.
 TEST_F(ForceWorlds, WorldsOfTheirOwnDomainsAreBitwiseTheSwarmsAlone) {

@@ -20,6 +20,15 @@ constexpr float kPrimSphere = 2.0f, kPrimBox = 3.0f;
 // FM_SOA_PAD).
 constexpr uint32_t kFineSoaPad = 16;
 
+// kernels/force_model.cl, FM_REP_IN_WALK: the force kernel sums the
+// repulsion zone in its walk of the exact zones (which meets every
+// candidate within R_att >= R_rep) in worlds of up to this many agents.
+constexpr uint32_t kRepWalkMaxAgents = 2048;  // FM_REP_WALK_MAX_AGENTS
+
+bool rep_in_walk(const ForceModelConfig& c, uint32_t n) {
+    return (c.terms & kForceRepulsion) && (c.terms & (kForceAlignment | kForceAttraction)) && c.neighbor_sample == 0 &&
+           c.r_rep <= c.r_att && n <= kRepWalkMaxAgents;
+}
 }  // namespace
 
 ForceModelConfig::ForceModelConfig() {
@@ -130,7 +139,8 @@ ForceModel::ForceModel(Swarm& swarm, ForceModelConfig config)
     // of one world are those from before worlds; a parameter block and a
     // noise block per world (world k's at k FORCE_FLOATS, k
     // NOISE_BLOCK_FLOATS).
-    const std::string defines = force_param_table().device_defines("FORCE") + world_defines(world_count_);
+    const std::string defines = force_param_table().device_defines("FORCE") + world_defines(world_count_) +
+                                " -DFM_REP_WALK_MAX_AGENTS=" + std::to_string(kRepWalkMaxAgents) + "u";
     const std::vector<cl_float> block = noise_->block();
     noise_host_.reserve(block.size() * world_count_);
     for (uint32_t k = 0; k < world_count_; ++k) noise_host_.insert(noise_host_.end(), block.begin(), block.end());
@@ -390,7 +400,14 @@ void ForceModel::enqueue_force(Swarm& swarm, uint64_t step) {
     kf.setArg(i++, force_.get());
     rep_.reserve(swarm.context(), size_t(n) * world_count_, "force model repulsion");
     fine_current_ = false;
-    if (c.terms & kForceRepulsion) {  // exact, through the fine grid
+    // Exact, through the fine grid, unless every world's force kernel sums
+    // the repulsion zone in its walk (rep_in_walk) and no world enforces a
+    // minimum distance (which reuses this grid: the same grid, so the same
+    // pushes, whether or not the repulsion needed it).
+    bool fine_needed = false;
+    for (uint32_t k = 0; k < world_count_; ++k)
+        fine_needed |= !rep_in_walk(worlds_[k], n) || worlds_[k].min_distance > 0.0f;
+    if ((c.terms & kForceRepulsion) && fine_needed) {
         build_fine_grid(swarm);
         fine_current_ = true;
         set_args(repulsion_k_, fine_soa_.get(), fine_.sorted_slots().get(), cl_uint(n), fine_.geometry().get(),

@@ -62,7 +62,10 @@ __kernel void SWCL_KERNEL(force_model_force)(FM_FORCE_PARAMS) {
     swcl_bu n_rep = (swcl_bu)(0u), n_ali = (swcl_bu)(0u), n_att = (swcl_bu)(0u);
 
     const swcl_bi live = self < n;
-    if (terms & FM_REP)  // force_model_repulsion(_w)'s sums and counts, by slot.
+    // The repulsion zone in the walk of the exact zones below, or
+    // force_model_repulsion(_w)'s sums and counts, by slot.
+    const bool rep_in_walk = FM_REP_IN_WALK(terms, sample_cap, zones.x, zones.z, n);
+    if ((terms & FM_REP) && !rep_in_walk)
         SWCL_BFN(fm_load_rep)(rep_in, base, n, &rep_x, &rep_y, &rep_z, &n_rep);
     // The exact zones walk the union of the lanes' R_att boxes (many cells
     // each, so the union adds few), each candidate tested against all lanes.
@@ -73,7 +76,12 @@ __kernel void SWCL_KERNEL(force_model_force)(FM_FORCE_PARAMS) {
     // fm_zones_begin_s.)
     if (terms & (FM_ALI | FM_ATT)) {
         SWCL_BFN(fm_zones_begin)
-        if (sample_cap == 0u) {
+        if (sample_cap == 0u && rep_in_walk) {
+            FM_LANES_WALK(&g, px, py, pz, live, zones.z, j) {
+                SWCL_BFN(fm_rep_ali_att)(j);
+            }
+            FM_LANES_WALK_END
+        } else if (sample_cap == 0u) {
             FM_LANES_WALK(&g, px, py, pz, live, zones.z, j) {
                 SWCL_BFN(fm_ali_att)(j);
             }

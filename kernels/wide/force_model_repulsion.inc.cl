@@ -24,6 +24,10 @@ __kernel void SWCL_KERNEL(force_model_repulsion)(__global const float* fine_soa,
     FM_FINE_WORLD_VIEW(fine_geo, fine_start, fine_slot)
     FM_SOA_WORLD(fine_soa)
     FM_WORLD_PARAMS(params)
+    // A world whose force kernel sums the repulsion zone itself.
+    if (FM_REP_IN_WALK(as_uint(params[FORCE_TERMS]), as_uint(params[FORCE_NEIGHBOR_SAMPLE]), params[FORCE_R_REP],
+                       params[FORCE_R_ATT], n))
+        return;
     Grid fg = fm_fine_grid(fine_geo, fine_start);
     FM_FINE_SLOT_BASE(fg)
     const uint stride = n + FM_SOA_PAD;
