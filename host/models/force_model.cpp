@@ -29,6 +29,13 @@ bool rep_in_walk(const ForceModelConfig& c, uint32_t n) {
     return (c.terms & kForceRepulsion) && (c.terms & (kForceAlignment | kForceAttraction)) && c.neighbor_sample == 0 &&
            c.r_rep <= c.r_att && n <= kRepWalkMaxAgents;
 }
+
+// What every build of force_model.cl is given: the parameter block's slots
+// (FORCE_R_REP, ...) and the limit above.
+std::string force_program_defines() {
+    return force_param_table().device_defines("FORCE") + " -DFM_REP_WALK_MAX_AGENTS=" +
+           std::to_string(kRepWalkMaxAgents) + "u";
+}
 }  // namespace
 
 ForceModelConfig::ForceModelConfig() {
@@ -139,8 +146,7 @@ ForceModel::ForceModel(Swarm& swarm, ForceModelConfig config)
     // of one world are those from before worlds; a parameter block and a
     // noise block per world (world k's at k FORCE_FLOATS, k
     // NOISE_BLOCK_FLOATS).
-    const std::string defines = force_param_table().device_defines("FORCE") + world_defines(world_count_) +
-                                " -DFM_REP_WALK_MAX_AGENTS=" + std::to_string(kRepWalkMaxAgents) + "u";
+    const std::string defines = force_program_defines() + world_defines(world_count_);
     const std::vector<cl_float> block = noise_->block();
     noise_host_.reserve(block.size() * world_count_);
     for (uint32_t k = 0; k < world_count_; ++k) noise_host_.insert(noise_host_.end(), block.begin(), block.end());
@@ -432,7 +438,7 @@ std::vector<cl_float4> ForceModel::sample_mesh_obstacles(Swarm& swarm, const std
     DeviceBuffer<cl_float4> in(ctx, pts.size(), "mesh obstacle sample points"), out(ctx, pts.size(), "mesh obstacle samples");
     in.upload(ctx, pts.data(), pts.size());
     cl::Kernel k = noise_->kernel("force_model.cl", "force_model_mesh_distance",
-                                  force_param_table().device_defines("FORCE"));
+                                  force_program_defines());
     const cl_int4 mdims{{cl_int(mesh_grid_.dims[0]), cl_int(mesh_grid_.dims[1]), cl_int(mesh_grid_.dims[2]), 0}};
     const cl_float4 morigin{{float(mesh_grid_.origin[0]), float(mesh_grid_.origin[1]), float(mesh_grid_.origin[2]),
                              float(mesh_grid_.h)}};
