@@ -96,4 +96,28 @@ swcl_status swcl_scenario_create_world_swarm(swcl_scenario scenario, swcl_contex
     });
 }
 
+swcl_status swcl_scenario_create_world_swarm_in_domains(swcl_scenario scenario, swcl_context context, uint32_t worlds,
+                                                        const uint64_t* world_seeds, const float* world_domains,
+                                                        swcl_swarm* out) {
+    return guarded(__func__, [&] {
+        check_out(out, "out");
+        require(worlds > 0, "swcl_scenario_create_world_swarm_in_domains: worlds must be >= 1");
+        auto s = scenarios().get(scenario.id);
+        auto ctx = contexts().get(context.id);
+        std::vector<uint64_t> seeds;
+        if (world_seeds) seeds.assign(world_seeds, world_seeds + worlds);
+        std::vector<Domain> domains;
+        if (world_domains) {
+            domains.resize(worlds);
+            for (uint32_t k = 0; k < worlds; ++k)
+                for (int a = 0; a < 3; ++a) {
+                    domains[k].min[a] = world_domains[6 * size_t(k) + a];
+                    domains[k].max[a] = world_domains[6 * size_t(k) + 3 + a];
+                }
+        }
+        auto swarm = make_swarm(ctx, *s, worlds, seeds, domains);
+        out->id = swarms().add(std::move(swarm));
+    });
+}
+
 }  // extern "C"

@@ -11,17 +11,20 @@ std::shared_ptr<Swarm> make_swarm(std::shared_ptr<Context> ctx, const Scenario& 
 }
 
 std::shared_ptr<Swarm> make_swarm(std::shared_ptr<Context> ctx, const Scenario& s, uint32_t worlds,
-                                  const std::vector<uint64_t>& world_seeds) {
+                                  const std::vector<uint64_t>& world_seeds, const std::vector<Domain>& world_domains) {
     SwarmConfig config = s.swarm;
     config.agent_count = 0;  // placed from the scenario's distribution below
     config.worlds = worlds;
     config.world_seeds = world_seeds;
+    config.world_domains = world_domains;
     auto swarm = std::make_shared<Swarm>(std::move(ctx), config);
-    // World k placed as the scenario alone with its seed.
+    // World k placed as the scenario alone with its seed (and domain).
     std::vector<float> pos;
     for (uint32_t k = 0; k < worlds; ++k) {
         Scenario world = s;
         world.swarm.seed = swarm->world_seed(k);
+        world.swarm.domain_min = swarm->world_domain(k).min;
+        world.swarm.domain_max = swarm->world_domain(k).max;
         const auto p = world.initial_positions();
         pos.insert(pos.end(), p.begin(), p.end());
     }

@@ -19,8 +19,12 @@ class Context;
 std::shared_ptr<Swarm> make_swarm(std::shared_ptr<Context> ctx, const Scenario& scenario);
 // The same as `worlds` worlds (SwarmConfig::worlds): world k placed and
 // seeded as the scenario alone with seed world_seeds[k] (empty: the
-// scenario's seed + k), every world with the scenario's model.
+// scenario's seed + k), every world with the scenario's model.  With
+// world_domains (empty: the scenario's for every world), world k is the
+// scenario alone in domain world_domains[k] (SwarmConfig::world_domains):
+// placed there, its grid and noise walls its own.
 std::shared_ptr<Swarm> make_swarm(std::shared_ptr<Context> ctx, const Scenario& scenario, uint32_t worlds,
-                                  const std::vector<uint64_t>& world_seeds);
+                                  const std::vector<uint64_t>& world_seeds,
+                                  const std::vector<Domain>& world_domains = {});
 
 }  // namespace swarmcl

@@ -109,6 +109,18 @@ def test_a_generation_as_worlds_scores_as_its_runs_alone(ctx, real):
     assert c == d and len(set(c)) == 5
     # The device's fine histograms are close to the exact PDFs, not equal.
     assert c != a and np.allclose(a, c, atol=0.05)
+    # A domain corner fitted: still worlds, each in its own domain, every
+    # score its run's alone.
+    ranges = dict(RANGES, **{"domain.max.0": [1.55, 1.9]})
+    params = swarmcl.load_ranges(ranges, SCENARIO)
+    boxed = swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, steps=40, streamed=False)
+    boxed_alone = swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, steps=40, streamed=False,
+                                                      worlds=False)
+    assert boxed.world_keys == ["noise.gain", "goal.speed"]
+    pop3 = [list(u) for u in np.random.default_rng(4).uniform(size=(4, 3))]
+    e, f = boxed(pop3), boxed_alone(pop3)
+    assert e == f and boxed.last_swarms == 1
+    assert e != boxed([u[:2] + [0.5] for u in pop3])  # the domain matters
     # A parameter outside the table (agents.count) keeps one swarm a run.
     other = swarmcl.fitting.PopulationEvaluator(
         SCENARIO, swarmcl.load_ranges({"agents.count": [8, 20]}, SCENARIO), real, ctx, steps=40)

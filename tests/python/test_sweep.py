@@ -30,8 +30,11 @@ def alone(ctx, values, steps=30, frames=False):
         node = doc
         *parts, last = path.split(".")
         for p in parts:
-            node = node[p]
-        node[last] = v
+            node = node[int(p)] if isinstance(node, list) else node[p]
+        if isinstance(node, list):
+            node[int(last)] = v
+        else:
+            node[last] = v
     with swarmcl.Scenario.parse(json.dumps(doc)).create_swarm(ctx) as s:
         out = [s.read_positions()]
         for _ in range(steps):
@@ -52,6 +55,24 @@ def test_grid_rows_are_the_runs_alone(ctx):
         assert row["median_nearest_distance"] == float(np.median(nn))
         assert row["mde_moved_total"] == stats.mde_moved_total
     assert len({row["mean_speed"] for row in r["rows"]}) == 6
+
+
+def test_domain_rows_run_as_worlds_each_in_its_own_domain(ctx):
+    """A grid over the domain's corners: the rows still run as the worlds
+    of one swarm, each world in its row's domain (its noise walls and grid
+    its own), and each row is the scenario alone with that domain."""
+    grid = {"domain.max.0": [1.6, 1.8], "domain.min.2": [0.0, 0.35], "model.goal.speed": [0.4]}
+    r = swarmcl.sweep(SCENARIO, grid, context=ctx)
+    assert r["worlds"] and r["swarms"] == 1 and len(r["rows"]) == 4
+    for row in r["rows"]:
+        vel, nn, stats, _ = alone(ctx, {k: row[k] for k in grid})
+        assert row["mean_speed"] == float(np.linalg.norm(vel, axis=1).mean())
+        assert row["median_nearest_distance"] == float(np.median(nn))
+        assert row["mde_moved_total"] == stats.mde_moved_total
+    assert len({row["radius_of_gyration"] for row in r["rows"]}) == 4  # the walls moved
+    # A domain whose max is below its min: the scenario refuses it, naming it.
+    with pytest.raises(swarmcl.SwarmclError, match="domain"):
+        swarmcl.sweep(SCENARIO, {"domain.max.0": [2.0, -1.0]}, context=ctx)
 
 
 def test_scores_against_tracks_are_those_of_the_runs_alone(ctx):

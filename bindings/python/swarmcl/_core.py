@@ -701,11 +701,13 @@ class Scenario(_Handle):
         check(lib.swcl_scenario_create_swarm(self._h, context._h, out))
         return Swarm._wrap(out, context)
 
-    def create_world_swarm(self, context: Context, worlds: int, world_seeds=None) -> "Swarm":
+    def create_world_swarm(self, context: Context, worlds: int, world_seeds=None, world_domains=None) -> "Swarm":
         """The scenario as ``worlds`` worlds of one swarm (Swarm's ``worlds``):
         world k placed and seeded as the scenario alone with seed
         ``world_seeds[k]`` (default: the scenario's seed + k), each with the
-        scenario's model; ``Swarm.set_world_param`` then varies it per world."""
+        scenario's model; ``Swarm.set_world_param`` then varies it per world.
+        ``world_domains`` (shape (worlds, 2, 3), as Swarm's): world k is the
+        scenario alone in that domain (None: the scenario's in every world)."""
         if not isinstance(context, Context):
             raise TypeError(f"context must be a swarmcl.Context, got {type(context).__name__}")
         w = operator.index(worlds)
@@ -719,7 +721,16 @@ class Scenario(_Handle):
             keep = np.ascontiguousarray(arr, dtype=np.uint64)
             seeds = ffi.cast("const uint64_t*", keep.ctypes.data)
         out = ffi.new("swcl_swarm*")
-        check(lib.swcl_scenario_create_world_swarm(self._h, context._h, w, seeds, out))
+        if world_domains is None:
+            check(lib.swcl_scenario_create_world_swarm(self._h, context._h, w, seeds, out))
+        else:
+            boxes = np.asarray(world_domains, dtype=np.float64)
+            if boxes.shape != (w, 2, 3):
+                raise ValueError(f"create_world_swarm: world_domains must be shaped ({w}, 2, 3) (a minimum and a "
+                                 f"maximum corner per world), got {boxes.shape}")
+            keep_domains = np.ascontiguousarray(boxes, dtype=np.float32)
+            check(lib.swcl_scenario_create_world_swarm_in_domains(
+                self._h, context._h, w, seeds, ffi.cast("const float*", keep_domains.ctypes.data), out))
         return Swarm._wrap(out, context)
 
 

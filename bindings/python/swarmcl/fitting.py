@@ -165,7 +165,9 @@ def numeric_param(scenario: dict, path: str, what: str = "ranges") -> tuple:
         raise ValueError(f"{what}: {path!r} is a {row['type']} parameter of the {model} model, not a number")
     if isinstance(current, bool) or not isinstance(current, (int, float)):
         raise ValueError(f"{what}: {path!r} is {type(current).__name__}, not a number")
-    integer = row["type"] in ("uint32", "uint64") if row is not None else isinstance(current, int)
+    # A coordinate written as 0 in the scenario is still a coordinate.
+    integer = row["type"] in ("uint32", "uint64") if row is not None else \
+        isinstance(current, int) and not is_domain_key(path)
     return integer, row, model
 
 
@@ -194,6 +196,33 @@ def world_model(scenario) -> bool:
 #: The path model's goal radii: set per world by keys of their own (the
 #: table does not hold the goals; host/models/path_worlds.cpp).
 _PATH_GOAL_RADIUS = re.compile(r"model\.((?:groups\.\d+\.)?goals\.\d+\.radius)")
+
+
+#: A corner coordinate of the scenario's domain: a world's own domain
+#: (Scenario.create_world_swarm's world_domains), not a model parameter.
+_DOMAIN_KEY = re.compile(r"domain\.(min|max)\.([012])")
+
+
+def is_domain_key(path: str) -> bool:
+    """Whether ``path`` is a corner coordinate of the domain
+    ("domain.min.0" ... "domain.max.2"), which worlds take as their own."""
+    return _DOMAIN_KEY.fullmatch(path) is not None
+
+
+def world_domains(scenario: dict, rows: Sequence[Dict[str, float]]) -> Optional[np.ndarray]:
+    """Each row's domain ((len(rows), 2, 3): the scenario's with the row's
+    domain keys), or None where no row has one."""
+    if not any(is_domain_key(k) for row in rows for k in row):
+        return None
+    d = scenario.get("domain", {})
+    base = np.array([d.get("min", [0.0] * 3), d.get("max", [0.0] * 3)], dtype=np.float64)
+    out = np.repeat(base[None], len(rows), axis=0)
+    for w, row in enumerate(rows):
+        for path, v in row.items():
+            m = _DOMAIN_KEY.fullmatch(path)
+            if m:
+                out[w, 0 if m.group(1) == "min" else 1, int(m.group(2))] = v
+    return out
 
 
 def world_groups(make: Callable[[list], object], idx: list) -> list:
@@ -322,6 +351,8 @@ class PopulationEvaluator:
         paths = [p.path for p in self.params]
         setters = {}
         for path in paths:
+            if is_domain_key(path):  # a world's own domain, given at creation
+                continue
             if force and path in ("model.eta", "model.rho"):
                 continue
             if force and path in self.FORCE_ALIASES:
@@ -421,13 +452,13 @@ class PopulationEvaluator:
         model's noise time scale 0 or not, are the group's own) and set per
         world; None where the model refuses a value."""
         seeds = [self.base_seed + runs[i][1] if self.seeds > 1 else self.base_seed for i in idx]
+        values = [{p.path: p.value(runs[i][0][k]) for k, p in enumerate(self.params)} for i in idx]
         try:
             with Scenario.parse(json.dumps(_with_values(self.scenario, self.params, runs[idx[0]][0]))) as scn:
-                swarm = scn.create_world_swarm(self.context, len(idx), seeds)
+                swarm = scn.create_world_swarm(self.context, len(idx), seeds, world_domains(self.scenario, values))
         except SwarmclError:
             return None
         try:
-            values = [{p.path: p.value(runs[i][0][k]) for k, p in enumerate(self.params)} for i in idx]
             for key, value_of in self._world_setters.items():
                 swarm.set_world_param(key, [value_of(v) for v in values])
             return swarm

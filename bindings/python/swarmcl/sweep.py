@@ -30,8 +30,8 @@ import numpy as np
 from ._core import Context, Scenario
 from .errors import SwarmclError
 from .evaluation import METRICS, Metrics, distances, score, wasserstein
-from .fitting import (_check_against_table, _context_for_rank, add_track_options, mpi_comm, numeric_param,
-                      track_window, world_groups, world_key, world_model)
+from .fitting import (_check_against_table, _context_for_rank, add_track_options, is_domain_key, mpi_comm,
+                      numeric_param, track_window, world_domains, world_groups, world_key, world_model)
 
 __all__ = ["load_grid", "sweep"]
 
@@ -135,7 +135,9 @@ class _Runner:
         # "seed" (the scenario's) is each world's seed: replicates of a
         # scenario run as worlds too.
         self.seed_index = keys.index("seed") if "seed" in keys else None
-        self.worlds = world_model(scenario) and all(k == "seed" or world_key(scenario, k) is not None for k in keys)
+        # A domain key ("domain.max.0") gives each world its own domain.
+        self.worlds = world_model(scenario) and all(
+            k == "seed" or is_domain_key(k) or world_key(scenario, k) is not None for k in keys)
         self.swarms = 0  # how many swarms run() stepped
 
     def run(self, rows: List[List[float]]) -> List[dict]:
@@ -175,11 +177,17 @@ class _Runner:
         None where the model refuses the values together."""
         seed = int(self.scenario.get("seed", 0))
         seeds = [int(r[self.seed_index]) if self.seed_index is not None else seed for r in rows]
-        with Scenario.parse(json.dumps(self._scenario_for(rows[0]))) as parsed:
-            swarm = parsed.create_world_swarm(self.context, len(rows), seeds)
+        domains = world_domains(self.scenario, [{p.path: p.value(v) for p, v in zip(self.params, r)} for r in rows])
+        try:
+            with Scenario.parse(json.dumps(self._scenario_for(rows[0]))) as parsed:
+                swarm = parsed.create_world_swarm(self.context, len(rows), seeds, domains)
+        except SwarmclError:
+            # Refused together (the path model's one domain; a row the
+            # scenario refuses fails again alone, with its own message).
+            return None
         try:
             for k, p in enumerate(self.params):
-                if k != self.seed_index:
+                if k != self.seed_index and not is_domain_key(p.path):
                     swarm.set_world_param(world_key(self.scenario, p.path), [p.value(r[k]) for r in rows])
         except SwarmclError:
             swarm.close()

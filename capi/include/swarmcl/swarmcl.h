@@ -361,6 +361,16 @@ SWCL_API swcl_status swcl_scenario_create_swarm(swcl_scenario scenario, swcl_con
 SWCL_API swcl_status swcl_scenario_create_world_swarm(swcl_scenario scenario, swcl_context context,
                                                       uint32_t worlds, const uint64_t* world_seeds,
                                                       swcl_swarm* out);
+/* The same with world k in a domain of its own: world_domains holds 6 x
+ * worlds floats (world k's min x, y, z, then max x, y, z; NULL: the
+ * scenario's domain for every world), world k being the scenario alone with
+ * that domain (placed in it; its grid and noise walls its own; as
+ * swcl_swarm_desc.world_domains).  A bad domain names the world and axis;
+ * a model that needs one domain for every world (the path model) refuses
+ * differing ones; nothing is created then. */
+SWCL_API swcl_status swcl_scenario_create_world_swarm_in_domains(swcl_scenario scenario, swcl_context context,
+                                                                 uint32_t worlds, const uint64_t* world_seeds,
+                                                                 const float* world_domains, swcl_swarm* out);
 
 /* ---- recording trajectories -------------------------------------------------
  * Writes frames of a swarm to `dir` (created if missing) in the chosen formats.
