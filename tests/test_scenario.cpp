@@ -710,6 +710,69 @@ TEST_F(ScenarioCApi, CreateSwarmPlacesTheAgentsAsTheScenarioSays) {
     swcl_scenario_destroy(s);
 }
 
+// A scenario as worlds each in a domain of its own: world k is the scenario
+// alone with that domain (placed in it, walls its own); bad domains and the
+// path model's one domain are refused, naming them, with nothing created.
+TEST_F(ScenarioCApi, WorldSwarmInDomainsIsEachScenarioAloneInItsDomain) {
+    const std::string base = R"({"seed": 3, "dt": 0.02, "steps": 5, "agents": {"count": 40},
+        "model": {"type": "field", "noise": {"scale": 0.4, "domain_walls": true}},
+        "domain": {"min": [0, 0, 0], "max": [DX, 1, 1]}})";
+    auto with = [&](const std::string& dx) {
+        std::string t = base;
+        t.replace(t.find("DX"), 2, dx);
+        return t;
+    };
+    swcl_scenario s = parse_ok(with("1"));
+    const float domains[12] = {0, 0, 0, 1, 1, 1, 0, 0, 0, 2.5f, 1, 1};
+    const uint64_t seeds[2] = {3, 3};
+    swcl_swarm all{};
+    ASSERT_EQ(swcl_scenario_create_world_swarm_in_domains(s, ctx, 2, seeds, domains, &all), SWCL_OK)
+        << swcl_last_error();
+    ASSERT_EQ(swcl_swarm_step(all, 5), SWCL_OK) << swcl_last_error();
+    std::vector<float> both(2 * 40 * 3);
+    ASSERT_EQ(swcl_swarm_read(all, SWCL_ATTRIBUTE_POSITION, both.data(), 80), SWCL_OK) << swcl_last_error();
+    for (int k = 0; k < 2; ++k) {
+        swcl_scenario one = parse_ok(with(k == 0 ? "1" : "2.5"));
+        swcl_swarm alone{};
+        ASSERT_EQ(swcl_scenario_create_swarm(one, ctx, &alone), SWCL_OK) << swcl_last_error();
+        ASSERT_EQ(swcl_swarm_step(alone, 5), SWCL_OK) << swcl_last_error();
+        const std::vector<float> mine = read(alone, SWCL_ATTRIBUTE_POSITION);
+        EXPECT_EQ(std::vector<float>(both.begin() + k * 120, both.begin() + (k + 1) * 120), mine) << "world " << k;
+        swcl_swarm_destroy(alone);
+        swcl_scenario_destroy(one);
+    }
+    float x_max = 0.0f;
+    for (size_t i = 120; i < both.size(); i += 3) x_max = std::max(x_max, both[i]);
+    EXPECT_GT(x_max, 1.0f);  // world 1 placed in its wider box
+    // Bad input: a domain with max below min (world 1, axis 0), no output.
+    float bad[12];
+    std::copy(domains, domains + 12, bad);
+    bad[9] = -1.0f;
+    swcl_swarm out{12345};
+    EXPECT_EQ(swcl_scenario_create_world_swarm_in_domains(s, ctx, 2, seeds, bad, &out), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("world 1 domain min[0]"), std::string::npos) << swcl_last_error();
+    EXPECT_EQ(out.id, 12345u);
+    EXPECT_EQ(swcl_scenario_create_world_swarm_in_domains(s, ctx, 0, seeds, domains, &out),
+              SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_scenario_create_world_swarm_in_domains(s, ctx, 2, seeds, domains, nullptr),
+              SWCL_ERROR_INVALID_ARGUMENT);
+    // A uniform box given only its max: its min is each world's domain's,
+    // here above that max in world 1.
+    swcl_scenario boxed = parse_ok(R"({"agents": {"count": 4, "initial": {"type": "uniform", "max": [0.8, 1, 1]}},
+        "domain": {"min": [0, 0, 0], "max": [1, 1, 1]}})");
+    float shifted[12];
+    std::copy(domains, domains + 12, shifted);
+    shifted[6] = 0.9f;
+    EXPECT_EQ(swcl_scenario_create_world_swarm_in_domains(boxed, ctx, 2, nullptr, shifted, &out),
+              SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("world 1: agents.initial.min[0]"), std::string::npos)
+        << swcl_last_error();
+    EXPECT_EQ(out.id, 12345u);
+    swcl_scenario_destroy(boxed);
+    swcl_swarm_destroy(all);
+    swcl_scenario_destroy(s);
+}
+
 TEST_F(ScenarioCApi, CreateSwarmFromPointsAndFromExamples) {
     const swcl_scenario s = parse_ok(scenario(
         "", R"({"count": 2, "initial": {"type": "points", "positions": [[1, 1.5, 0.25], [3, 0.5, 0.75]]}})"));

@@ -1,7 +1,9 @@
 #include "scenario/make_swarm.hpp"
 
+#include <string>
 #include <vector>
 
+#include "core/error.hpp"
 #include "swarm/behavior.hpp"
 
 namespace swarmcl {
@@ -25,6 +27,15 @@ std::shared_ptr<Swarm> make_swarm(std::shared_ptr<Context> ctx, const Scenario& 
         world.swarm.seed = swarm->world_seed(k);
         world.swarm.domain_min = swarm->world_domain(k).min;
         world.swarm.domain_max = swarm->world_domain(k).max;
+        if (world.initial.min_is_domain) world.initial.min = world.swarm.domain_min;
+        if (world.initial.max_is_domain) world.initial.max = world.swarm.domain_max;
+        for (int a = 0; a < 3; ++a)
+            if (!(world.initial.min[a] <= world.initial.max[a]))
+                fail(Status::InvalidArgument, "world " + std::to_string(k) + ": agents.initial.min[" +
+                                                  std::to_string(a) + "] (" + std::to_string(world.initial.min[a]) +
+                                                  ") exceeds agents.initial.max (" +
+                                                  std::to_string(world.initial.max[a]) +
+                                                  ") in the world's domain; nothing was created");
         const auto p = world.initial_positions();
         pos.insert(pos.end(), p.begin(), p.end());
     }

@@ -38,6 +38,8 @@ void read_agents(const json& j, Scenario& s) {
             s.initial.kind = InitialDistribution::Kind::Uniform;
             s.initial.min = d.vec3("min", s.initial.min);
             s.initial.max = d.vec3("max", s.initial.max);
+            s.initial.min_is_domain = !d.has("min");
+            s.initial.max_is_domain = !d.has("max");
             for (int a = 0; a < 3; ++a)
                 if (!(s.initial.min[a] <= s.initial.max[a])) bad_json(d.at("min"), "must not exceed agents.initial.max");
         } else if (type == "sphere") {

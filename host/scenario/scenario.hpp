@@ -17,6 +17,7 @@ namespace swarmcl {
 struct InitialDistribution {
     enum class Kind { Uniform, Sphere, Points } kind = Kind::Uniform;
     std::array<float, 3> min{}, max{};  // uniform box (default: the domain)
+    bool min_is_domain = true, max_is_domain = true;  // left out: the domain's (a world's own, make_swarm)
     std::array<float, 3> center{};      // sphere
     float radius = 0.0f;
     std::vector<float> points;          // packed xyz, one per agent
