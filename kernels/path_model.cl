@@ -182,13 +182,15 @@ SWCL_INLINE void path_store_s(__global float4* o, uint i, uint n, float a, float
 }
 
 // path_model_advance: every configuration; path_model_advance_w: SWCL_W
-// agents per work-item, CPU devices with a baked local field.  One body,
+// agents per work-item, CPU devices with a baked local field or a noise
+// the module's wide path covers (NOISE_WIDE: NoiseField::width() > 1;
+// not the mesh-aware procedural noise).  One body,
 // wide/path_model_advance.inc.cl.
 #define SWCL_BW 1
 #include "wide/path_model_advance.inc.cl"
 #undef SWCL_BW
 
-#if PATH_BAKED && defined(NOISE_WIDE)
+#if (PATH_BAKED || !PATH_MESH) && defined(NOISE_WIDE)
 SWCL_INLINE void path_load_xyz_w(__global const float4* p, uint base, uint n, swcl_fw* x, swcl_fw* y, swcl_fw* z) {
     noise_load_xyz_w((__global const float*)p, base, n, x, y, z);
 }

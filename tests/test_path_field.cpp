@@ -390,20 +390,26 @@ TEST(PathModel, BakedMeshNoiseMatchesProcedural) {
     EXPECT_LT(diff / norm, 0.05);
 }
 
-// On CPU devices the baked path runs SWCL_W agents per work-item: the same
-// arithmetic as the one-agent kernel, so bitwise the same run.
+// On CPU devices the baked path (a mesh obstacle's baked local field) and
+// the procedural curl noise with domain walls run SWCL_W agents per
+// work-item: the same arithmetic as the one-agent kernel, so bitwise the
+// same run.
 TEST(PathModel, WideKernelMatchesTheScalarOne) {
     auto ctx = test::shared_context();
-    auto run = [&](uint32_t width) {
+    auto run = [&](uint32_t width, bool procedural) {
         test::ScopedKernelWidth scoped_width(width);
         SwarmConfig sc = test::cube_config(1000, -1, 1, 0.1f);
         sc.agent_count = 1000;  // not a multiple of 16: the last work-item is partial
         sc.seed = 8;
         Swarm swarm(ctx, sc);
         PathModelConfig pc;
-        pc.noise.baked = true;
-        pc.noise.bake_resolution = {33, 33, 33};
-        pc.obstacles.push_back(box_mesh({0, 0, 0}, {0.3f, 0.3f, 0.3f}));
+        if (procedural) {
+            pc.noise.domain_walls = true;
+        } else {
+            pc.noise.baked = true;
+            pc.noise.bake_resolution = {33, 33, 33};
+            pc.obstacles.push_back(box_mesh({0, 0, 0}, {0.3f, 0.3f, 0.3f}));
+        }
         pc.resolution = {24, 24, 24};
         pc.goal_falloff = 0.5f;
         pc.groups.push_back({600, {point_goal(0.9f, 0.9f, 0.9f)}});
@@ -414,8 +420,10 @@ TEST(PathModel, WideKernelMatchesTheScalarOne) {
         swarm.read(Attribute::Position, p.data(), 1000);
         return p;
     };
-    const auto scalar = run(1), wide = run(16);
-    EXPECT_EQ(scalar, wide);
+    for (const bool procedural : {false, true}) {
+        const auto scalar = run(1, procedural), wide = run(16, procedural);
+        EXPECT_EQ(scalar, wide) << (procedural ? "procedural curl noise" : "baked local field");
+    }
 }
 
 // Chasing in a scenario: every `waypoint_every` steps group 0's goals move to

@@ -221,6 +221,9 @@ PathModel::LocalField PathModel::build_local(const NoiseConfig& noise, const std
         if (out.width > 1) defines += " -DNOISE_WIDTH=" + std::to_string(out.width);
     } else {
         out.vl.allocate(ctx_, 1, "baked local field");
+        // CPU devices: SWCL_W agents per work-item where the noise module
+        // has a wide path for this noise (its defines carry NOISE_WIDTH).
+        if (!mesh_noise_) out.width = out.noise->width();
     }
     out.advance = ctx_.kernel("path_model.cl", out.width > 1 ? "path_model_advance_w" : "path_model_advance",
                               defines + world_defines(worlds_.worlds()));

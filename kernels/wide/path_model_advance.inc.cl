@@ -51,7 +51,7 @@ __kernel void SWCL_KERNEL(path_model_advance)(__global float4* pos, __global flo
     SWCL_BFN(noise_baked_sample)(vl, vl_min, vl_cell, vl_dims, px, py, pz, &vx, &vy, &vz);
 #elif PATH_MESH  // width 1 only
     path_noise_mesh(NOISE_ARGS, phi, dims, origin_h, px, py, pz, t, &vx, &vy, &vz);
-#else  // width 1 only
+#else  // the agent id matters to the random noises only (width 1)
     NOISE_VELOCITY_B(px, py, pz, t, ids[base], step, &vx, &vy, &vz);
 #endif
     const size_t cells = (size_t)dims.x * dims.y * dims.z;
