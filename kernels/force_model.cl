@@ -34,37 +34,22 @@
 
 // One candidate j of the alignment and attraction zones (Eq. 2-3) for the
 // agent in slot `self` (the zone radii and sums of force_model_force in
-// scope): skipped when it is the agent itself, outside R_att or inside R_rep
-// (the repulsion kernel has those).  Width 1: branches, and float4
-// arithmetic on p, u and the sums ali, att (fm_zones_begin_s), component by
-// component the lanes' (fm_ali_att_w, below); as float4 the scalar kernel
-// is ~5 % faster than with three scalar components (PoCL, exact zones).
-#define fm_ali_att_s(j)                                                       \
-    {                                                                         \
-        const float4 q = (float4)(pos[j].xyz, 0.0f);                          \
-        const float d2 = dist2(q, p);                                         \
-        if (self != (j) && d2 <= r_att2 && d2 >= r_rep2) {                    \
-            if (d2 < r_ali2) {                                                \
-                const float4 du = (float4)(vel[j].xyz, 0.0f) - u;             \
-                const float m2 = du.x * du.x + du.y * du.y + du.z * du.z;     \
-                if (m2 > 0.0f) ali += du * rsqrt(m2);                         \
-                ++n_ali;                                                      \
-            } else {                                                          \
-                att += (q - p) * rsqrt(d2);                                   \
-                ++n_att;                                                      \
-            }                                                                 \
-        }                                                                     \
-    }
-// fm_ali_att_s with the repulsion zone too (FM_REP_IN_WALK): a candidate
-// below R_rep adds its unit direction away (-r_ij/|r_ij|, as
-// force_model_repulsion) unless it coincides with the agent.
-#define fm_rep_ali_att_s(j)                                                   \
+// scope): skipped when it is the agent itself or outside R_att; inside R_rep
+// it counts in the repulsion zone where rep_too (FM_REP_IN_WALK: its unit
+// direction away, -r_ij/|r_ij|, as force_model_repulsion, unless it
+// coincides with the agent) and else not at all (the repulsion kernel has
+// those).  rep_too is a literal: fm_ali_att_s and fm_rep_ali_att_s below.
+// Width 1: branches, and float4 arithmetic on p, u and the sums ali, att,
+// rep (fm_zones_begin_s), component by component the lanes' (fm_zone_w,
+// below); as float4 the scalar kernel is ~5 % faster than with three scalar
+// components (PoCL, exact zones).
+#define fm_zone_s(j, rep_too)                                                 \
     {                                                                         \
         const float4 q = (float4)(pos[j].xyz, 0.0f);                          \
         const float d2 = dist2(q, p);                                         \
         if (self != (j) && d2 <= r_att2) {                                    \
             if (d2 < r_rep2) {                                                \
-                if (d2 != 0.0f) {                                             \
+                if ((rep_too) && d2 != 0.0f) {                                \
                     rep -= (q - p) * rsqrt(d2);                               \
                     ++n_rep;                                                  \
                 }                                                             \
@@ -79,6 +64,8 @@
             }                                                                 \
         }                                                                     \
     }
+#define fm_ali_att_s(j) fm_zone_s(j, 0)
+#define fm_rep_ali_att_s(j) fm_zone_s(j, 1)
 // Around the zone pass at width 1: the float4 position, velocity and sums
 // fm_ali_att_s works on, and the sums back into the body's components.
 #define fm_zones_begin_s                                                          \
@@ -344,18 +331,20 @@ SWCL_INLINE swcl_uw fm_gather_u_w(__global const uint* a, swcl_uw j) { return (s
 #undef FM_GATHER_LANE_
 #endif
 
-// fm_ali_att_s for candidate j in all lanes (px.., ux.., self, the zone
-// radii and sums of force_model_force_w in scope): the same tests and
-// arithmetic, each lane's sums changed only where j counts for it.  The
-// lanes work on the body's components: nothing around the zone pass.
+// fm_zone_s for candidate j in all lanes (px.., ux.., self, the zone radii
+// and sums of force_model_force_w in scope): the same tests and arithmetic,
+// each lane's sums changed only where j counts for it (a repulsion lane's
+// rs is rsqrt(d2), as an attraction lane's).  The lanes work on the body's
+// components: nothing around the zone pass.
 #define fm_zones_begin_w
 #define fm_zones_end_w
-#define fm_ali_att_w(j)                                                           \
+#define fm_zone_w(j, rep_too)                                                     \
     {                                                                             \
         const float4 q = pos[j], v = vel[j];                                      \
         const swcl_fw dx = q.x - px, dy = q.y - py, dz = q.z - pz;                \
         const swcl_fw d2 = dx * dx + dy * dy + dz * dz;                           \
-        const swcl_iw in = (self != (j)) & (d2 <= r_att2) & (d2 >= r_rep2);       \
+        const swcl_iw near = (self != (j)) & (d2 <= r_att2);                      \
+        const swcl_iw in = near & (d2 >= r_rep2);                                 \
         const swcl_iw is_ali = in & (d2 < r_ali2), is_att = in & ~(d2 < r_ali2);  \
         const swcl_fw dux = v.x - ux, duy = v.y - uy, duz = v.z - uz;             \
         const swcl_fw m2 = dux * dux + duy * duy + duz * duz;                     \
@@ -370,35 +359,16 @@ SWCL_INLINE swcl_uw fm_gather_u_w(__global const uint* a, swcl_uw j) { return (s
         att_z = select(att_z, att_z + dz * rs, is_att);                           \
         n_ali -= swcl_as_uw(is_ali); /* true is -1 */                             \
         n_att -= swcl_as_uw(is_att);                                              \
+        if (rep_too) {                                                            \
+            const swcl_iw is_rep = near & (d2 < r_rep2) & (d2 != 0.0f);           \
+            rep_x = select(rep_x, rep_x - dx * rs, is_rep);                       \
+            rep_y = select(rep_y, rep_y - dy * rs, is_rep);                       \
+            rep_z = select(rep_z, rep_z - dz * rs, is_rep);                       \
+            n_rep -= swcl_as_uw(is_rep);                                          \
+        }                                                                         \
     }
-// fm_rep_ali_att_s in all lanes: fm_ali_att_w with the repulsion zone (a
-// repulsion lane's rs is rsqrt(d2), as its attraction lane's would be).
-#define fm_rep_ali_att_w(j)                                                       \
-    {                                                                             \
-        const float4 q = pos[j], v = vel[j];                                      \
-        const swcl_fw dx = q.x - px, dy = q.y - py, dz = q.z - pz;                \
-        const swcl_fw d2 = dx * dx + dy * dy + dz * dz;                           \
-        const swcl_iw near = (self != (j)) & (d2 <= r_att2);                      \
-        const swcl_iw is_rep = near & (d2 < r_rep2) & (d2 != 0.0f);               \
-        const swcl_iw in = near & (d2 >= r_rep2);                                 \
-        const swcl_iw is_ali = in & (d2 < r_ali2), is_att = in & ~(d2 < r_ali2);  \
-        const swcl_fw dux = v.x - ux, duy = v.y - uy, duz = v.z - uz;             \
-        const swcl_fw m2 = dux * dux + duy * duy + duz * duz;                     \
-        const swcl_fw rs = rsqrt(select(d2, m2, is_ali));                         \
-        const swcl_iw add_ali = is_ali & (m2 > 0.0f);                             \
-        ali_x = select(ali_x, ali_x + dux * rs, add_ali);                         \
-        ali_y = select(ali_y, ali_y + duy * rs, add_ali);                         \
-        ali_z = select(ali_z, ali_z + duz * rs, add_ali);                         \
-        att_x = select(att_x, att_x + dx * rs, is_att);                           \
-        att_y = select(att_y, att_y + dy * rs, is_att);                           \
-        att_z = select(att_z, att_z + dz * rs, is_att);                           \
-        rep_x = select(rep_x, rep_x - dx * rs, is_rep);                           \
-        rep_y = select(rep_y, rep_y - dy * rs, is_rep);                           \
-        rep_z = select(rep_z, rep_z - dz * rs, is_rep);                           \
-        n_rep -= swcl_as_uw(is_rep);                                              \
-        n_ali -= swcl_as_uw(is_ali);                                              \
-        n_att -= swcl_as_uw(is_att);                                              \
-    }
+#define fm_ali_att_w(j) fm_zone_w(j, 0)
+#define fm_rep_ali_att_w(j) fm_zone_w(j, 1)
 
 
 // Smallest and largest lane of v among the lanes `on`.

@@ -2,7 +2,7 @@
 // by make_swarm.
 #include <algorithm>
 #include <cstring>
-
+#include <string>
 #include <vector>
 
 #include "capi_common.hpp"
@@ -25,6 +25,28 @@ void copy_text(char (&dst)[N], const std::string& src) {
     const size_t n = std::min(src.size(), N - 1);
     std::memcpy(dst, src.data(), n);
     dst[n] = '\0';
+}
+
+// Both world-swarm creators: world_domains NULL is the scenario's domain in
+// every world, else 6 floats a world (min xyz, max xyz).
+void create_world_swarm(const char* fn, swcl_scenario scenario, swcl_context context, uint32_t worlds,
+                        const uint64_t* world_seeds, const float* world_domains, swcl_swarm* out) {
+    check_out(out, "out");
+    require(worlds > 0, std::string(fn) + ": worlds must be >= 1");
+    auto s = scenarios().get(scenario.id);
+    auto ctx = contexts().get(context.id);
+    std::vector<uint64_t> seeds;
+    if (world_seeds) seeds.assign(world_seeds, world_seeds + worlds);
+    std::vector<Domain> domains;
+    if (world_domains) {
+        domains.resize(worlds);
+        for (uint32_t k = 0; k < worlds; ++k)
+            for (int a = 0; a < 3; ++a) {
+                domains[k].min[a] = world_domains[6 * size_t(k) + a];
+                domains[k].max[a] = world_domains[6 * size_t(k) + 3 + a];
+            }
+    }
+    out->id = swarms().add(make_swarm(ctx, *s, worlds, seeds, domains));
 }
 
 }  // namespace
@@ -84,40 +106,14 @@ swcl_status swcl_scenario_create_swarm(swcl_scenario scenario, swcl_context cont
 
 swcl_status swcl_scenario_create_world_swarm(swcl_scenario scenario, swcl_context context, uint32_t worlds,
                                              const uint64_t* world_seeds, swcl_swarm* out) {
-    return guarded(__func__, [&] {
-        check_out(out, "out");
-        require(worlds > 0, "swcl_scenario_create_world_swarm: worlds must be >= 1");
-        auto s = scenarios().get(scenario.id);
-        auto ctx = contexts().get(context.id);
-        std::vector<uint64_t> seeds;
-        if (world_seeds) seeds.assign(world_seeds, world_seeds + worlds);
-        auto swarm = make_swarm(ctx, *s, worlds, seeds);
-        out->id = swarms().add(std::move(swarm));
-    });
+    return guarded(__func__, [&] { create_world_swarm(__func__, scenario, context, worlds, world_seeds, nullptr, out); });
 }
 
 swcl_status swcl_scenario_create_world_swarm_in_domains(swcl_scenario scenario, swcl_context context, uint32_t worlds,
                                                         const uint64_t* world_seeds, const float* world_domains,
                                                         swcl_swarm* out) {
-    return guarded(__func__, [&] {
-        check_out(out, "out");
-        require(worlds > 0, "swcl_scenario_create_world_swarm_in_domains: worlds must be >= 1");
-        auto s = scenarios().get(scenario.id);
-        auto ctx = contexts().get(context.id);
-        std::vector<uint64_t> seeds;
-        if (world_seeds) seeds.assign(world_seeds, world_seeds + worlds);
-        std::vector<Domain> domains;
-        if (world_domains) {
-            domains.resize(worlds);
-            for (uint32_t k = 0; k < worlds; ++k)
-                for (int a = 0; a < 3; ++a) {
-                    domains[k].min[a] = world_domains[6 * size_t(k) + a];
-                    domains[k].max[a] = world_domains[6 * size_t(k) + 3 + a];
-                }
-        }
-        auto swarm = make_swarm(ctx, *s, worlds, seeds, domains);
-        out->id = swarms().add(std::move(swarm));
-    });
+    return guarded(__func__,
+                   [&] { create_world_swarm(__func__, scenario, context, worlds, world_seeds, world_domains, out); });
 }
 
 }  // extern "C"
