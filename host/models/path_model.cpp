@@ -93,11 +93,10 @@ PathModel::PathModel(Swarm& swarm, PathModelConfig config)
     worlds_ = WorldConfigs<PathModelConfig>(path_param_table(), c, swarm.worlds());
     local_ = build_local(c.noise, c.targets);
     const std::vector<cl_float> block = local_.noise->block();
-    const std::vector<cl_float4>& prims = local_.noise->prims();
-    for (uint32_t k = 0; k < swarm.worlds(); ++k) {
-        noise_host_.insert(noise_host_.end(), block.begin(), block.end());
-        noise_prims_host_.insert(noise_prims_host_.end(), prims.begin(), prims.end());
-    }
+    for (uint32_t k = 0; k < swarm.worlds(); ++k) noise_host_.insert(noise_host_.end(), block.begin(), block.end());
+    // Every world's boundaries (one domain for all: world 0's, replicated).
+    noise_prims_host_ = world_noise_prims(ctx_, swarm.world_domains(), local_.noise->config(), *local_.noise,
+                                          "path model noise", noise_host_);
     upload_world_blocks();
     ctx_.queue().finish();
     preprocess_seconds_ = seconds_since(t0);

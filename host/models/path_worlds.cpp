@@ -148,10 +148,8 @@ void PathModel::upload_world_blocks() {
     if (worlds > 1) {
         noise_blocks_.reserve(ctx_, noise_host_.size(), "noise parameter blocks");
         noise_blocks_.upload(ctx_, noise_host_.data(), noise_host_.size());
-        std::vector<cl_float4> prims = noise_prims_host_;
-        if (prims.empty()) prims.resize(2, cl_float4{});  // a buffer to pass; none is read
-        noise_prims_.reserve(ctx_, prims.size(), "noise boundaries of the worlds");
-        noise_prims_.upload(ctx_, prims.data(), prims.size());
+        noise_prims_.reserve(ctx_, noise_prims_host_.size(), "noise boundaries of the worlds");
+        noise_prims_.upload(ctx_, noise_prims_host_.data(), noise_prims_host_.size());
     }
     blocks_current_ = true;
 }
@@ -289,7 +287,7 @@ double PathModel::retarget_worlds(std::vector<PathTarget> targets, const std::ve
     std::vector<cl_float> noise_next = noise_host_;
     const std::vector<cl_float> block = local.noise->block();
     const std::vector<cl_float4>& prims = local.noise->prims();  // the targets' balls changed: as many per world
-    std::vector<cl_float4> prims_next(prims.size() * worlds_.worlds());
+    std::vector<cl_float4> prims_next(std::max<size_t>(2, prims.size() * worlds_.worlds()));  // 2: a buffer to pass
     bool noise_varied = false;
     for (const std::string& key : worlds_.varied_keys()) noise_varied |= key.compare(0, 6, "noise.") == 0;
     resolve_worlds([&](PathModelConfig& c) { c.targets = targets; },
