@@ -118,6 +118,73 @@ TEST(EvalCapi, FramesGiveTheSameSamplesAsTheHostMetrics) {
     EXPECT_EQ(swcl_metrics_destroy(m), SWCL_ERROR_INVALID_HANDLE);
 }
 
+namespace {
+// Frames of `agents` agents on circles of their own (phase `shift`).
+std::vector<float> circling(size_t frames, size_t agents, double shift) {
+    std::vector<float> xyz(frames * agents * 3);
+    for (size_t f = 0; f < frames; ++f)
+        for (size_t i = 0; i < agents; ++i) {
+            const double a = 0.3 * f + i + shift;
+            xyz[3 * (f * agents + i) + 0] = float(std::cos(a) * (1 + 0.1 * i) + 0.5 * i);
+            xyz[3 * (f * agents + i) + 1] = float(std::sin(a) + shift);
+            xyz[3 * (f * agents + i) + 2] = float(0.02 * f * i);
+        }
+    return xyz;
+}
+}  // namespace
+
+// Pooled runs (issue 26): merged metrics hold the parts' samples one after
+// the other (d and eta each part's own), so their PDFs are those of the
+// concatenated samples; parts on another clock, no parts and a dead handle
+// are refused with out untouched.
+TEST(EvalCapi, MergedMetricsPoolThePartsSamples) {
+    const auto a = circling(20, 10, 0.0), b = circling(15, 7, 2.0), c = circling(15, 7, 1.0);
+    swcl_metrics ma{}, mb{}, mc{};
+    ASSERT_EQ(swcl_metrics_from_frames(a.data(), 20, 10, 0.05, &ma), SWCL_OK);
+    ASSERT_EQ(swcl_metrics_from_frames(b.data(), 15, 7, 0.05, &mb), SWCL_OK);
+    ASSERT_EQ(swcl_metrics_from_frames(c.data(), 15, 7, 0.04, &mc), SWCL_OK);
+    const swcl_metrics parts[2] = {ma, mb};
+    swcl_metrics pooled{};
+    ASSERT_EQ(swcl_metrics_merge(parts, 2, &pooled), SWCL_OK) << swcl_last_error();
+    const auto ra = swarmcl::frame_metrics(a.data(), 20, 10, 0.05), rb = swarmcl::frame_metrics(b.data(), 15, 7, 0.05);
+    for (int k = 0; k < SWCL_METRIC_COUNT; ++k) {
+        std::vector<double> all = ra.values[k];
+        all.insert(all.end(), rb.values[k].begin(), rb.values[k].end());
+        ASSERT_GT(rb.values[k].size(), 0u) << k;
+        swcl_metric_info info{sizeof(info)};
+        ASSERT_EQ(swcl_metrics_get_info(pooled, swcl_metric(k), &info), SWCL_OK);
+        const auto mo = swarmcl::moments_of(all);
+        EXPECT_EQ(info.count, all.size()) << k;
+        EXPECT_EQ(info.mean, mo.mean) << k;
+        EXPECT_EQ(info.sigma, mo.sigma) << k;
+        swcl_pdf_options o = swcl_pdf_options_default();
+        std::vector<double> q(o.bins);
+        ASSERT_EQ(swcl_metrics_pdf(pooled, swcl_metric(k), &o, q.data(), q.size()), SWCL_OK);
+        EXPECT_EQ(q, swarmcl::discrete_pdf(all, mo, swarmcl::PdfOptions{})) << k;
+    }
+    double t = 0;
+    ASSERT_EQ(swcl_metrics_frame_time(pooled, &t), SWCL_OK);
+    EXPECT_EQ(t, 0.05);
+    // One part alone is that part again.
+    swcl_metrics one{};
+    ASSERT_EQ(swcl_metrics_merge(&ma, 1, &one), SWCL_OK);
+    double e[SWCL_METRIC_COUNT];
+    ASSERT_EQ(swcl_metrics_distances(ma, one, nullptr, e, SWCL_METRIC_COUNT), SWCL_OK);
+    for (double v : e) EXPECT_EQ(v, 0.0);
+    // Bad input: out untouched, nothing made.
+    swcl_metrics out{12345};
+    const swcl_metrics other_clock[2] = {ma, mc};
+    EXPECT_EQ(swcl_metrics_merge(other_clock, 2, &out), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("parts[1]"), std::string::npos) << swcl_last_error();
+    EXPECT_EQ(swcl_metrics_merge(nullptr, 2, &out), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_metrics_merge(parts, 0, &out), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(swcl_metrics_merge(parts, 2, nullptr), SWCL_ERROR_INVALID_ARGUMENT);
+    const swcl_metrics dead[2] = {ma, swcl_metrics{999}};
+    EXPECT_EQ(swcl_metrics_merge(dead, 2, &out), SWCL_ERROR_INVALID_HANDLE);
+    EXPECT_EQ(out.id, 12345u);
+    for (auto m : {ma, mb, mc, pooled, one}) EXPECT_EQ(swcl_metrics_destroy(m), SWCL_OK);
+}
+
 // Physical scale and robust standardisation (issue 26): the median, MAD and
 // Wasserstein-1 of the C API are the host's on the same samples; an older
 // caller's smaller structs are read and written as far as they reach.
@@ -376,6 +443,19 @@ TEST(EvalCapi, AttachedMetricsMatchTheFramesOfTheSameRun) {
     double t = 0;
     ASSERT_EQ(swcl_metrics_frame_time(live, &t), SWCL_OK);
     EXPECT_EQ(t, 0.04);
+    // Streamed and exact parts pool as fine histograms: every sample counted.
+    const swcl_metrics both[2] = {live, host};
+    swcl_metrics pooled{};
+    ASSERT_EQ(swcl_metrics_merge(both, 2, &pooled), SWCL_OK) << swcl_last_error();
+    for (int k = 0; k < SWCL_METRIC_COUNT; ++k) {
+        swcl_metric_info a{sizeof(a)}, b{sizeof(b)}, p{sizeof(p)};
+        ASSERT_EQ(swcl_metrics_get_info(live, swcl_metric(k), &a), SWCL_OK);
+        ASSERT_EQ(swcl_metrics_get_info(host, swcl_metric(k), &b), SWCL_OK);
+        ASSERT_EQ(swcl_metrics_get_info(pooled, swcl_metric(k), &p), SWCL_OK);
+        EXPECT_EQ(p.count, a.count + b.count) << k;
+        EXPECT_NEAR(p.mean, b.mean, 1e-4 * std::max(std::abs(b.mean), b.sigma)) << k;
+    }
+    swcl_metrics_destroy(pooled);
     EXPECT_EQ(swcl_metrics_sample(host), SWCL_ERROR_INVALID_ARGUMENT);
     EXPECT_EQ(swcl_metrics_attach(swcl_swarm{777}, 0.1, &host), SWCL_ERROR_INVALID_HANDLE);
     swcl_metrics_destroy(live);

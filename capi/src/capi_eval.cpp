@@ -9,6 +9,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "capi_common.hpp"
 #include "capi_tracks.hpp"
@@ -228,6 +229,43 @@ swcl_status swcl_metrics_world(swcl_metrics metrics, uint32_t world, swcl_metric
         }
         one->frame_time = set->frame_time;
         out->id = metric_sets().add(one);
+    });
+}
+
+swcl_status swcl_metrics_merge(const swcl_metrics* parts, size_t count, swcl_metrics* out) {
+    return guarded(__func__, [&] {
+        check_out(out, "out");
+        require(parts != nullptr && count > 0, "parts: at least one metrics handle (parts NULL or count 0)");
+        std::vector<std::shared_ptr<MetricSet>> sets;
+        sets.reserve(count);
+        for (size_t i = 0; i < count; ++i) sets.push_back(metric_sets().get(parts[i].id));
+        const double ft = sets[0]->frame_time;
+        for (size_t i = 1; i < count; ++i)
+            if (!(std::fabs(sets[i]->frame_time - ft) <= 1e-9 * std::fabs(ft)))
+                fail(Status::InvalidArgument, "parts[" + std::to_string(i) + "] has frame time " +
+                                                  std::to_string(sets[i]->frame_time) + " s, parts[0] " +
+                                                  std::to_string(ft) + " s: pool metrics on one clock");
+        auto set = std::make_shared<MetricSet>();
+        set->frame_time = ft;
+        bool exact = true;
+        for (const auto& s : sets) exact = exact && s->samples.has_value();
+        if (exact) {
+            MetricSamples all;
+            all.frame_time = ft;
+            for (size_t m = 0; m < kMetricCount; ++m) {
+                size_t n = 0;
+                for (const auto& s : sets) n += s->samples->values[m].size();
+                all.values[m].reserve(n);
+                for (const auto& s : sets)
+                    all.values[m].insert(all.values[m].end(), s->samples->values[m].begin(), s->samples->values[m].end());
+            }
+            set->samples = std::move(all);
+        } else {
+            MetricAccumulator sum;
+            for (const auto& s : sets) sum.merge(s->accumulated());  // refuses metrics of several worlds
+            set->taken = std::move(sum);
+        }
+        out->id = metric_sets().add(set);
     });
 }
 

@@ -382,6 +382,42 @@ def test_several_seeds_score_the_mean_of_their_runs(ctx, real):
         swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, seeds=0)
 
 
+def test_pooled_seeds_score_their_runs_samples_together(ctx, real):
+    # pool=True: an individual's runs are one sample set (Metrics.merge of
+    # each run's frames), scored once; the same as worlds, alone, on the
+    # host and (close) on the device; a refused individual still scores low.
+    params = swarmcl.load_ranges(RANGES, SCENARIO)
+    pop = [[0.3, 0.7], [0.8, 0.1], [0.5, 0.5]]
+    expected = []
+    for u in pop:
+        scn = swarmcl.fitting._with_values(SCENARIO, params, u)
+        parts = [swarmcl.Metrics.from_frames(frames_of(ctx, dict(scn, seed=s), 40), 0.02) for s in (9, 10, 11)]
+        with swarmcl.Metrics.merge(parts) as sim:
+            expected.append(swarmcl.score(swarmcl.distances(real, sim)))
+            expected_terms = swarmcl.distances(real, sim)
+            assert sim.info("speed")["count"] == sum(p.info("speed")["count"] for p in parts)
+        for p in parts:
+            p.close()
+    kw = dict(steps=40, seeds=3, pool=True)
+    hosted = swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, streamed=False, **kw)
+    alone = swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, streamed=False, worlds=False, **kw)
+    device = swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, streamed=True, **kw)
+    a, b, c = hosted(pop), alone(pop), device(pop)
+    assert a == pytest.approx(expected, abs=1e-12) and b == a
+    # terms() of a scenario pools its runs the same way (the last individual's).
+    assert np.array_equal(hosted.terms(scn), expected_terms)
+    assert np.allclose(c, a, atol=0.05)
+    mean = swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, streamed=False, steps=40, seeds=3)
+    assert mean(pop) != a  # the mean of three scores is another estimate
+    params = [swarmcl.Parameter("model.noise.gain", 0.05, 1.0), swarmcl.Parameter("model.min_distance", -1.0, 0.5)]
+    bad = swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, streamed=False, **kw)
+    refused, fine = bad([[0.5, 0.1], [0.5, 0.9]])  # min_distance -0.85 (refused) and 0.35
+    assert refused == swarmcl.fitting.REFUSED_SCORE and fine > swarmcl.fitting.REFUSED_SCORE
+    assert bad.refused == 3  # its three runs, as without pooling
+    with pytest.raises(TypeError, match="merge"):
+        swarmcl.Metrics.merge([])
+
+
 def test_searches_stop_on_tolerance_and_say_so(ctx, real):
     # A tolerance no gain can pass: the GA stops after `patience` stalled
     # generations, CMA-ES on its own tolerance, both before the budget.
@@ -476,11 +512,11 @@ def test_the_same_answer_over_one_and_two_mpi_ranks(tmp_path, truth):
         out = tmp_path / f"fit{n}.json"
         cmd = [mpirun, "-np", str(ranks), *program, "fit", "scenario.json",
                "--tracks", "tracks.csv", "--ranges", "ranges.json", "--generations", "3", "--population", "5",
-               "--seed", "7", "--steps", "40", "--out", str(out), "--quiet"]
+               "--seed", "7", "--steps", "40", "--seeds", "2", "--pool", "--out", str(out), "--quiet"]
         p = subprocess.run(cmd, cwd=tmp_path, env=env, capture_output=True, text=True, timeout=300)
         assert p.returncode == 0, p.stdout + p.stderr
         r = json.loads(out.read_text())
-        assert r["ranks"] == ranks
+        assert r["ranks"] == ranks and r["seeds"] == 2 and r["pool"] is True
         for k in ("seconds", "ranks", "refused_on_rank0", "evaluations"):
             r.pop(k)
         results.append(r)

@@ -114,6 +114,19 @@ class Metrics(_Handle):
         m._swarm = swarm
         return m
 
+    @classmethod
+    def merge(cls, parts) -> "Metrics":
+        """Several metrics pooled as one sample set (swcl_metrics_merge): the
+        parts' samples one after the other, nearest neighbours each part's
+        own, e.g. one model's runs under several seeds scored as one
+        distribution.  The parts stay open and unchanged; all must share a
+        frame time."""
+        parts = list(parts)
+        if not parts or not all(isinstance(m, Metrics) for m in parts):
+            raise TypeError("merge: a non-empty sequence of swarmcl.Metrics")
+        handles = ffi.new("swcl_metrics[]", [m._h for m in parts])
+        return cls._make(lambda h: lib.swcl_metrics_merge(handles, len(parts), h))
+
     def world(self, k: int) -> "Metrics":
         """World k's metrics sampled so far (Metrics.attach only), as metrics
         of their own that do not change when sampling goes on: bitwise those

@@ -266,7 +266,8 @@ class PopulationEvaluator:
                  steps: Optional[int] = None, every: Optional[int] = None, warmup: int = 0, bins: int = 50,
                  half_width: float = 4.0, weights=None, p1=None, p2=None,
                  streamed: Optional[bool] = None, robust: bool = False, scale_penalty: float = 0.0,
-                 seeds: int = 1, worlds: bool = True, scale_metrics: Optional[Sequence[str]] = None):
+                 seeds: int = 1, worlds: bool = True, scale_metrics: Optional[Sequence[str]] = None,
+                 pool: bool = False):
         self.scenario, self.params, self.real, self.context = scenario, list(params), real, context
         # seeds S: each individual is run S times, with the scenario's seed
         # replaced by seed, seed + 1, ..., seed + S - 1 (the same S for every
@@ -275,6 +276,13 @@ class PopulationEvaluator:
         if int(seeds) < 1:
             raise ValueError(f"seeds: an integer >= 1, got {seeds!r}")
         self.seeds = int(seeds)
+        # pool: an individual's S runs are measured as one sample set (their
+        # samples together, Metrics.merge) and scored once, instead of the
+        # mean of S scores: E of the model's distribution estimated from
+        # S times the samples, so less of it is one short run's histogram
+        # noise (docs/evaluation.md, "Pooled runs").  Keeps each run's
+        # samples until its individual is scored.
+        self.pool = bool(pool)
         self.base_seed = int(scenario.get("seed", 0))
         # robust: the PDFs z-scored with median and MAD (docs/evaluation.md).
         # scale_penalty λ: the objective is E - λ P, P the mean over the
@@ -409,7 +417,7 @@ class PopulationEvaluator:
             metrics = [Metrics.attach(s, sample_dt) for s in swarms]
             try:
                 self._advance(swarms, lambda i: metrics[i].sample())
-                return [self._terms_of(m) for m in metrics]
+                return [self._measured(Metrics.merge([m])) for m in metrics]
             finally:
                 for m in metrics:
                     m.close()
@@ -417,8 +425,48 @@ class PopulationEvaluator:
         self._advance(swarms, lambda i: frames[i].append(swarms[i].read_positions()))
         out = []
         for f in frames:
-            with Metrics.from_frames(np.stack(f), sample_dt) as sim:
-                out.append(self._terms_of(sim))
+            out.append(self._measured(Metrics.from_frames(np.stack(f), sample_dt)))
+        return out
+
+    def _measured(self, sim: Metrics):
+        """A run's measure, taking `sim` over: its E_phi (and W1) or the
+        error that refuses it, sim closed; pooled, sim itself, closed when
+        its individual is scored (_run_scores)."""
+        if self.pool:
+            return sim
+        try:
+            return self._terms_of(sim)
+        except SwarmclError as e:
+            return e
+        finally:
+            sim.close()
+
+    def _run_scores(self, measured) -> List[float]:
+        """The score of each run from its measure (_measured; None: refused
+        when parsed).  Pooled, the S runs of an individual (consecutive)
+        get the score of their samples merged; a refused run refuses them."""
+        if not self.pool:
+            return [self._score(t) for t in measured]
+        out = []
+        try:
+            for i in range(0, len(measured), self.seeds):
+                mine = measured[i:i + self.seeds]
+                if any(m is None for m in mine):
+                    s = REFUSED_SCORE
+                elif any(isinstance(m, Exception) for m in mine):
+                    self.refused += 1
+                    s = REFUSED_SCORE
+                else:
+                    try:
+                        with Metrics.merge(mine) as sim:
+                            s = self._score(self._terms_of(sim))
+                    except SwarmclError as e:
+                        s = self._score(e)
+                out.extend([s] * len(mine))
+        finally:
+            for m in measured:
+                if isinstance(m, Metrics):
+                    m.close()
         return out
 
     def _terms_of(self, sim: Metrics):
@@ -536,10 +584,10 @@ class PopulationEvaluator:
 
         def measure(k):
             try:
-                with Metrics.from_frames(stacked[k], sample_dt) as sim:
-                    return self._terms_of(sim)
+                sim = Metrics.from_frames(stacked[k], sample_dt)
             except SwarmclError as e:
                 return e
+            return self._measured(sim)
         if self.threads > 1 and worlds > 1:
             with ThreadPoolExecutor(max_workers=min(self.threads, worlds)) as pool:
                 return list(pool.map(measure, range(worlds)))
@@ -553,10 +601,11 @@ class PopulationEvaluator:
             out = []
             for k in range(worlds):
                 try:
-                    with metrics.world(k) as sim:
-                        out.append(self._terms_of(sim))
+                    sim = metrics.world(k)
                 except SwarmclError as e:
                     out.append(e)
+                    continue
+                out.append(self._measured(sim))
             return out
 
     def __call__(self, population) -> List[float]:
@@ -564,7 +613,7 @@ class PopulationEvaluator:
         if not runs:  # a rank's share of a small generation may be empty
             return []
         if self.world_keys is not None:
-            per_run = [self._score(t) for t in self._world_terms(runs)]
+            per_run = self._run_scores(self._world_terms(runs))
             self.evaluations += len(population)
             return self._per_individual(population, per_run)
         # Every (individual, run) pair is one swarm, all stepped together.
@@ -586,11 +635,11 @@ class PopulationEvaluator:
                             terms.append(self._all_terms([fresh])[0])
                         except SwarmclError as e:
                             terms.append(e)
-            scores = iter([self._score(t) for t in terms])
+            measures = iter(terms)
+            per_run = self._run_scores([next(measures) if s is not None else None for s in swarms])
         finally:
             for s in live:
                 s.close()
-        per_run = [next(scores) if s is not None else REFUSED_SCORE for s in swarms]
         self.evaluations += len(population)
         return self._per_individual(population, per_run)
 
@@ -603,9 +652,29 @@ class PopulationEvaluator:
         return out
 
     def terms(self, scenario: dict) -> np.ndarray:
-        """The seven energy terms E_phi (Eq. 2) of one scenario, run as a population member is."""
-        with Scenario.parse(json.dumps(scenario)).create_swarm(self.context) as s:
-            return self._all_terms([s])[0][0]
+        """The seven energy terms E_phi (Eq. 2) of one scenario, run as a
+        population member is: one run (the scenario's seed); pooled, its S
+        runs (seeds seed .. seed + S - 1) measured together."""
+        if not self.pool:
+            with Scenario.parse(json.dumps(scenario)).create_swarm(self.context) as s:
+                t = self._all_terms([s])[0]
+            if isinstance(t, Exception):
+                raise t
+            return t[0]
+        base = int(scenario.get("seed", 0))
+        runs = []
+        try:
+            for r in range(self.seeds):
+                with Scenario.parse(json.dumps(dict(scenario, seed=base + r))).create_swarm(self.context) as s:
+                    runs.append(self._all_terms([s])[0])
+                if isinstance(runs[-1], Exception):
+                    raise runs[-1]
+            with Metrics.merge(runs) as sim:
+                return self._terms_of(sim)[0]
+        finally:
+            for m in runs:
+                if isinstance(m, Metrics):
+                    m.close()
 
 
 @dataclass
@@ -821,7 +890,8 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
         progress: Optional[Callable[[dict], None]] = None, streamed: Optional[bool] = None, robust: bool = False,
         scale_penalty: float = 0.0, seeds: int = 1, restarts: int = 0, tolerance: float = 1e-3,
         step_tolerance: float = 1e-3, patience: Optional[int] = None,
-        start: Optional[Dict[str, float]] = None, scale_metrics: Optional[Sequence[str]] = None) -> Optional[dict]:
+        start: Optional[Dict[str, float]] = None, scale_metrics: Optional[Sequence[str]] = None,
+        pool: bool = False) -> Optional[dict]:
     """Fits the ranged parameters of ``scenario`` (a path or a dict) to
     ``tracks`` (a Metrics) by maximising E.  ``method``: "cmaes" or "ga".
     With ``comm`` (an mpi4py communicator of R ranks), every rank must call
@@ -839,7 +909,8 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
     Wasserstein-1 distance in units of the real data's spread
     (PopulationEvaluator, docs/evaluation.md).  ``seeds``: each individual
     scored as the mean of that many runs with consecutive scenario seeds (the
-    same for all: common random numbers).  Stopping: ``generations`` is the
+    same for all: common random numbers); ``pool``: scored once from those
+    runs' samples together (Metrics.merge) instead.  Stopping: ``generations`` is the
     budget (per restart); CMA-ES stops earlier on its tolerances (scores
     within ``tolerance``, or steps below ``step_tolerance`` of each range:
     the search has narrowed to that fraction), with ``restarts`` BIPOP restarts;
@@ -875,7 +946,7 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
         evaluator = PopulationEvaluator(scenario, params, tracks, ctx, steps=steps, every=every, warmup=warmup,
                                         bins=bins, half_width=half_width, weights=weights, p1=p1, p2=p2,
                                         streamed=streamed, robust=robust, scale_penalty=scale_penalty,
-                                        seeds=seeds, scale_metrics=scale_metrics)
+                                        seeds=seeds, scale_metrics=scale_metrics, pool=pool)
         if comm is not None:
             evaluator.threads = max(1, (os.cpu_count() or 1) // comm.Get_size())
         ranks = _Ranks(evaluator, comm)
@@ -902,7 +973,7 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
             "pdf": {"bins": evaluator.bins, "half_width": evaluator.half_width,
                     "standardise": "median_mad" if evaluator.robust else "mean_sigma"},
             "scale_penalty": evaluator.scale_penalty, "scale_metrics": evaluator.scale_metrics,
-            "seeds": evaluator.seeds,
+            "seeds": evaluator.seeds, "pool": evaluator.pool,
             "restarts": int(restarts) if method == "cmaes" else 0, "tolerance": float(tolerance),
             "step_tolerance": float(step_tolerance) if method == "cmaes" else None,
             "patience": None if patience is None else int(patience),
@@ -1024,6 +1095,8 @@ def _parser() -> argparse.ArgumentParser:
     add_track_options(p, tracks_required=True)
     p.add_argument("--seeds", type=int, default=1, help="runs per individual, consecutive scenario seeds "
                    "(common random numbers); default 1")
+    p.add_argument("--pool", action="store_true", help="score an individual's --seeds runs once, from their "
+                   "samples together, instead of the mean of their scores")
     p.add_argument("--restarts", type=int, default=0, help="CMA-ES: BIPOP restarts (default 0)")
     p.add_argument("--tolerance", type=float, default=1e-3, help="stop when the best gains no more (default 1e-3)")
     p.add_argument("--step-tolerance", type=float, default=1e-3,
@@ -1065,7 +1138,7 @@ def main(argv=None) -> int:
             result = fit(args.scenario, real, args.ranges, method=args.method, generations=args.generations,
                          population=args.population, seed=args.seed, steps=args.steps, every=args.every,
                          warmup=args.warmup, bins=args.bins, half_width=args.half_width, comm=comm, context=ctx,
-                         robust=args.robust, scale_penalty=args.scale_penalty, seeds=args.seeds,
+                         robust=args.robust, scale_penalty=args.scale_penalty, seeds=args.seeds, pool=args.pool,
                          restarts=args.restarts, tolerance=args.tolerance, step_tolerance=args.step_tolerance,
                          patience=args.patience, scale_metrics=args.scale_metrics,
                          progress=(lambda e: _bar(e, total)) if show else None)
@@ -1120,7 +1193,8 @@ def _spread_main(args, window, device, comm) -> int:
                             seed=args.seed, method=args.method, generations=args.generations,
                             population=args.population, steps=args.steps, every=args.every, warmup=args.warmup,
                             bins=args.bins, half_width=args.half_width, context=ctx, robust=args.robust,
-                            scale_penalty=args.scale_penalty, seeds=args.seeds, restarts=args.restarts,
+                            scale_penalty=args.scale_penalty, seeds=args.seeds, pool=args.pool,
+                            restarts=args.restarts,
                             tolerance=args.tolerance, step_tolerance=args.step_tolerance, patience=args.patience,
                             scale_metrics=args.scale_metrics)
     _write_json(result, args.out)

@@ -1082,6 +1082,18 @@ SWCL_API swcl_status swcl_metrics_attach(swcl_swarm swarm, double sample_dt, swc
  * swarm alone give.  SWCL_ERROR_INVALID_ARGUMENT for world >= the swarm's
  * worlds or metrics from tracks or frames; out untouched. */
 SWCL_API swcl_status swcl_metrics_world(swcl_metrics metrics, uint32_t world, swcl_metrics* out);
+/* Several metrics pooled as one sample set (e.g. the runs of one model under
+ * different seeds, scored as one distribution; the halves of a recording
+ * put together again): every metric's samples are parts[0]'s, then
+ * parts[1]'s, and so on (d and eta stay as each part took them: nearest
+ * neighbours never cross parts).  Exact samples where every part holds
+ * samples (tracks, frames, merges of them); else the parts' fine histograms
+ * and moments summed (streamed metrics: one world's, swcl_metrics_world).
+ * The parts are unchanged; destroy the result.  SWCL_ERROR_INVALID_ARGUMENT
+ * for parts NULL or count 0, a part with another frame time than parts[0]'s
+ * (relative difference above 1e-9; both named), or attached metrics of
+ * several worlds; out untouched. */
+SWCL_API swcl_status swcl_metrics_merge(const swcl_metrics* parts, size_t count, swcl_metrics* out);
 /* Samples the swarm's positions now (enqueued on the device).
  * SWCL_ERROR_INVALID_ARGUMENT for metrics not made by swcl_metrics_attach. */
 SWCL_API swcl_status swcl_metrics_sample(swcl_metrics metrics);
