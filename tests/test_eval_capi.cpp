@@ -185,6 +185,46 @@ TEST(EvalCapi, MergedMetricsPoolThePartsSamples) {
     for (auto m : {ma, mb, mc, pooled, one}) EXPECT_EQ(swcl_metrics_destroy(m), SWCL_OK);
 }
 
+// One world's frames read in place from a swarm of worlds' frames
+// (swcl_metrics_from_frames_strided) are the same samples as the world's
+// frames packed; a stride below a frame's floats is refused.
+TEST(EvalCapi, StridedFramesAreTheWorldsPackedFrames) {
+    const size_t frames = 12, agents = 6, worlds = 3;
+    std::vector<float> all(frames * worlds * agents * 3);
+    for (size_t w = 0; w < worlds; ++w) {
+        const auto one = circling(frames, agents, 0.7 * double(w));
+        for (size_t f = 0; f < frames; ++f)
+            std::copy_n(one.begin() + 3 * f * agents, 3 * agents, all.begin() + 3 * (f * worlds + w) * agents);
+    }
+    for (size_t w = 0; w < worlds; ++w) {
+        const auto one = circling(frames, agents, 0.7 * double(w));
+        swcl_metrics packed{}, strided{};
+        ASSERT_EQ(swcl_metrics_from_frames(one.data(), frames, agents, 0.05, &packed), SWCL_OK);
+        ASSERT_EQ(swcl_metrics_from_frames_strided(all.data() + 3 * w * agents, frames, agents, 3 * agents * worlds,
+                                                   0.05, &strided),
+                  SWCL_OK)
+            << swcl_last_error();
+        for (int k = 0; k < SWCL_METRIC_COUNT; ++k) {
+            swcl_metric_info a{sizeof(a)}, b{sizeof(b)};
+            ASSERT_EQ(swcl_metrics_get_info(packed, swcl_metric(k), &a), SWCL_OK);
+            ASSERT_EQ(swcl_metrics_get_info(strided, swcl_metric(k), &b), SWCL_OK);
+            EXPECT_EQ(a.count, b.count) << k;
+            EXPECT_EQ(a.mean, b.mean) << k;
+            EXPECT_EQ(a.sigma, b.sigma) << k;
+            EXPECT_EQ(a.median, b.median) << k;
+        }
+        swcl_metrics_destroy(packed);
+        swcl_metrics_destroy(strided);
+    }
+    swcl_metrics out{4242};
+    EXPECT_EQ(swcl_metrics_from_frames_strided(all.data(), frames, agents, 3 * agents - 1, 0.05, &out),
+              SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("frame_stride"), std::string::npos);
+    EXPECT_EQ(swcl_metrics_from_frames_strided(all.data(), frames, agents, 3 * agents, -1.0, &out),
+              SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(out.id, 4242u);
+}
+
 // Physical scale and robust standardisation (issue 26): the median, MAD and
 // Wasserstein-1 of the C API are the host's on the same samples; an older
 // caller's smaller structs are read and written as far as they reach.

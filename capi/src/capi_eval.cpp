@@ -193,6 +193,18 @@ swcl_status swcl_metrics_from_frames(const float* xyz, size_t frames, size_t age
     });
 }
 
+swcl_status swcl_metrics_from_frames_strided(const float* xyz, size_t frames, size_t agents, size_t frame_stride,
+                                             double dt, swcl_metrics* out) {
+    return guarded(__func__, [&] {
+        check_out(out, "out");
+        require(frame_stride >= 3 * agents && frame_stride > 0,
+                "frame_stride " + std::to_string(frame_stride) + ": at least 3 * agents = " +
+                    std::to_string(3 * agents) + " and above 0");
+        require(frames == 0 || frame_stride <= (size_t(1) << 42) / frames, "frames * frame_stride is too large");
+        add_metrics(out, frame_metrics(xyz, frames, agents, dt, frame_stride));
+    });
+}
+
 swcl_status swcl_metrics_attach(swcl_swarm swarm, double sample_dt, swcl_metrics* out) {
     return guarded(__func__, [&] {
         check_out(out, "out");

@@ -300,11 +300,14 @@ MetricSamples track_metrics(const TrackSet& tracks) {
     return out;
 }
 
-MetricSamples frame_metrics(const float* xyz, size_t frames, size_t agents, double dt) {
+MetricSamples frame_metrics(const float* xyz, size_t frames, size_t agents, double dt, size_t frame_stride) {
     require(xyz != nullptr || frames * agents == 0, "metrics: positions are null");
     require(dt > 0.0 && std::isfinite(dt), "metrics: dt must be > 0");
     require(agents <= std::numeric_limits<uint32_t>::max() && frames <= std::numeric_limits<uint32_t>::max(),
             "metrics: too many frames or agents");
+    if (frame_stride == 0) frame_stride = 3 * agents;
+    require(frame_stride >= 3 * agents, "metrics: frame_stride " + std::to_string(frame_stride) +
+                                            " is below 3 * agents = " + std::to_string(3 * agents));
     // The same samples, in the same order and arithmetic, as track_metrics
     // on the frames written as one track per agent (tested), without
     // building those tracks or sorting samples onto frames: here frame f of
@@ -320,7 +323,7 @@ MetricSamples frame_metrics(const float* xyz, size_t frames, size_t agents, doub
     out[Metric::VelocityDifference].reserve(agents * intervals);
     auto time = [dt](size_t f) { return double(f) * dt; };
     auto at = [&](size_t f, size_t i) {
-        const float* q = xyz + 3 * (f * agents + i);
+        const float* q = xyz + f * frame_stride + 3 * i;
         return Vec3{q[0], q[1], q[2]};
     };
     SegmentScratch scratch;

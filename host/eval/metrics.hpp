@@ -40,7 +40,9 @@ MetricSamples track_metrics(const TrackSet& tracks);
 
 // Metrics of a simulation recording: `frames` frames of `agents` agents,
 // positions packed xyz (frame-major) every dt seconds.  Each agent is one
-// gap-free track; every agent is in view on every frame.
-MetricSamples frame_metrics(const float* xyz, size_t frames, size_t agents, double dt);
+// gap-free track; every agent is in view on every frame.  frame_stride: the
+// floats from one frame's start to the next's (0: 3 * agents, packed), so
+// one world's frames can be read in place from a swarm of worlds' frames.
+MetricSamples frame_metrics(const float* xyz, size_t frames, size_t agents, double dt, size_t frame_stride = 0);
 
 }  // namespace swarmcl

@@ -345,3 +345,23 @@ def test_step_frames_are_the_frames_of_step_then_read(ctx):
             with pytest.raises(ValueError, match="every >= 1"):
                 a.step_frames(2, every=0)
             assert a.step_frames(0).shape[0] == 0 and a.step_count == 10
+            # out=: written in place; a wrong one refused before any step.
+            out = np.empty((2,) + frames.shape[1:], dtype=np.float32)
+            assert a.step_frames(2, every=2, out=out) is out
+            b.step(4)
+            assert out[1].tobytes() == b.positions.tobytes() and a.step_count == 14
+            for bad in (np.empty((3,) + frames.shape[1:], np.float32), out.astype(np.float64), out[:, ::-1]):
+                with pytest.raises(ValueError, match="step_frames: out"):
+                    a.step_frames(2, every=2, out=bad)
+            assert a.step_count == 14
+    # Metrics of one world's frames read in place from all worlds' frames
+    # are those of the world's frames copied out.
+    with swarm(3) as a:
+        frames = np.concatenate([a.positions[None], a.step_frames(20)])
+        for k in range(3):
+            with swarmcl.Metrics.from_frames(frames[:, k], 0.02) as strided, \
+                    swarmcl.Metrics.from_frames(np.ascontiguousarray(frames[:, k]), 0.02) as packed:
+                assert not frames[:, k].flags.c_contiguous
+                for m in swarmcl.METRICS:
+                    assert strided.info(m) == packed.info(m)
+                assert np.array_equal(strided.pdf("speed"), packed.pdf("speed"))

@@ -287,16 +287,18 @@ class Swarm(_Handle):
         ``out`` (a C-contiguous float32 array, returned) or a new array."""
         return self._read(_POSITION, out, "read_positions")
 
-    def step_frames(self, frames: int, every: int = 1) -> np.ndarray:
+    def step_frames(self, frames: int, every: int = 1, out: Optional[np.ndarray] = None) -> np.ndarray:
         """Steps ``frames`` x ``every`` steps and returns the positions after
         each ``every`` steps, shaped (frames, N, 3) (with worlds (frames, W,
         N, 3)): the frames step(every) then read_positions() would give,
-        gathered on the device without waiting for it after each."""
+        gathered on the device without waiting for it after each.  ``out``:
+        a C-contiguous float32 array of that shape, written in place and
+        returned (checked before any step)."""
         f, e = operator.index(frames), operator.index(every)
         if not 0 <= f < 2**32 or not 1 <= e < 2**32:
             raise ValueError(f"step_frames: frames must be >= 0 and every >= 1, got {frames}, {every}")
         shape, total = self._shape(3)
-        out = np.empty((f,) + shape, dtype=np.float32)
+        out = _out_array(out, (f,) + shape, np.float32, "step_frames")
         check(lib.swcl_swarm_step_frames(self._h, f, e, _fptr(out), f * total))
         return out
 

@@ -96,8 +96,17 @@ class Metrics(_Handle):
 
     @classmethod
     def from_frames(cls, frames, dt: float) -> "Metrics":
-        """From simulated frames, an array (frames, agents, 3), dt seconds apart."""
-        a = np.ascontiguousarray(frames, dtype=np.float32)
+        """From simulated frames, an array (frames, agents, 3), dt seconds apart.
+        float32 frames whose agents are packed are read in place whatever the
+        step between frames (e.g. ``frames[:, k]`` of a swarm of worlds'
+        (frames, W, N, 3)); anything else is copied first."""
+        a = np.asarray(frames)
+        if (a.dtype == np.float32 and a.ndim == 3 and a.shape[2] == 3 and a.size and a.strides[2] == 4
+                and a.strides[1] == 12 and a.strides[0] % 4 == 0 and a.strides[0] >= 12 * a.shape[1]):
+            ptr = ffi.cast("float*", a.ctypes.data)
+            return cls._make(lambda h: lib.swcl_metrics_from_frames_strided(ptr, a.shape[0], a.shape[1],
+                                                                            a.strides[0] // 4, float(dt), h))
+        a = np.ascontiguousarray(a, dtype=np.float32)
         if a.ndim != 3 or a.shape[2] != 3:
             raise ValueError(f"from_frames: expected shape (frames, agents, 3), got {a.shape}")
         ptr = ffi.from_buffer("float[]", a) if a.size else ffi.NULL

@@ -577,14 +577,19 @@ class PopulationEvaluator:
         # `every` steps), gathered on the device without a wait after each.
         if self.warmup:
             swarm.step(self.warmup)
-        first = swarm.read_positions().reshape(1, worlds, -1, 3)
-        rest = swarm.step_frames(self.steps // self.every, self.every).reshape(-1, worlds, first.shape[2], 3)
-        stacked = np.concatenate([first, rest]).transpose(1, 0, 2, 3)  # (worlds, frames, agents, 3)
+        # One array (frames, worlds, agents, 3) written in place; each
+        # world's frames are measured where they lie (Metrics.from_frames
+        # reads a strided world without copying it).
+        n, sampled = swarm.agent_count, self.steps // self.every
+        frames = np.empty((sampled + 1, worlds, n, 3), dtype=np.float32)
+        shape = (n, 3) if worlds == 1 else (worlds, n, 3)  # read_positions' shape
+        swarm.read_positions(out=frames[0].reshape(shape))
+        swarm.step_frames(sampled, self.every, out=frames[1:].reshape((sampled,) + shape))
         sample_dt = self.every * self.dt
 
         def measure(k):
             try:
-                sim = Metrics.from_frames(stacked[k], sample_dt)
+                sim = Metrics.from_frames(frames[:, k], sample_dt)
             except SwarmclError as e:
                 return e
             return self._measured(sim)

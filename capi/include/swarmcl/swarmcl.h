@@ -1063,6 +1063,13 @@ SWCL_API swcl_status swcl_metrics_from_tracks(const uint32_t* counts, size_t tra
  * frame). */
 SWCL_API swcl_status swcl_metrics_from_frames(const float* xyz, size_t frames, size_t agents, double dt,
                                               swcl_metrics* out);
+/* The same with frame f's agents at xyz + f * frame_stride (floats; >= 3 *
+ * agents): one world's frames read in place from a swarm of worlds' frames
+ * (frame_stride = 3 * agents * worlds, xyz offset to the world).  The same
+ * samples as the packed frames.  frame_stride below 3 * agents:
+ * SWCL_ERROR_INVALID_ARGUMENT. */
+SWCL_API swcl_status swcl_metrics_from_frames_strided(const float* xyz, size_t frames, size_t agents,
+                                                      size_t frame_stride, double dt, swcl_metrics* out);
 /* Metrics of a running swarm (any model), computed on the device and
  * streamed into fixed-size histograms and moments: memory does not grow with
  * the number of frames.  Step the swarm K steps, swcl_metrics_sample, repeat;
