@@ -297,7 +297,7 @@ def main(argv=None) -> int:
             m.close()
     if args.merge:
         results.setdefault("merged", []).append({"only": args.only, "seconds": time.perf_counter() - start,
-                                                 "cpu": cpu_model()})
+                                                 "cpu": cpu_model(), "pool_seeds": args.pool_seeds})
     else:
         results["seconds"] = time.perf_counter() - start
     os.makedirs(os.path.join(ROOT, "bench", "results", "eval"), exist_ok=True)
@@ -551,8 +551,9 @@ def write_doc(results, groups, best) -> None:
              f"--population {s['population']} --generations {s['generations']} --seed {s['seed']} "
              f"--seeds {s['seeds']} --method {s['method']}{command_tail(s)}` "
              f"({results['seconds']:.0f} s on {results['cpu']})" +
-             "".join(f", then with `--merge --only \"{m['only']}\"` ({m['seconds']:.0f} s)"
-                     for m in results.get("merged", [])) +
+             "".join(f", then with `--merge --only \"{m['only']}\""
+                     f"{' --pool-seeds ' + str(m['pool_seeds']) if POOLED in m['only'] and 'pool_seeds' in m else ''}` "
+                     f"({m['seconds']:.0f} s)" for m in results.get("merged", [])) +
              "; raw figures in `bench/results/eval/studies.json`; method in `docs/evaluation.md`.", "",
              f"Data: `../shared/data/anopheles-coluzzii-swarm.csv`, cut at its median sample time "
              f"({results['split']['cut_seconds']:.1f} s of {results['split']['span_seconds']:.1f} s): every "
