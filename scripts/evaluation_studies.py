@@ -620,8 +620,9 @@ def write_doc(results, groups, best) -> None:
         if key in results.get("orderings", {}):
             lines += [ordering_sentence(results["orderings"][key]), ""]
         if key == "pooled":
-            lines += [pooled_sentence(n, results["variants"][n], floor) for n in (POOLED, COARSE)
-                      if n in results["variants"]] + [""]
+            for n in (POOLED, COARSE):
+                if n in results["variants"]:
+                    lines += [pooled_sentence(n, results["variants"][n], floor), ""]
         if key == "scale":
             lines += [scale_sentence(m, results["variants"][m]) for m in members if m in (SCALED, SPACED)] + [""]
         if key == "model" and results.get("nesting"):
