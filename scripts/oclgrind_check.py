@@ -212,7 +212,8 @@ def main():
     ap.add_argument("--build", required=True, help="the build folder (tests/ under it)")
     ap.add_argument("--kernels", required=True, help="the kernels/ source folder")
     ap.add_argument("--jobs", type=int, default=max(1, min(2, os.cpu_count() or 1)))
-    ap.add_argument("--timeout", type=int, default=400, help="seconds per case")
+    ap.add_argument("--timeout", type=int, default=600, help="seconds per case (2-core machines differ by 2-3x "
+                    "under Oclgrind)")
     ap.add_argument("--log-dir", default=None, help="per-case logs (default: <build>/oclgrind)")
     ap.add_argument("--only", default=None, help="regex: run only the cases whose tag matches (no coverage check)")
     args = ap.parse_args()
