@@ -418,6 +418,39 @@ def test_pooled_seeds_score_their_runs_samples_together(ctx, real):
         swarmcl.Metrics.merge([])
 
 
+def test_a_reseeded_fit_runs_each_generation_on_seeds_of_its_own(ctx, real, monkeypatch):
+    # reseed=True: generation g's runs start from the scenario's seed + g * S
+    # (common random numbers within a generation, none shared across them),
+    # the result is CMA-ES's final mean scored on the scenario's own seeds.
+    seen = []
+    call = swarmcl.fitting.PopulationEvaluator.__call__
+
+    def spy(self, population, base_seed=None):
+        seen.append((len(population), base_seed))
+        return call(self, population, base_seed)
+    monkeypatch.setattr(swarmcl.fitting.PopulationEvaluator, "__call__", spy)
+    kw = dict(method="cmaes", generations=4, population=6, seed=3, steps=40, context=ctx, seeds=2, pool=True,
+              tolerance=0.0, step_tolerance=1e-9)
+    r = swarmcl.fit(SCENARIO, real, RANGES, reseed=True, **kw)
+    generations = [b for n, b in seen[:-1]]
+    assert generations == [9 + 2 * g for g in range(1, len(generations) + 1)]
+    assert seen[-1] == (1, 9)  # the final mean, on the scenario's seeds
+    assert r["reseed"] and r["scenario"]["seed"] == 9
+    monkeypatch.setattr(swarmcl.fitting.PopulationEvaluator, "__call__", call)
+    params = swarmcl.load_ranges(RANGES, SCENARIO)
+    again = swarmcl.fitting.PopulationEvaluator(SCENARIO, params, real, ctx, steps=40, seeds=2, pool=True)
+    u = [(r["best"][p.path] - p.low) / (p.high - p.low) for p in params]
+    assert again([u]) == [pytest.approx(r["best_score"], abs=1e-12)]
+    # Deterministic for a seed; without reseed every generation is on seeds 9, 10.
+    a = swarmcl.fit(SCENARIO, real, RANGES, reseed=True, **kw)
+    assert a["best"] == r["best"] and a["best_score"] == r["best_score"]
+    fixed = swarmcl.fit(SCENARIO, real, RANGES, **kw)
+    assert not fixed["reseed"] and fixed["best"] != r["best"]
+    for bad in (dict(method="ga"), dict(restarts=1)):
+        with pytest.raises(ValueError, match="reseed"):
+            swarmcl.fit(SCENARIO, real, RANGES, reseed=True, context=ctx, **bad)
+
+
 def test_searches_stop_on_tolerance_and_say_so(ctx, real):
     # A tolerance no gain can pass: the GA stops after `patience` stalled
     # generations, CMA-ES on its own tolerance, both before the budget.
@@ -556,7 +589,7 @@ def test_a_rank_that_fails_in_a_generation_fails_the_generation_with_its_message
 
     def boom(pop):
         raise MemoryError("no room")
-    comm = _TwoRanks(1, commands=[("evaluate", [[0.1], [0.2]]), ("stop", None)])
+    comm = _TwoRanks(1, commands=[("evaluate", [[0.1], [0.2]], None), ("stop", None, None)])
     _Ranks(boom, comm).serve()
     assert len(comm.gathered) == 1 and isinstance(comm.gathered[0], _RankError)
     assert comm.gathered[0].rank == 1 and comm.gathered[0].message == "MemoryError: no room"

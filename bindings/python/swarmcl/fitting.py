@@ -283,7 +283,7 @@ class PopulationEvaluator:
         # noise (docs/evaluation.md, "Pooled runs").  Keeps each run's
         # samples until its individual is scored.
         self.pool = bool(pool)
-        self.base_seed = int(scenario.get("seed", 0))
+        self.base_seed = self.scenario_seed = int(scenario.get("seed", 0))
         # robust: the PDFs z-scored with median and MAD (docs/evaluation.md).
         # scale_penalty λ: the objective is E - λ P, P the mean over the
         # metrics of W1(real, sim) / (1.4826 MAD of the real samples): how
@@ -385,7 +385,7 @@ class PopulationEvaluator:
 
     def scenario_for(self, u, run: int = 0) -> dict:
         doc = _with_values(self.scenario, self.params, u)
-        if self.seeds > 1:
+        if self.seeds > 1 or self.base_seed != self.scenario_seed:
             doc["seed"] = self.base_seed + run
         return doc
 
@@ -417,7 +417,9 @@ class PopulationEvaluator:
             metrics = [Metrics.attach(s, sample_dt) for s in swarms]
             try:
                 self._advance(swarms, lambda i: metrics[i].sample())
-                return [self._measured(Metrics.merge([m])) for m in metrics]
+                # Pooled, a run's measure outlives its attachment (closed
+                # below), so it is a copy; else its E_phi are read from it.
+                return [self._measured(Metrics.merge([m]) if self.pool else m) for m in metrics]
             finally:
                 for m in metrics:
                     m.close()
@@ -613,7 +615,12 @@ class PopulationEvaluator:
                 out.append(self._measured(sim))
             return out
 
-    def __call__(self, population) -> List[float]:
+    def __call__(self, population, base_seed: Optional[int] = None) -> List[float]:
+        """Each individual's score; ``base_seed``: its runs from that
+        simulation seed on (a generation of fit(reseed=True)), else the
+        last one given (first: the scenario's)."""
+        if base_seed is not None:
+            self.base_seed = int(base_seed)
         runs = [(u, r) for u in population for r in range(self.seeds)]
         if not runs:  # a rank's share of a small generation may be empty
             return []
@@ -704,12 +711,14 @@ class _Ranks:
         blocks = np.array_split(np.arange(len(population)), self.size)
         return [population[i] for i in blocks[rank]]
 
-    def map(self, population) -> List[float]:
+    def map(self, population, base_seed: Optional[int] = None) -> List[float]:
+        """The scores of `population`; `base_seed`: the simulation seed its
+        runs start from on every rank (None: as before)."""
         population = [np.asarray(u, dtype=np.float64) for u in population]
         if self.size == 1:
-            return self.evaluate(population)
-        self.comm.bcast(("evaluate", population), root=0)
-        mine = self.evaluate(self._share(population, 0))
+            return self._evaluate(population, base_seed)
+        self.comm.bcast(("evaluate", population, base_seed), root=0)
+        mine = self._evaluate(self._share(population, 0), base_seed)
         parts = self.comm.gather(mine, root=0)
         # A rank whose evaluation raised sends its error instead of scores:
         # the generation fails with it, never with a partial or shifted list.
@@ -720,18 +729,21 @@ class _Ranks:
 
     def serve(self) -> None:
         while True:
-            command, population = self.comm.bcast(None, root=0)
+            command, population, base_seed = self.comm.bcast(None, root=0)
             if command == "stop":
                 return
             try:
-                scores = self.evaluate(self._share(population, self.rank))
+                scores = self._evaluate(self._share(population, self.rank), base_seed)
             except Exception as e:  # noqa: BLE001  sent to rank 0, which raises it
                 scores = _RankError(self.rank, f"{type(e).__name__}: {e}")
             self.comm.gather(scores, root=0)
 
+    def _evaluate(self, population, base_seed):
+        return self.evaluate(population) if base_seed is None else self.evaluate(population, base_seed)
+
     def stop(self) -> None:
         if self.size > 1:
-            self.comm.bcast(("stop", None), root=0)
+            self.comm.bcast(("stop", None, None), root=0)
 
 
 # A search stops on tolerance: CMA-ES when cma's own tolerances say so
@@ -746,11 +758,11 @@ class _Ranks:
 _CMA_CONVERGED = ("tolfun", "tolfunhist", "tolx", "tolstagnation", "tolflatfitness", "tolupsigma")
 
 
-def _start_entry(ranks: _Ranks, start, report) -> tuple:
+def _start_entry(ranks: _Ranks, start, report, base_seed: Optional[int] = None) -> tuple:
     """Scores the start point alone (history's generation 0), so a search
     from it never ends below it: a nested model fitted from the smaller
     model's optimum scores at least as well as that model."""
-    s = ranks.map([start])[0]
+    s = ranks.map([start], base_seed)[0]
     entry = {"generation": 0, "individuals": 1, "best": s, "mean": s, "best_so_far": s}
     report(entry)
     return s, entry
@@ -758,17 +770,21 @@ def _start_entry(ranks: _Ranks, start, report) -> tuple:
 
 def _cmaes(ranks: _Ranks, dim: int, generations: int, population: int, seed: int, report, *,
            restarts: int = 0, tolerance: float = 1e-3, step_tolerance: float = 1e-3, start=None,
-           patience: Optional[int] = None) -> tuple:
+           patience: Optional[int] = None, seed_of: Optional[Callable[[int], int]] = None) -> tuple:
+    # seed_of: generation -> the simulation seed its runs start from
+    # (fit(reseed=True)); None: every generation on the scenario's seeds.
     import cma
     history = []
     best = {"u": None, "score": -math.inf}
+    generation = [0]
     if start is not None:
-        best["score"], entry = _start_entry(ranks, start, report)
+        best["score"], entry = _start_entry(ranks, start, report, None if seed_of is None else seed_of(0))
         best["u"] = np.array(start, dtype=np.float64)
         history.append(entry)
 
     def objective(xs):
-        scores = ranks.map(xs)
+        generation[0] += 1
+        scores = ranks.map(xs, None if seed_of is None else seed_of(generation[0]))
         for x, s in zip(xs, scores):
             if s > best["score"]:
                 best["u"], best["score"] = np.array(x, dtype=np.float64), s
@@ -795,6 +811,12 @@ def _cmaes(ranks: _Ranks, dim: int, generations: int, population: int, seed: int
     if "callback" in stop:
         stop[stop.index("callback")] = f"no gain above {tolerance} in {patience} generations"
     converged = any(k in _CMA_CONVERGED or k.startswith("no gain") for k in stop)
+    if seed_of is not None:
+        # Reseeded, the best score seen is the luckiest draw of many; the
+        # search's final mean is its estimate of the optimum (pycma's
+        # xfavorite), scored on generation 0's seeds (the scenario's).
+        u = np.clip(np.asarray(es.result.xfavorite, dtype=np.float64), 0.0, 1.0)
+        return u, ranks.map([u], seed_of(0))[0], history, {"converged": converged, "stop": stop}
     return best["u"], best["score"], history, {"converged": converged, "stop": stop}
 
 
@@ -896,7 +918,7 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
         scale_penalty: float = 0.0, seeds: int = 1, restarts: int = 0, tolerance: float = 1e-3,
         step_tolerance: float = 1e-3, patience: Optional[int] = None,
         start: Optional[Dict[str, float]] = None, scale_metrics: Optional[Sequence[str]] = None,
-        pool: bool = False) -> Optional[dict]:
+        pool: bool = False, reseed: bool = False) -> Optional[dict]:
     """Fits the ranged parameters of ``scenario`` (a path or a dict) to
     ``tracks`` (a Metrics) by maximising E.  ``method``: "cmaes" or "ga".
     With ``comm`` (an mpi4py communicator of R ranks), every rank must call
@@ -925,13 +947,21 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
     ``start``: {path: value} to search from (CMA-ES's first mean, one of the
     GA's first individuals; other parameters at their range's centre),
     scored first, so the result is never below it: fit a model whose ranges
-    contain another's from that one's best, and it scores at least as well."""
+    contain another's from that one's best, and it scores at least as well.
+    ``reseed`` (CMA-ES, without restarts): each generation runs on simulation
+    seeds of its own (common random numbers within it, fresh ones across
+    generations: seeds scenario seed + g * ``seeds`` on), so the search cannot
+    tune itself to one set of runs; the result is the search's final mean,
+    scored on the scenario's seeds, and need not score above ``start``."""
     if method not in ("cmaes", "ga"):
         raise ValueError(f"method: 'cmaes' or 'ga', got {method!r}")
     if int(generations) < 1 or int(population) < 2:
         raise ValueError("generations must be >= 1 and population >= 2")
     if method == "ga" and patience is None:
         patience = 5
+    if reseed and (method != "cmaes" or int(restarts) > 0):
+        raise ValueError("reseed: CMA-ES without restarts only (its result is the search's final mean; the GA "
+                         "keeps its individuals' scores across generations)")
     if method == "cmaes" and patience is not None and int(restarts) > 0:
         raise ValueError("patience and restarts cannot be combined with CMA-ES (cma ends its restarts on a "
                          "patience stop); give one of them")
@@ -963,10 +993,12 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
         try:
             u0 = _start_point(params, start) if start is not None else None
             if method == "cmaes":
+                seed_of = (lambda g: evaluator.scenario_seed + g * evaluator.seeds) if reseed else None
                 u, best, history, end = _cmaes(ranks, len(params), generations, population, seed, report,
                                                restarts=restarts, tolerance=tolerance,
                                                step_tolerance=step_tolerance, start=u0,
-                                               patience=None if patience is None else int(patience))
+                                               patience=None if patience is None else int(patience),
+                                               seed_of=seed_of)
             else:
                 u, best, history, end = _ga(ranks, len(params), generations, population, seed, report,
                                             tolerance=tolerance, patience=patience, start=u0)
@@ -978,7 +1010,7 @@ def fit(scenario, tracks: Metrics, ranges, *, method: str = "cmaes", generations
             "pdf": {"bins": evaluator.bins, "half_width": evaluator.half_width,
                     "standardise": "median_mad" if evaluator.robust else "mean_sigma"},
             "scale_penalty": evaluator.scale_penalty, "scale_metrics": evaluator.scale_metrics,
-            "seeds": evaluator.seeds, "pool": evaluator.pool,
+            "seeds": evaluator.seeds, "pool": evaluator.pool, "reseed": bool(reseed),
             "restarts": int(restarts) if method == "cmaes" else 0, "tolerance": float(tolerance),
             "step_tolerance": float(step_tolerance) if method == "cmaes" else None,
             "patience": None if patience is None else int(patience),
@@ -1103,6 +1135,8 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--pool", action="store_true", help="score an individual's --seeds runs once, from their "
                    "samples together, instead of the mean of their scores")
     p.add_argument("--restarts", type=int, default=0, help="CMA-ES: BIPOP restarts (default 0)")
+    p.add_argument("--reseed", action="store_true", help="CMA-ES without restarts: each generation on simulation "
+                   "seeds of its own, the result the search's final mean (fit(reseed=True))")
     p.add_argument("--tolerance", type=float, default=1e-3, help="stop when the best gains no more (default 1e-3)")
     p.add_argument("--step-tolerance", type=float, default=1e-3,
                    help="CMA-ES: stop when its steps are below this fraction of every range (default 1e-3)")
@@ -1144,7 +1178,8 @@ def main(argv=None) -> int:
                          population=args.population, seed=args.seed, steps=args.steps, every=args.every,
                          warmup=args.warmup, bins=args.bins, half_width=args.half_width, comm=comm, context=ctx,
                          robust=args.robust, scale_penalty=args.scale_penalty, seeds=args.seeds, pool=args.pool,
-                         restarts=args.restarts, tolerance=args.tolerance, step_tolerance=args.step_tolerance,
+                         reseed=args.reseed, restarts=args.restarts, tolerance=args.tolerance,
+                         step_tolerance=args.step_tolerance,
                          patience=args.patience, scale_metrics=args.scale_metrics,
                          progress=(lambda e: _bar(e, total)) if show else None)
     except (ValueError, OSError, RuntimeError, SwarmclError) as e:
@@ -1199,7 +1234,7 @@ def _spread_main(args, window, device, comm) -> int:
                             population=args.population, steps=args.steps, every=args.every, warmup=args.warmup,
                             bins=args.bins, half_width=args.half_width, context=ctx, robust=args.robust,
                             scale_penalty=args.scale_penalty, seeds=args.seeds, pool=args.pool,
-                            restarts=args.restarts,
+                            reseed=args.reseed, restarts=args.restarts,
                             tolerance=args.tolerance, step_tolerance=args.step_tolerance, patience=args.patience,
                             scale_metrics=args.scale_metrics)
     _write_json(result, args.out)
