@@ -28,7 +28,8 @@ struct EvaluateArgs {
     double unit_scale = 1.0, window_from = 0.0, window_to = 1.0;
     char delimiter = ',';
     std::optional<uint32_t> every, steps;
-    uint32_t warmup = 0;
+    uint32_t warmup = 0, runs = 1;
+    std::optional<uint64_t> seed;
     swcl_pdf_options pdf = swcl_pdf_options_default();
     bool quiet = false, plot = false;
 };
@@ -63,6 +64,19 @@ void add_options(CLI::App& app, EvaluateArgs& a) {
     add_count(app, "--steps", a.steps, 1, "steps sampled after it (default: the scenario's)");
     add_count(app, "--every", a.every, 1,
               "steps between samples (default: the tracks' frame time / dt)");
+    add_count(app, "--runs", a.runs, 1,
+              "runs of the scenario, their samples pooled (worlds of one swarm; default 1)");
+    app.add_option_function<std::string>(
+           "--seed",
+           [&a](const std::string& text) {
+               const double v = parse_number("--seed", text);
+               if (!(v >= 0.0 && v < 18446744073709551616.0) || v != std::floor(v))
+                   throw Usage{"--seed: expected an integer >= 0, got '" + text + "'"};
+               a.seed = uint64_t(v);
+           },
+           "the first run's simulation seed, the next run's +1 (default: the scenario's), e.g. seeds a fit did "
+           "not use")
+        ->type_name("S");
     add_count(app, "--bins", a.pdf.bins, 1, "bins of each metric's PDF (default 50)");
     add_number(app, "--half-width", a.pdf.half_width, "the PDFs' half width in sigma (default 4)");
     app.add_option("--out", a.out, "the result (default: the scenario's output.dir/evaluation.json)")
@@ -158,9 +172,21 @@ int evaluate(const EvaluateArgs& a) {
     if (!a.device.empty()) cd.device = a.device.c_str();
     Owned<swcl_context, swcl_context_destroy> context;
     check(swcl_context_create(&cd, &context.handle), "opening the device");
+    // Several runs (or another seed): the worlds of one swarm, world k the
+    // scenario alone with seed first + k, so one run with --seed S is the
+    // scenario run with seed S; their samples are pooled below.
     Owned<swcl_swarm, swcl_swarm_destroy> swarm;
-    check(swcl_scenario_create_swarm(scenario.handle, context.handle, &swarm.handle), "creating the swarm");
-    const size_t n = info.agents;
+    const uint64_t first_seed = a.seed ? *a.seed : info.seed;
+    const uint32_t runs = a.runs;
+    if (runs == 1 && !a.seed) {
+        check(swcl_scenario_create_swarm(scenario.handle, context.handle, &swarm.handle), "creating the swarm");
+    } else {
+        std::vector<uint64_t> seeds(runs);
+        for (uint32_t k = 0; k < runs; ++k) seeds[k] = first_seed + k;
+        check(swcl_scenario_create_world_swarm(scenario.handle, context.handle, runs, seeds.data(), &swarm.handle),
+              "creating the runs as worlds");
+    }
+    const size_t n = info.agents, all = n * runs;
     std::vector<float> frames;
     const bool show = !a.quiet && isatty(STDERR_FILENO);
     const auto start = std::chrono::steady_clock::now();
@@ -168,8 +194,8 @@ int evaluate(const EvaluateArgs& a) {
     const uint32_t total = a.warmup + steps;
     uint32_t done = 0;
     auto sample = [&] {
-        frames.resize(frames.size() + 3 * n);
-        check(swcl_swarm_read(swarm.handle, SWCL_ATTRIBUTE_POSITION, frames.data() + frames.size() - 3 * n, n),
+        frames.resize(frames.size() + 3 * all);
+        check(swcl_swarm_read(swarm.handle, SWCL_ATTRIBUTE_POSITION, frames.data() + frames.size() - 3 * all, all),
               "reading positions");
     };
     for (; done < a.warmup;) {
@@ -186,9 +212,22 @@ int evaluate(const EvaluateArgs& a) {
         progress(show, done, total, seconds());
     }
     progress(show, total, total, seconds());
-    const size_t frame_count = frames.size() / (3 * n);
+    const size_t frame_count = frames.size() / (3 * all);
     Owned<swcl_metrics, swcl_metrics_destroy> sim;
-    check(swcl_metrics_from_frames(frames.data(), frame_count, n, sample_dt, &sim.handle), "computing the metrics");
+    if (runs == 1) {
+        check(swcl_metrics_from_frames(frames.data(), frame_count, n, sample_dt, &sim.handle),
+              "computing the metrics");
+    } else {  // each run's frames where they lie, then pooled (swcl_metrics_merge)
+        std::vector<Owned<swcl_metrics, swcl_metrics_destroy>> parts(runs);
+        std::vector<swcl_metrics> handles(runs);
+        for (uint32_t k = 0; k < runs; ++k) {
+            check(swcl_metrics_from_frames_strided(frames.data() + 3 * n * k, frame_count, n, 3 * all, sample_dt,
+                                                   &parts[k].handle),
+                  "computing the metrics");
+            handles[k] = parts[k].handle;
+        }
+        check(swcl_metrics_merge(handles.data(), runs, &sim.handle), "pooling the runs");
+    }
 
     double e[SWCL_METRIC_COUNT];
     check(swcl_metrics_distances(real.handle, sim.handle, &a.pdf, e, SWCL_METRIC_COUNT), "comparing the PDFs");
@@ -208,6 +247,8 @@ int evaluate(const EvaluateArgs& a) {
     out["steps"] = steps;
     out["every"] = every;
     out["frames"] = frame_count;
+    out["runs"] = runs;
+    out["first_seed"] = first_seed;
     out["pdf"] = {{"bins", a.pdf.bins},
                   {"half_width", a.pdf.half_width},
                   {"standardise", a.pdf.standardise == SWCL_STANDARDISE_MEDIAN_MAD ? "median_mad" : "mean_sigma"}};
@@ -245,8 +286,9 @@ int evaluate(const EvaluateArgs& a) {
     const std::string path = a.out.empty() ? std::string(info.output_dir) + "/evaluation.json" : a.out;
     write_atomically(path, out.dump(2) + "\n");
     if (!a.quiet) {
-        std::printf("%s against %s: %zu frames of %zu agents every %u steps (%.4g s)\n", info.name, a.tracks.c_str(),
-                    frame_count, n, every, sample_dt);
+        std::printf("%s against %s: %zu frames of %zu agents every %u steps (%.4g s), %u run%s from seed %llu\n",
+                    info.name, a.tracks.c_str(), frame_count, n, every, sample_dt, runs, runs == 1 ? "" : "s pooled",
+                    (unsigned long long)first_seed);
         std::printf("%-22s %10s %12s  %-8s %12s %12s\n", "metric", "E_phi", "W1", "unit", "median real",
                     "median sim");
         for (int k = 0; k < SWCL_METRIC_COUNT; ++k) {

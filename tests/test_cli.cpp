@@ -346,7 +346,8 @@ TEST_F(Cli, EveryCommandHasHelp) {
         {"run", {"SCENARIO.json", "--steps", "--out", "--format", "--every", "--device", "--quiet", "--checkpoint-every"}},
         {"resume", {"DIR", "--device", "--quiet"}},
         {"evaluate", {"SCENARIO.json", "--tracks", "--columns", "--delimiter", "--unit-scale", "--window", "--warmup", "--steps",
-                      "--every", "--bins", "--half-width", "--robust", "--out", "--plot", "--device", "--quiet"}},
+                      "--every", "--bins", "--half-width", "--robust", "--out", "--plot", "--device", "--quiet",
+                      "--runs", "--seed"}},
         {"fit", {"--tracks", "--ranges", "--method", "--generations"}},
         {"sweep", {"SCENARIO.json", "--grid", "--tracks", "--out"}},
         {"devices", {}},
@@ -408,6 +409,9 @@ TEST_F(Cli, BadArgumentsSayWhatIsWrong) {
         {"evaluate tiny.json --tracks t.csv --delimiter ab", "--delimiter: expected one character"},
         {"evaluate tiny.json --tracks t.csv --unit-scale nan", "--unit-scale: expected a number, got 'nan'"},
         {"evaluate tiny.json --tracks t.csv --bins 0", "--bins: expected an integer >= 1, got '0'"},
+        {"evaluate tiny.json --tracks t.csv --runs 0", "--runs: expected an integer >= 1, got '0'"},
+        {"evaluate tiny.json --tracks t.csv --seed -3", "--seed: expected an integer >= 0, got '-3'"},
+        {"evaluate tiny.json --tracks t.csv --seed 1.5", "--seed: expected an integer >= 0, got '1.5'"},
         {"help nope", "unknown command 'nope'"},
         {"fly", "unknown command 'fly'"},
     };
@@ -667,6 +671,36 @@ TEST_F(Cli, EvaluateScoresARunAgainstItsOwnRecordingAsIdentical) {
     EXPECT_GT(jr["score"].get<double>(), 0.97);
     for (const auto& [name, m] : jr["metrics"].items())
         EXPECT_LT(m["distance"].get<double>(), name == "jerk" ? 0.15 : 0.05) << name;
+}
+
+// --runs N --seed S: N runs (seeds S, S+1, ...) as the worlds of one swarm,
+// their samples pooled; one run with --seed 9 is the scenario's own run
+// (tiny.json's seed is 9), other seeds are other runs.
+TEST_F(Cli, EvaluatePoolsRunsFromAGivenSeed) {
+    const auto tracks = swarmcl::synthetic_tracks(8, 120, 0.02, 0.5f, 4);
+    write_text(dir / "tracks.csv", swarmcl::tracks_to_csv(tracks));
+    auto eval = [&](const std::string& extra, const std::string& out) {
+        const Result r = cli("evaluate tiny.json --tracks tracks.csv --warmup 10 --steps 40 --quiet --out " + out +
+                                 " " + extra,
+                             dir.path());
+        EXPECT_EQ(r.status, 0) << r.err;
+        auto j = nlohmann::json::parse(read_bytes(dir / out));
+        j.erase("seconds");
+        return j;
+    };
+    const auto own = eval("", "own.json"), nine = eval("--seed 9", "nine.json"), ten = eval("--seed 10", "ten.json");
+    EXPECT_EQ(own["runs"], 1);
+    EXPECT_EQ(own["first_seed"], 9);
+    EXPECT_EQ(own["metrics"], nine["metrics"]);
+    EXPECT_NE(own["metrics"], ten["metrics"]);
+    const auto three = eval("--runs 3 --seed 9", "three.json");
+    EXPECT_EQ(three["runs"], 3);
+    EXPECT_EQ(three["frames"], own["frames"]);  // frames a run
+    for (const auto& [name, m] : three["metrics"].items()) {
+        // Each run's samples, one after the other (nearest neighbours within a run).
+        EXPECT_EQ(m["sim"]["count"].get<int64_t>(), 3 * own["metrics"][name]["sim"]["count"].get<int64_t>()) << name;
+    }
+    EXPECT_NE(three["score"], own["score"]);
 }
 
 TEST_F(Cli, EvaluateIsDeterministicAndRefusesBadInput) {

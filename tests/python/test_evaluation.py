@@ -1,6 +1,8 @@
 """The evaluation against real insects from Python (issue 14): metric sets,
 PDFs, distances, scores, entropy weights, and evaluate() end to end."""
 import json
+import os
+import subprocess
 
 import numpy as np
 import pytest
@@ -122,6 +124,51 @@ def test_evaluate_writes_json_and_the_pdf_plot_and_is_deterministic(tmp_path, rn
     pytest.importorskip("matplotlib")
     png = (tmp_path / "out" / "evaluation.png").read_bytes()
     assert png[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_evaluate_pools_runs_from_a_given_seed(tmp_path, rng, ctx):
+    # runs=N, seed=S: the scenario run with seeds S..S+N-1 (worlds of one
+    # swarm), samples pooled; one run on the scenario's own seed (9) is its
+    # plain run, and the pooled result is the merge of the runs alone.
+    tracks = [(np.arange(60) * 0.02, random_walk(rng, 60, 1, 0.02)[:, 0, :]) for _ in range(6)]
+    scn = swarmcl.Scenario.parse(TINY)
+    with swarmcl.Metrics.from_tracks(tracks, frame_time=0.02) as real:
+        own = swarmcl.evaluate(scn, real, warmup=5, context=ctx, plots=False)
+        nine = swarmcl.evaluate(scn, real, warmup=5, context=ctx, plots=False, seed=9)
+        three = swarmcl.evaluate(scn, real, warmup=5, context=ctx, plots=False, runs=3, seed=11)
+        assert own["runs"] == 1 and own["first_seed"] == 9 and nine["metrics"] == own["metrics"]
+        assert three["runs"] == 3 and three["first_seed"] == 11 and three["frames"] == own["frames"]
+        parts = []
+        for s in (11, 12, 13):
+            doc = json.loads(TINY)
+            doc["seed"] = s
+            with swarmcl.Scenario.parse(json.dumps(doc)) as one, one.create_swarm(ctx) as swarm:
+                swarm.step(5)
+                frames = [swarm.read_positions()]
+                for _ in range(40):
+                    swarm.step(1)
+                    frames.append(swarm.read_positions())
+            parts.append(swarmcl.Metrics.from_frames(np.stack(frames), 0.02))
+        with swarmcl.Metrics.merge(parts) as pooled:
+            assert three["score"] == swarmcl.score(swarmcl.distances(real, pooled))
+        for p in parts:
+            p.close()
+        for bad in (dict(runs=0), dict(runs=1.5), dict(seed=-1), dict(seed=True)):
+            with pytest.raises(ValueError, match="runs must be an integer"):
+                swarmcl.evaluate(scn, real, context=ctx, plots=False, **bad)
+    cli = os.environ.get("SWARMCL_CLI")
+    if cli:  # the program gives the same pooled score
+        (tmp_path / "tiny.json").write_text(TINY)
+        rows = ["id,time,x,y,z"] + [f"{i},{t:.6f},{x:.9g},{y:.9g},{z:.9g}" for i, (ts, p) in enumerate(tracks)
+                                    for t, (x, y, z) in zip(ts, p.tolist())]
+        (tmp_path / "tracks.csv").write_text("\n".join(rows) + "\n")
+        p = subprocess.run([cli, "evaluate", "tiny.json", "--tracks", "tracks.csv", "--warmup", "5", "--runs", "3",
+                            "--seed", "11", "--out", "ev.json", "--quiet"], cwd=tmp_path, capture_output=True,
+                           text=True, timeout=300)
+        assert p.returncode == 0, p.stderr
+        j = json.loads((tmp_path / "ev.json").read_text())
+        assert j["runs"] == 3 and j["first_seed"] == 11
+        assert j["score"] == pytest.approx(three["score"], abs=1e-6)  # tracks through the CSV's digits
 
 
 def test_the_swarmcl_program_evaluates_and_plots_beside_its_json(tmp_path, rng):

@@ -293,8 +293,27 @@ def _simulate_frames(scenario: Scenario, context: Context, steps: int, every: in
     return np.stack(frames)
 
 
+def _simulate_runs(scenario: Scenario, context: Context, steps: int, every: int, warmup: int, seeds) -> np.ndarray:
+    """Positions (frames, runs, agents, 3) of the scenario run with each of
+    `seeds`, as the worlds of one swarm (world k: the scenario alone with
+    seed seeds[k])."""
+    runs, n, sampled = len(seeds), scenario.info["agents"], steps // every
+    with scenario.create_world_swarm(context, runs, seeds) as swarm:
+        done = 0
+        while done < warmup:
+            k = min(every, warmup - done)
+            swarm.step(k)
+            done += k
+        frames = np.empty((sampled + 1, runs, n, 3), dtype=np.float32)
+        shape = (n, 3) if runs == 1 else (runs, n, 3)  # read_positions' shape
+        swarm.read_positions(out=frames[0].reshape(shape))
+        swarm.step_frames(sampled, every, out=frames[1:].reshape((sampled,) + shape))
+    return frames
+
+
 def evaluate(scenario, tracks, *, steps: Optional[int] = None, every: Optional[int] = None, warmup: int = 0,
-             bins: int = 50, half_width: float = 4.0, robust: bool = False,
+             bins: int = 50, half_width: float = 4.0, robust: bool = False, runs: int = 1,
+             seed: Optional[int] = None,
              weights: Optional[Sequence[float]] = None,
              p1: Optional[Sequence[float]] = None, p2: Optional[Sequence[float]] = None,
              context: Optional[Context] = None, out_dir=None, plots: bool = True,
@@ -303,7 +322,11 @@ def evaluate(scenario, tracks, *, steps: Optional[int] = None, every: Optional[i
     ``tracks`` (a Metrics, e.g. Metrics.from_csv(...)), as ``swarmcl
     evaluate`` does: samples every ``every`` steps (default: the tracks' frame
     time over the scenario's dt) after ``warmup`` steps; ``robust``: the PDFs
-    z-scored with median and MAD (``--robust``).  ``floor``: the tracks'
+    z-scored with median and MAD (``--robust``).  ``runs``, ``seed``
+    (``--runs``, ``--seed``): that many runs, simulation seeds seed, seed + 1,
+    ... (default: the scenario's seed on), as the worlds of one swarm, their
+    samples pooled (Metrics.merge); e.g. a fitted scenario on seeds its fit
+    did not use.  ``floor``: the tracks'
     two halves (Metrics of each), scored against each other into
     ``data_floor`` as the CLI does from its file.  Returns the same
     dictionary the CLI writes; with ``out_dir`` writes ``evaluation.json``
@@ -319,22 +342,37 @@ def evaluate(scenario, tracks, *, steps: Optional[int] = None, every: Optional[i
         raise ValueError("steps and every must be >= 1, warmup >= 0")
     if info["agents"] < 2:
         raise ValueError("evaluate: the scenario needs at least two agents (nearest distances)")
+    if isinstance(runs, bool) or not isinstance(runs, (int, np.integer)) or runs < 1 or \
+            (seed is not None and (isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or
+                                   not 0 <= seed < 2**64)):
+        raise ValueError(f"evaluate: runs must be an integer >= 1 and seed None or an integer >= 0, "
+                         f"got runs={runs!r}, seed={seed!r}")
+    first_seed = info["seed"] if seed is None else int(seed)
     start = time.perf_counter()
     own = context is None
     ctx = Context() if own else context
+    sample_dt = every * info["dt"]
     try:
-        frames = _simulate_frames(scn, ctx, steps, every, int(warmup))
+        if runs == 1 and seed is None:
+            sim = Metrics.from_frames(_simulate_frames(scn, ctx, steps, every, int(warmup)), sample_dt)
+        else:  # as `swarmcl evaluate --runs --seed`: worlds, each run's frames measured where they lie, pooled
+            frames = _simulate_runs(scn, ctx, steps, every, int(warmup), [first_seed + k for k in range(runs)])
+            parts = [Metrics.from_frames(frames[:, k], sample_dt) for k in range(runs)]
+            try:
+                sim = parts[0] if runs == 1 else Metrics.merge(parts)
+            finally:
+                for p in parts[1:] if runs == 1 else parts:
+                    p.close()
     finally:
         if own:
             ctx.close()
-    sample_dt = every * info["dt"]
-    with Metrics.from_frames(frames, sample_dt) as sim:
+    with sim:
         e = distances(tracks, sim, bins, half_width, robust)
         w1 = wasserstein(tracks, sim)
         w = ffi.new("swcl_score_weights*", lib.swcl_score_weights_default())
         result = {
             "scenario": info["name"], "agents": info["agents"], "dt": info["dt"], "warmup_steps": int(warmup),
-            "steps": steps, "every": every, "frames": int(frames.shape[0]),
+            "steps": steps, "every": every, "frames": steps // every + 1, "runs": int(runs), "first_seed": first_seed,
             "tracks_frame_time": tracks.frame_time, "pdf": {"bins": int(bins), "half_width": float(half_width),
                                                        "standardise": "median_mad" if robust else "mean_sigma"},
             "weights": {"w": list(weights) if weights is not None else list(w.w),
