@@ -57,3 +57,22 @@ def test_the_studies_nested_models_never_score_below_the_models_they_contain(tmp
     assert start_score == pytest.approx(best_smaller, abs=1e-6)
     assert nested["best_score"] >= start_score
     assert nested["best_score"] >= best_smaller - 1e-6
+
+
+@pytest.mark.skipif(not os.path.exists(studies.DATA), reason="needs ../shared/data/anopheles-coluzzii-swarm.csv")
+def test_fresh_runs_score_a_fit_on_seeds_it_was_not_fitted_on(tmp_path, ctx):
+    # The studies score every fit again on simulation seeds from FRESH_SEED:
+    # what a fit's own seed is does not matter there, while E over the fit's
+    # own seeds does depend on them.
+    files, _, _ = studies.split_tracks(studies.DATA, str(tmp_path))
+    scenario = shortened(studies.variants(files["train"])["force+gaussian"][0])
+    args = SimpleNamespace(warmup=50, fresh_runs=3)
+    with swarmcl.Metrics.from_csv(files["test"], columns=studies.COLUMNS) as test:
+        real = {"test": test}
+        fresh = [studies.fresh_scores(dict(scenario, seed=s), real, ctx, args) for s in (5, 77)]
+        assert fresh[0] == fresh[1]
+        own = [swarmcl.fitting.PopulationEvaluator(dict(scenario, seed=s), [], test, ctx, warmup=50, seeds=3,
+                                                   pool=True)([[]])[0] for s in (5, studies.FRESH_SEED)]
+        assert own[0] != own[1] and own[1] == fresh[0]["test"]
+        second = studies.fresh_scores(scenario, real, ctx, args, seed=studies.SECOND_BLOCK)["test"]
+        assert second != fresh[0]["test"]  # another block of runs, another estimate
