@@ -1,7 +1,9 @@
 // `swarmcl evaluate`: runs a scenario and scores it against real tracks with
 // the seven-metric evaluation of the noise paper (§3; docs/evaluation.md).
+#include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -69,8 +71,11 @@ void add_options(CLI::App& app, EvaluateArgs& a) {
     app.add_option_function<std::string>(
            "--seed",
            [&a](const std::string& text) {
-               const double v = parse_number("--seed", text);
-               if (!(v >= 0.0 && v < 18446744073709551616.0) || v != std::floor(v))
+               // Every 64-bit seed, exactly (a double would round above 2^53).
+               char* end = nullptr;
+               errno = 0;
+               const unsigned long long v = std::strtoull(text.c_str(), &end, 10);
+               if (text.empty() || *end || errno || text[0] == '-')
                    throw Usage{"--seed: expected an integer >= 0, got '" + text + "'"};
                a.seed = uint64_t(v);
            },

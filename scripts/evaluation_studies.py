@@ -525,8 +525,7 @@ def rescore(args) -> int:
             m.close()
     results["orderings"] = orderings(results)
     results["settings"]["fresh_runs"] = args.fresh_runs  # what a later --merge scores with
-    done = results.get("rescored", [])
-    results["rescored"] = ([done] if isinstance(done, dict) else done) + [
+    results["rescored"] = results.get("rescored", []) + [
         {"fresh_runs": args.fresh_runs, "only": args.only, "seconds": time.perf_counter() - start, "cpu": cpu_model()}]
     with open(record, "w", encoding="utf-8") as f:
         json.dump(results, f, indent=1)
@@ -757,8 +756,7 @@ def write_doc(results, groups, best) -> None:
                      f"({m['seconds']:.0f} s)" for m in results.get("merged", [])) +
              "".join(f", then scored on fresh runs with `--rescore --fresh-runs {r['fresh_runs']}"
                      f"{' --only ' + chr(34) + r['only'] + chr(34) if r.get('only') else ''}` ({r['seconds']:.0f} s)"
-                     for r in ([results["rescored"]] if isinstance(results.get("rescored"), dict)
-                               else results.get("rescored", []))) +
+                     for r in results.get("rescored", [])) +
              "; raw figures in `bench/results/eval/studies.json`; method in `docs/evaluation.md`.", "",
              f"Data: `../shared/data/anopheles-coluzzii-swarm.csv`, cut at its median sample time "
              f"({results['split']['cut_seconds']:.1f} s of {results['split']['span_seconds']:.1f} s): every "

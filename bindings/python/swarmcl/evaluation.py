@@ -359,9 +359,9 @@ def evaluate(scenario, tracks, *, steps: Optional[int] = None, every: Optional[i
             frames = _simulate_runs(scn, ctx, steps, every, int(warmup), [first_seed + k for k in range(runs)])
             parts = [Metrics.from_frames(frames[:, k], sample_dt) for k in range(runs)]
             try:
-                sim = parts[0] if runs == 1 else Metrics.merge(parts)
+                sim = Metrics.merge(parts)  # of one run: a copy of its samples
             finally:
-                for p in parts[1:] if runs == 1 else parts:
+                for p in parts:
                     p.close()
     finally:
         if own:
