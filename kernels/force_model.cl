@@ -488,7 +488,9 @@ static inline float fm_mesh_obstacle(__global const float* phi, int4 dims, float
     return mix(y0, y1, w.z);
 }
 
-// Newton step (unit mass): u += F dt, |u| <= max_speed (§6), then near each
+// Newton step (unit mass): with speed_relaxation > 0 the speed first relaxes
+// towards preferred_speed (ours), then u += F dt, |u| <= max_speed (§6) and
+// >= cruise_speed (ours), then near each
 // obstacle the avoidance velocity of Eq. 8 with ramp(D / L) (Eq. 9), then
 // r += u dt.  Eq. 8 as printed keeps ramp u + (1 - ramp) n (n.u), which at
 // the surface (ramp 0) is the *normal* part only: the opposite of its stated
@@ -509,7 +511,18 @@ __kernel void force_model_integrate(__global float4* pos, __global float4* vel, 
     const float max_speed = params[FORCE_MAX_SPEED], cruise_speed = params[FORCE_CRUISE_SPEED];
     const float range = params[FORCE_OBSTACLE_RANGE];
     float4 p = (float4)(pos[i].xyz, 0.0f);
-    float4 u = (float4)(vel[i].xyz, 0.0f) + dt * force[i];
+    float4 v = (float4)(vel[i].xyz, 0.0f);
+    // Ours (docs/force-model.md): the speed relaxes towards preferred_speed,
+    // solved exactly over dt (stable for any rate), the heading kept.
+    const float relax = params[FORCE_SPEED_RELAXATION];
+    if (relax > 0.0f) {
+        const float sv = length(v);
+        if (sv > 0.0f) {
+            const float s0 = params[FORCE_PREFERRED_SPEED];
+            v *= (s0 + (sv - s0) * exp(-relax * dt)) / sv;
+        }
+    }
+    float4 u = v + dt * force[i];
     const float s = length(u);
     if (s > max_speed) u *= max_speed / s;
     else if (s < cruise_speed && s > 0.0f) u *= cruise_speed / s;

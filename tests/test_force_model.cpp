@@ -868,6 +868,67 @@ TEST(ForceModel, MinDistanceMatchesItsReference) {
     EXPECT_EQ(by_width[2], by_width[3]) << "wide and scalar MDE, grid after the Newton step";
 }
 
+// The speed relaxation (ours, docs/force-model.md): with F = 0 exactly the
+// Newton step only relaxes each speed towards preferred_speed, heading kept,
+// s <- s0 + (s - s0) exp(-k dt), against that formula in double; over many
+// steps every speed reaches s0 (and with s0 = 0 the swarm stops: a drag).
+TEST(ForceModel, SpeedRelaxesTowardsThePreferredSpeed) {
+    const uint32_t n = 400;
+    const auto pos = test::random_points(n, -0.4f, 0.4f, 41);
+    const auto vel = test::random_points(n, -0.6f, 0.6f, 42);
+    for (float s0 : {0.4f, 0.0f}) {
+        auto swarm = make_swarm(n, -3.0f, 3.0f, 0.5f, 3);
+        swarm->write(Attribute::Position, pos.data(), n);
+        swarm->write(Attribute::Velocity, vel.data(), n);
+        ForceModelConfig c;
+        c.terms = 0;  // F = 0 exactly
+        c.cruise_speed = 0.0f;
+        c.max_speed = 5.0f;
+        c.speed_relaxation = 3.0f;
+        c.preferred_speed = s0;
+        swarm->set_behavior(std::make_shared<ForceModel>(*swarm, c));
+        swarm->step(1);
+        std::vector<float> got(3 * size_t(n)), moved(3 * size_t(n));
+        swarm->read(Attribute::Velocity, got.data(), n);
+        swarm->read(Attribute::Position, moved.data(), n);
+        const double dt = swarm->config().dt, e = std::exp(-3.0 * dt);
+        size_t bad = 0;
+        for (uint32_t i = 0; i < n; ++i) {
+            const D3 v = at(vel, i);
+            const double sv = norm(v), k = (s0 + (sv - s0) * e) / sv;
+            for (int a = 0; a < 3; ++a) {
+                const double want = k * v[a];
+                if (std::fabs(got[3 * i + a] - want) > 2e-6 ||
+                    std::fabs(moved[3 * i + a] - (pos[3 * i + a] + dt * got[3 * i + a])) > 1e-6)
+                    if (bad++ < 5) ADD_FAILURE() << "s0 " << s0 << " agent " << i << " axis " << a << ": "
+                                                 << got[3 * i + a] << " vs " << want;
+            }
+        }
+        EXPECT_EQ(bad, 0u);
+        swarm->step(600);  // 6 s at k = 3: exp(-18) of the first deviation is left
+        swarm->read(Attribute::Velocity, got.data(), n);
+        for (uint32_t i = 0; i < n; ++i) EXPECT_NEAR(norm(at(got, i)), s0, 1e-4) << "agent " << i;
+    }
+}
+
+// A rate outside [0, 1000] or a negative preferred speed is refused by name.
+TEST(ForceModel, SpeedRelaxationRefusesBadValues) {
+    auto swarm = make_swarm(10, -1.0f, 1.0f, 0.5f);
+    for (auto [k, s0] : {std::pair{-1.0f, 0.0f}, {2000.0f, 0.0f}, {NAN, 0.0f}, {1.0f, -0.5f}, {1.0f, INFINITY}}) {
+        ForceModelConfig c;
+        c.speed_relaxation = k;
+        c.preferred_speed = s0;
+        try {
+            ForceModel m(*swarm, c);
+            ADD_FAILURE() << k << ", " << s0 << " accepted";
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find(std::isfinite(k) && k >= 0 && k <= 1000 ? "preferred_speed"
+                                                                                         : "speed_relaxation"),
+                      std::string::npos) << e.what();
+        }
+    }
+}
+
 TEST(ForceModelProperties, SameSeedSameRun) {
     std::vector<std::vector<float>> runs;
     for (int r = 0; r < 2; ++r) {
@@ -1043,6 +1104,32 @@ TEST_F(ForceCApi, TargetsTurnWithThePathUnlessOrientIsOff) {
     d = swcl_force_model_desc_default();
     d.struct_size = offsetof(swcl_force_model_desc, path_orient) - 4;
     EXPECT_EQ(swcl_swarm_force_set_model(swarm, &d), SWCL_ERROR_INVALID_ARGUMENT);
+}
+
+// The speed relaxation through the C descriptor: off by default and for a
+// descriptor that ends before it (whatever lies beyond); a bad rate refused
+// by name; with every force off the speeds settle at preferred_speed.
+TEST_F(ForceCApi, SpeedRelaxationThroughTheDescriptor) {
+    swcl_force_model_desc d = swcl_force_model_desc_default();
+    EXPECT_EQ(d.speed_relaxation, 0.0f);
+    EXPECT_EQ(d.preferred_speed, 0.0f);
+    d.w_rep = d.w_ali = d.w_att = d.w_dis = d.eta = 0.0f;  // F = 0: no keyframes, no noise
+    d.cruise_speed = 0.0f;
+    d.speed_relaxation = -1.0f;
+    EXPECT_EQ(swcl_swarm_force_set_model(swarm, &d), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("speed_relaxation"), std::string::npos) << swcl_last_error();
+    swcl_force_model_desc old = d;  // the previous version: ends at mesh_cell
+    old.struct_size = uint32_t(offsetof(swcl_force_model_desc, mesh_cell) + sizeof(old.mesh_cell));
+    ASSERT_EQ(swcl_swarm_force_set_model(swarm, &old), SWCL_OK) << swcl_last_error();
+    d.speed_relaxation = 5.0f;
+    d.preferred_speed = 0.3f;
+    ASSERT_EQ(swcl_swarm_force_set_model(swarm, &d), SWCL_OK) << swcl_last_error();
+    const auto start = test::random_points(200, -0.6f, 0.6f, 43);
+    ASSERT_EQ(swcl_swarm_write(swarm, SWCL_ATTRIBUTE_VELOCITY, start.data(), 200), SWCL_OK) << swcl_last_error();
+    ASSERT_EQ(swcl_swarm_step(swarm, 400), SWCL_OK) << swcl_last_error();
+    std::vector<float> v(3 * 200);
+    ASSERT_EQ(swcl_swarm_read(swarm, SWCL_ATTRIBUTE_VELOCITY, v.data(), 200), SWCL_OK) << swcl_last_error();
+    for (size_t i = 0; i < 200; ++i) EXPECT_NEAR(norm(at(v, i)), 0.3, 1e-3) << "agent " << i;
 }
 
 TEST_F(ForceCApi, BadInputChangesNothing) {

@@ -93,6 +93,8 @@ swcl_force_model_desc swcl_force_model_desc_default(void) {
     d.alpha = c.alpha;
     d.max_speed = c.max_speed;
     d.cruise_speed = c.cruise_speed;
+    d.speed_relaxation = c.speed_relaxation;
+    d.preferred_speed = c.preferred_speed;
     d.min_distance = c.min_distance;
     d.min_spacing = c.min_spacing;
     d.assignment = SWCL_ASSIGN_NEAREST;
@@ -156,6 +158,11 @@ swcl_status swcl_swarm_force_set_model(swcl_swarm swarm, const swcl_force_model_
                 c.mesh_obstacles.push_back(
                     obstacle_mesh(d.mesh_obstacles[i], "force model mesh_obstacles[" + std::to_string(i) + "]"));
             c.mesh_cell = d.mesh_cell;
+        }
+        // The speed relaxation came after the mesh obstacles (older callers: off).
+        if (d.struct_size >= offsetof(swcl_force_model_desc, preferred_speed) + sizeof(d.preferred_speed)) {
+            c.speed_relaxation = d.speed_relaxation;
+            c.preferred_speed = d.preferred_speed;
         }
         install(s, std::move(c));
     });

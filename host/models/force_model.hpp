@@ -61,6 +61,13 @@ struct ForceModelConfig {
     // m/s: self-propulsion, slower insects are sped up to it (not in the
     // paper; without it aligned insects settle: docs/force-model.md).
     float cruise_speed = 0.375f;
+    // 1/s: before the Newton step each insect's speed relaxes towards
+    // preferred_speed, exactly over dt: s <- s0 + (s - s0) exp(-k dt), its
+    // heading kept (not in the paper: a speed regulation that data-driven
+    // fits can shape the speed distribution with; with s0 = 0 a linear drag;
+    // docs/force-model.md).  0: off (the paper's).
+    float speed_relaxation = 0.0f;
+    float preferred_speed = 0.0f;  // m/s, s0 of the relaxation
     // Eq. 4: scale = rho 0.32 m, gain = eta / rho = 0.125 / 0.32 (Table 1):
     // the noise module's gain multiplies the curl in noise coordinates, Eq. 4
     // differentiates eta P(r / rho) in metres (docs/force-model.md).

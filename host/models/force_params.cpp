@@ -54,6 +54,11 @@ const ParamTable& force_param_table() {
         t.add("cruise_speed", T::Float, &C::cruise_speed).non_negative().in("m/s")
             .says("slower insects are sped up to it (<= max_speed); 0: off (the paper's)")
             .cites("ours (docs/force-model.md)").on_device();
+        t.add("speed_relaxation", T::Float, &C::speed_relaxation).range(0, 1000).in("1/s")
+            .says("rate at which the speed relaxes to preferred_speed before each Newton step; 0: off (the paper's)")
+            .cites("ours (docs/force-model.md)").on_device();
+        t.add("preferred_speed", T::Float, &C::preferred_speed).non_negative().in("m/s")
+            .says("speed the relaxation tends to; 0: a linear drag").cites("ours (docs/force-model.md)").on_device();
         // The internal noise (Eq. 4: scale = rho, gain = eta / rho by
         // default); a scenario's "noise" object starts from the noise
         // module's defaults, the legacy keys from these (force_section.cpp).

@@ -768,7 +768,8 @@ SWCL_API swcl_status swcl_swarm_start_from_tracks(swcl_swarm swarm, const uint32
  *   F_internal = three-zone interaction (Eq. 2-3) + curl noise (Eq. 4)
  *   F_external = shape-constrained force (Eq. 5) + distance force (Eq. 6-7)
  * towards target points sampled on the current keyframe's mesh (one per
- * agent), then u += F dt with |u| <= max_speed (and >= cruise_speed), the
+ * agent), then (with speed_relaxation) the speed relaxed towards
+ * preferred_speed, u += F dt with |u| <= max_speed (and >= cruise_speed), the
  * obstacle ramp (Eq. 8-9), r += u dt, and optional MDE.  The shape's frame
  * can follow a B-spline path.  Defaults are Table 1's values;
  * docs/force-model.md lists where the paper was vague and what was chosen. */
@@ -845,6 +846,13 @@ typedef struct swcl_force_model_desc {
                                       obstacle_range / 4.  At most 2^24 cells over the
                                       meshes' bounds grown by obstacle_range + 2 cells,
                                       else SWCL_ERROR_INVALID_ARGUMENT */
+    /* Added with the speed relaxation (a struct_size that ends before them
+     * reads as off; not in the paper, docs/force-model.md): */
+    float speed_relaxation;        /* 1/s, in [0, 1000]: before each Newton step the
+                                      speed s relaxes towards preferred_speed s0,
+                                      s <- s0 + (s - s0) exp(-speed_relaxation dt),
+                                      the heading kept; 0: off (default) */
+    float preferred_speed;         /* m/s, s0 (default 0: with a rate, a linear drag) */
 } swcl_force_model_desc;
 
 SWCL_API swcl_force_model_desc swcl_force_model_desc_default(void);
