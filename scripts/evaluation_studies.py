@@ -229,7 +229,8 @@ def main(argv=None) -> int:
                 order.append(name)
         for name in order:
             extra, nested = {}, [n for n in NESTED.get(name, ()) if n in fitted]
-            refit_of = None
+            refit_of, beside = None, []  # beside: start points that are no contained model's fit
+
             if name in REFITS_AFRESH:
                 refit_of = max((n for n in fitted if n.startswith("force+")),
                                key=lambda n: np.mean([x[2]["train"] for x in fitted[n]]))
@@ -244,9 +245,7 @@ def main(argv=None) -> int:
                     contained = results["variants"].get(COARSE, {}).get("seed_best")
                     if not contained or len(contained) < args.seeds:
                         raise SystemExit(f"{RELAXED_FROM!r} starts from the recorded {COARSE!r} fits: fit it first")
-                    nested = [COARSE]
-                    fitted[COARSE] = [({"scenario": with_best(scenario, dict(b, **RELAX_START))},)
-                                      for b in contained]
+                    beside = [dict(b, **RELAX_START) for b in contained]
                 if name in (COARSE, RESEEDED, MANY, RELAXED, RELAXED_FROM):
                     extra["bins"] = args.fit_bins
                 if name == MANY:
@@ -265,7 +264,7 @@ def main(argv=None) -> int:
             t = time.perf_counter()
             runs = []
             for k, seed in enumerate(range(args.seed, args.seed + args.seeds)):
-                starts = [start_from(fitted[n][k][0]["scenario"], ranges) for n in nested]
+                starts = [start_from(fitted[n][k][0]["scenario"], ranges) for n in nested] + beside[k:k + 1]
                 r, start_score = fit_from_best_start(scenario, real["train"], ranges, starts, args, seed, ctx, extra)
                 how = runs_scored(args, extra)
                 # Pooled: the terms of the pooled runs; else of one run.
@@ -601,13 +600,12 @@ def ranked(claim: str, scores: dict) -> dict:
 
 
 def nesting(results) -> dict:
-    """Per nested variant (not the physical-scale refits, whose objective
-    differs, nor RELAXED_FROM, which starts beside the contained fit, not on
-    it): in how many optimiser seeds its training score is at least that of
-    each model it contains, from the recorded scores."""
+    """Per nested variant (not the physical-scale refit, whose objective
+    differs): in how many optimiser seeds its training score is at least
+    that of each model it contains, from the recorded scores."""
     out = {}
     for name, v in results["variants"].items():
-        if name in (SCALED, SPACED, RELAXED_FROM):
+        if name in (SCALED, SPACED):
             continue
         for inner in v.get("nested_in", []):
             if inner in results["variants"]:
