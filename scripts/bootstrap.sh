@@ -5,6 +5,8 @@ set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config git
+  # scripts/test.sh: the Python package's build reuses build/'s objects
+  ccache
   ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd clinfo
   libglm-dev libgtest-dev libnanoflann-dev libnoise-dev nlohmann-json3-dev
   libtinyobjloader-dev zlib1g-dev libcli11-dev libopenvdb-dev libboost-dev python3-scikit-fmm
@@ -14,6 +16,9 @@ packages=(
   # compiled for NVIDIA by clang + libclc (ctest nvptx.compile; ptxas comes
   # with the CUDA toolkit, not from here: without it that test is skipped)
   oclgrind clang-15 libclc-15 libclc-15-dev
+  # the sanitized suite (scripts/asan.sh) is built with clang-15; llvm-15 has
+  # the llvm-symbolizer its runtime names functions and lines with
+  llvm-15
 )
 
 missing=()

@@ -4,6 +4,13 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/scripts/bootstrap.sh"
+# ccache (bootstrap.sh): the Python package's build below compiles the library
+# sources of build/ again with the same flags, and takes them from the cache
+# (CMake reads these variables when a build folder is first configured).
+if command -v ccache >/dev/null; then
+  export CMAKE_C_COMPILER_LAUNCHER="${CMAKE_C_COMPILER_LAUNCHER:-ccache}"
+  export CMAKE_CXX_COMPILER_LAUNCHER="${CMAKE_CXX_COMPILER_LAUNCHER:-ccache}"
+fi
 "$root/scripts/build.sh"
 cd "${SWARMCL_BUILD_DIR:-$root/build}"
 ctest --output-on-failure -j "$(nproc)"

@@ -10,6 +10,7 @@
 #include <thread>
 #include <vector>
 
+#include "c_enum_callers.h"
 #include "capi_fixture.hpp"
 #include "swarmcl/swarmcl.h"
 #include "test_support.hpp"
@@ -179,6 +180,10 @@ TEST_F(CApi, NullPointersAndBadValues) {
     EXPECT_EQ(swcl_swarm_write(swarm, SWCL_ATTRIBUTE_POSITION, nullptr, 10), SWCL_ERROR_INVALID_ARGUMENT);
     EXPECT_EQ(swcl_swarm_read(swarm, SWCL_ATTRIBUTE_POSITION, nullptr, 10), SWCL_ERROR_INVALID_ARGUMENT);
     EXPECT_EQ(swcl_swarm_write(swarm, swcl_attribute(42), p.data(), 10), SWCL_ERROR_INVALID_ARGUMENT);
+    // Values only a C caller can pass (outside the enumerators' range in C++).
+    EXPECT_EQ(c_swarm_read_attribute(swarm, -1, p.data(), 10), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("unknown attribute 4294967295"), std::string::npos);
+    EXPECT_EQ(c_swarm_read_attribute(swarm, INT32_MIN, p.data(), 10), SWCL_ERROR_INVALID_ARGUMENT);
     EXPECT_EQ(swcl_swarm_agent_count(swarm, nullptr), SWCL_ERROR_INVALID_ARGUMENT);
     EXPECT_EQ(swcl_swarm_neighbor_count(swarm, 0.0f, c.data(), 10), SWCL_ERROR_INVALID_ARGUMENT);
     EXPECT_EQ(swcl_swarm_neighbor_count(swarm, -1.0f, c.data(), 10), SWCL_ERROR_INVALID_ARGUMENT);

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "c_enum_callers.h"
 #include "data/tracks.hpp"
 #include "eval/metric_table.hpp"
 #include "eval/metrics.hpp"
@@ -78,7 +79,10 @@ TEST(EvalCapi, TheHeadersMetricEnumIsTheMetricTable) {
     want.emplace_back("SWCL_METRIC_MAX_ENUM", "0x7FFFFFFF");
     EXPECT_EQ(found, want);
     EXPECT_EQ(swcl_metric_name(SWCL_METRIC_COUNT), nullptr);
-    EXPECT_EQ(swcl_metric_name(swcl_metric(-1)), nullptr);
+    EXPECT_EQ(swcl_metric_name(SWCL_METRIC_MAX_ENUM), nullptr);
+    // -1 is a value only a C caller can pass (C++ cannot without undefined behaviour).
+    EXPECT_EQ(c_metric_name_of(-1), nullptr);
+    EXPECT_EQ(c_metric_name_of(INT32_MIN), nullptr);
     EXPECT_STREQ(swarmcl::metric_name(swarmcl::Metric(99)), "unknown");
 }
 
@@ -422,6 +426,9 @@ TEST(EvalCapi, BadInputGetsAClearErrorAndNoHandle) {
     double q[10];
     EXPECT_EQ(swcl_metrics_pdf(m, SWCL_METRIC_SPEED, nullptr, q, 10), SWCL_ERROR_INVALID_ARGUMENT);  // 50 bins
     EXPECT_EQ(swcl_metrics_pdf(m, swcl_metric(9), nullptr, q, 50), SWCL_ERROR_INVALID_ARGUMENT);
+    double q50[50];
+    EXPECT_EQ(c_metrics_pdf_of(m, -1, nullptr, q50, 50), SWCL_ERROR_INVALID_ARGUMENT);  // only C can pass -1
+    EXPECT_NE(std::string(swcl_last_error()).find("not a swcl_metric"), std::string::npos) << swcl_last_error();
     swcl_pdf_options o = swcl_pdf_options_default();
     o.half_width = -1;
     double e[SWCL_METRIC_COUNT];

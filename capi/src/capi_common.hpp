@@ -2,9 +2,12 @@
 // tables, and guarded() which turns any C++ exception into a status so none
 // crosses the C boundary.
 #pragma once
+#include <cstdint>
+#include <cstring>
 #include <mutex>
 #include <new>
 #include <string>
+#include <type_traits>
 
 #include "core/error.hpp"
 #include "core/handle_registry.hpp"
@@ -29,6 +32,18 @@ SWCL_SAME_STATUS(SWCL_ERROR_INTERNAL, Internal);
 #undef SWCL_SAME_STATUS
 
 namespace swarmcl::capi {
+
+// The bits of an enum argument.  C lets a caller pass any value of an enum's
+// integer type (C11 6.7.2.2), e.g. (swcl_metric)-1; in C++ loading a value
+// outside the enumerators' range is undefined (clang's -fsanitize=enum
+// reports it), so entry points that range-check an enum read its bits.
+template <typename E>
+uint32_t enum_bits(const E& value) {
+    static_assert(std::is_enum_v<E> && sizeof(E) == sizeof(uint32_t), "a 32-bit C enum");
+    uint32_t bits;
+    std::memcpy(&bits, &value, sizeof bits);
+    return bits;
+}
 
 void set_last_error(const std::string& message);
 void clear_last_error();

@@ -98,9 +98,11 @@ TrackLoadOptions options_or_default(const swcl_dataset_desc* desc) {
     return track_options(*desc);
 }
 
-Metric metric_from(swcl_metric m) {
-    require(int(m) >= 0 && int(m) < SWCL_METRIC_COUNT, "metric is not a swcl_metric");
-    return Metric(uint32_t(m));
+// By reference: a by-value copy would load the enum before the range check.
+Metric metric_from(const swcl_metric& m) {
+    const uint32_t k = enum_bits(m);
+    require(k < uint32_t(SWCL_METRIC_COUNT), "metric is not a swcl_metric");
+    return Metric(k);
 }
 
 PdfOptions pdf_options_from(const swcl_pdf_options* o) {
@@ -126,7 +128,8 @@ static_assert(SWCL_METRIC_COUNT == int(kMetricCount), "swcl_metric and swarmcl::
 extern "C" {
 
 const char* swcl_metric_name(swcl_metric metric) {
-    return int(metric) >= 0 && int(metric) < SWCL_METRIC_COUNT ? metric_info(Metric(uint32_t(metric))).name : nullptr;
+    const uint32_t k = enum_bits(metric);
+    return k < uint32_t(SWCL_METRIC_COUNT) ? metric_info(Metric(k)).name : nullptr;
 }
 
 swcl_status swcl_metrics_from_csv(const char* path, const swcl_dataset_desc* tracks, double window_from,
@@ -309,7 +312,8 @@ swcl_status swcl_metrics_get_info(swcl_metrics metrics, swcl_metric metric, swcl
 }
 
 const char* swcl_metric_unit(swcl_metric metric) {
-    return int(metric) >= 0 && int(metric) < SWCL_METRIC_COUNT ? metric_info(Metric(uint32_t(metric))).unit : nullptr;
+    const uint32_t k = enum_bits(metric);
+    return k < uint32_t(SWCL_METRIC_COUNT) ? metric_info(Metric(k)).unit : nullptr;
 }
 
 swcl_status swcl_metrics_wasserstein(swcl_metrics real, swcl_metrics sim, swcl_metric metric, double* out_distance) {

@@ -15,13 +15,16 @@ using namespace swarmcl::capi;
 
 namespace {
 
-Attribute attribute_of(swcl_attribute a) {
+// By reference: a by-value copy would load the enum before the range check.
+Attribute attribute_of(const swcl_attribute& a) {
+    const uint32_t bits = enum_bits(a);
+    if (bits > uint32_t(SWCL_ATTRIBUTE_MAX_ENUM)) fail(Status::InvalidArgument, "unknown attribute " + std::to_string(bits));
     switch (a) {
         case SWCL_ATTRIBUTE_POSITION: return Attribute::Position;
         case SWCL_ATTRIBUTE_VELOCITY: return Attribute::Velocity;
         case SWCL_ATTRIBUTE_MAX_ENUM: break;  // not an attribute
     }
-    fail(Status::InvalidArgument, "unknown attribute " + std::to_string(int(a)));
+    fail(Status::InvalidArgument, "unknown attribute " + std::to_string(bits));
 }
 
 }  // namespace
