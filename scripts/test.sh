@@ -29,7 +29,14 @@ if "$venv/bin/python" -c "import urllib.request as u; u.urlopen('https://downloa
     >/dev/null 2>&1; then
   torch_index=(--extra-index-url https://download.pytorch.org/whl/cpu)
 fi
-"$venv/bin/python" -m pip install -q --disable-pip-version-check "${torch_index[@]}" "$root[test,fit,mpi,rl]"
+# The package's CMake build compiles the library's sources again: with the
+# compiler build/ used (ccache hashes its name: build/ has /usr/bin/c++ and
+# scikit-build-core's Ninja build took /usr/bin/g++, so ccache missed) they
+# come from ccache.
+build_cache="${SWARMCL_BUILD_DIR:-$root/build}/CMakeCache.txt"
+CC="$(sed -n 's/^CMAKE_C_COMPILER:FILEPATH=//p' "$build_cache")" \
+CXX="$(sed -n 's/^CMAKE_CXX_COMPILER:FILEPATH=//p' "$build_cache")" \
+  "$venv/bin/python" -m pip install -q --disable-pip-version-check "${torch_index[@]}" "$root[test,fit,mpi,rl]"
 cd "$root"
 # The fit tests run `mpirun -np 2` (Open MPI from bootstrap.sh) with python -m
 # swarmcl fit and with the swarmcl program; the rl tests need swarmcl[rl].

@@ -371,6 +371,15 @@ TEST(ForceModel, WideKernelMatchesTheScalarOne) {
     expect_wide_matches_scalar({{1003u, 0u}, {1003u, 64u}});
 }
 
+// Small, for the Oclgrind check (scripts/oclgrind_check.py: the case above
+// took it 223 s on the 2-core AMD EPYC): 133 agents, not a multiple of 16,
+// each seeing more than the sample's 64.
+TEST(ForceModel, SmallWideKernelMatchesTheScalarOne) {
+    if (!shared_context()->device().cpu_profile)
+        GTEST_SKIP() << "the wide kernel runs on CPU devices only (this device has the GPU profile)";
+    expect_wide_matches_scalar({{133u, 0u}, {133u, 64u}});
+}
+
 // Apart from the case above so that Oclgrind runs that one in minutes
 // (scripts/oclgrind_check.py): 2101 agents with exact zones is above
 // FM_REP_WALK_MAX_AGENTS, the repulsion kernel's sums, as with a sample.
@@ -804,9 +813,9 @@ TEST(ForcePathFrame, OrientOffIsTheTranslationOnly) {
 // fine grid built for the forces before the Newton step moved the agents
 // (force_model_mde's slack); without it, one built after.  Runs with the
 // wide force kernels give bitwise the scalar ones' positions.
-TEST(ForceModel, MinDistanceMatchesItsReference) {
-    const uint32_t n = 600;
-    auto pos = test::random_points(n, -0.4f, 0.4f, 31);
+// n agents in a cube of half-edge `half` inside a domain of half-edge `domain`.
+static void expect_mde_matches_its_reference(uint32_t n, float half, float domain) {
+    auto pos = test::random_points(n, -half, half, 31);
     const auto vel = test::random_points(n, -0.3f, 0.3f, 32);  // below max_speed: no clamp
     for (int k = 0; k < 3; ++k) pos[3 + k] = pos[k];         // agents 0 and 1 coincide
     const float d_min = 0.08f;
@@ -814,7 +823,7 @@ TEST(ForceModel, MinDistanceMatchesItsReference) {
     for (uint32_t terms : {uint32_t(kForceRepulsion), 0u}) {
         for (uint32_t width : {1u, 16u}) {
             test::ScopedKernelWidth scoped_width(width);
-            auto swarm = make_swarm(n, -3.0f, 3.0f, 0.5f, 3);
+            auto swarm = make_swarm(n, -domain, domain, 0.5f, 3);
             swarm->write(Attribute::Position, pos.data(), n);
             swarm->write(Attribute::Velocity, vel.data(), n);
             ForceModelConfig c;
@@ -867,6 +876,13 @@ TEST(ForceModel, MinDistanceMatchesItsReference) {
     EXPECT_EQ(by_width[0], by_width[1]) << "wide and scalar MDE, grid of the forces";
     EXPECT_EQ(by_width[2], by_width[3]) << "wide and scalar MDE, grid after the Newton step";
 }
+
+TEST(ForceModel, MinDistanceMatchesItsReference) { expect_mde_matches_its_reference(600, 0.4f, 3.0f); }
+
+// The same density in a small domain, for the Oclgrind check
+// (scripts/oclgrind_check.py): the case above took it 288 s on the 2-core
+// AMD EPYC, most of it in the fine grid of 75^3 cells (d_min over 6 m).
+TEST(ForceModel, SmallMinDistanceMatchesItsReference) { expect_mde_matches_its_reference(150, 0.25f, 1.0f); }
 
 // The speed relaxation (ours, docs/force-model.md): with F = 0 exactly the
 // Newton step only relaxes each speed towards preferred_speed, heading kept,
