@@ -31,7 +31,7 @@ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Sanitize "${compiler[@]}" "${lau
   -DCMAKE_C_FLAGS="$san" -DCMAKE_CXX_FLAGS="$san" \
   -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
   -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=address,undefined" \
-  -DSWARMCL_BUILD_EXAMPLES=OFF -DSWARMCL_BUILD_BENCH=OFF >/dev/null
+  -DSWARMCL_BUILD_EXAMPLES=OFF -DSWARMCL_BUILD_BENCH=OFF -DSWARMCL_LIBRARY_PCH=ON >/dev/null
 cmake --build "$build" -j"${JOBS:-$(nproc)}"
 # detect_leaks: LeakSanitizer at exit; suppressions only for the OpenCL runtime.
 # new_delete_type_mismatch etc. stay on.  halt_on_error so a report fails the test.

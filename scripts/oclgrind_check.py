@@ -116,7 +116,7 @@ CASES = [
     ("test_energy_model", "EnergyModel.EveryTermMatchesTheHostReference", CPU),
     # The policy model and the RL environment.
     ("test_policy", "PolicyStep.SmallNetAppliesTheActionsWithEquationTwoAtWidths1And16", GPU),
-    ("test_rl_env", "RlEnv.RagMatchesReference", GPU),
+    ("test_rl_env", "RlEnv.SmallRagMatchesReference", GPU),
     # The evaluation metrics (the CPU profile's histogram kernel too).
     ("test_swarm_metrics", "SwarmMetrics.NonFinitePositionsAreCountedAndRefuseAPdf", GPU),
     ("test_swarm_metrics", "SwarmMetrics.NonFinitePositionsAreCountedAndRefuseAPdf", CPU),
@@ -144,14 +144,14 @@ CENSUS_EXTRA = [
 # other jobs): only to start the longest first.
 EXPECTED_SECONDS = {
     # The first three: 2026-11-29, 2-core AMD EPYC without AVX-512, two at a time.
-    "test_force_worlds.ForceWorlds.SmallWorldsWithObstaclesAreBitwiseTheSwarmsAlone": 124,
+    "test_force_worlds.ForceWorlds.SmallWorldsWithObstaclesAreBitwiseTheSwarmsAlone": 49,
     "test_force_worlds.ForceWorlds.SmallWorldsAreBitwiseTheSwarmsAlone": 40,
     "test_path_worlds.PathWorlds.SmallWorldsAreBitwiseTheSwarmsAlone": 25,
     "test_worlds.Worlds.SmallWorldsAreBitwiseTheSwarmsAlone": 20,
     "test_force_model.ForceModel.SmallWideKernelMatchesTheScalarOne": 40,
     "test_force_model.ForceModel.SmallMinDistanceMatchesItsReference": 10,
     "test_path_chasing.PathChasing.SmallGridsMovingTheTargetMatchesAFreshBuildAtWidths1And16": 49,
-    "test_rl_env.RlEnv.RagMatchesReference": 48,
+    "test_rl_env.RlEnv.SmallRagMatchesReference": 10,
     "test_energy_model.EnergyModel.EveryTermMatchesTheHostReference": 28,
     "test_swarm_metrics.SwarmMetrics.NearestNeighbourMatchesBruteForce": 19,
     "test_worlds.Worlds.SmallWorldsMetricsAreBitwiseThoseOfTheSwarmAlone": 44,

@@ -313,11 +313,14 @@ TEST(RlEnv, WorldsDoNotSeeEachOther) {
     for (size_t k = 0; k < 54 * 20; ++k) EXPECT_EQ(before[k], after[k]) << k;
 }
 
-TEST(RlEnv, RagMatchesReference) {
+// RAG's actions against the host reference, both leader couplings, for
+// `steps` steps of 2 worlds of `agents` followers.
+void expect_rag_matches_reference(uint32_t agents, int steps) {
+    const size_t slots = 2 * size_t(agents);
     for (const bool pd : {true, false}) {
         SCOPED_TRACE(pd ? "PD leader coupling" : "leader in the zones");
         auto ctx = shared_context();
-        RlEnvConfig c = small_config(2, 60);
+        RlEnvConfig c = small_config(2, agents);
         c.spawn_radius = 12.0f;  // all three zones populated
         c.rag_leader_pd = pd;
         c.rag_leader_kp = 0.3f;  // not the defaults
@@ -332,11 +335,11 @@ TEST(RlEnv, RagMatchesReference) {
             st.pos[2][2] += 25.0f;
             env.write_state(st.pos[0].data(), st.vel[0].data(), st.lpos[0].data(), st.lvel[0].data());
         }
-        std::vector<float> a(4 * 120);
-        for (int step = 0; step < 3; ++step) {
+        std::vector<float> a(4 * slots);
+        for (int step = 0; step < steps; ++step) {
             env.rag_actions(a.data(), a.size());
             const State st = read_state(env);
-            for (size_t s = 0; s < 120; ++s) {
+            for (size_t s = 0; s < slots; ++s) {
                 const auto r = rag(st, c, s);
                 for (int k = 0; k < 4; ++k) EXPECT_NEAR(a[4 * s + k], r[k], 2e-5f) << "slot " << s << " k " << k;
                 EXPECT_LE(std::fabs(a[4 * s]), c.du_max + 1e-7f);
@@ -349,6 +352,11 @@ TEST(RlEnv, RagMatchesReference) {
         }
     }
 }
+
+TEST(RlEnv, RagMatchesReference) { expect_rag_matches_reference(60, 3); }
+// Small, for the Oclgrind check (the observations' all-pairs loop,
+// rl_observe, was 94% of its instructions at 60 followers: about 100 s).
+TEST(RlEnv, SmallRagMatchesReference) { expect_rag_matches_reference(20, 2); }
 
 // The rule-based baseline: every follower acts by RAG; the swarm follows the
 // leader round the Quadrilateral with the mean distance to the leader bounded.
