@@ -197,6 +197,57 @@ TEST_F(CApi, NullPointersAndBadValues) {
     expect_usable(10);
 }
 
+// Enum fields of descriptors as only a C caller can fill them (-1,
+// INT32_MIN): each refused naming the field and the value, as the scenario
+// and the swarm are left as they were.
+TEST_F(CApi, OutOfRangeEnumFieldsFromCAreRefusedNamingTheValue) {
+    const auto refused = [&](swcl_status st, const std::string& says) {
+        EXPECT_EQ(st, SWCL_ERROR_INVALID_ARGUMENT) << says;
+        EXPECT_NE(std::string(swcl_last_error()).find(says), std::string::npos) << swcl_last_error();
+    };
+    for (const int bad : {-1, INT32_MIN}) {
+        SCOPED_TRACE(bad);
+        const std::string value = std::to_string(bad);
+        swcl_field_model_desc field = swcl_field_model_desc_default();
+        c_noise_desc_type(&field.noise, bad);
+        refused(swcl_swarm_field_set_model(swarm, &field), "noise type " + value + " is not one of");
+        field = swcl_field_model_desc_default();
+        swcl_obstacle wall{};
+        c_obstacle_type(&wall, bad);
+        field.noise.boundaries = &wall;
+        field.noise.boundary_count = 1;
+        refused(swcl_swarm_field_set_model(swarm, &field), "noise boundaries[0]: type " + value);
+
+        swcl_force_model_desc force = swcl_force_model_desc_default();
+        c_force_assignment(&force, bad);
+        refused(swcl_swarm_force_set_model(swarm, &force), "force model assignment (" + value + ")");
+        force = swcl_force_model_desc_default();
+        force.obstacles = &wall;
+        force.obstacle_count = 1;
+        refused(swcl_swarm_force_set_model(swarm, &force), "force model obstacles[0]: type " + value);
+        force = swcl_force_model_desc_default();
+        force.mesh_obstacles = &wall;
+        force.mesh_obstacle_count = 1;
+        refused(swcl_swarm_force_set_model(swarm, &force), "unknown obstacle type " + value);
+
+        swcl_path_model_desc path = swcl_path_model_desc_default();
+        path.obstacles = &wall;
+        path.obstacle_count = 1;
+        refused(swcl_swarm_path_set_model(swarm, &path), "obstacles[0]: unknown obstacle type " + value);
+        path = swcl_path_model_desc_default();
+        swcl_goal goal{};
+        c_goal_type(&goal, bad);
+        path.goals = &goal;
+        path.goal_count = 1;
+        refused(swcl_swarm_path_set_model(swarm, &path), "desc->goals[0]: unknown goal type " + value);
+
+        swcl_policy_model_desc policy = swcl_policy_model_desc_default();
+        c_policy_leader_mode(&policy, bad);
+        refused(swcl_swarm_policy_set_model(swarm, &policy), "desc->leader_mode: unknown mode " + value);
+    }
+    expect_usable(10);
+}
+
 TEST_F(CApi, BadSwarmDescriptorsNameTheField) {
     struct Case { void (*edit)(swcl_swarm_desc&); const char* word; };
     const Case cases[] = {

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "c_enum_callers.h"
 #include "data/tracks.hpp"
 #include "swarmcl/swarmcl.h"
 
@@ -173,6 +174,10 @@ TEST_F(EnergyCapi, ModelOnASwarmWithStimuliAndKeypoints) {
     swcl_stimulus bad_st = st[1];
     bad_st.d_danger = -1.0f;
     EXPECT_EQ(swcl_swarm_energy_set_stimuli(s, &bad_st, 1), SWCL_ERROR_INVALID_ARGUMENT);
+    bad_st = st[1];
+    c_stimulus_kind(&bad_st, -1);  // only C can pass -1
+    EXPECT_EQ(swcl_swarm_energy_set_stimuli(s, &bad_st, 1), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("stimuli[0].kind (-1)"), std::string::npos) << swcl_last_error();
     EXPECT_EQ(swcl_swarm_energy_set_keypoints(s, kp, 1, 1), SWCL_ERROR_INVALID_ARGUMENT);
     ASSERT_EQ(swcl_swarm_energy_set_keypoints(s, kp, 3, 0), SWCL_OK);
     ASSERT_EQ(swcl_swarm_step(s, 5), SWCL_OK) << swcl_last_error();

@@ -293,6 +293,17 @@ TEST(EvalCapi, MedianMadWassersteinAndRobustPdfs) {
     bad.standardise = swcl_standardise(5);
     EXPECT_EQ(swcl_metrics_pdf(a, SWCL_METRIC_SPEED, &bad, q.data(), q.size()), SWCL_ERROR_INVALID_ARGUMENT);
     EXPECT_NE(std::string(swcl_last_error()).find("standardise"), std::string::npos) << swcl_last_error();
+    c_pdf_standardise(&bad, INT32_MIN);  // only C can pass a negative value
+    EXPECT_EQ(swcl_metrics_pdf(a, SWCL_METRIC_SPEED, &bad, q.data(), q.size()), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("standardise (-2147483648)"), std::string::npos)
+        << swcl_last_error();
+    swcl_dataset_desc tracks = swcl_dataset_desc_default();
+    c_dataset_time_format(&tracks, -1);
+    size_t segments = 0, samples = 0;
+    EXPECT_EQ(swcl_tracks_read_csv("no-such-file.csv", &tracks, 0.0, 0.0, nullptr, nullptr, 0, nullptr, nullptr, 0,
+                                   &segments, &samples, nullptr),
+              SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("time_format (-1)"), std::string::npos) << swcl_last_error();
     swcl_metrics one{};
     ASSERT_EQ(swcl_metrics_from_frames(slow.data(), frames, 1, 0.05, &one), SWCL_OK);
     EXPECT_EQ(swcl_metrics_wasserstein(a, one, SWCL_METRIC_NEAREST_DISTANCE, &w), SWCL_ERROR_INVALID_ARGUMENT);

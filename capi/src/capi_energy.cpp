@@ -42,10 +42,12 @@ std::vector<Stimulus> stimuli_from(const swcl_stimulus* s, uint32_t count) {
     require(s != nullptr || count == 0, "stimuli is NULL but the count is " + std::to_string(count));
     std::vector<Stimulus> out;
     for (uint32_t i = 0; i < count; ++i) {
-        require(s[i].kind == SWCL_STIMULUS_ATTRACT || s[i].kind == SWCL_STIMULUS_STARTLE,
-                "stimuli[" + std::to_string(i) + "].kind is not a swcl_stimulus_kind");
+        const uint32_t kind = enum_bits(s[i].kind);  // a C caller's value may be any int
+        require(kind == SWCL_STIMULUS_ATTRACT || kind == SWCL_STIMULUS_STARTLE,
+                "stimuli[" + std::to_string(i) + "].kind (" + std::to_string(int32_t(kind)) +
+                    ") is not a swcl_stimulus_kind");
         Stimulus st;
-        st.kind = s[i].kind == SWCL_STIMULUS_ATTRACT ? Stimulus::Kind::Attract : Stimulus::Kind::Startle;
+        st.kind = kind == SWCL_STIMULUS_ATTRACT ? Stimulus::Kind::Attract : Stimulus::Kind::Startle;
         for (int a = 0; a < 3; ++a) {
             st.position[a] = s[i].position[a];
             st.velocity[a] = s[i].velocity[a];
@@ -87,9 +89,10 @@ TrackLoadOptions track_options(const swcl_dataset_desc& d) {
     if (d.column_x) o.columns.x = d.column_x;
     if (d.column_y) o.columns.y = d.column_y;
     if (d.column_z) o.columns.z = d.column_z;
-    require(d.time_format >= SWCL_TIME_AUTO && d.time_format <= SWCL_TIME_DATETIME,
-            "desc->time_format is not a swcl_time_format");
-    o.time_format = TimeFormat(int(d.time_format));
+    const uint32_t time_format = enum_bits(d.time_format);
+    require(time_format <= SWCL_TIME_DATETIME,
+            "desc->time_format (" + std::to_string(int32_t(time_format)) + ") is not a swcl_time_format");
+    o.time_format = TimeFormat(time_format);
     o.frame_time = d.frame_time;
     o.unit_scale = d.unit_scale;
     o.gap_factor = d.gap_factor;

@@ -98,11 +98,18 @@ TrackLoadOptions options_or_default(const swcl_dataset_desc* desc) {
     return track_options(*desc);
 }
 
-// By reference: a by-value copy would load the enum before the range check.
-Metric metric_from(const swcl_metric& m) {
+// The metric a C caller named, if it is one.  By reference: a by-value copy
+// would load the enum before the range check.
+std::optional<Metric> metric_if_valid(const swcl_metric& m) {
     const uint32_t k = enum_bits(m);
-    require(k < uint32_t(SWCL_METRIC_COUNT), "metric is not a swcl_metric");
+    if (k >= uint32_t(SWCL_METRIC_COUNT)) return std::nullopt;
     return Metric(k);
+}
+
+Metric metric_from(const swcl_metric& m) {
+    const std::optional<Metric> k = metric_if_valid(m);
+    require(k.has_value(), "metric " + std::to_string(int32_t(enum_bits(m))) + " is not a swcl_metric");
+    return *k;
 }
 
 PdfOptions pdf_options_from(const swcl_pdf_options* o) {
@@ -112,9 +119,11 @@ PdfOptions pdf_options_from(const swcl_pdf_options* o) {
     p.bins = o->bins;
     p.half_width = o->half_width;
     if (o->struct_size >= offsetof(swcl_pdf_options, standardise) + sizeof(o->standardise)) {
-        require(o->standardise == SWCL_STANDARDISE_MEAN_SIGMA || o->standardise == SWCL_STANDARDISE_MEDIAN_MAD,
-                "options->standardise must be SWCL_STANDARDISE_MEAN_SIGMA or SWCL_STANDARDISE_MEDIAN_MAD");
-        p.standardise = Standardise(uint32_t(o->standardise));
+        const uint32_t standardise = enum_bits(o->standardise);  // a C caller's value may be any int
+        require(standardise == SWCL_STANDARDISE_MEAN_SIGMA || standardise == SWCL_STANDARDISE_MEDIAN_MAD,
+                "options->standardise (" + std::to_string(int32_t(standardise)) +
+                    ") must be SWCL_STANDARDISE_MEAN_SIGMA or SWCL_STANDARDISE_MEDIAN_MAD");
+        p.standardise = Standardise(standardise);
     }
     return p;
 }
@@ -128,8 +137,8 @@ static_assert(SWCL_METRIC_COUNT == int(kMetricCount), "swcl_metric and swarmcl::
 extern "C" {
 
 const char* swcl_metric_name(swcl_metric metric) {
-    const uint32_t k = enum_bits(metric);
-    return k < uint32_t(SWCL_METRIC_COUNT) ? metric_info(Metric(k)).name : nullptr;
+    const std::optional<Metric> m = metric_if_valid(metric);
+    return m ? metric_info(*m).name : nullptr;
 }
 
 swcl_status swcl_metrics_from_csv(const char* path, const swcl_dataset_desc* tracks, double window_from,
@@ -312,8 +321,8 @@ swcl_status swcl_metrics_get_info(swcl_metrics metrics, swcl_metric metric, swcl
 }
 
 const char* swcl_metric_unit(swcl_metric metric) {
-    const uint32_t k = enum_bits(metric);
-    return k < uint32_t(SWCL_METRIC_COUNT) ? metric_info(Metric(k)).unit : nullptr;
+    const std::optional<Metric> m = metric_if_valid(metric);
+    return m ? metric_info(*m).unit : nullptr;
 }
 
 swcl_status swcl_metrics_wasserstein(swcl_metrics real, swcl_metrics sim, swcl_metric metric, double* out_distance) {

@@ -132,9 +132,11 @@ swcl_status swcl_swarm_force_set_model(swcl_swarm swarm, const swcl_force_model_
         c.cruise_speed = d.cruise_speed;
         c.min_distance = d.min_distance;
         c.min_spacing = d.min_spacing;
-        require(d.assignment == SWCL_ASSIGN_NEAREST || d.assignment == SWCL_ASSIGN_CURVE,
-                "force model assignment must be SWCL_ASSIGN_NEAREST or SWCL_ASSIGN_CURVE");
-        c.assignment = d.assignment == SWCL_ASSIGN_CURVE ? Assignment::Curve : Assignment::Nearest;
+        const uint32_t assignment = enum_bits(d.assignment);  // a C caller's value may be any int
+        require(assignment == SWCL_ASSIGN_NEAREST || assignment == SWCL_ASSIGN_CURVE,
+                "force model assignment (" + std::to_string(int32_t(assignment)) +
+                    ") must be SWCL_ASSIGN_NEAREST or SWCL_ASSIGN_CURVE");
+        c.assignment = assignment == SWCL_ASSIGN_CURVE ? Assignment::Curve : Assignment::Nearest;
         c.sample_seed = d.sample_seed;
         c.keyframes = keyframes_from(d.keyframes, d.keyframe_count);
         c.keyframe_period = d.keyframe_period;

@@ -13,9 +13,10 @@ namespace swarmcl::capi {
 
 NoiseConfig noise_config_from(const swcl_noise_desc& d) {
     NoiseConfig c;
-    require(d.type >= SWCL_NOISE_CURL && d.type <= SWCL_NOISE_GAUSSIAN,
-            "noise type " + std::to_string(int(d.type)) + " is not one of CURL, PERLIN, WHITE, GAUSSIAN");
-    c.type = NoiseType(int(d.type));
+    const uint32_t type = enum_bits(d.type);  // a C caller's value may be any int
+    require(type <= SWCL_NOISE_GAUSSIAN,
+            "noise type " + std::to_string(int32_t(type)) + " is not one of CURL, PERLIN, WHITE, GAUSSIAN");
+    c.type = NoiseType(type);
     c.scale = d.scale;
     c.gain = d.gain;
     c.seed = d.seed;

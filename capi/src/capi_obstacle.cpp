@@ -4,18 +4,20 @@
 
 #include <cmath>
 
+#include "capi_common.hpp"
 #include "core/error.hpp"
 #include "shapes/obstacle_spec.hpp"
 
 namespace swarmcl::capi {
 
 TriangleMesh obstacle_mesh(const swcl_obstacle& o, const std::string& what) {
+    const uint32_t type = enum_bits(o.type);  // a C caller's value may be any int
     try {
-        if (o.type != SWCL_OBSTACLE_MESH && o.type != SWCL_OBSTACLE_OBJ)
+        if (type != SWCL_OBSTACLE_MESH && type != SWCL_OBSTACLE_OBJ)
             for (int a = 0; a < 3; ++a) require(std::isfinite(o.center[a]), "center must be finite");
         ObstacleSpec spec;
         spec.center = {o.center[0], o.center[1], o.center[2]};
-        switch (o.type) {
+        switch (type) {
             case SWCL_OBSTACLE_MESH:
                 spec.kind = ObstacleSpec::Kind::Mesh;
                 spec.vertices = o.vertices;
@@ -51,12 +53,13 @@ TriangleMesh obstacle_mesh(const swcl_obstacle& o, const std::string& what) {
     } catch (const Error& e) {
         throw Error(e.status(), what + ": " + e.what());
     }
-    fail(Status::InvalidArgument, what + ": unknown obstacle type");
+    fail(Status::InvalidArgument, what + ": unknown obstacle type " + std::to_string(int32_t(type)));
 }
 
 Boundary obstacle_boundary(const swcl_obstacle& o, const std::string& what, bool allow_plane) {
     Boundary b;
-    switch (o.type) {
+    const uint32_t type = enum_bits(o.type);
+    switch (type) {
         case SWCL_OBSTACLE_SPHERE: b.kind = Boundary::Kind::Sphere; break;
         case SWCL_OBSTACLE_BOX: b.kind = Boundary::Kind::Box; break;
         case SWCL_OBSTACLE_PLANE:
@@ -66,7 +69,7 @@ Boundary obstacle_boundary(const swcl_obstacle& o, const std::string& what, bool
             }
             [[fallthrough]];
         default:
-            fail(Status::InvalidArgument, what + ": type " + std::to_string(int(o.type)) + " is not one of SPHERE, BOX" +
+            fail(Status::InvalidArgument, what + ": type " + std::to_string(int32_t(type)) + " is not one of SPHERE, BOX" +
                                               (allow_plane ? ", PLANE" : "") +
                                               " (meshes, OBJ files and cylinders go where a model builds a "
                                               "signed distance grid)");

@@ -20,11 +20,14 @@ std::vector<Goal> goals_from(const swcl_goal* goals, uint32_t count, const std::
     for (uint32_t i = 0; i < count; ++i) {
         const swcl_goal& g = goals[i];
         Goal o;
-        switch (g.type) {
+        const uint32_t type = enum_bits(g.type);  // a C caller's value may be any int
+        switch (type) {
             case SWCL_GOAL_POINT: o.kind = Goal::Kind::Point; break;
             case SWCL_GOAL_SPHERE: o.kind = Goal::Kind::Sphere; break;
             case SWCL_GOAL_BOX: o.kind = Goal::Kind::Box; break;
-            default: fail(Status::InvalidArgument, what + "[" + std::to_string(i) + "]: unknown goal type");
+            default:
+                fail(Status::InvalidArgument,
+                     what + "[" + std::to_string(i) + "]: unknown goal type " + std::to_string(int32_t(type)));
         }
         for (int a = 0; a < 3; ++a) {
             o.center[a] = g.center[a];

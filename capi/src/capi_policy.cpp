@@ -48,8 +48,9 @@ swcl_status swcl_swarm_policy_set_model(swcl_swarm swarm, const swcl_policy_mode
     return with_swarm(__func__, swarm, [&](Swarm& s) {
         check_struct_size(desc, sizeof(swcl_policy_model_desc), "desc");
         PolicyModelConfig c;
-        require(uint32_t(desc->leader_mode) <= 2, "desc->leader_mode: unknown mode");
-        c.leader_mode = PolicyLeaderMode(desc->leader_mode);
+        const uint32_t leader_mode = enum_bits(desc->leader_mode);  // a C caller's value may be any int
+        require(leader_mode <= 2, "desc->leader_mode: unknown mode " + std::to_string(int32_t(leader_mode)));
+        c.leader_mode = PolicyLeaderMode(leader_mode);
         require(desc->waypoints != nullptr || desc->waypoint_count == 0, "desc->waypoints is NULL");
         for (uint32_t k = 0; k < desc->waypoint_count; ++k)
             c.waypoints.push_back({desc->waypoints[4 * k], desc->waypoints[4 * k + 1], desc->waypoints[4 * k + 2],

@@ -17,14 +17,12 @@ namespace {
 
 // By reference: a by-value copy would load the enum before the range check.
 Attribute attribute_of(const swcl_attribute& a) {
-    const uint32_t bits = enum_bits(a);
-    if (bits > uint32_t(SWCL_ATTRIBUTE_MAX_ENUM)) fail(Status::InvalidArgument, "unknown attribute " + std::to_string(bits));
-    switch (a) {
+    const uint32_t bits = enum_bits(a);  // a C caller's value may be any int
+    switch (bits) {
         case SWCL_ATTRIBUTE_POSITION: return Attribute::Position;
         case SWCL_ATTRIBUTE_VELOCITY: return Attribute::Velocity;
-        case SWCL_ATTRIBUTE_MAX_ENUM: break;  // not an attribute
+        default: fail(Status::InvalidArgument, "unknown attribute " + std::to_string(bits));
     }
-    fail(Status::InvalidArgument, "unknown attribute " + std::to_string(bits));
 }
 
 }  // namespace
