@@ -45,6 +45,10 @@ uint32_t enum_bits(const E& value) {
     return bits;
 }
 
+// Those bits as the C caller wrote them (an int: -1, not 4294967295), for
+// the error that refuses them.
+inline std::string c_enum_text(uint32_t bits) { return std::to_string(int32_t(bits)); }
+
 void set_last_error(const std::string& message);
 void clear_last_error();
 const std::string& last_error();

@@ -44,7 +44,7 @@ std::vector<Stimulus> stimuli_from(const swcl_stimulus* s, uint32_t count) {
     for (uint32_t i = 0; i < count; ++i) {
         const uint32_t kind = enum_bits(s[i].kind);  // a C caller's value may be any int
         require(kind == SWCL_STIMULUS_ATTRACT || kind == SWCL_STIMULUS_STARTLE,
-                "stimuli[" + std::to_string(i) + "].kind (" + std::to_string(int32_t(kind)) +
+                "stimuli[" + std::to_string(i) + "].kind (" + c_enum_text(kind) +
                     ") is not a swcl_stimulus_kind");
         Stimulus st;
         st.kind = kind == SWCL_STIMULUS_ATTRACT ? Stimulus::Kind::Attract : Stimulus::Kind::Startle;
@@ -91,7 +91,7 @@ TrackLoadOptions track_options(const swcl_dataset_desc& d) {
     if (d.column_z) o.columns.z = d.column_z;
     const uint32_t time_format = enum_bits(d.time_format);
     require(time_format <= SWCL_TIME_DATETIME,
-            "desc->time_format (" + std::to_string(int32_t(time_format)) + ") is not a swcl_time_format");
+            "desc->time_format (" + c_enum_text(time_format) + ") is not a swcl_time_format");
     o.time_format = TimeFormat(time_format);
     o.frame_time = d.frame_time;
     o.unit_scale = d.unit_scale;

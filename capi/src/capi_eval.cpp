@@ -108,7 +108,7 @@ std::optional<Metric> metric_if_valid(const swcl_metric& m) {
 
 Metric metric_from(const swcl_metric& m) {
     const std::optional<Metric> k = metric_if_valid(m);
-    require(k.has_value(), "metric " + std::to_string(int32_t(enum_bits(m))) + " is not a swcl_metric");
+    require(k.has_value(), "metric " + c_enum_text(enum_bits(m)) + " is not a swcl_metric");
     return *k;
 }
 
@@ -121,7 +121,7 @@ PdfOptions pdf_options_from(const swcl_pdf_options* o) {
     if (o->struct_size >= offsetof(swcl_pdf_options, standardise) + sizeof(o->standardise)) {
         const uint32_t standardise = enum_bits(o->standardise);  // a C caller's value may be any int
         require(standardise == SWCL_STANDARDISE_MEAN_SIGMA || standardise == SWCL_STANDARDISE_MEDIAN_MAD,
-                "options->standardise (" + std::to_string(int32_t(standardise)) +
+                "options->standardise (" + c_enum_text(standardise) +
                     ") must be SWCL_STANDARDISE_MEAN_SIGMA or SWCL_STANDARDISE_MEDIAN_MAD");
         p.standardise = Standardise(standardise);
     }

@@ -134,7 +134,7 @@ swcl_status swcl_swarm_force_set_model(swcl_swarm swarm, const swcl_force_model_
         c.min_spacing = d.min_spacing;
         const uint32_t assignment = enum_bits(d.assignment);  // a C caller's value may be any int
         require(assignment == SWCL_ASSIGN_NEAREST || assignment == SWCL_ASSIGN_CURVE,
-                "force model assignment (" + std::to_string(int32_t(assignment)) +
+                "force model assignment (" + c_enum_text(assignment) +
                     ") must be SWCL_ASSIGN_NEAREST or SWCL_ASSIGN_CURVE");
         c.assignment = assignment == SWCL_ASSIGN_CURVE ? Assignment::Curve : Assignment::Nearest;
         c.sample_seed = d.sample_seed;

@@ -15,7 +15,7 @@ NoiseConfig noise_config_from(const swcl_noise_desc& d) {
     NoiseConfig c;
     const uint32_t type = enum_bits(d.type);  // a C caller's value may be any int
     require(type <= SWCL_NOISE_GAUSSIAN,
-            "noise type " + std::to_string(int32_t(type)) + " is not one of CURL, PERLIN, WHITE, GAUSSIAN");
+            "noise type " + c_enum_text(type) + " is not one of CURL, PERLIN, WHITE, GAUSSIAN");
     c.type = NoiseType(type);
     c.scale = d.scale;
     c.gain = d.gain;

@@ -53,7 +53,7 @@ TriangleMesh obstacle_mesh(const swcl_obstacle& o, const std::string& what) {
     } catch (const Error& e) {
         throw Error(e.status(), what + ": " + e.what());
     }
-    fail(Status::InvalidArgument, what + ": unknown obstacle type " + std::to_string(int32_t(type)));
+    fail(Status::InvalidArgument, what + ": unknown obstacle type " + c_enum_text(type));
 }
 
 Boundary obstacle_boundary(const swcl_obstacle& o, const std::string& what, bool allow_plane) {
@@ -69,7 +69,7 @@ Boundary obstacle_boundary(const swcl_obstacle& o, const std::string& what, bool
             }
             [[fallthrough]];
         default:
-            fail(Status::InvalidArgument, what + ": type " + std::to_string(int32_t(type)) + " is not one of SPHERE, BOX" +
+            fail(Status::InvalidArgument, what + ": type " + c_enum_text(type) + " is not one of SPHERE, BOX" +
                                               (allow_plane ? ", PLANE" : "") +
                                               " (meshes, OBJ files and cylinders go where a model builds a "
                                               "signed distance grid)");

@@ -27,7 +27,7 @@ std::vector<Goal> goals_from(const swcl_goal* goals, uint32_t count, const std::
             case SWCL_GOAL_BOX: o.kind = Goal::Kind::Box; break;
             default:
                 fail(Status::InvalidArgument,
-                     what + "[" + std::to_string(i) + "]: unknown goal type " + std::to_string(int32_t(type)));
+                     what + "[" + std::to_string(i) + "]: unknown goal type " + c_enum_text(type));
         }
         for (int a = 0; a < 3; ++a) {
             o.center[a] = g.center[a];

@@ -49,7 +49,7 @@ swcl_status swcl_swarm_policy_set_model(swcl_swarm swarm, const swcl_policy_mode
         check_struct_size(desc, sizeof(swcl_policy_model_desc), "desc");
         PolicyModelConfig c;
         const uint32_t leader_mode = enum_bits(desc->leader_mode);  // a C caller's value may be any int
-        require(leader_mode <= 2, "desc->leader_mode: unknown mode " + std::to_string(int32_t(leader_mode)));
+        require(leader_mode <= SWCL_POLICY_LEADER_TOUR, "desc->leader_mode: unknown mode " + c_enum_text(leader_mode));
         c.leader_mode = PolicyLeaderMode(leader_mode);
         require(desc->waypoints != nullptr || desc->waypoint_count == 0, "desc->waypoints is NULL");
         for (uint32_t k = 0; k < desc->waypoint_count; ++k)
