@@ -29,11 +29,30 @@ SWCL_INLINE float4 policy_qu(float4 v, float3 p, float3 lp) {
     return l > 0.0f ? (float4)(to / l, 0.0f) : (float4)(1.0f, 0.0f, 0.0f, 0.0f);
 }
 
+// Every agent's (q, u) for policy_observe, once a step: the observation
+// walk meets each agent as a candidate of about 40 work-items (width 8), and
+// policy_qu's length and division cost a tenth of the walk there.
+__kernel void policy_headings(__global const float4* pos, __global const float4* vel, uint n,
+                              __global const float4* lst, __global float4* qu) {
+    const uint s = get_global_id(0);
+    if (s >= n) return;
+#ifdef SWCL_WORLDS
+    // World get_global_id(1): its agents and leader state.
+    const size_t world_base = get_global_id(1) * n;
+    pos += world_base;
+    vel += world_base;
+    qu += world_base;
+    lst += 2 * get_global_id(1);
+#endif
+    qu[s] = policy_qu(vel[s], pos[s].xyz, lst[0].xyz);
+}
+
 // ---- observations (Eq. 11-13) by slot, one body per width -----------------------
 // The rows of the search box a walk visits, [*x0, *x1] of row (y, z) (false:
-// none).  Width 1 (one agent at p): its own box's row trimmed to the ball of
-// radius r (grid_row_x_range); the candidates it drops are beyond r.
-SWCL_INLINE bool po_rows_s(const Grid* g, float4 p, float r, int y, int z, int* x0, int* x1) {
+// none).  Width 1 (one agent at p, the lanes' box [p, p]): its own box's row
+// trimmed to the ball of radius r (grid_row_x_range); the candidates it drops
+// are beyond r.
+SWCL_INLINE bool po_rows_s(const Grid* g, float4 p, float4 same_p, float r, int y, int z, int* x0, int* x1) {
     return grid_row_x_range(g, p, r, y, z, x0, x1);
 }
 #define SWCL_BW 1
@@ -150,10 +169,11 @@ __kernel void policy_mlp(__global const float* obs, uint n, uint obs_dim, uint f
 // ---- observations, PM_W agents per work-item (CPU devices) --------------------
 // policy_observe_w: the same body in PM_W lanes (wide/policy_observe.inc.cl).
 #if PM_W > 1
-// Width W: the union of the lanes' boxes, each row as it is (the bounds the
-// same in every lane; per-lane trimming would not vectorise).
-SWCL_INLINE bool po_rows_w(const Grid* g, float4 p, float r, int y, int z, int* x0, int* x1) {
-    return true;
+// Width W: the rows the union of the lanes' balls reaches, trimmed to the
+// lanes' bounding box [bmin, bmax] grown by r (the bounds the same in every
+// lane, so the candidates stay vector work).
+SWCL_INLINE bool po_rows_w(const Grid* g, float4 bmin, float4 bmax, float r, int y, int z, int* x0, int* x1) {
+    return grid_row_x_range_box(g, bmin, bmax, r, y, z, x0, x1);
 }
 #define SWCL_BW SWCL_W
 #include "wide/policy_observe.inc.cl"

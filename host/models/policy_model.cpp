@@ -163,10 +163,10 @@ PolicyModel::PolicyModel(Swarm& swarm, PolicyModelConfig config, std::shared_ptr
     mlp_k_ = ctx.kernel("policy.cl", "policy_mlp", lanes_define);
     apply_k_ = ctx.kernel("policy.cl", "policy_apply", slots);
     copy_k_ = ctx.kernel("policy.cl", "policy_leader_copy", slots);
+    headings_k_ = ctx.kernel("policy.cl", "policy_headings", slots);
     upload_world_blocks();
     leader_k_ = ctx.kernel("rl_env.cl", "rl_leader_step");
-    set_args(copy_k_, lpos_.get(), lvel_.get(), lst_.get(), cl_uint(worlds));
-    launch(ctx, copy_k_, worlds);
+    enqueue_leader_copy(worlds);
 }
 
 void PolicyModel::upload_world_blocks() {
@@ -213,11 +213,19 @@ void PolicyModel::read_leader(cl_float4* position, cl_float4* heading_speed, uin
     }
 }
 
+void PolicyModel::enqueue_leader_copy(uint32_t worlds) {
+    set_args(copy_k_, lpos_.get(), lvel_.get(), lst_.get(), cl_uint(worlds));
+    launch(ctx_, copy_k_, worlds);
+}
+
 void PolicyModel::enqueue_observe(Swarm& swarm) {
     const uint32_t n = swarm.agent_count(), worlds = swarm.worlds();
     swarm.ensure_grid();
     if (!blocks_current_) upload_world_blocks();
     obs_.reserve(ctx_, size_t(n) * worlds * weights_.obs_dim, "policy observations");
+    qu_.reserve(ctx_, size_t(n) * worlds, "policy headings");
+    set_args(headings_k_, swarm.positions().get(), swarm.velocities().get(), n, lst_.get(), qu_.get());
+    launch_worlds(ctx_, headings_k_, n, worlds);
     // The walk's reach: every world's (a wider one only adds candidates
     // that fail every test, policy_observe.inc.cl).
     float search = 0.0f;
@@ -229,7 +237,7 @@ void PolicyModel::enqueue_observe(Swarm& swarm) {
     const auto& c = config_;
     cl_uint i = 0;
     observe_k_.setArg(i++, swarm.positions().get());
-    observe_k_.setArg(i++, swarm.velocities().get());
+    observe_k_.setArg(i++, qu_.get());
     observe_k_.setArg(i++, n);
     i = swarm.grid().set_world_grid_args(observe_k_, i);  // the cells of a world (unread with one)
     observe_k_.setArg(i++, lst_.get());
@@ -265,8 +273,7 @@ void PolicyModel::enqueue_mlp(DeviceBuffer<float>& obs, uint32_t n, DeviceBuffer
 void PolicyModel::advance(Swarm& swarm, uint64_t) {
     const uint32_t n = swarm.agent_count(), worlds = swarm.worlds();
     const auto& c = config_;
-    set_args(copy_k_, lpos_.get(), lvel_.get(), lst_.get(), cl_uint(worlds));
-    launch(ctx_, copy_k_, worlds);
+    enqueue_leader_copy(worlds);
     if (n > 0) {
         enqueue_observe(swarm);
         actions_.reserve(ctx_, size_t(n) * worlds * 4, "policy actions");
@@ -293,8 +300,7 @@ StepStages PolicyModel::stages() const { return {}; }
 void PolicyModel::observe(Swarm& swarm, std::vector<float>* obs, std::vector<float>* actions) {
     const uint32_t per_world = swarm.agent_count(), worlds = swarm.worlds();
     const uint32_t n = per_world * worlds;
-    set_args(copy_k_, lpos_.get(), lvel_.get(), lst_.get(), cl_uint(worlds));
-    launch(ctx_, copy_k_, worlds);
+    enqueue_leader_copy(worlds);
     if (n == 0) {
         if (obs) obs->clear();
         if (actions) actions->clear();
@@ -321,6 +327,12 @@ void PolicyModel::observe(Swarm& swarm, std::vector<float>* obs, std::vector<flo
         actions->assign(by_slot.size(), 0.0f);
         for (uint32_t s = 0; s < n; ++s) std::copy_n(&by_slot[size_t(s) * 4], 4, &(*actions)[size_t(ids[s]) * 4]);
     }
+}
+
+void PolicyModel::observe_on_device(Swarm& swarm) {
+    enqueue_leader_copy(swarm.worlds());
+    if (swarm.agent_count() > 0) enqueue_observe(swarm);
+    ctx_.queue().finish();
 }
 
 std::vector<float> PolicyModel::infer(const std::vector<float>& obs, uint32_t count) {

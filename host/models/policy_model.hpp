@@ -101,6 +101,10 @@ public:
     // order, world by world) and the actions the policy takes on them (4 per
     // agent).
     void observe(Swarm& swarm, std::vector<float>* obs, std::vector<float>* actions);
+    // The observations of the current state computed on the device and
+    // kept there (the grid rebuilt if the swarm moved); waits for the
+    // device.  The observation stage alone, for benchmarks.
+    void observe_on_device(Swarm& swarm);
     // The MLP alone on `count` observations (tests, benchmarks): 4 actions each.
     std::vector<float> infer(const std::vector<float>& obs, uint32_t count);
     // The same from count * obs_dim floats into count * 4 (non-finite
@@ -110,6 +114,8 @@ public:
     uint32_t lanes() const { return lanes_; }
 
 private:
+    // The leaders' state as the observations and actions read it (lst_).
+    void enqueue_leader_copy(uint32_t worlds);
     void enqueue_observe(Swarm& swarm);
     void upload_world_blocks();
     void enqueue_mlp(DeviceBuffer<float>& obs, uint32_t n, DeviceBuffer<float>& actions);
@@ -125,7 +131,8 @@ private:
     DeviceBuffer<cl_float> block_;  // policy_param_table()'s device block (params_ holds the MLP's weights)
     DeviceBuffer<cl_uint> layers_, wp_, done_;
     DeviceBuffer<cl_float4> lpos_, lvel_, lst_, ctl_, waypoints_, box_c_, box_h_;
-    cl::Kernel observe_k_, mlp_k_, apply_k_, copy_k_, leader_k_;
+    DeviceBuffer<cl_float4> qu_;  // every agent's (q, u) for the observations (policy_headings)
+    cl::Kernel observe_k_, mlp_k_, apply_k_, copy_k_, leader_k_, headings_k_;
 };
 
 }  // namespace swarmcl

@@ -151,6 +151,35 @@ SWCL_ALWAYS_INLINE static inline bool grid_row_x_range(const Grid* g, float4 p, 
     return true;
 }
 
+// grid_row_x_range for every point of the box [a, b] at once: row (y, z)
+// can hold an agent within r of some point of the box only if r^2 >= ey^2 +
+// ez^2, where ey (ez) is the distance from the box's interval along y (z) to
+// the row's slab; then its x lies in [a.x - rx, b.x + rx].  Each point's own
+// slab distances are at least the box's, so its own range lies inside this
+// one: a walk of these rows visits every candidate of each point's own.
+// With a = b it is grid_row_x_range's range.
+SWCL_ALWAYS_INLINE static inline float grid_slab_distance_iv(float a, float b, float origin, float cell, int k,
+                                                              int n) {
+    const float lo = k == 0 ? -INFINITY : origin + (float)k * cell;
+    const float hi = k == n - 1 ? INFINITY : origin + (float)(k + 1) * cell;
+    const float tol = 2e-6f * (fmax(fabs(a), fabs(b)) + fabs(origin) + cell * (float)n);
+    return fmax(0.0f, fmax(lo - b, a - hi) - tol);
+}
+
+SWCL_ALWAYS_INLINE static inline bool grid_row_x_range_box(const Grid* g, float4 a, float4 b, float r, int y, int z,
+                                                           int* x0, int* x1) {
+    const float cell = 1.0f / g->inv_cell;
+    const float ey = grid_slab_distance_iv(a.y, b.y, g->origin.y, cell, y, g->dims.y);
+    const float ez = grid_slab_distance_iv(a.z, b.z, g->origin.z, cell, z, g->dims.z);
+    const float rr = r * 1.00001f;
+    const float rem = rr * rr - ey * ey - ez * ez;
+    if (rem < 0.0f) return false;
+    const float rx = sqrt(rem);
+    *x0 = grid_axis(a.x - rx, g->origin.x, g->inv_cell, g->dims.x);
+    *x1 = grid_axis(b.x + rx, g->origin.x, g->inv_cell, g->dims.x);
+    return true;
+}
+
 // grid_axis and grid_slab_distance for 8 cells at once (k: their
 // coordinates along the axis), the same operations lane by lane, so the same
 // results: a caller trims 8 rows of the search box with one vector pass.

@@ -5,6 +5,9 @@
 // bodies (kernels/wide/).  Without it (or with 1) nothing is defined.
 #ifndef SWCL_LANES_CL
 #define SWCL_LANES_CL
+// (Outside every #if: kernel_sources.cpp expands a file at its first
+// #include only.)
+#include "lib/halves.cl"
 #if defined(NOISE_WIDTH) && NOISE_WIDTH > 1
 #define SWCL_W NOISE_WIDTH
 #if SWCL_W == 8
@@ -41,5 +44,17 @@ typedef uint16 swcl_uw;
  * token; lane k of a vector and its index as an int: */
 #define SWCL_LANE(v, k) ((v).s##k)
 #define SWCL_LANE_I(k) (0x##k)
+// any(m) by halving ORs: PoCL 3.1 lowers any() on int8 and int16 to a test
+// and a branch per lane (a chain of `js`, perf annotate of policy_observe_w).
+static inline int swcl_any8(int8 m) {
+    const int4 b = m.lo | m.hi;
+    const int2 c = b.lo | b.hi;
+    return (c.x | c.y) < 0;
+}
+#if SWCL_W == 8
+#define swcl_any_w swcl_any8
+#else
+static inline int swcl_any_w(int16 m) { return swcl_any8(swcl_lo16i(m) | swcl_hi16i(m)); }
+#endif
 #endif
 #endif

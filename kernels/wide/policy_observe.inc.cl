@@ -4,7 +4,8 @@
 // drl-swarm-animation-rule-based-action-generator, §III-C) by slot,
 // obs_dim floats per agent: rl_observe's values (kernels/rl_env.cl) with the
 // swarm's neighbour grid in place of the per-world loop.  lst[0] = leader
-// position, lst[1] = leader (q, u); `search` >= r_coh + body and >= r_nbr.
+// position, lst[1] = leader (q, u); qu4[s] = agent s's (q, u) (policy_headings);
+// `search` >= r_coh + body and >= r_nbr.
 //
 // One body, so every width has the same tests and arithmetic in the same
 // order (bitwise the same observations: tests/test_policy.cpp,
@@ -26,7 +27,7 @@
 // Included by policy.cl once per width.
 #include "wide/width.inc.cl"
 
-__kernel void SWCL_KERNEL(policy_observe)(__global const float4* pos, __global const float4* vel, uint n,
+__kernel void SWCL_KERNEL(policy_observe)(__global const float4* pos, __global const float4* qu4, uint n,
                                           GRID_WORLD_PARAMS, __global const float4* lst, float search,
                                           __global const float* params,
                                           __global const float4* box_c, __global const float4* box_h, uint nbox,
@@ -39,7 +40,7 @@ __kernel void SWCL_KERNEL(policy_observe)(__global const float4* pos, __global c
     // parameter block.
     const size_t world = get_global_id(1), world_base = world * n;
     pos += world_base;
-    vel += world_base;
+    qu4 += world_base;
     obs += world_base * obs_dim;
     lst += 2 * world;
     params += world * POLICY_FLOATS;
@@ -59,7 +60,7 @@ __kernel void SWCL_KERNEL(policy_observe)(__global const float4* pos, __global c
     for (uint l = 0; l < SWCL_BW; ++l) {
         const uint s = min(base + l, n - 1u);
         const float4 p4 = pos[s];
-        const float4 qu = policy_qu(vel[s], p4.xyz, lp);
+        const float4 qu = qu4[s];
         float3 fr, fu;
         rl_frame(qu.xyz, &fr, &fu);
         lx[l] = p4.x; ly[l] = p4.y; lz[l] = p4.z;
@@ -112,16 +113,23 @@ __kernel void SWCL_KERNEL(policy_observe)(__global const float4* pos, __global c
                 const swcl_bf lf = dx * qx + dy * qy + dz * qz, lr = dx * rx + dy * ry + dz * rz,              \
                               lu = dx * ux + dy * uy + dz * uz;                                                \
                 const swcl_bf h = sqrt(lf * lf + lr * lr), need = (dd - b2) - 1e-5f * dd;                      \
+                swcl_bi mrows[RL_RAYS / 7], any_row = (swcl_bi)(0);                                            \
                 for (int e = 0; e < RL_RAYS / 7; ++e) {                                                        \
                     const swcl_bf bound = rl_row_cos[e] * h + rl_row_sin[e] * lu;                              \
-                    const swcl_bi mrow = hitable & (bound > 0.0f) & (bound * bound >= need);                   \
+                    mrows[e] = hitable & (bound > 0.0f) & (bound * bound >= need);                             \
+                    any_row |= mrows[e];                                                                       \
+                }                                                                                              \
+                if (SWCL_BANY(any_row))                                                                        \
+                for (int e = 0; e < RL_RAYS / 7; ++e) {                                                        \
+                    const swcl_bi mrow = mrows[e];                                                             \
                     if (!SWCL_BANY(mrow)) continue;                                                            \
                     for (int k = 7 * e; k < 7 * e + 7; ++k) {                                                  \
                         const swcl_bf tt = rl_ray_table[3 * k] * lf + rl_ray_table[3 * k + 1] * lr +           \
                                            rl_ray_table[3 * k + 2] * lu;                                       \
                         const swcl_bf perp2 = dd - tt * tt;                                                    \
                         const swcl_bi hit = mrow & (tt > 0.0f) & (perp2 < b2);                                 \
-                        ray[k] = select(ray[k], fmin(ray[k], tt - sqrt(fmax(b2 - perp2, 0.0f))), hit);         \
+                        if (SWCL_BANY(hit))                                                                    \
+                            ray[k] = select(ray[k], fmin(ray[k], tt - sqrt(fmax(b2 - perp2, 0.0f))), hit);     \
                     }                                                                                          \
                 }                                                                                              \
             }                                                                                                  \
@@ -135,11 +143,11 @@ __kernel void SWCL_KERNEL(policy_observe)(__global const float4* pos, __global c
     for (int z = lo.z; z <= hi.z; ++z)
         for (int y = lo.y; y <= hi.y; ++y) {
             int x0 = lo.x, x1 = hi.x;
-            if (!SWCL_BFN(po_rows)(&g, bmin, search, y, z, &x0, &x1)) continue;
+            if (!SWCL_BFN(po_rows)(&g, bmin, bmax, search, y, z, &x0, &x1)) continue;
             const uint2 rg = grid_row_range(&g, x0, x1, y, z);
             for (uint j = rg.x; j < rg.y; ++j) {
                 const float4 pj = pos[j];
-                const float4 cq = policy_qu(vel[j], pj.xyz, lp);
+                const float4 cq = qu4[j];
                 PO_VISIT(pj.x, pj.y, pj.z, cq, 1, slot == (swcl_bu)(j))
             }
         }

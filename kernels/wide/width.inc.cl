@@ -47,7 +47,7 @@
 #define swcl_bu swcl_uw
 #define swcl_bcvt_f swcl_cvt_fw
 #define swcl_bcvt_i swcl_cvt_iw
-#define SWCL_BANY(m) any(m)
+#define SWCL_BANY(m) swcl_any_w(m)
 #define SWCL_BCOUNT_IF(c, m) ((c) -= swcl_as_uw(m))  /* true is -1 */
 #define SWCL_BLANE_IDS ((swcl_uw)(SWCL_LANES(SWCL_LANE_I)))
 #define SWCL_BVLOAD(p) swcl_vload_fw(0, (p))
