@@ -82,6 +82,14 @@ __kernel void SWCL_KERNEL(policy_observe)(__global const float4* pos, __global c
     swcl_bu nn = (swcl_bu)(0u);
     // s2 widened: rounding never drops a candidate within `search`.
     const float b2 = body * body, s2 = search * search * 1.0001f, reach = r_coh + body;
+    // Ray k's test in the lanes of row mask mrow (rl_obs_target's): its
+    // parameter tt at the target's centre, the centre's squared distance from
+    // the ray, the lanes it hits.
+#define PO_RAY_TEST(k)                                                                                         \
+    const swcl_bf tt =                                                                                         \
+        rl_ray_table[3 * (k)] * lf + rl_ray_table[3 * (k) + 1] * lr + rl_ray_table[3 * (k) + 2] * lu;          \
+    const swcl_bf perp2 = dd - tt * tt;                                                                        \
+    const swcl_bi hit = mrow & (tt > 0.0f) & (perp2 < b2);
     // One candidate at (cx, cy, cz) with (q, u) cq for every lane; follower
     // 0: the leader (rays only).  self: the lanes that are this candidate.
     // rl_obs_target's tests in its order: a follower within r_nbr is a
@@ -112,7 +120,11 @@ __kernel void SWCL_KERNEL(policy_observe)(__global const float4* pos, __global c
             if (SWCL_BANY(hitable)) {                                                                          \
                 const swcl_bf lf = dx * qx + dy * qy + dz * qz, lr = dx * rx + dy * ry + dz * rz,              \
                               lu = dx * ux + dy * uy + dz * uz;                                                \
-                const swcl_bf h = sqrt(lf * lf + lr * lr), need = (dd - b2) - 1e-5f * dd;                      \
+                /* h bounds lf cos(az) + lr sin(az) over the rays' azimuths, -90 to 90 degrees (the rays    \
+                   point forward): |(lf, lr)| for a target ahead, |lr| behind, so targets behind the agent      \
+                   pass the rows' cull only near its sides. */                                                  \
+                const swcl_bf h = select(fabs(lr), sqrt(lf * lf + lr * lr), lf >= 0.0f);                       \
+                const swcl_bf need = (dd - b2) - 1e-5f * dd;                                                   \
                 swcl_bi mrows[RL_RAYS / 7], any_row = (swcl_bi)(0);                                            \
                 for (int e = 0; e < RL_RAYS / 7; ++e) {                                                        \
                     const swcl_bf bound = rl_row_cos[e] * h + rl_row_sin[e] * lu;                              \
@@ -123,14 +135,19 @@ __kernel void SWCL_KERNEL(policy_observe)(__global const float4* pos, __global c
                 for (int e = 0; e < RL_RAYS / 7; ++e) {                                                        \
                     const swcl_bi mrow = mrows[e];                                                             \
                     if (!SWCL_BANY(mrow)) continue;                                                            \
+                    /* The row's seven tests first (most rows that pass the cull hit no ray), then the    \
+                       rays some lane hits, tested again alike. */                                             \
+                    swcl_bi any_hit = (swcl_bi)(0);                                                            \
                     for (int k = 7 * e; k < 7 * e + 7; ++k) {                                                  \
-                        const swcl_bf tt = rl_ray_table[3 * k] * lf + rl_ray_table[3 * k + 1] * lr +           \
-                                           rl_ray_table[3 * k + 2] * lu;                                       \
-                        const swcl_bf perp2 = dd - tt * tt;                                                    \
-                        const swcl_bi hit = mrow & (tt > 0.0f) & (perp2 < b2);                                 \
-                        if (SWCL_BANY(hit))                                                                    \
-                            ray[k] = select(ray[k], fmin(ray[k], tt - sqrt(fmax(b2 - perp2, 0.0f))), hit);     \
+                        PO_RAY_TEST(k)                                                                         \
+                        any_hit |= hit;                                                                        \
                     }                                                                                          \
+                    if (SWCL_BANY(any_hit))                                                                    \
+                        for (int k = 7 * e; k < 7 * e + 7; ++k) {                                              \
+                            PO_RAY_TEST(k)                                                                     \
+                            if (SWCL_BANY(hit))                                                                \
+                                ray[k] = select(ray[k], fmin(ray[k], tt - sqrt(fmax(b2 - perp2, 0.0f))), hit); \
+                        }                                                                                      \
                 }                                                                                              \
             }                                                                                                  \
         }                                                                                                      \
@@ -153,6 +170,7 @@ __kernel void SWCL_KERNEL(policy_observe)(__global const float4* pos, __global c
         }
     PO_VISIT(lp.x, lp.y, lp.z, lv, 0, (swcl_bi)(0))
 #undef PO_VISIT
+#undef PO_RAY_TEST
     // Each lane's observation: rl_common.cl's accumulator filled from the
     // lanes, then the shared rl_obs_local / rl_obs_finish.
     float rays[RL_RAYS][SWCL_BW], lsu[SWCL_BW], lsq[SWCL_BW], lsd[SWCL_BW];
