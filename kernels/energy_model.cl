@@ -94,14 +94,6 @@ static inline float em_hsum(emv v) {
 }
 
 
-// any() by halving ORs (PoCL's any on int16 tests the 16 lanes one by one).
-static inline bool em_any(int16 m) {
-    const int8 a = swcl_lo16i(m) | swcl_hi16i(m);
-    const int4 b = a.lo | a.hi;
-    const int2 c = b.lo | b.hi;
-    return (c.x | c.y) < 0;
-}
-
 static inline emv em_lenv(emv x, emv y, emv z) { return sqrt(x * x + y * y + z * z); }
 
 // |v^ - u| over the lanes' unit vectors (hx, hy, hz) for one direction u.
@@ -389,7 +381,7 @@ EM_INLINE void em_gather_neighbors(const EmAgent* a, uint i, float4 p4, float4 r
         const int16 near = valid && d < d_rep;                                                      \
         const int16 att = valid && d >= d_att1 && d <= d_att2 && !(d < d_rep);                      \
         EM_WINDOW_ATTRACT                                                                            \
-        if (em_any(one_by_one)) {                                                                    \
+        if (swcl_any16(one_by_one)) {                                                                    \
             int nl[EM_W], sl[EM_W];                                                                  \
             vstore16(one_by_one, 0, nl);                                                             \
             vstore16(slot, 0, sl);                                                                   \

@@ -48,13 +48,6 @@ __kernel void policy_headings(__global const float4* pos, __global const float4*
 }
 
 // ---- observations (Eq. 11-13) by slot, one body per width -----------------------
-// The rows of the search box a walk visits, [*x0, *x1] of row (y, z) (false:
-// none).  Width 1 (one agent at p, the lanes' box [p, p]): its own box's row
-// trimmed to the ball of radius r (grid_row_x_range); the candidates it drops
-// are beyond r.
-SWCL_INLINE bool po_rows_s(const Grid* g, float4 p, float4 same_p, float r, int y, int z, int* x0, int* x1) {
-    return grid_row_x_range(g, p, r, y, z, x0, x1);
-}
 #define SWCL_BW 1
 #include "wide/policy_observe.inc.cl"
 #undef SWCL_BW
@@ -169,12 +162,6 @@ __kernel void policy_mlp(__global const float* obs, uint n, uint obs_dim, uint f
 // ---- observations, PM_W agents per work-item (CPU devices) --------------------
 // policy_observe_w: the same body in PM_W lanes (wide/policy_observe.inc.cl).
 #if PM_W > 1
-// Width W: the rows the union of the lanes' balls reaches, trimmed to the
-// lanes' bounding box [bmin, bmax] grown by r (the bounds the same in every
-// lane, so the candidates stay vector work).
-SWCL_INLINE bool po_rows_w(const Grid* g, float4 bmin, float4 bmax, float r, int y, int z, int* x0, int* x1) {
-    return grid_row_x_range_box(g, bmin, bmax, r, y, z, x0, x1);
-}
 #define SWCL_BW SWCL_W
 #include "wide/policy_observe.inc.cl"
 #undef SWCL_BW

@@ -120,50 +120,29 @@ static inline float dist2(float4 a, float4 b) {
     return d.x * d.x + d.y * d.y + d.z * d.z;
 }
 
-// Rows of the search box trimmed to the ball of radius r around p: row (y, z)
-// can hold an agent within r only if r^2 >= ey^2 + ez^2, where ey (ez) is the
-// distance from p to the row's slab along y (z); border slabs extend to
-// infinity (agents outside the domain are clamped into them).  Then the
-// agent's x lies within rx = sqrt(r^2 - ey^2 - ez^2) of p.x, so the row's
-// cells [cell(p.x - rx), cell(p.x + rx)] hold all of them (cell() is
-// monotone).  Returns false for a row that can hold none.  About half the
-// cells of the box for r = 2 cells.  The slab distances are shrunk by a
-// tolerance far above their float rounding (a few ulp of the coordinates'
-// magnitude), so rounding never drops an agent; r is widened likewise.
+// Rows of the search box trimmed to the balls of radius r around the points
+// of the box [a, b] (one point: a = b = p): row (y, z) can hold an agent
+// within r of one of them only if r^2 >= ey^2 + ez^2, where ey (ez) is the
+// distance from the box's interval along y (z) to the row's slab; border
+// slabs extend to infinity (agents outside the domain are clamped into
+// them).  Then the agent's x lies in [a.x - rx, b.x + rx], rx = sqrt(r^2 -
+// ey^2 - ez^2), so the row's cells [cell(a.x - rx), cell(b.x + rx)] hold all
+// of them (cell() is monotone); each point's own range lies inside (its slab
+// distances are at least the box's).  Returns false for a row that can hold
+// none.  About half the cells of the box for r = 2 cells and one point.  The
+// slab distances are shrunk by a tolerance far above their float rounding (a
+// few ulp of the coordinates' magnitude), so rounding never drops an agent;
+// r is widened likewise.
 #include "lib/inline.cl"
-SWCL_ALWAYS_INLINE static inline float grid_slab_distance(float x, float origin, float cell, int k, int n) {
-    const float lo = k == 0 ? -INFINITY : origin + (float)k * cell;
-    const float hi = k == n - 1 ? INFINITY : origin + (float)(k + 1) * cell;
-    const float tol = 2e-6f * (fabs(x) + fabs(origin) + cell * (float)n);
-    return fmax(0.0f, fmax(lo - x, x - hi) - tol);
-}
-
-SWCL_ALWAYS_INLINE static inline bool grid_row_x_range(const Grid* g, float4 p, float r, int y, int z, int* x0, int* x1) {
-    const float cell = 1.0f / g->inv_cell;
-    const float ey = grid_slab_distance(p.y, g->origin.y, cell, y, g->dims.y);
-    const float ez = grid_slab_distance(p.z, g->origin.z, cell, z, g->dims.z);
-    const float rr = r * 1.00001f;
-    const float rem = rr * rr - ey * ey - ez * ez;
-    if (rem < 0.0f) return false;
-    const float rx = sqrt(rem);
-    *x0 = grid_axis(p.x - rx, g->origin.x, g->inv_cell, g->dims.x);
-    *x1 = grid_axis(p.x + rx, g->origin.x, g->inv_cell, g->dims.x);
-    return true;
-}
-
-// grid_row_x_range for every point of the box [a, b] at once: row (y, z)
-// can hold an agent within r of some point of the box only if r^2 >= ey^2 +
-// ez^2, where ey (ez) is the distance from the box's interval along y (z) to
-// the row's slab; then its x lies in [a.x - rx, b.x + rx].  Each point's own
-// slab distances are at least the box's, so its own range lies inside this
-// one: a walk of these rows visits every candidate of each point's own.
-// With a = b it is grid_row_x_range's range.
 SWCL_ALWAYS_INLINE static inline float grid_slab_distance_iv(float a, float b, float origin, float cell, int k,
                                                               int n) {
     const float lo = k == 0 ? -INFINITY : origin + (float)k * cell;
     const float hi = k == n - 1 ? INFINITY : origin + (float)(k + 1) * cell;
     const float tol = 2e-6f * (fmax(fabs(a), fabs(b)) + fabs(origin) + cell * (float)n);
     return fmax(0.0f, fmax(lo - b, a - hi) - tol);
+}
+SWCL_ALWAYS_INLINE static inline float grid_slab_distance(float x, float origin, float cell, int k, int n) {
+    return grid_slab_distance_iv(x, x, origin, cell, k, n);
 }
 
 SWCL_ALWAYS_INLINE static inline bool grid_row_x_range_box(const Grid* g, float4 a, float4 b, float r, int y, int z,
@@ -178,6 +157,9 @@ SWCL_ALWAYS_INLINE static inline bool grid_row_x_range_box(const Grid* g, float4
     *x0 = grid_axis(a.x - rx, g->origin.x, g->inv_cell, g->dims.x);
     *x1 = grid_axis(b.x + rx, g->origin.x, g->inv_cell, g->dims.x);
     return true;
+}
+SWCL_ALWAYS_INLINE static inline bool grid_row_x_range(const Grid* g, float4 p, float r, int y, int z, int* x0, int* x1) {
+    return grid_row_x_range_box(g, p, p, r, y, z, x0, x1);
 }
 
 // grid_axis and grid_slab_distance for 8 cells at once (k: their

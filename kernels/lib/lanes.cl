@@ -2,7 +2,8 @@
 // or 16 (NoiseField::width()), SWCL_W and its lane types (swcl_fw, swcl_iw,
 // swcl_uw: floatW, intW, uintW) and lane macros, for the _w helpers of
 // lib/perlin.cl, lib/curl_noise.cl, lib/noise_field.cl and the per-width
-// bodies (kernels/wide/).  Without it (or with 1) nothing is defined.
+// bodies (kernels/wide/).  Without it (or with 1) none of these is defined;
+// the any() helpers for 8 and 16 lanes (below) always are.
 #ifndef SWCL_LANES_CL
 #define SWCL_LANES_CL
 // (Outside every #if: kernel_sources.cpp expands a file at its first
@@ -44,6 +45,12 @@ typedef uint16 swcl_uw;
  * token; lane k of a vector and its index as an int: */
 #define SWCL_LANE(v, k) ((v).s##k)
 #define SWCL_LANE_I(k) (0x##k)
+#if SWCL_W == 8
+#define swcl_any_w swcl_any8
+#else
+#define swcl_any_w swcl_any16
+#endif
+#endif
 // any(m) by halving ORs: PoCL 3.1 lowers any() on int8 and int16 to a test
 // and a branch per lane (a chain of `js`, perf annotate of policy_observe_w).
 static inline int swcl_any8(int8 m) {
@@ -51,10 +58,5 @@ static inline int swcl_any8(int8 m) {
     const int2 c = b.lo | b.hi;
     return (c.x | c.y) < 0;
 }
-#if SWCL_W == 8
-#define swcl_any_w swcl_any8
-#else
-static inline int swcl_any_w(int16 m) { return swcl_any8(swcl_lo16i(m) | swcl_hi16i(m)); }
-#endif
-#endif
+static inline int swcl_any16(int16 m) { return swcl_any8(swcl_lo16i(m) | swcl_hi16i(m)); }
 #endif

@@ -11,11 +11,11 @@
 // order (bitwise the same observations: tests/test_policy.cpp,
 // PolicyObserve.EveryWidthGivesTheScalarKernelsBits).  The lanes are
 // neighbouring agents (the grid keeps the state in cell order); each
-// candidate is loaded once and tested against every lane.  Width 1 walks
-// its own search box with the rows trimmed to the ball (po_rows_s); width W
-// walks the union of the lanes' boxes (po_rows_w: the loop bounds are the
-// same in every lane, so the work per candidate is vector arithmetic).  Both
-// walks go row by row (z, y) in slot order, so each lane meets the
+// candidate is loaded once and tested against every lane.  Every width
+// walks the rows of the lanes' bounding box [bmin, bmax] trimmed to the
+// union of their balls (grid_row_x_range_box; width 1: its own ball), the
+// loop bounds the same in every lane, so the work per candidate is vector
+// arithmetic.  The walk goes row by row (z, y) in slot order, so each lane meets the
 // candidates that can count for it — within `search` (r_nbr <= search,
 // r_coh + body <= search), which every walk visits — in the same order;
 // any other candidate changes nothing (it fails every test below).  Then
@@ -160,7 +160,7 @@ __kernel void SWCL_KERNEL(policy_observe)(__global const float4* pos, __global c
     for (int z = lo.z; z <= hi.z; ++z)
         for (int y = lo.y; y <= hi.y; ++y) {
             int x0 = lo.x, x1 = hi.x;
-            if (!SWCL_BFN(po_rows)(&g, bmin, bmax, search, y, z, &x0, &x1)) continue;
+            if (!grid_row_x_range_box(&g, bmin, bmax, search, y, z, &x0, &x1)) continue;
             const uint2 rg = grid_row_range(&g, x0, x1, y, z);
             for (uint j = rg.x; j < rg.y; ++j) {
                 const float4 pj = pos[j];
