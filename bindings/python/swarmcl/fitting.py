@@ -338,6 +338,11 @@ class PopulationEvaluator:
         # How many swarms the last call stepped (worlds: one per group of
         # _world_groups; otherwise one a run).
         self.last_swarms = 0
+        # Wall seconds of the worlds' runs summed over calls, to say where a
+        # generation goes: "steps" (with the frames read back, or the
+        # device's metrics where streamed) and "metrics" (the host's metrics
+        # and the scores; streamed, reading each world's back and scoring it).
+        self.stage_seconds = {"steps": 0.0, "metrics": 0.0}
 
     #: The models whose swarms run worlds (the path model unless chasing with a baked noise:
     #: world_model above; the policy model with its followers' parameters, world_key).
@@ -577,6 +582,7 @@ class PopulationEvaluator:
             return self._streamed_world_terms(swarm, worlds)
         # The frames _advance would sample (after the warm-up, then every
         # `every` steps), gathered on the device without a wait after each.
+        started = time.perf_counter()
         if self.warmup:
             swarm.step(self.warmup)
         # One array (frames, worlds, agents, 3) written in place; each
@@ -588,6 +594,8 @@ class PopulationEvaluator:
         swarm.read_positions(out=frames[0].reshape(shape))
         swarm.step_frames(sampled, self.every, out=frames[1:].reshape((sampled,) + shape))
         sample_dt = self.every * self.dt
+        stepped = time.perf_counter()
+        self.stage_seconds["steps"] += stepped - started
 
         def measure(k):
             try:
@@ -597,14 +605,20 @@ class PopulationEvaluator:
             return self._measured(sim)
         if self.threads > 1 and worlds > 1:
             with ThreadPoolExecutor(max_workers=min(self.threads, worlds)) as pool:
-                return list(pool.map(measure, range(worlds)))
-        return [measure(k) for k in range(worlds)]
+                out = list(pool.map(measure, range(worlds)))
+        else:
+            out = [measure(k) for k in range(worlds)]
+        self.stage_seconds["metrics"] += time.perf_counter() - stepped
+        return out
 
     def _streamed_world_terms(self, swarm, worlds: int) -> list:
         """Each world's E_phi from its metrics on the device (the error of
         a world whose metrics cannot be scored, e.g. one that blew up)."""
         with Metrics.attach(swarm, self.every * self.dt) as metrics:
+            started = time.perf_counter()
             self._advance([swarm], lambda i: metrics.sample())
+            stepped = time.perf_counter()
+            self.stage_seconds["steps"] += stepped - started
             out = []
             for k in range(worlds):
                 try:
@@ -613,6 +627,7 @@ class PopulationEvaluator:
                     out.append(e)
                     continue
                 out.append(self._measured(sim))
+            self.stage_seconds["metrics"] += time.perf_counter() - stepped
             return out
 
     def __call__(self, population, base_seed: Optional[int] = None) -> List[float]:
