@@ -14,6 +14,8 @@
 
 // Philox stream of the neighbour sample (keyed by seed, sample group, step).
 #define FM_STREAM_SAMPLE 16u
+// Each insect's pace (speed_spread): one N(0, 1) per insect, keyed by its id.
+#define FM_STREAM_PACE 17u
 // Agents of one sample group: the slots [16 g, 16 g + 16) share their
 // neighbour sample (docs/force-model.md).  A multiple of the wide kernel's
 // SWCL_W (8 or 16), so one work-item's lanes share one sample.
@@ -501,17 +503,32 @@ static inline float fm_mesh_obstacle(__global const float* phi, int4 dims, float
 __kernel void force_model_integrate(__global float4* pos, __global float4* vel, __global const float4* force,
                                     uint n, float dt, __global const float* params,
                                     __global const float4* prims, uint nprims, uint has_mesh,
-                                    __global const float* phi, int4 dims, float4 origin_h) {
+                                    __global const float* phi, int4 dims, float4 origin_h,
+                                    __global const uint* ids, __global const ulong* seeds) {
     const uint i = get_global_id(0);
     if (i >= n) return;
     FM_WORLD_AGENTS(pos)
     FM_WORLD_AGENTS(vel)
     FM_WORLD_AGENTS(force)
+    FM_WORLD_AGENTS(ids)
     FM_WORLD_PARAMS(params)
     const float max_speed = params[FORCE_MAX_SPEED], cruise_speed = params[FORCE_CRUISE_SPEED];
     const float range = params[FORCE_OBSTACLE_RANGE];
     float4 p = (float4)(pos[i].xyz, 0.0f);
     float4 v = (float4)(vel[i].xyz, 0.0f);
+    // Ours (docs/force-model.md): insect i's pace f = exp(s z - s^2/2) scales
+    // its forces and speeds.  The step runs on v / f (the velocity at the
+    // swarm's common pace), then scales back, so the limits below and the
+    // relaxation's preferred speed are f times theirs for it.
+    const float spread = params[FORCE_SPEED_SPREAD];
+    float pace = 1.0f;
+    if (spread > 0.0f) {
+        // swcl_rand_gauss4(...).x, which Oclgrind's check crashed on here.
+        const uint4 r = swcl_rand_u4(seeds[get_global_id(1)], ids[i], 0u, FM_STREAM_PACE, 0u);
+        const float z = swcl_box_muller(r.x, r.y).x;
+        pace = exp(spread * z - 0.5f * spread * spread);
+        v /= pace;
+    }
     // Ours (docs/force-model.md): the speed relaxes towards preferred_speed,
     // solved exactly over dt (stable for any rate), the heading kept.
     const float relax = params[FORCE_SPEED_RELAXATION];
@@ -543,6 +560,7 @@ __kernel void force_model_integrate(__global float4* pos, __global float4* vel, 
             if (un < 0.0f) u -= (1.0f - fm_ramp(fmax(d, 0.0f) / range)) * un * nrm;
         }
     }
+    if (spread > 0.0f) u *= pace;
     vel[i] = u;
     pos[i] = p + dt * u;
 }

@@ -927,6 +927,77 @@ TEST(ForceModel, SpeedRelaxesTowardsThePreferredSpeed) {
     }
 }
 
+// Each insect's pace (ours, docs/force-model.md): with F = 0 exactly and
+// every speed above max_speed, one Newton step leaves insect i at f_i
+// max_speed along its heading, f_i = exp(s z_i - s^2/2) with z_i the Philox
+// normal of (noise seed, id, stream 17), against that formula in double;
+// the speeds' log-sd is then s, and moving on keeps each insect's speed.
+TEST(ForceModel, InsectsKeepTheirOwnPace) {
+    const uint32_t n = 3000;
+    const float spread = 0.4f, max_speed = 0.5f;
+    const auto pos = test::random_points(n, -0.4f, 0.4f, 44);
+    auto vel = test::random_points(n, -1.0f, 1.0f, 45);
+    for (uint32_t i = 0; i < n; ++i)  // speed 6: above f max_speed for f < 12 (z < 6.4)
+        for (int a = 0; a < 3; ++a) vel[3 * i + a] *= float(6.0 / norm(at(vel, i)));
+    auto swarm = make_swarm(n, -3.0f, 3.0f, 0.5f, 3);
+    swarm->write(Attribute::Position, pos.data(), n);
+    swarm->write(Attribute::Velocity, vel.data(), n);
+    ForceModelConfig c;
+    c.terms = 0;  // F = 0 exactly
+    c.cruise_speed = 0.0f;
+    c.max_speed = max_speed;
+    c.speed_spread = spread;
+    c.noise.seed = 0x5eed0123ull;
+    swarm->set_behavior(std::make_shared<ForceModel>(*swarm, c));
+    swarm->step(1);
+    std::vector<float> got(3 * size_t(n)), moved(3 * size_t(n));
+    swarm->read(Attribute::Velocity, got.data(), n);
+    swarm->read(Attribute::Position, moved.data(), n);
+    const double dt = swarm->config().dt;
+    size_t bad = 0;
+    double sum = 0.0, sum2 = 0.0;
+    for (uint32_t i = 0; i < n; ++i) {
+        const auto u = swcl_ref::rand_u4(c.noise.seed, i, 0, 17, 0);
+        const double z = swcl_ref::box_muller(u[0], u[1])[0];
+        const double f = std::exp(double(spread) * z - 0.5 * double(spread) * spread);
+        const D3 v = at(vel, i);
+        for (int a = 0; a < 3; ++a) {
+            const double want = f * max_speed * v[a] / norm(v);
+            if (std::fabs(got[3 * i + a] - want) > 2e-5 * std::max(1.0, f) ||
+                std::fabs(moved[3 * i + a] - (pos[3 * i + a] + dt * got[3 * i + a])) > 1e-6)
+                if (bad++ < 5) ADD_FAILURE() << "agent " << i << " axis " << a << ": " << got[3 * i + a] << " vs "
+                                             << want << " (pace " << f << ")";
+        }
+        const double l = std::log(norm(at(got, i)) / max_speed);
+        sum += l;
+        sum2 += l * l;
+    }
+    EXPECT_EQ(bad, 0u);
+    const double mean = sum / n, sd = std::sqrt(sum2 / n - mean * mean);
+    EXPECT_NEAR(mean, -0.5 * spread * spread, 4.0 * spread / std::sqrt(double(n)));
+    EXPECT_NEAR(sd, spread, 0.05 * spread);
+    // Later steps: F = 0 and each insect at its own limit, so its speed stays.
+    swarm->step(20);
+    std::vector<float> later(3 * size_t(n));
+    swarm->read(Attribute::Velocity, later.data(), n);
+    for (uint32_t i = 0; i < n; i += 97) EXPECT_NEAR(norm(at(later, i)), norm(at(got, i)), 1e-5) << "agent " << i;
+}
+
+// A speed spread outside [0, 3] is refused by name.
+TEST(ForceModel, SpeedSpreadRefusesBadValues) {
+    auto swarm = make_swarm(10, -1.0f, 1.0f, 0.5f);
+    for (float s : {-0.1f, 3.5f, NAN, INFINITY}) {
+        ForceModelConfig c;
+        c.speed_spread = s;
+        try {
+            ForceModel m(*swarm, c);
+            ADD_FAILURE() << s << " accepted";
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find("speed_spread"), std::string::npos) << e.what();
+        }
+    }
+}
+
 // A rate outside [0, 1000] or a negative preferred speed is refused by name.
 TEST(ForceModel, SpeedRelaxationRefusesBadValues) {
     auto swarm = make_swarm(10, -1.0f, 1.0f, 0.5f);
@@ -1146,6 +1217,35 @@ TEST_F(ForceCApi, SpeedRelaxationThroughTheDescriptor) {
     std::vector<float> v(3 * 200);
     ASSERT_EQ(swcl_swarm_read(swarm, SWCL_ATTRIBUTE_VELOCITY, v.data(), 200), SWCL_OK) << swcl_last_error();
     for (size_t i = 0; i < 200; ++i) EXPECT_NEAR(norm(at(v, i)), 0.3, 1e-3) << "agent " << i;
+}
+
+// The insects' paces through the C descriptor: 0 by default and for a
+// descriptor that ends before it; a bad spread refused by name; with every
+// force off and the speeds relaxed to preferred_speed, each insect settles at
+// its own pace times it, so the speeds spread.
+TEST_F(ForceCApi, SpeedSpreadThroughTheDescriptor) {
+    swcl_force_model_desc d = swcl_force_model_desc_default();
+    EXPECT_EQ(d.speed_spread, 0.0f);
+    d.w_rep = d.w_ali = d.w_att = d.w_dis = d.eta = 0.0f;  // F = 0: no keyframes, no noise
+    d.cruise_speed = 0.0f;
+    d.speed_relaxation = 5.0f;
+    d.preferred_speed = 0.3f;
+    d.speed_spread = -1.0f;
+    EXPECT_EQ(swcl_swarm_force_set_model(swarm, &d), SWCL_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(swcl_last_error()).find("speed_spread"), std::string::npos) << swcl_last_error();
+    swcl_force_model_desc old = d;  // the previous version: ends at preferred_speed, whatever lies beyond
+    old.struct_size = uint32_t(offsetof(swcl_force_model_desc, preferred_speed) + sizeof(old.preferred_speed));
+    ASSERT_EQ(swcl_swarm_force_set_model(swarm, &old), SWCL_OK) << swcl_last_error();
+    d.speed_spread = 0.5f;
+    ASSERT_EQ(swcl_swarm_force_set_model(swarm, &d), SWCL_OK) << swcl_last_error();
+    const auto start = test::random_points(200, -0.6f, 0.6f, 43);
+    ASSERT_EQ(swcl_swarm_write(swarm, SWCL_ATTRIBUTE_VELOCITY, start.data(), 200), SWCL_OK) << swcl_last_error();
+    ASSERT_EQ(swcl_swarm_step(swarm, 400), SWCL_OK) << swcl_last_error();
+    std::vector<float> v(3 * 200);
+    ASSERT_EQ(swcl_swarm_read(swarm, SWCL_ATTRIBUTE_VELOCITY, v.data(), 200), SWCL_OK) << swcl_last_error();
+    double lo = 1e9, hi = 0.0;
+    for (size_t i = 0; i < 200; ++i) lo = std::min(lo, norm(at(v, i))), hi = std::max(hi, norm(at(v, i)));
+    EXPECT_GT(hi / lo, 2.0) << "the paces should spread the settled speeds";
 }
 
 TEST_F(ForceCApi, BadInputChangesNothing) {

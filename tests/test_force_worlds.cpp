@@ -27,7 +27,7 @@ constexpr uint32_t kAgents = 301;  // not a multiple of any lane count
 const uint64_t kSeeds[kWorlds] = {5, 17, 29, 0x9876543210ull};
 
 // Per world: r_rep, min_distance (0: no MDE in world 2), w_ali, noise.seed,
-// max_speed.  r_rep is large enough that agents sum several repulsion
+// max_speed, speed_spread.  r_rep is large enough that agents sum several repulsion
 // neighbours, whose order the fine grid's cells set: built with one cell
 // size (0.5 m) for every world instead of each world's own, worlds 0, 2 and
 // 3 differed from their swarms alone here.
@@ -36,6 +36,9 @@ const double kMinDistance[kWorlds] = {0.03, 0.05, 0.0, 0.04};
 const double kWAli[kWorlds] = {3.0, 1.0, 0.5, 2.0};
 const double kNoiseSeed[kWorlds] = {1, 2, 3, 4000000000.0};
 const double kMaxSpeed[kWorlds] = {0.75, 0.5, 1.0, 0.6};
+// Each insect's pace (0 in world 0: the insects alike), drawn by each
+// world's noise seed.
+const double kSpeedSpread[kWorlds] = {0.0, 0.3, 0.5, 0.2};
 // With sampled_: alignment and attraction sampled in worlds 1 and 3, exact in
 // 0 and 2.  An exact world's force kernel sums the repulsion zone in its
 // walk of the zones; a sampled world's comes from the fine grid's kernel.
@@ -108,6 +111,7 @@ protected:
         m.noise_seed = uint64_t(kNoiseSeed[k]);
         m.min_distance = float(kMinDistance[k]);
         m.max_speed = float(kMaxSpeed[k]);
+        m.speed_spread = float(kSpeedSpread[k]);
         if (sampled_) m.neighbor_sample = uint32_t(kNeighborSample[k]);
         return m;
     }
@@ -120,6 +124,7 @@ protected:
         set(s, "w_ali", kWAli, kWorlds);
         set(s, "noise.seed", kNoiseSeed, kWorlds);
         set(s, "max_speed", kMaxSpeed, kWorlds);
+        set(s, "speed_spread", kSpeedSpread, kWorlds);
         if (sampled_) set(s, "neighbor_sample", kNeighborSample, kWorlds);
         return s;
     }

@@ -95,6 +95,7 @@ swcl_force_model_desc swcl_force_model_desc_default(void) {
     d.cruise_speed = c.cruise_speed;
     d.speed_relaxation = c.speed_relaxation;
     d.preferred_speed = c.preferred_speed;
+    d.speed_spread = c.speed_spread;
     d.min_distance = c.min_distance;
     d.min_spacing = c.min_spacing;
     d.assignment = SWCL_ASSIGN_NEAREST;
@@ -166,6 +167,8 @@ swcl_status swcl_swarm_force_set_model(swcl_swarm swarm, const swcl_force_model_
             c.speed_relaxation = d.speed_relaxation;
             c.preferred_speed = d.preferred_speed;
         }
+        if (d.struct_size >= offsetof(swcl_force_model_desc, speed_spread) + sizeof(d.speed_spread))
+            c.speed_spread = d.speed_spread;
         install(s, std::move(c));
     });
 }

@@ -199,17 +199,15 @@ void ForceModel::upload_world_blocks(Context& ctx) {
     noise_blocks_.upload(ctx, noise_host_.data(), noise_host_.size());
     noise_prims_.reserve(ctx, noise_prims_host_.size(), "noise boundaries of the worlds");
     noise_prims_.upload(ctx, noise_prims_host_.data(), noise_prims_host_.size());
+    std::vector<cl_ulong> seed(world_count_);
+    for (uint32_t k = 0; k < world_count_; ++k) seed[k] = worlds_[k].noise.seed;
+    world_seed_.reserve(ctx, world_count_, "force model noise seeds");
+    world_seed_.upload(ctx, seed.data(), world_count_);
     if (world_count_ > 1) {
         std::vector<cl_float> d_min(world_count_);
-        std::vector<cl_ulong> seed(world_count_);
-        for (uint32_t k = 0; k < world_count_; ++k) {
-            d_min[k] = worlds_[k].min_distance;
-            seed[k] = worlds_[k].noise.seed;
-        }
+        for (uint32_t k = 0; k < world_count_; ++k) d_min[k] = worlds_[k].min_distance;
         mde_d_min_.reserve(ctx, world_count_, "force model MDE distances");
         mde_d_min_.upload(ctx, d_min.data(), world_count_);
-        mde_seed_.reserve(ctx, world_count_, "force model MDE seeds");
-        mde_seed_.upload(ctx, seed.data(), world_count_);
     }
     blocks_current_ = true;
 }
@@ -520,7 +518,7 @@ void ForceModel::enforce_min_distance(Swarm& swarm, DeviceBuffer<cl_uint>& moved
                  cl_ulong(config_.noise.seed), swarm.scratch().get(), moved.get());
     } else {
         set_args(mde_k_, swarm.positions().get(), swarm.ids().get(), cl_uint(n), fine_.geometry().get(),
-                 fine_.cell_start().get(), fine_.sorted_slots().get(), mde_d_min_.get(), slack, mde_seed_.get(),
+                 fine_.cell_start().get(), fine_.sorted_slots().get(), mde_d_min_.get(), slack, world_seed_.get(),
                  swarm.scratch().get(), moved.get());
     }
     launch_worlds(ctx, mde_k_, n, world_count_);
@@ -544,7 +542,7 @@ void ForceModel::advance(Swarm& swarm, uint64_t step) {
     const cl_uint has_mesh = config_.mesh_obstacles.empty() ? 0u : 1u;
     set_args(integrate_k_, swarm.positions().get(), swarm.velocities().get(), force_.get(), cl_uint(n),
              swarm.config().dt, params_.get(), prims_.get(), cl_uint(nprims_), has_mesh, mesh_phi_.get(),
-             mesh_dims_arg(mesh_grid_), mesh_origin_arg(mesh_grid_));
+             mesh_dims_arg(mesh_grid_), mesh_origin_arg(mesh_grid_), swarm.ids().get(), world_seed_.get());
     launch_worlds(ctx, integrate_k_, n, world_count_);
     swarm.positions_changed();
 }

@@ -68,6 +68,13 @@ struct ForceModelConfig {
     // docs/force-model.md).  0: off (the paper's).
     float speed_relaxation = 0.0f;
     float preferred_speed = 0.0f;  // m/s, s0 of the relaxation
+    // Each insect's own pace (not in the paper; individual variation, which
+    // the mosquito tracks show: docs/force-model.md): insect i's forces and
+    // speeds (max_speed, cruise_speed, preferred_speed) are scaled by f_i =
+    // exp(s z_i - s^2 / 2), z_i ~ N(0, 1) drawn once per insect (Philox keyed
+    // by the noise seed and the insect's id), so the f_i have mean 1 and
+    // log-sd s = speed_spread.  0: every insect alike (the paper's).
+    float speed_spread = 0.0f;
     // Eq. 4: scale = rho 0.32 m, gain = eta / rho = 0.125 / 0.32 (Table 1):
     // the noise module's gain multiplies the curl in noise coordinates, Eq. 4
     // differentiates eta P(r / rho) in metres (docs/force-model.md).
@@ -195,7 +202,7 @@ private:
     std::vector<cl_float4> noise_prims_host_;
     DeviceBuffer<cl_float4> noise_prims_;
     DeviceBuffer<cl_float> mde_d_min_;     // worlds: each world's min_distance
-    DeviceBuffer<cl_ulong> mde_seed_;      // worlds: each world's noise.seed
+    DeviceBuffer<cl_ulong> world_seed_;    // each world's noise.seed (MDE of worlds, the insects' paces)
     bool blocks_current_ = false;
     uint32_t width_ = 1;  // agents per work-item of force_k_
     uint32_t prepared_n_ = 0;

@@ -59,6 +59,9 @@ const ParamTable& force_param_table() {
             .cites("ours (docs/force-model.md)").on_device();
         t.add("preferred_speed", T::Float, &C::preferred_speed).non_negative().in("m/s")
             .says("speed the relaxation tends to; 0: a linear drag").cites("ours (docs/force-model.md)").on_device();
+        t.add("speed_spread", T::Float, &C::speed_spread).range(0, 3)
+            .says("log-sd of each insect's pace, which scales its forces and speeds (mean 1); 0: insects alike (the paper's)")
+            .cites("ours (docs/force-model.md)").on_device();
         // The internal noise (Eq. 4: scale = rho, gain = eta / rho by
         // default); a scenario's "noise" object starts from the noise
         // module's defaults, the legacy keys from these (force_section.cpp).

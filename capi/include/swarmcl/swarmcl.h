@@ -853,6 +853,12 @@ typedef struct swcl_force_model_desc {
                                       s <- s0 + (s - s0) exp(-speed_relaxation dt),
                                       the heading kept; 0: off (default) */
     float preferred_speed;         /* m/s, s0 (default 0: with a rate, a linear drag) */
+    /* Added with the insects' own paces (a struct_size that ends before it
+     * reads as 0; not in the paper, docs/force-model.md): */
+    float speed_spread;            /* in [0, 3]: insect i's forces and speeds (max, cruise,
+                                      preferred) are scaled by f_i = exp(s z_i - s^2/2),
+                                      z_i ~ N(0, 1) drawn once per insect (by noise_seed
+                                      and id); 0: insects alike (default) */
 } swcl_force_model_desc;
 
 SWCL_API swcl_force_model_desc swcl_force_model_desc_default(void);
