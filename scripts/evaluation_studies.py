@@ -241,12 +241,16 @@ def main(argv=None) -> int:
                     scenario = copy.deepcopy(scenario)
                     scenario["model"].update(speed_relaxation=0.0, preferred_speed=0.0)
                     ranges = dict(ranges, **RELAX_RANGES)
-                if name == RELAXED_FROM:
+                if name == PACED_FROM:
+                    scenario = copy.deepcopy(scenario)
+                    scenario["model"].update(speed_spread=0.0)
+                    ranges = dict(ranges, **PACE_RANGES)
+                if name in (RELAXED_FROM, PACED_FROM):
                     contained = results["variants"].get(COARSE, {}).get("seed_best")
                     if not contained or len(contained) < args.seeds:
-                        raise SystemExit(f"{RELAXED_FROM!r} starts from the recorded {COARSE!r} fits: fit it first")
-                    beside = [dict(b, **RELAX_START) for b in contained]
-                if name in (COARSE, RESEEDED, MANY, RELAXED, RELAXED_FROM):
+                        raise SystemExit(f"{name!r} starts from the recorded {COARSE!r} fits: fit it first")
+                    beside = [dict(b, **(RELAX_START if name == RELAXED_FROM else PACE_START)) for b in contained]
+                if name in (COARSE, RESEEDED, MANY, RELAXED, RELAXED_FROM, PACED_FROM):
                     extra["bins"] = args.fit_bins
                 if name == MANY:
                     extra["seeds"] = args.many_pool_seeds
@@ -391,7 +395,16 @@ RELAX_RANGES = {"model.speed_relaxation": [0.0, 20.0], "model.preferred_speed": 
 # point itself (rate 0), where every search stopped at once.
 RELAXED_FROM = "best noise with speed relaxation, from the coarse fits"
 RELAX_START = {"model.speed_relaxation": 2.0, "model.preferred_speed": 0.5}
-REFITS_AFRESH = (POOLED, COARSE, RESEEDED, MANY, RELAXED, RELAXED_FROM)
+# PACED_FROM: COARSE with each insect's own pace fitted too (speed_spread,
+# docs/force-model.md), started from each optimiser seed's recorded COARSE
+# fit with a spread of PACE_START: the recording's tracks differ in speed
+# (the sd of their median speeds' logarithm is 0.54), and scaling each
+# simulated insect's steps by a lognormal factor of log-sd 0.2-0.35 took
+# the held-out acceleration distance from 1.44 to 0.57-0.84 (2026-11-29).
+PACED_FROM = "best noise with individual paces, from the coarse fits"
+PACE_RANGES = {"model.speed_spread": [0.0, 1.5]}
+PACE_START = {"model.speed_spread": 0.3}
+REFITS_AFRESH = (POOLED, COARSE, RESEEDED, MANY, RELAXED, RELAXED_FROM, PACED_FROM)
 NESTED = {**{f"force+{n}": ("force dynamics only",) for n in NOISES},
           "force+curl": ("force dynamics only", "force noise only")}
 
