@@ -126,13 +126,12 @@ def main() -> int:
     # Worlds (device metrics), worlds with host metrics and one swarm
     # per individual, alternated, twice each.
     times = {"worlds": [g], "worlds_host": [], "alone": []}
-    stages = {"worlds": [], "worlds_host": []}  # the stage seconds of each run in times[name]
+    host_stages = []  # the stage seconds of each run in times["worlds_host"]
     for name in ("alone", "worlds_host", "worlds_host", "worlds", "alone"):
         st = {}
-        times[name].append(generation_seconds(args, worlds=name != "alone", streamed=name != "worlds_host",
-                                              stages=st if name != "alone" else None))
-        if name != "alone":
-            stages[name].append(st)
+        times[name].append(generation_seconds(args, worlds=name != "alone", streamed=name != "worlds_host", stages=st))
+        if name == "worlds_host":
+            host_stages.append(st)
     g, h, a = min(times["worlds"]), min(times["worlds_host"]), min(times["alone"])
     # The evaluator's default: the host's metrics for worlds on a CPU device.
     cpu = swarmcl.Context().device.type == swarmcl.DeviceType.CPU
@@ -145,7 +144,7 @@ def main() -> int:
     print(f"    metrics on the device:      {g:6.2f} s   (per world; the host's {g / h:.2f}x faster)")
     print(f"    metrics on the host:        {h:6.2f} s   (frames read back, a thread per core)")
     # Where the fastest host-metrics run went (its stepping and its metrics).
-    split = stages["worlds_host"][times["worlds_host"].index(h)]
+    split = host_stages[times["worlds_host"].index(h)]
     out["generation_stages_worlds_host_metrics"] = split
     print(f"      of which stepping {split['steps']:.2f} s ({rate(split['steps']):.2f} M agent-steps/s, frames read "
           f"back every sample), metrics and scores {split['metrics']:.2f} s")

@@ -884,6 +884,23 @@ TEST(ForceModel, MinDistanceMatchesItsReference) { expect_mde_matches_its_refere
 // AMD EPYC, most of it in the fine grid of 75^3 cells (d_min over 6 m).
 TEST(ForceModel, SmallMinDistanceMatchesItsReference) { expect_mde_matches_its_reference(150, 0.25f, 1.0f); }
 
+// A swarm of the insects at pos with velocities vel (packed xyz), and a
+// model with F = 0 exactly and no cruise floor: the Newton step's own rules
+// (speed relaxation, limits, paces) alone.
+static std::shared_ptr<Swarm> swarm_in_state(const std::vector<float>& pos, const std::vector<float>& vel) {
+    const uint32_t n = uint32_t(pos.size() / 3);
+    auto swarm = make_swarm(n, -3.0f, 3.0f, 0.5f, 3);
+    swarm->write(Attribute::Position, pos.data(), n);
+    swarm->write(Attribute::Velocity, vel.data(), n);
+    return swarm;
+}
+static ForceModelConfig without_forces() {
+    ForceModelConfig c;
+    c.terms = 0;
+    c.cruise_speed = 0.0f;
+    return c;
+}
+
 // The speed relaxation (ours, docs/force-model.md): with F = 0 exactly the
 // Newton step only relaxes each speed towards preferred_speed, heading kept,
 // s <- s0 + (s - s0) exp(-k dt), against that formula in double; over many
@@ -893,12 +910,8 @@ TEST(ForceModel, SpeedRelaxesTowardsThePreferredSpeed) {
     const auto pos = test::random_points(n, -0.4f, 0.4f, 41);
     const auto vel = test::random_points(n, -0.6f, 0.6f, 42);
     for (float s0 : {0.4f, 0.0f}) {
-        auto swarm = make_swarm(n, -3.0f, 3.0f, 0.5f, 3);
-        swarm->write(Attribute::Position, pos.data(), n);
-        swarm->write(Attribute::Velocity, vel.data(), n);
-        ForceModelConfig c;
-        c.terms = 0;  // F = 0 exactly
-        c.cruise_speed = 0.0f;
+        auto swarm = swarm_in_state(pos, vel);
+        ForceModelConfig c = without_forces();
         c.max_speed = 5.0f;
         c.speed_relaxation = 3.0f;
         c.preferred_speed = s0;
@@ -939,12 +952,8 @@ TEST(ForceModel, InsectsKeepTheirOwnPace) {
     auto vel = test::random_points(n, -1.0f, 1.0f, 45);
     for (uint32_t i = 0; i < n; ++i)  // speed 6: above f max_speed for f < 12 (z < 6.4)
         for (int a = 0; a < 3; ++a) vel[3 * i + a] *= float(6.0 / norm(at(vel, i)));
-    auto swarm = make_swarm(n, -3.0f, 3.0f, 0.5f, 3);
-    swarm->write(Attribute::Position, pos.data(), n);
-    swarm->write(Attribute::Velocity, vel.data(), n);
-    ForceModelConfig c;
-    c.terms = 0;  // F = 0 exactly
-    c.cruise_speed = 0.0f;
+    auto swarm = swarm_in_state(pos, vel);
+    ForceModelConfig c = without_forces();
     c.max_speed = max_speed;
     c.speed_spread = spread;
     c.noise.seed = 0x5eed0123ull;
@@ -1195,7 +1204,7 @@ TEST_F(ForceCApi, TargetsTurnWithThePathUnlessOrientIsOff) {
 
 // The speeds of the swarm's 200 insects started at random velocities, after
 // 400 steps of the model d (empty where a call fails).
-std::vector<double> settled_speeds(swcl_swarm swarm, const swcl_force_model_desc& d) {
+static std::vector<double> settled_speeds(swcl_swarm swarm, const swcl_force_model_desc& d) {
     const auto start = test::random_points(200, -0.6f, 0.6f, 43);
     std::vector<float> v(3 * 200);
     if (swcl_swarm_force_set_model(swarm, &d) != SWCL_OK ||
