@@ -27,6 +27,15 @@
 
 static inline uint chunk_size(uint n, uint nchunks) { return (n + nchunks - 1u) / nchunks; }
 
+// The key of an agent at p: the first cell of its world + its cell there.
+static inline uint grid_key(float4 p, float4 origin, float inv_cell, int4 dims, uint first) {
+    const float4 hi = convert_float4(dims - 1);
+    const uint dx = (uint)dims.x, dxy = (uint)dims.x * (uint)dims.y;
+    const float4 f = clamp((p - origin) * inv_cell, (float4)(0.0f), hi);
+    const uint4 q = convert_uint4(f);
+    return q.x + dx * q.y + dxy * q.z + first;
+}
+
 // Chunk b: keys[s] = cell of the agent in slot s, and counts[b] = movers in
 // the chunk.  The cell is grid_cell_of()'s, computed as clamp then truncate,
 // which equals floor then clamp for every input (truncation is floor on
@@ -62,11 +71,7 @@ __kernel void grid_keys_count(__global const float4* pos, uint n, GRID_PARAMS, _
             first = (uint)(g.cell_start - grid_cell_start);
         }
 #endif
-        const float4 hi = convert_float4(dims - 1);
-        const uint dx = (uint)dims.x, dxy = (uint)dims.x * (uint)dims.y;
-        const float4 f = clamp((pos[s] - origin) * inv_cell, (float4)(0.0f), hi);
-        const uint4 q = convert_uint4(f);
-        const uint key = q.x + dx * q.y + dxy * q.z + first;
+        const uint key = grid_key(pos[s], origin, inv_cell, dims, first);
         keys[s] = key;
         count += key != old_key[s] ? 1u : 0u;
     }
@@ -286,6 +291,128 @@ __kernel void grid_starts(__global const uint* new_key, uint n, uint ncells, uin
     }
     if (d1 == n)
         for (; c <= ncells; ++c) start[c] = n;
+}
+
+// ---- The build on GPUs: a counting sort (NeighborGrid, "counting" path) ----
+// Thousands of short work-items instead of a few hundred long chunks: each
+// agent takes a rank in its cell with an atomic increment, the counts become
+// the cell starts by a prefix sum, every agent is written at start + rank,
+// and each cell sorts its few agents by id.  The atomics decide only the
+// order before that last sort; the result is the one order by (cell, id)
+// (ids are unique within a world, and a cell belongs to one world), so it
+// is bitwise the chunked path's.
+
+// Slot s: keys[s] = its cell, rank[s] = its place among its cell's agents
+// (in no set order); count[key] counts them (zeroed before).
+__kernel void grid_count_cells(__global const float4* pos, uint n, GRID_PARAMS, uint world_agents,
+                               __global const float4* grid_worlds, __global uint* keys, __global uint* rank,
+                               __global uint* count) {
+    const uint s = get_global_id(0);
+    if (s >= n) return;
+    float4 origin = grid_origin;
+    float inv_cell = grid_inv_cell;
+    int4 dims = grid_dims;
+    uint first = 0u;
+#ifdef SWCL_WORLDS
+    const Grid g = grid_of_world(GRID_MAKE(), grid_worlds, s / world_agents);
+    origin = g.origin;
+    inv_cell = g.inv_cell;
+    dims = g.dims;
+    first = (uint)(g.cell_start - grid_cell_start);
+#endif
+    const uint key = grid_key(pos[s], origin, inv_cell, dims, first);
+    keys[s] = key;
+    rank[s] = atomic_inc(count + key);
+}
+
+// Exclusive prefix sum in place over data[0, len), in three launches of
+// SCAN_LOCAL work-items per group (the host launches exactly that size):
+// each group scans SCAN_PER_ITEM * SCAN_LOCAL values and leaves their total
+// in sums[group]; one group scans the sums (any number, a tile at a time);
+// every group adds its sum's prefix.
+#define SCAN_LOCAL 256u
+#define SCAN_PER_ITEM 8u
+#define SCAN_BLOCK (SCAN_LOCAL * SCAN_PER_ITEM)
+
+// The exclusive scan of one value per work-item of the group (Hillis-Steele
+// in local memory); *total = the group's sum.
+static inline uint group_exclusive_scan(uint v, __local uint* tmp, uint* total) {
+    const uint l = get_local_id(0);
+    tmp[l] = v;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (uint d = 1u; d < SCAN_LOCAL; d <<= 1) {
+        const uint add = l >= d ? tmp[l - d] : 0u;
+        barrier(CLK_LOCAL_MEM_FENCE);
+        tmp[l] += add;
+        barrier(CLK_LOCAL_MEM_FENCE);
+    }
+    *total = tmp[SCAN_LOCAL - 1u];
+    const uint inclusive = tmp[l];
+    barrier(CLK_LOCAL_MEM_FENCE);
+    return inclusive - v;
+}
+
+__kernel void scan_blocks(__global uint* data, uint len, __global uint* sums) {
+    if (get_group_id(0) * SCAN_BLOCK >= len) return;  // a whole group: no barrier is split
+    __local uint tmp[SCAN_LOCAL];
+    const uint base = get_group_id(0) * SCAN_BLOCK + get_local_id(0) * SCAN_PER_ITEM;
+    uint v[SCAN_PER_ITEM];
+    uint run = 0u;
+    for (uint k = 0; k < SCAN_PER_ITEM; ++k) {
+        v[k] = base + k < len ? data[base + k] : 0u;
+        run += v[k];
+    }
+    uint total;
+    uint prefix = group_exclusive_scan(run, tmp, &total);
+    for (uint k = 0; k < SCAN_PER_ITEM; ++k) {
+        if (base + k < len) data[base + k] = prefix;
+        prefix += v[k];
+    }
+    if (get_local_id(0) == 0u) sums[get_group_id(0)] = total;
+}
+
+__kernel void scan_sums(__global uint* sums, uint count) {
+    if (get_group_id(0) > 0u) return;  // one group
+    __local uint tmp[SCAN_LOCAL];
+    uint carry = 0u;
+    for (uint t = 0; t < count; t += SCAN_LOCAL) {
+        const uint i = t + get_local_id(0);
+        const uint v = i < count ? sums[i] : 0u;
+        uint total;
+        const uint prefix = group_exclusive_scan(v, tmp, &total);
+        if (i < count) sums[i] = carry + prefix;
+        carry += total;
+    }
+}
+
+__kernel void scan_add(__global uint* data, uint len, __global const uint* sums) {
+    const uint base = get_group_id(0) * SCAN_BLOCK + get_local_id(0) * SCAN_PER_ITEM;
+    if (base >= len) return;
+    const uint add = sums[get_group_id(0)];
+    for (uint k = 0; k < SCAN_PER_ITEM; ++k)
+        if (base + k < len) data[base + k] += add;
+}
+
+// Slot s to place start[keys[s]] + rank[s] of the output: out_slot = s,
+// out_id = its id.
+__kernel void grid_scatter(__global const uint* keys, __global const uint* rank, __global const uint* ids,
+                           __global const uint* start, uint n, __global uint* out_slot, __global uint* out_id) {
+    const uint s = get_global_id(0);
+    if (s >= n) return;
+    const uint d = start[keys[s]] + rank[s];
+    out_slot[d] = s;
+    out_id[d] = ids[s];
+}
+
+// Cell c sorts its agents by id and writes its key for each (the next
+// layout's keys, as grid_merge writes them).
+__kernel void grid_sort_cells(__global const uint* start, uint ncells, __global uint* slot, __global uint* id,
+                              __global uint* new_key) {
+    const uint c = get_global_id(0);
+    if (c >= ncells) return;
+    const uint b = start[c], e = start[c + 1u];
+    if (e - b > 1u) sort_by_id(slot + b, id + b, e - b);
+    for (uint d = b; d < e; ++d) new_key[d] = c;
 }
 
 // Reordering into cell order: dst[s] = src[perm[s]].

@@ -68,6 +68,7 @@ CPU = {"SWARMCL_DEVICE_PROFILE": "cpu"}
 CASES = [
     # The neighbour grid, the point grid, the swarm's state and queries.
     ("test_grid", "Grid.RandomPointsMatchHostCountingSort", GPU),
+    ("test_grid", "Grid.CountingAndChunkedSortsBuildTheSameGrid", GPU),
     ("test_grid", "Grid.EmptyAndSingleAgentSwarms", GPU),
     ("test_grid", "Grid.ReorderKeepsEachAgentsVelocityWithIt", GPU),
     ("test_grid", "Grid.AgentsOutsideTheDomainAreClampedIntoBorderCells", GPU),

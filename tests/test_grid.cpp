@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "spatial/neighbor_grid.hpp"
 #include "test_support.hpp"
 
 using namespace swarmcl;
@@ -137,6 +138,89 @@ TEST(Grid, ReorderKeepsEachAgentsVelocityWithIt) {
     swarm.read(Attribute::Velocity, v.data(), 10000);
     EXPECT_EQ(p, xyz);
     EXPECT_EQ(v, vel);
+}
+
+// One build of `pos` (slot order, ids a permutation per world) by the
+// NeighborGrid `grid`: its permutation and cell starts.
+std::pair<std::vector<cl_uint>, std::vector<cl_uint>> build_grid(Context& ctx, NeighborGrid& grid,
+                                                                 const std::vector<cl_float4>& pos,
+                                                                 const std::vector<cl_uint>& ids,
+                                                                 uint32_t world_agents, uint32_t ncells) {
+    const uint32_t n = uint32_t(pos.size());
+    DeviceBuffer<cl_float4> p(ctx, n, "positions");
+    DeviceBuffer<cl_uint> id(ctx, n, "ids");
+    p.upload(ctx, pos.data(), n);
+    id.upload(ctx, ids.data(), n);
+    grid.build(p, id, n, world_agents);
+    std::vector<cl_uint> perm(n), start(size_t(ncells) + 1);
+    grid.permutation().download(ctx, perm.data(), n);
+    grid.cell_start().download(ctx, start.data(), start.size());
+    return {perm, start};
+}
+
+// The counting sort (the GPU default) and the chunked sort of the movers
+// (the CPU default) build the same grid, bitwise: three worlds of their own
+// geometry, agents outside the domain, a crowded cell (the heap sort), and a
+// second build after a step-like reorder and moves (the chunked sort then
+// sorts only the movers).
+TEST(Grid, CountingAndChunkedSortsBuildTheSameGrid) {
+    auto ctx = shared_context();
+    const uint32_t per_world = 1201, worlds = 3, n = per_world * worlds;
+    std::vector<GridGeometry> geo;
+    for (uint32_t w = 0; w < worlds; ++w) {
+        const float lo[3] = {-1.0f - w, 0.0f, 2.0f * w}, hi[3] = {1.0f + w, 1.5f, 2.0f * w + 1.0f};
+        geo.push_back(GridGeometry::cover(lo, hi, 0.1f + 0.05f * w, 1u << 16));
+    }
+    uint32_t ncells = 0;
+    for (const auto& g : geo) ncells += g.cell_count();
+    std::vector<cl_float4> pos(n);
+    std::vector<cl_uint> ids(n);
+    const auto xyz = random_points(n, -3.0f, 6.0f, 11);
+    for (uint32_t s = 0; s < n; ++s) {
+        pos[s] = cl_float4{{xyz[3 * s], xyz[3 * s + 1], xyz[3 * s + 2], 0.0f}};
+        if (s % per_world < 100) pos[s] = cl_float4{{0.01f, 0.01f, 2.0f * (s / per_world) + 0.01f, 0.0f}};
+        ids[s] = per_world - 1 - s % per_world;  // reversed in each world
+    }
+    NeighborGrid counting(*ctx, geo, n), chunked(*ctx, geo, n);
+    if (!counting.use_counting_sort(true)) GTEST_SKIP() << "the device cannot run the scan's work-groups";
+    chunked.use_counting_sort(false);
+    ASSERT_TRUE(counting.counting_sort());
+    ASSERT_FALSE(chunked.counting_sort());
+    const auto a = build_grid(*ctx, counting, pos, ids, per_world, ncells);
+    const auto b = build_grid(*ctx, chunked, pos, ids, per_world, ncells);
+    EXPECT_EQ(a.first, b.first);
+    EXPECT_EQ(a.second, b.second);
+    // A permutation that keeps every agent in its world's slots.
+    std::vector<cl_uint> sorted = a.first;
+    std::sort(sorted.begin(), sorted.end());
+    for (uint32_t d = 0; d < n; ++d) {
+        ASSERT_EQ(sorted[d], d);
+        ASSERT_EQ(a.first[d] / per_world, d / per_world) << d;
+    }
+
+    // Reorder by the build (each grid its own layout), move a tenth of the
+    // agents, build again.
+    std::vector<cl_float4> pos2(n);
+    std::vector<cl_uint> ids2(n);
+    for (uint32_t d = 0; d < n; ++d) {
+        pos2[d] = pos[a.first[d]];
+        ids2[d] = ids[a.first[d]];
+        if (d % 10 == 3) pos2[d].s[0] += 0.37f;
+    }
+    for (NeighborGrid* g : {&counting, &chunked}) {
+        DeviceBuffer<cl_float4> p(*ctx, n, "p"), v(*ctx, n, "v"), ps(*ctx, n, "ps"), vs(*ctx, n, "vs");
+        DeviceBuffer<cl_uint> id(*ctx, n, "id"), is(*ctx, n, "is");
+        p.upload(*ctx, pos.data(), n);
+        v.upload(*ctx, pos.data(), n);
+        id.upload(*ctx, ids.data(), n);
+        g->build(p, id, n, per_world);
+        g->reorder_state(p, v, id, ps, vs, is, n);
+    }
+    const auto c = build_grid(*ctx, counting, pos2, ids2, per_world, ncells);
+    const auto e = build_grid(*ctx, chunked, pos2, ids2, per_world, ncells);
+    EXPECT_EQ(c.first, e.first);
+    EXPECT_EQ(c.second, e.second);
+    EXPECT_NE(c.first, a.first);  // the moves changed the order
 }
 
 TEST(GridGeometry, CellCountIsBoundedByGrowingTheCell) {

@@ -161,6 +161,13 @@ inline void launch(Context& ctx, cl::Kernel& kernel, size_t n, size_t max_local 
                                      cl::NDRange(local));
 }
 
+// Enqueues `groups` work-groups of `local` work-items (a kernel that uses
+// local memory and barriers, sized for that local size).
+inline void launch_groups(Context& ctx, cl::Kernel& kernel, size_t groups, size_t local) {
+    if (!groups) return;
+    ctx.queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(groups * local), cl::NDRange(local));
+}
+
 // Enqueues a 1-D kernel over `n` work-items that each process a long chunk
 // (a few hundred work-items at most, and exactly n of them).  CPU devices:
 // each work-item is its own work-group, so any thread can take any chunk

@@ -1,7 +1,9 @@
 #include "spatial/neighbor_grid.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 #include <cstring>
+#include <string>
 #include <utility>
 
 #include "core/error.hpp"
@@ -23,6 +25,16 @@ constexpr uint32_t kOutputsPerItemCpu = 4096, kOutputsPerItemGpu = 256;
 constexpr uint32_t kMaxRadixBits = 11;
 
 uint32_t div_up(uint32_t a, uint32_t b) { return (a + b - 1) / b; }
+
+// kernels/grid.cl's scan: SCAN_LOCAL work-items per group, SCAN_BLOCK values.
+constexpr uint32_t kScanLocal = 256, kScanBlock = 256 * 8;
+
+// The build's path: $SWARMCL_GRID_SORT ("counting" or "chunked") if set,
+// else the counting sort on devices of the GPU profile.
+bool counting_sort_wanted(const DeviceEntry& device) {
+    if (const char* env = std::getenv("SWARMCL_GRID_SORT"); env && *env) return std::string(env) == "counting";
+    return !device.cpu_profile;
+}
 
 uint32_t total_cells(const std::vector<GridGeometry>& worlds) {
     require(!worlds.empty(), "neighbour grid: at least one world expected");
@@ -74,6 +86,24 @@ NeighborGrid::NeighborGrid(Context& ctx, std::vector<GridGeometry> world_geometr
     merge_ = ctx.kernel("grid.cl", "grid_merge");
     starts_ = ctx.kernel("grid.cl", "grid_starts");
     permute_state_ = ctx.kernel("grid.cl", "permute_state");
+
+    count_cells_ = ctx.kernel("grid.cl", "grid_count_cells", world_defines(worlds_));
+    scan_blocks_ = ctx.kernel("grid.cl", "scan_blocks");
+    scan_sums_ = ctx.kernel("grid.cl", "scan_sums");
+    scan_add_ = ctx.kernel("grid.cl", "scan_add");
+    scatter_ = ctx.kernel("grid.cl", "grid_scatter");
+    sort_cells_ = ctx.kernel("grid.cl", "grid_sort_cells");
+    scan_sums_buf_.allocate(ctx, div_up(ncells_ + 1, kScanBlock), "grid scan sums");
+    use_counting_sort(counting_sort_wanted(ctx.device()));
+}
+
+bool NeighborGrid::use_counting_sort(bool counting) {
+    // The scan's groups of 256 work-items must fit the device.
+    const auto fits = [&](cl::Kernel& k) {
+        return k.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(ctx_.device().device) >= kScanLocal;
+    };
+    counting_ = counting && fits(scan_blocks_) && fits(scan_sums_) && fits(scan_add_);
+    return counting_;
 }
 
 cl_uint NeighborGrid::set_grid_args(cl::Kernel& kernel, cl_uint index) {
@@ -122,6 +152,10 @@ void NeighborGrid::build(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<
         return;
     }
 
+    if (counting_) {
+        build_counting(pos, ids, n, world_agents, stage);
+        return;
+    }
     // Cell keys, and the movers (cell differs from the layout's) per chunk.
     const uint32_t chunks = std::clamp(n / kMinChunkSlots, 1u, kMoverChunks);
     set_grid_args(keys_k_, 2);
@@ -161,6 +195,41 @@ void NeighborGrid::build(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<
     set_args(starts_, pending_key_->get(), n, ncells_, outputs_per_item_, start_.get());
     launch_chunks(ctx_, starts_, items);
     stage("grid_starts");
+}
+
+void NeighborGrid::build_counting(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<cl_uint>& ids, uint32_t n,
+                                  uint32_t world_agents, const std::function<void(const char*)>& stage) {
+    // Keys, ranks (in r_key_) and the count of every cell (in start_).
+    start_.fill(ctx_, 0u, size_t(ncells_) + 1);
+    count_cells_.setArg(0, pos.get());
+    count_cells_.setArg(1, n);
+    cl_uint i = set_grid_args(count_cells_, 2);
+    count_cells_.setArg(i++, cl_uint(world_agents ? world_agents : 0xFFFFFFFFu));
+    count_cells_.setArg(i++, world_geometry_.get());
+    count_cells_.setArg(i++, keys_.get());
+    count_cells_.setArg(i++, r_key_.get());
+    count_cells_.setArg(i++, start_.get());
+    check_arg_count(count_cells_, i);
+    launch(ctx_, count_cells_, n);
+    stage("grid_count_cells");
+    // The counts become the cell starts (start[ncells] = n).
+    const uint32_t len = ncells_ + 1, groups = div_up(len, kScanBlock);
+    set_args(scan_blocks_, start_.get(), len, scan_sums_buf_.get());
+    launch_groups(ctx_, scan_blocks_, groups, kScanLocal);
+    set_args(scan_sums_, scan_sums_buf_.get(), groups);
+    launch_groups(ctx_, scan_sums_, 1, kScanLocal);
+    set_args(scan_add_, start_.get(), len, scan_sums_buf_.get());
+    launch_groups(ctx_, scan_add_, groups, kScanLocal);
+    stage("cell starts (prefix sum)");
+    // Every agent to its place; each cell's agents by id; the next layout's
+    // keys in t_key_.
+    set_args(scatter_, keys_.get(), r_key_.get(), ids.get(), start_.get(), n, perm_.get(), r_id_.get());
+    launch(ctx_, scatter_, n);
+    stage("grid_scatter");
+    pending_key_ = &t_key_;
+    set_args(sort_cells_, start_.get(), ncells_, perm_.get(), r_id_.get(), pending_key_->get());
+    launch(ctx_, sort_cells_, ncells_);
+    stage("grid_sort_cells");
 }
 
 void NeighborGrid::permute_state(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<cl_float4>& vel,

@@ -58,6 +58,15 @@ public:
     void reorder_state(DeviceBuffer<cl_float4>& pos, DeviceBuffer<cl_float4>& vel, DeviceBuffer<cl_uint>& ids,
                        DeviceBuffer<cl_float4>& scratch, DeviceBuffer<cl_float4>& vel_scratch,
                        DeviceBuffer<cl_uint>& ids_scratch, uint32_t n);
+    // The build's algorithm (same result, bitwise): a counting sort of
+    // short work-items (atomic ranks, a prefix sum, a sort per cell; for
+    // GPUs), or the chunked sort of the movers (for CPU devices).  The
+    // default follows the device's profile, $SWARMCL_GRID_SORT ("counting"
+    // or "chunked") overrides it.  Returns whether the counting sort is now
+    // used (false where the device cannot run its 256-item work-groups).
+    bool use_counting_sort(bool counting);
+    bool counting_sort() const { return counting_; }
+
     // The state's order is no longer one a build produced (e.g. agents put
     // back in id order): the next build sorts from scratch.
     void invalidate_layout();
@@ -76,6 +85,9 @@ public:
     uint32_t worlds() const { return worlds_; }
 
 private:
+    void build_counting(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<cl_uint>& ids, uint32_t n,
+                        uint32_t world_agents, const std::function<void(const char*)>& stage);
+
     Context& ctx_;
     std::vector<GridGeometry> geometry_;  // per world
     uint32_t worlds_ = 1;
@@ -96,6 +108,10 @@ private:
     DeviceBuffer<cl_float4> world_geometry_;  // grid_common.cl's grid_worlds
     RadixSort radix_;  // of the movers, by cell
     cl::Kernel keys_k_, movers_write_, sort_runs_, merge_, starts_, permute_state_;
+    // The counting sort (build_counting): its kernels and the scan's group sums.
+    bool counting_ = false;
+    cl::Kernel count_cells_, scan_blocks_, scan_sums_, scan_add_, scatter_, sort_cells_;
+    DeviceBuffer<cl_uint> scan_sums_buf_;
 };
 
 }  // namespace swarmcl
