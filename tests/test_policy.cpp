@@ -319,6 +319,13 @@ std::shared_ptr<Context> gpu_profile_context() {
     return slot;
 }
 
+// $SWARMCL_POLICY_LANES forces policy_mlp at that width (the lanes1. and
+// lanes8. ctest variants): no tiled MLP to test there.
+bool policy_lanes_forced() {
+    const char* env = std::getenv("SWARMCL_POLICY_LANES");
+    return env && (std::string(env) == "1" || std::string(env) == "8" || std::string(env) == "16");
+}
+
 SwarmConfig gpu_swarm_config() {
     SwarmConfig c;
     c.capacity = 4;
@@ -381,6 +388,7 @@ void expect_tiled_is_policy_mlp(MlpFile f, const std::vector<uint32_t>& counts, 
 // 51, 54, 5, 37, 130 (16 a k-tile), with and without normalisation, every
 // activation.
 TEST(PolicyMlp, TiledKernelGivesPolicyMlpsBits) {
+    if (policy_lanes_forced()) GTEST_SKIP() << "SWARMCL_POLICY_LANES forces policy_mlp";
     const std::vector<uint32_t> counts = {1, 63, 65, 1000};
     expect_tiled_is_policy_mlp(random_mlp({37, 5, 4}, "relu,linear,linear", 71), counts, true, "37-5-4");
     expect_tiled_is_policy_mlp(random_mlp({4}, "linear", 72, false), counts, true, "one layer, no EFS");
@@ -394,6 +402,7 @@ TEST(PolicyMlp, TiledKernelGivesPolicyMlpsBits) {
 // Past one chunk of agents (the hidden buffers hold mlp_chunk_agents()):
 // the second chunk's observations and actions at their agents.
 TEST(PolicyMlp, TiledKernelAcrossChunksGivesPolicyMlpsBits) {
+    if (policy_lanes_forced()) GTEST_SKIP() << "SWARMCL_POLICY_LANES forces policy_mlp";
     Swarm swarm(gpu_profile_context(), gpu_swarm_config());
     const MlpFile f = random_mlp({5, 4}, "relu,linear", 76);
     PolicyModel m(swarm, PolicyModelConfig{}, std::make_shared<const std::string>(f.bytes()));
@@ -403,6 +412,7 @@ TEST(PolicyMlp, TiledKernelAcrossChunksGivesPolicyMlpsBits) {
 
 // Small, for scripts/oclgrind_check.py (policy_mlp_tiled under Oclgrind).
 TEST(PolicyMlp, SmallTiledKernelGivesPolicyMlpsBits) {
+    if (policy_lanes_forced()) GTEST_SKIP() << "SWARMCL_POLICY_LANES forces policy_mlp";
     expect_tiled_is_policy_mlp(random_mlp({12, 4}, "relu,tanh", 77, true, true), {1, 70}, false, "12-4 normalised");
     expect_tiled_is_policy_mlp(random_mlp({20, 5, 4}, "relu,linear,linear", 78, false), {65}, true, "20-5-4");
 }
