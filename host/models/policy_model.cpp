@@ -180,7 +180,9 @@ PolicyModel::PolicyModel(Swarm& swarm, PolicyModelConfig config, std::shared_ptr
         const cl::Device& dev = ctx.device().device;
         const size_t group = k.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(dev);
         const cl_ulong local = k.getWorkGroupInfo<CL_KERNEL_LOCAL_MEM_SIZE>(dev);
-        if (group >= size_t(kTiledLocal) * kTiledLocal && local <= dev.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>()) {
+        const std::vector<size_t> items = dev.getInfo<CL_DEVICE_MAX_WORK_ITEM_SIZES>();
+        if (group >= size_t(kTiledLocal) * kTiledLocal && local <= dev.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>() &&
+            items.size() >= 2 && items[0] >= kTiledLocal && items[1] >= kTiledLocal) {
             tiled_ = true;
             tiled_k_ = k;
             const size_t per_buffer = kTiledBufferFloats / std::max<uint32_t>(hidden_width_, 1) / kTiledTile * kTiledTile;
@@ -303,7 +305,7 @@ void PolicyModel::enqueue_mlp(DeviceBuffer<float>& obs, uint32_t n, DeviceBuffer
 // One launch a layer over each chunk of agents: obs (agent-major) -> hidden
 // buffers ([feature][agent], agent stride `stride`) -> actions[4 a + o].
 void PolicyModel::enqueue_mlp_tiled(DeviceBuffer<float>& obs, uint32_t n, DeviceBuffer<float>& actions) {
-    const uint32_t stride = std::min((n + kTiledTile - 1) / kTiledTile * kTiledTile, tiled_chunk_);
+    const uint32_t stride = uint32_t(std::min<size_t>((size_t(n) + kTiledTile - 1) / kTiledTile * kTiledTile, tiled_chunk_));
     const size_t hidden = size_t(std::max<uint32_t>(hidden_width_, 1)) * stride;
     hidden_a_.reserve(ctx_, hidden, "policy MLP activations");
     if (weights_.layers.size() > 2) hidden_b_.reserve(ctx_, hidden, "policy MLP activations");
@@ -311,8 +313,8 @@ void PolicyModel::enqueue_mlp_tiled(DeviceBuffer<float>& obs, uint32_t n, Device
     const cl_float4 scale{{s[0], s[1], s[2], s[3]}};
     const cl_int norm = weights_.obs_mean.empty() ? 0 : 1;
     const size_t nlayers = weights_.layers.size();
-    for (uint32_t first = 0; first < n; first += stride) {
-        const uint32_t m = std::min(stride, n - first);
+    for (size_t first = 0; first < n; first += stride) {
+        const uint32_t m = uint32_t(std::min<size_t>(stride, n - first));
         for (size_t L = 0; L < nlayers; ++L) {
             const cl_uint* row = &layer_table_[5 * L];
             const bool in_obs = L == 0, to_actions = L + 1 == nlayers;
