@@ -117,6 +117,8 @@ CASES = [
     ("test_energy_model", "EnergyModel.EveryTermMatchesTheHostReference", CPU),
     # The policy model and the RL environment.
     ("test_policy", "PolicyStep.SmallNetAppliesTheActionsWithEquationTwoAtWidths1And16", GPU),
+    # The GPU profile's tiled MLP (local memory, barriers; partial tiles).
+    ("test_policy", "PolicyMlp.SmallTiledKernelGivesPolicyMlpsBits", GPU),
     ("test_rl_env", "RlEnv.SmallRagMatchesReference", GPU),
     # The evaluation metrics (the CPU profile's histogram kernel too).
     ("test_swarm_metrics", "SwarmMetrics.NonFinitePositionsAreCountedAndRefuseAPdf", GPU),

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <random>
 
 #include "core/error.hpp"
@@ -297,6 +298,126 @@ TEST(PolicyMlp, EveryLaneWidthGivesTheSameActions) {
         for (size_t k = 0; k < outs[0].size(); ++k) EXPECT_NEAR(outs[i][k], outs[0][k], 1e-6f) << i << " " << k;
 }
 
+// ---- the tiled MLP (the GPU profile) against policy_mlp and the reference ------
+
+namespace {
+
+// A context in the GPU profile: the shared one in the gpu_profile. ctest
+// variant (and under scripts/oclgrind_check.py), else one made with
+// $SWARMCL_DEVICE_PROFILE=gpu set while it is made (read once, by the
+// context's constructor), kept until the tests end.
+std::shared_ptr<Context> gpu_profile_context() {
+    if (!shared_context()->device().cpu_profile) return shared_context();
+    static std::shared_ptr<Context> slot;
+    if (!slot) {
+        const char* old = std::getenv("SWARMCL_DEVICE_PROFILE");
+        const std::string saved = old ? old : "";
+        setenv("SWARMCL_DEVICE_PROFILE", "gpu", 1);
+        test::kept_context(slot);
+        old ? setenv("SWARMCL_DEVICE_PROFILE", saved.c_str(), 1) : unsetenv("SWARMCL_DEVICE_PROFILE");
+    }
+    return slot;
+}
+
+// $SWARMCL_POLICY_LANES forces policy_mlp at that width (the lanes1. and
+// lanes8. ctest variants): no tiled MLP to test there.
+bool policy_lanes_forced() {
+    const char* env = std::getenv("SWARMCL_POLICY_LANES");
+    return env && (std::string(env) == "1" || std::string(env) == "8" || std::string(env) == "16");
+}
+
+SwarmConfig gpu_swarm_config() {
+    SwarmConfig c;
+    c.capacity = 4;
+    c.agent_count = 0;
+    c.domain_min = {-40, -40, -40};
+    c.domain_max = {40, 40, 40};
+    c.interaction_radius = 18.5f;
+    return c;
+}
+
+// The actions of `f` on `counts` random observations each: the tiled MLP's
+// bitwise policy_mlp's (one agent per work-item, same device and program,
+// so tanh and the normalisation's division are the same builtins) and,
+// where `bitwise_reference` (relu/linear nets without normalisation: fma
+// chains only), bitwise the C++ forward pass; within 2e-6 relative of it
+// otherwise.
+void expect_tiled_is_policy_mlp(MlpFile f, const std::vector<uint32_t>& counts, bool bitwise_reference,
+                                const std::string& what) {
+    Swarm swarm(gpu_profile_context(), gpu_swarm_config());
+    f.meta["swarmcl.action_scale"] = "0.1,0.07,0.05,0.03";  // each action its own scale
+    const auto bytes = std::make_shared<const std::string>(f.bytes());
+    PolicyModel tiled(swarm, PolicyModelConfig{}, bytes);
+    ASSERT_TRUE(tiled.tiled_mlp()) << what << ": the GPU profile runs the tiled MLP";
+    ASSERT_EQ(tiled.lanes(), 1u);
+    std::unique_ptr<PolicyModel> lanes;
+    {
+        test::ScopedKernelWidth one(1);  // a forced width: policy_mlp
+        lanes = std::make_unique<PolicyModel>(swarm, PolicyModelConfig{}, bytes);
+    }
+    ASSERT_FALSE(lanes->tiled_mlp());
+    for (const uint32_t count : counts) {
+        SCOPED_TRACE(what + ", " + std::to_string(count) + " agents");
+        const std::vector<float> obs = random_obs(count, tiled.obs_dim(), 100 + count);
+        const std::vector<float> got = tiled.infer(obs, count), want = lanes->infer(obs, count);
+        ASSERT_EQ(got.size(), size_t(count) * 4);
+        size_t differ = 0;
+        for (size_t k = 0; k < got.size(); ++k)
+            if (std::memcmp(&got[k], &want[k], 4) != 0 && differ++ < 5)
+                ADD_FAILURE() << "agent " << k / 4 << " action " << k % 4 << ": tiled " << got[k] << ", policy_mlp "
+                              << want[k];
+        EXPECT_EQ(differ, 0u);
+        for (uint32_t a = 0; a < count; ++a) {
+            const auto ref = policy_forward(tiled.weights(), &obs[size_t(a) * tiled.obs_dim()]);
+            for (int k = 0; k < 4; ++k) {
+                const float g = got[4 * size_t(a) + k];
+                if (bitwise_reference)
+                    ASSERT_EQ(std::memcmp(&g, &ref[k], 4), 0) << "agent " << a << " action " << k << ": " << g
+                                                              << " against " << ref[k];
+                else
+                    ASSERT_NEAR(g, ref[k], 2e-6f * (1.0f + std::fabs(ref[k]))) << "agent " << a << " action " << k;
+            }
+        }
+    }
+}
+
+}  // namespace
+
+// Partial tiles everywhere: 1, 63, 65 and 1000 agents (64 a group), layers
+// of 5, 37, 64 and 130 outputs (64 a group; the last layer's 4), inputs of
+// 51, 54, 5, 37, 130 (16 a k-tile), with and without normalisation, every
+// activation.
+TEST(PolicyMlp, TiledKernelGivesPolicyMlpsBits) {
+    if (policy_lanes_forced()) GTEST_SKIP() << "SWARMCL_POLICY_LANES forces policy_mlp";
+    const std::vector<uint32_t> counts = {1, 63, 65, 1000};
+    expect_tiled_is_policy_mlp(random_mlp({37, 5, 4}, "relu,linear,linear", 71), counts, true, "37-5-4");
+    expect_tiled_is_policy_mlp(random_mlp({4}, "linear", 72, false), counts, true, "one layer, no EFS");
+    expect_tiled_is_policy_mlp(random_mlp({64, 130, 4}, "relu,tanh,linear", 73, false, true), counts, false,
+                               "64-130-4 normalised");
+    expect_tiled_is_policy_mlp(random_mlp({130, 64, 37, 4}, "tanh,relu,relu,tanh", 74, true, true), counts, false,
+                               "130-64-37-4 normalised");
+    expect_tiled_is_policy_mlp(paper_mlp(75), {1000}, false, "paper actor");
+}
+
+// Past one chunk of agents (the hidden buffers hold mlp_chunk_agents()):
+// the second chunk's observations and actions at their agents.
+TEST(PolicyMlp, TiledKernelAcrossChunksGivesPolicyMlpsBits) {
+    if (policy_lanes_forced()) GTEST_SKIP() << "SWARMCL_POLICY_LANES forces policy_mlp";
+    Swarm swarm(gpu_profile_context(), gpu_swarm_config());
+    const MlpFile f = random_mlp({5, 4}, "relu,linear", 76);
+    PolicyModel m(swarm, PolicyModelConfig{}, std::make_shared<const std::string>(f.bytes()));
+    ASSERT_TRUE(m.tiled_mlp());
+    expect_tiled_is_policy_mlp(f, {m.mlp_chunk_agents() + 65}, true, "two chunks");
+}
+
+// Small, for scripts/oclgrind_check.py (policy_mlp_tiled under Oclgrind).
+TEST(PolicyMlp, SmallTiledKernelGivesPolicyMlpsBits) {
+    if (policy_lanes_forced()) GTEST_SKIP() << "SWARMCL_POLICY_LANES forces policy_mlp";
+    expect_tiled_is_policy_mlp(random_mlp({12, 4}, "relu,tanh", 77, true, true), {1, 70}, false, "12-4 normalised");
+    expect_tiled_is_policy_mlp(random_mlp({20, 5, 4}, "relu,linear,linear", 78, false), {65}, true, "20-5-4");
+}
+
+// ---- observations over the grid = the environment's all-pairs reference ---------
 // ---- observations over the grid = the environment's all-pairs reference ---------
 
 namespace {

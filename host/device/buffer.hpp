@@ -161,11 +161,16 @@ inline void launch(Context& ctx, cl::Kernel& kernel, size_t n, size_t max_local 
                                      cl::NDRange(local));
 }
 
-// Enqueues `groups` work-groups of `local` work-items (a kernel that uses
-// local memory and barriers, sized for that local size).
-inline void launch_groups(Context& ctx, cl::Kernel& kernel, size_t groups, size_t local) {
-    if (!groups) return;
-    ctx.queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(groups * local), cl::NDRange(local));
+// Enqueues a 2-D kernel of groups_x x groups_y work-groups of exactly
+// local_x x local_y work-items (kernels with local memory and barriers, whose
+// tiles fix the group's shape: the policy MLP's tiled kernel, the grid's
+// prefix sum as groups_y = local_y = 1).  The caller
+// checks the kernel's CL_KERNEL_WORK_GROUP_SIZE first.
+inline void launch_groups_2d(Context& ctx, cl::Kernel& kernel, size_t groups_x, size_t groups_y, size_t local_x,
+                             size_t local_y) {
+    if (!groups_x || !groups_y) return;
+    ctx.queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(groups_x * local_x, groups_y * local_y),
+                                     cl::NDRange(local_x, local_y));
 }
 
 // Enqueues a 1-D kernel over `n` work-items that each process a long chunk

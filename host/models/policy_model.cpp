@@ -24,6 +24,14 @@ constexpr float kDegToRad = 0.017453292519943295f;
 constexpr uint32_t kMlpChunkTiles = 1024;
 static_assert(kMlpChunkTiles % 64 == 0, "kMlpChunkTiles: a multiple of launch()'s local sizes");
 
+// The tiled MLP (policy_mlp_tiled, the GPU profile): 64 outputs x 64 agents
+// per 16 x 16 work-group.  Agents are chunked so its two hidden buffers stay
+// bounded: at most 64k agents a chunk and 16M floats (64 MiB) a buffer; a
+// chunk is a multiple of 64 agents, the buffers' agent stride.
+constexpr uint32_t kTiledTile = 64, kTiledLocal = 16;
+constexpr uint32_t kTiledChunkAgents = 65536;
+constexpr size_t kTiledBufferFloats = size_t(16) << 20;
+
 bool finite_all(const float* v, size_t n) {
     for (size_t i = 0; i < n; ++i)
         if (!std::isfinite(v[i])) return false;
@@ -101,7 +109,9 @@ PolicyModel::PolicyModel(Swarm& swarm, PolicyModelConfig config, std::shared_ptr
         params.insert(params.end(), L.weight.begin(), L.weight.end());
         params.insert(params.end(), L.bias.begin(), L.bias.end());
         max_width_ = std::max({max_width_, L.in, L.out});
+        if (&L != &weights_.layers.back()) hidden_width_ = std::max(hidden_width_, L.out);
     }
+    layer_table_.assign(table.begin(), table.end());
     mean_off_ = uint32_t(params.size());
     params.insert(params.end(), weights_.obs_mean.begin(), weights_.obs_mean.end());
     std_off_ = uint32_t(params.size());
@@ -151,9 +161,10 @@ PolicyModel::PolicyModel(Swarm& swarm, PolicyModelConfig config, std::shared_ptr
     // set_kernel_width_override, then $SWARMCL_POLICY_LANES, override it.
     const char* env = std::getenv("SWARMCL_POLICY_LANES");
     lanes_ = ctx.device().cpu_profile ? preferred_noise_width(ctx.device()) : 1;
+    bool forced = false;
     if (env && (std::string(env) == "1" || std::string(env) == "8" || std::string(env) == "16"))
-        lanes_ = uint32_t(std::stoul(env));
-    if (const uint32_t w = kernel_width_override()) lanes_ = w;
+        lanes_ = uint32_t(std::stoul(env)), forced = true;
+    if (const uint32_t w = kernel_width_override()) lanes_ = w, forced = true;
     // Every build of policy.cl names the parameter block's slots (POLICY_*).
     const std::string slots = policy_param_table().device_defines("POLICY") + world_defines(worlds);
     const std::string lanes_define = "-DPM_W=" + std::to_string(lanes_) + slots;
@@ -161,6 +172,23 @@ PolicyModel::PolicyModel(Swarm& swarm, PolicyModelConfig config, std::shared_ptr
     observe_k_ = lanes_ > 1 ? ctx.kernel("policy.cl", "policy_observe_w", lanes_define)
                             : ctx.kernel("policy.cl", "policy_observe", slots);
     mlp_k_ = ctx.kernel("policy.cl", "policy_mlp", lanes_define);
+    // Other devices (the GPU profile), lanes not forced: the tiled MLP
+    // (kernels/policy.cl says why), if the device runs its 256-item groups
+    // and has the local memory; policy_mlp otherwise.
+    if (!ctx.device().cpu_profile && !forced) {
+        cl::Kernel k = ctx.kernel("policy.cl", "policy_mlp_tiled", lanes_define);
+        const cl::Device& dev = ctx.device().device;
+        const size_t group = k.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(dev);
+        const cl_ulong local = k.getWorkGroupInfo<CL_KERNEL_LOCAL_MEM_SIZE>(dev);
+        const std::vector<size_t> items = dev.getInfo<CL_DEVICE_MAX_WORK_ITEM_SIZES>();
+        if (group >= size_t(kTiledLocal) * kTiledLocal && local <= dev.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>() &&
+            items.size() >= 2 && items[0] >= kTiledLocal && items[1] >= kTiledLocal) {
+            tiled_ = true;
+            tiled_k_ = k;
+            const size_t per_buffer = kTiledBufferFloats / std::max<uint32_t>(hidden_width_, 1) / kTiledTile * kTiledTile;
+            tiled_chunk_ = uint32_t(std::clamp<size_t>(per_buffer, kTiledTile, kTiledChunkAgents));
+        }
+    }
     apply_k_ = ctx.kernel("policy.cl", "policy_apply", slots);
     copy_k_ = ctx.kernel("policy.cl", "policy_leader_copy", slots);
     headings_k_ = ctx.kernel("policy.cl", "policy_headings", slots);
@@ -258,6 +286,10 @@ void PolicyModel::enqueue_observe(Swarm& swarm) {
 
 void PolicyModel::enqueue_mlp(DeviceBuffer<float>& obs, uint32_t n, DeviceBuffer<float>& actions) {
     if (n == 0) return;
+    if (tiled_) {
+        enqueue_mlp_tiled(obs, n, actions);
+        return;
+    }
     const uint32_t tiles = (n + lanes_ - 1) / lanes_;
     const uint32_t chunk = std::min(tiles, kMlpChunkTiles);
     scratch_.reserve(ctx_, size_t(chunk) * 2 * max_width_ * lanes_, "policy MLP scratch");
@@ -267,6 +299,35 @@ void PolicyModel::enqueue_mlp(DeviceBuffer<float>& obs, uint32_t n, DeviceBuffer
                  cl_uint(weights_.layers.size()), cl_int(weights_.obs_mean.empty() ? 0 : 1), mean_off_, std_off_,
                  cl_float4{{s[0], s[1], s[2], s[3]}}, max_width_, scratch_.get(), actions.get());
         launch(ctx_, mlp_k_, std::min(chunk, tiles - first), 64);
+    }
+}
+
+// One launch a layer over each chunk of agents: obs (agent-major) -> hidden
+// buffers ([feature][agent], agent stride `stride`) -> actions[4 a + o].
+void PolicyModel::enqueue_mlp_tiled(DeviceBuffer<float>& obs, uint32_t n, DeviceBuffer<float>& actions) {
+    const uint32_t stride = uint32_t(std::min<size_t>((size_t(n) + kTiledTile - 1) / kTiledTile * kTiledTile, tiled_chunk_));
+    const size_t hidden = size_t(std::max<uint32_t>(hidden_width_, 1)) * stride;
+    hidden_a_.reserve(ctx_, hidden, "policy MLP activations");
+    if (weights_.layers.size() > 2) hidden_b_.reserve(ctx_, hidden, "policy MLP activations");
+    const auto& s = weights_.action_scale;
+    const cl_float4 scale{{s[0], s[1], s[2], s[3]}};
+    const cl_int norm = weights_.obs_mean.empty() ? 0 : 1;
+    const size_t nlayers = weights_.layers.size();
+    for (size_t first = 0; first < n; first += stride) {
+        const uint32_t m = uint32_t(std::min<size_t>(stride, n - first));
+        for (size_t L = 0; L < nlayers; ++L) {
+            const cl_uint* row = &layer_table_[5 * L];
+            const bool in_obs = L == 0, to_actions = L + 1 == nlayers;
+            // Layer L reads hidden buffer (L - 1) % 2 and writes L % 2.
+            cl::Buffer& x = in_obs ? obs.get() : (L % 2 == 1 ? hidden_a_.get() : hidden_b_.get());
+            cl::Buffer& y = to_actions ? actions.get() : (L % 2 == 0 ? hidden_a_.get() : hidden_b_.get());
+            set_args(tiled_k_, x, cl_uint(in_obs ? first : 0), cl_uint(in_obs ? weights_.obs_dim : 1),
+                     cl_uint(in_obs ? 1 : stride), m, params_.get(), row[0], row[1], row[2], row[3], row[4],
+                     cl_int(in_obs ? norm : 0), mean_off_, std_off_, y, cl_uint(to_actions ? first : 0),
+                     cl_uint(to_actions ? 4 : 1), cl_uint(to_actions ? 1 : stride), cl_int(to_actions ? 1 : 0), scale);
+            launch_groups_2d(ctx_, tiled_k_, (m + kTiledTile - 1) / kTiledTile, (row[1] + kTiledTile - 1) / kTiledTile,
+                             kTiledLocal, kTiledLocal);
+        }
     }
 }
 

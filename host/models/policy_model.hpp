@@ -112,6 +112,13 @@ public:
     void infer(const float* obs, uint32_t count, float* actions);
     // Agents per work-item of the MLP kernel.
     uint32_t lanes() const { return lanes_; }
+    // True when the MLP runs as tiled matrix products, one launch a layer
+    // (policy_mlp_tiled: the GPU profile, lanes not forced); false for
+    // policy_mlp.
+    bool tiled_mlp() const { return tiled_; }
+    // Agents per chunk of the tiled MLP (its hidden activations are
+    // 2 x widest hidden layer x this many floats).
+    uint32_t mlp_chunk_agents() const { return tiled_chunk_; }
 
 private:
     // The leaders' state as the observations and actions read it (lst_).
@@ -119,6 +126,7 @@ private:
     void enqueue_observe(Swarm& swarm);
     void upload_world_blocks();
     void enqueue_mlp(DeviceBuffer<float>& obs, uint32_t n, DeviceBuffer<float>& actions);
+    void enqueue_mlp_tiled(DeviceBuffer<float>& obs, uint32_t n, DeviceBuffer<float>& actions);
 
     PolicyModelConfig config_;
     WorldConfigs<PolicyModelConfig> worlds_;
@@ -126,6 +134,11 @@ private:
     std::shared_ptr<const std::string> bytes_;
     PolicyWeights weights_;
     uint32_t lanes_ = 1, max_width_ = 0, mean_off_ = 0, std_off_ = 0;
+    bool tiled_ = false;
+    uint32_t tiled_chunk_ = 0, hidden_width_ = 0;  // the tiled MLP's agents a chunk, widest hidden layer
+    std::vector<uint32_t> layer_table_;            // layers_ on the host (the tiled MLP's arguments)
+    DeviceBuffer<float> hidden_a_, hidden_b_;      // the tiled MLP's activations, [feature][agent]
+    cl::Kernel tiled_k_;
     Context& ctx_;
     DeviceBuffer<float> params_, obs_, actions_, scratch_, infer_obs_, infer_actions_;
     DeviceBuffer<cl_float> block_;  // policy_param_table()'s device block (params_ holds the MLP's weights)

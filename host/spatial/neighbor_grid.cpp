@@ -215,11 +215,11 @@ void NeighborGrid::build_counting(const DeviceBuffer<cl_float4>& pos, const Devi
     // The counts become the cell starts (start[ncells] = n).
     const uint32_t len = ncells_ + 1, groups = div_up(len, kScanBlock);
     set_args(scan_blocks_, start_.get(), len, scan_sums_buf_.get());
-    launch_groups(ctx_, scan_blocks_, groups, kScanLocal);
+    launch_groups_2d(ctx_, scan_blocks_, groups, 1, kScanLocal, 1);
     set_args(scan_sums_, scan_sums_buf_.get(), groups);
-    launch_groups(ctx_, scan_sums_, 1, kScanLocal);
+    launch_groups_2d(ctx_, scan_sums_, 1, 1, kScanLocal, 1);
     set_args(scan_add_, start_.get(), len, scan_sums_buf_.get());
-    launch_groups(ctx_, scan_add_, groups, kScanLocal);
+    launch_groups_2d(ctx_, scan_add_, groups, 1, kScanLocal, 1);
     stage("cell starts (prefix sum)");
     // Every agent to its place; each cell's agents by id; the next layout's
     // keys in t_key_.
