@@ -266,6 +266,9 @@ run_step force "$BL" "$bb/force_bench" --scenarios moon --counts "$K100" --caps 
 run_step energy "$BL" "$bb/energy_bench" --sizes "$K100,$M1s" --steps 5 --warmup 2 --json "$results/energy.json"
 # Policy model (the shipped actor) at 100k and 1M.
 run_step policy "$BL" "$bb/policy_bench" --out "$results/policy.json" "$K100" 5 "$M1s" 3
+# ... and with the MLP of CPU devices at one lane (policy_mlp, the GPU's
+# kernel before policy_mlp_tiled): before/after in one run.
+run_step policy_lanes1 "$BL" env SWARMCL_POLICY_LANES=1 "$bb/policy_bench" --out "$results/policy_lanes1.json" "$K100" 5
 
 # ---- summary ----------------------------------------------------------------
 total=$(elapsed)
