@@ -38,7 +38,7 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 struct Row {
     uint32_t n = 0;
     int steps = 0;
-    double step_s = 0, observe_s = 0, mlp_s = 0, env_step_s = 0, rag_s = 0, neighbours = 0;
+    double step_s = 0, observe_s = 0, mlp_s = 0, infer_s = 0, env_step_s = 0, rag_s = 0, neighbours = 0;
     double copy_gbs = 0;  // the roofline's copy kernel at n float4, this run (issue 29)
     std::string mlp_kernel;  // policy_mlp_tiled (the GPU profile) or policy_mlp at its lanes
     std::vector<bench::RooflineRow> roofline;
@@ -107,6 +107,17 @@ Row run(std::shared_ptr<Context> ctx, const std::shared_ptr<const std::string>& 
         to.push_back(since(t1));
     }
     r.observe_s = bench::median(to);
+    // The MLP alone on those observations, on the device.
+    std::vector<double> td;
+    model->mlp_on_device(swarm);  // warm-up
+    for (int i = 0; i < 3; ++i) {
+        const auto t3 = Clock::now();
+        model->mlp_on_device(swarm);
+        td.push_back(since(t3));
+    }
+    r.mlp_s = bench::median(td);
+    // And through infer(), the host's copies of observations and actions
+    // included (a GPU's bus: on a CPU device the copies are memcpy).
     std::vector<float> obs;
     model->observe(swarm, &obs, nullptr);
     std::vector<double> tm;
@@ -118,7 +129,7 @@ Row run(std::shared_ptr<Context> ctx, const std::shared_ptr<const std::string>& 
         model->infer(obs, sub);
         tm.push_back(since(t2));
     }
-    r.mlp_s = bench::median(tm) * double(n) / sub;
+    r.infer_s = bench::median(tm) * double(n) / sub;
     // The environment at the same number of agents: W worlds of 100, RAG actions.
     RlEnvConfig ec;
     apply_rl_scenario("roaming", ec);
@@ -212,9 +223,10 @@ int run(const std::string& weights, const std::string& out, const std::vector<st
                                           r.copy_gbs)};
         rows.push_back(r);
         std::printf("N %8u: policy step %9.2f ms = %7.2f steps/s (observe %.1f ms, MLP %.1f ms = %.1f GFLOP/s "
-                    "[%s]; %.0f neighbours within 18.5 m) | env step (%u worlds x 100, RAG) %8.2f ms + RAG %7.2f ms\n",
+                    "[%s], %.1f ms with the host's copies; %.0f neighbours within 18.5 m) | env step (%u worlds x "
+                    "100, RAG) %8.2f ms + RAG %7.2f ms\n",
                     n, 1e3 * r.step_s, 1.0 / r.step_s, 1e3 * r.observe_s, 1e3 * r.mlp_s,
-                    2.0 * macs * n / r.mlp_s * 1e-9, r.mlp_kernel.c_str(), r.neighbours, std::max<uint32_t>(1, n / 100), 1e3 * r.env_step_s,
+                    2.0 * macs * n / r.mlp_s * 1e-9, r.mlp_kernel.c_str(), 1e3 * r.infer_s, r.neighbours, std::max<uint32_t>(1, n / 100), 1e3 * r.env_step_s,
                     1e3 * r.rag_s);
         bench::print_roofline(r.roofline, r.copy_gbs);
         std::fflush(stdout);
@@ -228,7 +240,8 @@ int run(const std::string& weights, const std::string& out, const std::vector<st
         const Row& r = rows[i];
         f << "    {\"agents\": " << r.n << ", \"steps_timed\": " << r.steps << ", \"policy_step_ms\": " << 1e3 * r.step_s
           << ", \"policy_steps_per_s\": " << 1.0 / r.step_s << ", \"observe_ms\": " << 1e3 * r.observe_s
-          << ", \"mlp_ms\": " << 1e3 * r.mlp_s << ", \"mlp_kernel\": \"" << r.mlp_kernel << "\"" << ", \"mean_neighbours\": " << r.neighbours
+          << ", \"mlp_ms\": " << 1e3 * r.mlp_s << ", \"mlp_gflops\": " << 2.0 * macs * r.n / r.mlp_s * 1e-9
+          << ", \"infer_with_copies_ms\": " << 1e3 * r.infer_s << ", \"mlp_kernel\": \"" << r.mlp_kernel << "\"" << ", \"mean_neighbours\": " << r.neighbours
           << ", \"env_worlds_x_100_step_ms\": " << 1e3 * r.env_step_s << ", \"env_rag_ms\": " << 1e3 * r.rag_s
           << ", \"roofline\": " << bench::roofline_json(r.roofline, r.copy_gbs) << "}"
           << (i + 1 < rows.size() ? "," : "") << "\n";

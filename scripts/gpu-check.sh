@@ -2,7 +2,7 @@
 # The GPU run as one command (issue 27; README, "Running on a GPU"), from the
 # repository root:
 #
-#   bash scripts/gpu-check.sh [--prebuilt DIR [--no-build]] [--quick] [--device SELECTOR]
+#   bash scripts/gpu-check.sh [--prebuilt DIR [--no-build]] [--quick] [--device SELECTOR] [--only STEPS]
 #   bash scripts/gpu-check.sh --pack DIR      (on a build machine, see below)
 #
 # 1. build (Release, no examples) into build-gpu/ ($SWARMCL_BUILD_DIR) when
@@ -29,7 +29,10 @@
 # bench/results/gpu/*.json (each names the device) and gpu-check.log; with
 # $OUT set, summary.json, gpu-check.log and gpu-results.tar.gz (all of it)
 # are copied there.  --quick: small sizes and short timeouts, for
-# the rehearsal on PoCL (SWARMCL_DEVICE_PROFILE=gpu).
+# the rehearsal on PoCL (SWARMCL_DEVICE_PROFILE=gpu).  --only STEPS: a
+# comma-separated list of the steps to run (e.g. policy,policy_peer), the
+# others recorded as not asked for: a rerun of a few steps costs their
+# seconds only.
 # Exit status: 0 when every step that ran passed, 1 otherwise, 2 on a usage or
 # setup error.
 set -uo pipefail
@@ -39,6 +42,7 @@ prebuilt=""
 pack=""
 quick=0
 nobuild=0
+only=""
 device_selector="${SWARMCL_DEVICE:-}"
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -47,7 +51,8 @@ while [ $# -gt 0 ]; do
     --quick) quick=1; shift ;;
     --no-build) nobuild=1; shift ;;
     --device) device_selector="${2:?--device needs a selector}"; shift 2 ;;
-    -h|--help) sed -n '2,33p' "$0"; exit 0 ;;
+    --only) only=",${2:?--only needs a list of steps},"; shift 2 ;;
+    -h|--help) sed -n '2,37p' "$0"; exit 0 ;;
     *) echo "gpu-check: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -101,6 +106,10 @@ json_str() { printf '%s' "$1" | sed 's/\\/\\\\/g; s/"/\\"/g' | tr -d '\n'; }
 # past the budget), output to the log; records status and seconds.
 run_step() {
   local name=$1 limit=$2; shift 2
+  if [ -n "$only" ] && [[ "$only" != *",$name,"* ]]; then
+    steps_json+=("{\"step\": \"$name\", \"status\": \"not asked for\", \"seconds\": 0}")
+    return 1
+  fi
   local left=$(( budget - $(elapsed) ))
   if [ "$left" -lt 15 ]; then
     say "$name: SKIPPED (budget of ${budget}s spent)"
@@ -269,6 +278,14 @@ run_step policy "$BL" "$bb/policy_bench" --out "$results/policy.json" "$K100" 5 
 # ... and with the MLP of CPU devices at one lane (policy_mlp, the GPU's
 # kernel before policy_mlp_tiled): before/after in one run.
 run_step policy_lanes1 "$BL" env SWARMCL_POLICY_LANES=1 "$bb/policy_bench" --out "$results/policy_lanes1.json" "$K100" 5
+# The MLP's peer on the device: the same layers by cuBLAS through PyTorch
+# (float32, TF32 off), where python3 has torch with CUDA (the GPU image).
+if python3 -c 'import torch, sys; sys.exit(0 if torch.cuda.is_available() else 1)' 2>/dev/null; then
+  run_step policy_peer "$BL" python3 "$root/bench/policy_mlp_gpu_peer.py" --agents "$K100,$M1s" \
+    --out "$results/policy_mlp_gpu_peer.json"
+else
+  say "policy_peer: no torch with CUDA here, skipped"
+fi
 
 # ---- summary ----------------------------------------------------------------
 total=$(elapsed)

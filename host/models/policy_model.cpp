@@ -396,6 +396,15 @@ void PolicyModel::observe_on_device(Swarm& swarm) {
     ctx_.queue().finish();
 }
 
+void PolicyModel::mlp_on_device(Swarm& swarm) {
+    const uint32_t agents = swarm.agent_count() * swarm.worlds();
+    require(obs_.size() >= size_t(agents) * weights_.obs_dim,
+            "policy model mlp_on_device: no observations of this swarm on the device (observe_on_device first)");
+    actions_.reserve(ctx_, size_t(agents) * 4, "policy actions");
+    enqueue_mlp(obs_, agents, actions_);
+    ctx_.queue().finish();
+}
+
 std::vector<float> PolicyModel::infer(const std::vector<float>& obs, uint32_t count) {
     require(obs.size() == size_t(count) * weights_.obs_dim, "policy model infer: obs size != count * obs_dim");
     std::vector<float> out(size_t(count) * 4);

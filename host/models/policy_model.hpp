@@ -105,6 +105,10 @@ public:
     // kept there (the grid rebuilt if the swarm moved); waits for the
     // device.  The observation stage alone, for benchmarks.
     void observe_on_device(Swarm& swarm);
+    // The MLP alone on the observations observe_on_device() left on the
+    // device, into the model's action buffer (nothing copied to or from the
+    // host); waits for the device.  The MLP stage alone, for benchmarks.
+    void mlp_on_device(Swarm& swarm);
     // The MLP alone on `count` observations (tests, benchmarks): 4 actions each.
     std::vector<float> infer(const std::vector<float>& obs, uint32_t count);
     // The same from count * obs_dim floats into count * 4 (non-finite
