@@ -309,18 +309,12 @@ __kernel void grid_count_cells(__global const float4* pos, uint n, GRID_PARAMS, 
                                __global uint* count) {
     const uint s = get_global_id(0);
     if (s >= n) return;
-    float4 origin = grid_origin;
-    float inv_cell = grid_inv_cell;
-    int4 dims = grid_dims;
-    uint first = 0u;
 #ifdef SWCL_WORLDS
     const Grid g = grid_of_world(GRID_MAKE(), grid_worlds, s / world_agents);
-    origin = g.origin;
-    inv_cell = g.inv_cell;
-    dims = g.dims;
-    first = (uint)(g.cell_start - grid_cell_start);
+#else
+    const Grid g = GRID_MAKE();
 #endif
-    const uint key = grid_key(pos[s], origin, inv_cell, dims, first);
+    const uint key = grid_key(pos[s], g.origin, g.inv_cell, g.dims, (uint)(g.cell_start - grid_cell_start));
     keys[s] = key;
     rank[s] = atomic_inc(count + key);
 }
