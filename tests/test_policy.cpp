@@ -418,7 +418,6 @@ TEST(PolicyMlp, SmallTiledKernelGivesPolicyMlpsBits) {
 }
 
 // ---- observations over the grid = the environment's all-pairs reference ---------
-// ---- observations over the grid = the environment's all-pairs reference ---------
 
 namespace {
 
