@@ -162,9 +162,14 @@ PolicyModel::PolicyModel(Swarm& swarm, PolicyModelConfig config, std::shared_ptr
     const char* env = std::getenv("SWARMCL_POLICY_LANES");
     lanes_ = ctx.device().cpu_profile ? preferred_noise_width(ctx.device()) : 1;
     bool forced = false;
-    if (env && (std::string(env) == "1" || std::string(env) == "8" || std::string(env) == "16"))
-        lanes_ = uint32_t(std::stoul(env)), forced = true;
-    if (const uint32_t w = kernel_width_override()) lanes_ = w, forced = true;
+    if (env && (std::string(env) == "1" || std::string(env) == "8" || std::string(env) == "16")) {
+        lanes_ = uint32_t(std::stoul(env));
+        forced = true;
+    }
+    if (const uint32_t w = kernel_width_override()) {
+        lanes_ = w;
+        forced = true;
+    }
     // Every build of policy.cl names the parameter block's slots (POLICY_*).
     const std::string slots = policy_param_table().device_defines("POLICY") + world_defines(worlds);
     const std::string lanes_define = "-DPM_W=" + std::to_string(lanes_) + slots;
