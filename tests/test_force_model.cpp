@@ -341,16 +341,18 @@ TEST_F(ForceTerms, NeighbourSampleMatchesItsRule) {
 namespace {
 // The force kernel at width 16 gives bitwise the scalar kernel's forces for
 // each (agents, neighbour cap) run.
-void expect_wide_matches_scalar(std::initializer_list<std::pair<uint32_t, uint32_t>> runs) {
+// half: the agents lie in [-half, half]^3.
+void expect_wide_matches_scalar(std::initializer_list<std::pair<uint32_t, uint32_t>> runs, float half = 2.0f,
+                                uint32_t terms = kForceAll) {
     for (const auto& run : runs) {
         const uint32_t n = run.first, cap = run.second;
-        const auto pos = test::random_points(n, -2.0f, 2.0f, 21), vel = test::random_points(n, -0.5f, 0.5f, 22);
+        const auto pos = test::random_points(n, -half, half, 21), vel = test::random_points(n, -0.5f, 0.5f, 22);
         auto forces = [&](uint32_t width) {
             test::ScopedKernelWidth w(width);
             auto swarm = make_swarm(n, -3.0f, 3.0f, 0.5f, 3);
             swarm->write(Attribute::Position, pos.data(), n);
             swarm->write(Attribute::Velocity, vel.data(), n);
-            ForceModelConfig c = term_config(kForceAll);
+            ForceModelConfig c = term_config(terms);
             c.r_att = 3.0f;
             c.omega = 3.0f;
             c.neighbor_sample = cap;
@@ -369,6 +371,19 @@ TEST(ForceModel, WideKernelMatchesTheScalarOne) {
     // 1003: not a multiple of 16 (the last work-item is partial); exact
     // zones (the walk sums the repulsion zone) and a sample.
     expect_wide_matches_scalar({{1003u, 0u}, {1003u, 64u}});
+}
+
+// Agents packed in a 0.6 m cube, as a fit's swarm that has collapsed: most
+// candidates of every work-item's lanes are in the alignment or repulsion
+// zone of some lane, and each lane has hundreds within R_rep.
+TEST(ForceModel, WideKernelMatchesTheScalarOneWhenMostCandidatesAreClose) {
+    if (!shared_context()->device().cpu_profile)
+        GTEST_SKIP() << "the wide kernel runs on CPU devices only (this device has the GPU profile)";
+    // Without F_con: at this density its Gaussian terms differ in the last
+    // bit between the scalar and the 16-lane kernel for one or two of the
+    // 1003 agents (PoCL's scalar and vector exp, presumably; seen before any
+    // change to the walk, and left for an issue of its own).
+    expect_wide_matches_scalar({{1003u, 0u}}, 0.3f, kForceAll & ~kForceShape);
 }
 
 // Small, for the Oclgrind check (scripts/oclgrind_check.py: the case above
