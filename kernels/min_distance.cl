@@ -6,6 +6,7 @@
 #include "lib/min_distance_common.cl"
 #include "lib/prefetch.cl"
 #include "lib/halves.cl"
+#include "lib/lanes.cl"
 
 // Worlds (lib/grid_common.cl): launched over (n, W), n agents a world; world
 // w's d_min and seed are d_mins[w], seeds[w], its counters moved[w] (agents
@@ -87,6 +88,7 @@ __kernel void min_distance_enforce(__global const float4* pos, __global const ui
 #if MDE_WIDTH == 8
 typedef float8 mde_fw;
 typedef int8 mde_iw;
+#define mde_any swcl_any8
 #define mde_cvt_iw convert_int8
 #define mde_vload vload8
 #define mde_vstore vstore8
@@ -100,6 +102,7 @@ static inline int mde_hmin(int8 v) { const int4 b = min(v.lo, v.hi); const int2 
 #elif MDE_WIDTH == 16
 typedef float16 mde_fw;
 typedef int16 mde_iw;
+#define mde_any swcl_any16
 #define mde_cvt_iw convert_int16
 #define mde_vload vload16
 #define mde_vstore vstore16
@@ -153,12 +156,12 @@ static inline mde_iw mde_axis(mde_fw x, float origin, float inv_cell, int n) {
         const mde_fw dx = px - (QX), dy_ = py - (QY), dz_ = pz - (QZ);                                \
         const mde_fw d2 = dx * dx + dy_ * dy_ + dz_ * dz_;                                            \
         const mde_iw hit = in_row & (j != slot) & (d2 < d2_min);                                      \
-        if (any(hit)) {                                                                               \
+        if (mde_any(hit)) {                                                                           \
             const mde_fw d = sqrt(d2);                                                                \
             const mde_fw k = 0.5f * (d_min - d);                                                      \
             mde_fw ux = dx / d, uy = dy_ / d, uz = dz_ / d;                                           \
             const mde_iw coincident = hit & (d2 == 0.0f);                                             \
-            if (any(coincident)) mde_coincident(coincident, slot, j, ids, seed, &ux, &uy, &uz);       \
+            if (mde_any(coincident)) mde_coincident(coincident, slot, j, ids, seed, &ux, &uy, &uz);   \
             sx = select(sx, sx + k * ux, hit);                                                        \
             sy = select(sy, sy + k * uy, hit);                                                        \
             sz = select(sz, sz + k * uz, hit);                                                        \
