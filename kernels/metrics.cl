@@ -25,6 +25,7 @@
 #include "lib/grid_common.cl"
 
 #include "lib/inline.cl"
+#include "lib/lanes.cl"
 
 // The metrics' indices, M_SPEED ... M_ETA and M_COUNT: build defines from
 // the host's metric table (host/eval/metric_table.hpp), one row per metric.
@@ -310,3 +311,133 @@ __kernel void metrics_nearest(__global const float4* sp, uint n, uint per_world,
         vals[(size_t)M_DIST * n + i] = d;
     }
 }
+
+#if defined(SWCL_W)
+// metrics_nearest on SWCL_W consecutive sorted positions per work-item (CPU
+// devices; PoCL does not vectorise the scalar kernel across work-items, and
+// its loop was a third of a sample's time): the lanes' points are
+// neighbours in the grid's order, so they grow one box together, the union
+// of their cells grown one cell per side, and every candidate of it is
+// loaded once and tested against all lanes.  The box stops when every lane's
+// best distance is below that lane's distance to anything outside it.  The
+// nearest point is the least (d2, index) over the whole world, found exactly
+// by either search with dist2's arithmetic, so every lane gets the scalar
+// kernel's answer bitwise (tests/test_swarm_metrics.cpp).  A 2-D range:
+// ceil(per_world / SWCL_W) work-items for each world (get_global_id(1));
+// lanes past the world's last point repeat it and write nothing.
+__kernel void metrics_nearest_w(__global const float4* sp, uint n, uint per_world, __global const float4* geo,
+                                __global const uint* cell_start, __global uint* nn_idx, __global float* nn_dist,
+                                __global volatile uint* hist_all, __global float* vals) {
+    const uint t = get_global_id(0) * SWCL_W;
+    if (t >= per_world) return;
+    const uint world = get_global_id(1), first = world * per_world, last = first + per_world - 1u;
+    __global volatile uint* hist = hist_all + (size_t)world * M_COUNT * FB_COUNT;
+    const Grid g = grid_from_geometry(geo, cell_start + (size_t)world * as_uint(geo[1].w));
+    float lx[SWCL_W], ly[SWCL_W], lz[SWCL_W];
+    int4 clo = g.dims, chi = (int4)(0);
+    for (uint l = 0; l < SWCL_W; ++l) {
+        const float4 p = sp[min(first + t + l, last)];
+        lx[l] = p.x;
+        ly[l] = p.y;
+        lz[l] = p.z;
+        const int4 c = grid_cell_of(&g, p);
+        clo = min(clo, c);
+        chi = max(chi, c);
+    }
+    // The lanes' coordinates read again lane by lane: a vector load of lx
+    // right after its 16 scalar stores waited on them (perf annotate: a
+    // seventh of the kernel on that one load).
+#define MN_P_(k) sp[min(first + t + SWCL_LANE_I(k), last)]
+#define MN_PX_(k) MN_P_(k).x
+#define MN_PY_(k) MN_P_(k).y
+#define MN_PZ_(k) MN_P_(k).z
+    const swcl_fw px = (swcl_fw)(SWCL_LANES(MN_PX_)), py = (swcl_fw)(SWCL_LANES(MN_PY_)),
+                  pz = (swcl_fw)(SWCL_LANES(MN_PZ_));
+#undef MN_PX_
+#undef MN_PY_
+#undef MN_PZ_
+#undef MN_P_
+    const swcl_uw self = min((swcl_uw)(first + t) + (swcl_uw)(SWCL_LANES(SWCL_LANE_I)), (swcl_uw)(last));
+    const int4 top = g.dims - (int4)(1, 1, 1, 1);
+    // The least (d2, index) so far in two halves, even and odd candidates of
+    // each row, merged after every box: each half's update waits on its own
+    // last one only (the loop was bound by that chain), and the least of
+    // the two is the least of all.  The lane's own position gets d2 = NaN,
+    // which is never less nor equal.
+    swcl_fw best_d2 = (swcl_fw)(INFINITY), odd_d2 = (swcl_fw)(INFINITY);
+    swcl_uw best = (swcl_uw)(0xffffffffu), odd = (swcl_uw)(0xffffffffu);
+    int4 plo = (int4)(1, 1, 1, 0), phi = (int4)(0, 0, 0, 0);  // empty "previous" box
+    // Candidate k against every lane into (bd2, bj), as metrics_visit lane
+    // by lane (d = p - q, dist2's order).
+#define MN_CANDIDATE_W(k, bd2, bj)                                                                  \
+    {                                                                                              \
+        const float4 q = sp[k];                                                                    \
+        const swcl_fw dx = px - q.x, dy = py - q.y, dz = pz - q.z;                                 \
+        const swcl_fw d2 = select(dx * dx + dy * dy + dz * dz, (swcl_fw)(NAN), self == (swcl_uw)(k)); \
+        const swcl_uw j = (swcl_uw)(as_uint(q.w));                                                 \
+        const swcl_iw better = (d2 < (bd2)) | ((d2 == (bd2)) & (j < (bj)));                        \
+        (bd2) = select((bd2), d2, better);                                                         \
+        (bj) = select((bj), j, better);                                                            \
+    }
+#define MN_VISIT_W(k0, k1)                                                                          \
+    {                                                                                              \
+        uint k = (k0);                                                                             \
+        for (; k + 1u < (k1); k += 2u) {                                                           \
+            MN_CANDIDATE_W(k, best_d2, best)                                                       \
+            MN_CANDIDATE_W(k + 1u, odd_d2, odd)                                                    \
+        }                                                                                          \
+        if (k < (k1)) MN_CANDIDATE_W(k, best_d2, best)                                             \
+    }
+    for (int r = 0;; ++r) {
+        const int4 lo = max(clo - (int4)(r, r, r, 0), (int4)(0, 0, 0, 0));
+        const int4 hi = min(chi + (int4)(r, r, r, 0), top);
+        for (int z = lo.z; z <= hi.z; ++z)
+            for (int y = lo.y; y <= hi.y; ++y) {
+                const bool inner = z >= plo.z && z <= phi.z && y >= plo.y && y <= phi.y;
+                if (!inner) {
+                    const uint2 rg = grid_row_range(&g, lo.x, hi.x, y, z);
+                    MN_VISIT_W(rg.x, rg.y)
+                } else {  // only the x-cells outside the previous box
+                    if (lo.x < plo.x) {
+                        const uint2 rg = grid_row_range(&g, lo.x, plo.x - 1, y, z);
+                        MN_VISIT_W(rg.x, rg.y)
+                    }
+                    if (hi.x > phi.x) {
+                        const uint2 rg = grid_row_range(&g, phi.x + 1, hi.x, y, z);
+                        MN_VISIT_W(rg.x, rg.y)
+                    }
+                }
+            }
+        {
+            const swcl_iw better = (odd_d2 < best_d2) | ((odd_d2 == best_d2) & (odd < best));
+            best_d2 = select(best_d2, odd_d2, better);
+            best = select(best, odd, better);
+        }
+        if (all(lo.xyz == (int3)(0)) && all(hi.xyz == top.xyz)) break;
+        float bd2[SWCL_W];
+        swcl_vstore_fw(best_d2, 0, bd2);
+        bool done = true;
+        for (uint l = 0; l < SWCL_W && done; ++l) {
+            const float bound = grid_outside_bound(&g, (float4)(lx[l], ly[l], lz[l], 0.0f), lo, hi);
+            done = bound > 0.0f && bd2[l] <= bound * bound;
+        }
+        if (done) break;
+        plo = lo;
+        phi = hi;
+    }
+#undef MN_VISIT_W
+#undef MN_CANDIDATE_W
+    float bd2[SWCL_W];
+    uint bj[SWCL_W];
+    swcl_vstore_fw(best_d2, 0, bd2);
+    swcl_vstore_uw(best, 0, bj);
+    for (uint l = 0; l < SWCL_W && t + l < per_world; ++l) {
+        const uint i = as_uint(sp[first + t + l].w);
+        const float d = sqrt(bd2[l]);
+        nn_idx[i] = bj[l];
+        nn_dist[i] = d;
+        count_value(hist, M_DIST, d);
+        vals[(size_t)M_DIST * n + i] = d;
+    }
+}
+#endif

@@ -124,6 +124,8 @@ CASES = [
     ("test_swarm_metrics", "SwarmMetrics.NonFinitePositionsAreCountedAndRefuseAPdf", GPU),
     ("test_swarm_metrics", "SwarmMetrics.NonFinitePositionsAreCountedAndRefuseAPdf", CPU),
     ("test_swarm_metrics", "SwarmMetrics.NearestNeighbourMatchesBruteForce", GPU),
+    # The CPU profile's 16-lane nearest-neighbour kernel (metrics_nearest_w).
+    ("test_swarm_metrics", "SwarmMetrics.NearestNeighbourMatchesBruteForce", CPU),
 ]
 
 # Larger cases, not run under Oclgrind (minutes each there), that build

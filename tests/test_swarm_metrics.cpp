@@ -301,6 +301,41 @@ TEST(SwarmMetrics, SameSeedGivesBitwiseTheSameHistogramsAndMoments) {
     }
 }
 
+// The nearest-neighbour kernel at 8 and 16 lanes (metrics_nearest_w, CPU
+// devices) against one point a work-item: the same neighbours, so bitwise
+// the same d and η, and every other metric with them.  1003 agents (the
+// last work-item's lanes past the end), a swarm the goal gathers (dense
+// cells) and a few agents far out (a box grown to the grid's edge).
+TEST(SwarmMetrics, EveryNearestWidthGivesTheScalarKernelsResults) {
+    if (!shared_context()->device().cpu_profile)
+        GTEST_SKIP() << "the wide kernel runs on CPU devices only (this device has the GPU profile)";
+    std::vector<MetricAccumulator> r;
+    for (const uint32_t width : {1u, 8u, 16u}) {
+        ScopedKernelWidth w(width);
+        auto swarm = noisy_swarm(1003, 8);
+        std::vector<float> p(3 * 1003);
+        swarm->read(Attribute::Position, p.data(), 1003);
+        for (uint32_t i = 0; i < 5; ++i) p[3 * i] = 0.95f, p[3 * i + 1] = 0.95f - 0.01f * float(i);
+        swarm->write(Attribute::Position, p.data(), 1003);
+        SwarmMetrics dev(*swarm, 2.0 * kDt);
+        for (int f = 0; f < 10; ++f) {
+            swarm->step(2);
+            dev.sample();
+        }
+        r.push_back(dev.result());
+    }
+    for (size_t w = 1; w < r.size(); ++w)
+        for (size_t k = 0; k < kMetricCount; ++k) {
+            const Metric m = Metric(k);
+            SCOPED_TRACE(std::string(metric_name(m)) + (w == 1 ? ", 8 lanes" : ", 16 lanes"));
+            ASSERT_GT(r[0].count(m), 0u);
+            EXPECT_EQ(r[w].histogram(m), r[0].histogram(m));
+            EXPECT_EQ(r[w].raw_moments(m).count, r[0].raw_moments(m).count);
+            EXPECT_EQ(r[w].raw_moments(m).mean, r[0].raw_moments(m).mean);
+            EXPECT_EQ(r[w].raw_moments(m).m2, r[0].raw_moments(m).m2);
+        }
+}
+
 // The 32-bit device counters folded into the host's every few samples
 // (as they are before one could overflow) give the same result.
 TEST(SwarmMetrics, FoldingTheDeviceCountersChangesNothing) {

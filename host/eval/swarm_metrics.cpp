@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "fields/noise_field.hpp"
 
 namespace swarmcl {
 namespace {
@@ -41,10 +42,12 @@ SwarmMetrics::SwarmMetrics(Swarm& swarm, double dt_between_samples)
     const bool cpu = ctx_.device().cpu_profile;
     const uint32_t chunks = 2 * std::max<uint32_t>(1, ctx_.device().compute_units);
     copies_ = cpu ? (chunks + worlds_ - 1) / worlds_ : 1;
-    const std::string defines = metric_defines(kBlock, !cpu);
+    lanes_ = preferred_noise_width(ctx_.device());  // 1 on GPUs; SWARMCL_NOISE_WIDTH
+    const std::string defines =
+        metric_defines(kBlock, !cpu) + (lanes_ > 1 ? " -DNOISE_WIDTH=" + std::to_string(lanes_) : "");
     gather_ = ctx_.kernel("metrics.cl", "metrics_gather", defines);
     sample_ = ctx_.kernel("metrics.cl", "metrics_sample", defines);
-    nearest_ = ctx_.kernel("metrics.cl", "metrics_nearest", defines);
+    nearest_ = ctx_.kernel("metrics.cl", lanes_ > 1 ? "metrics_nearest_w" : "metrics_nearest", defines);
     sort_ = ctx_.kernel("metrics.cl", "metrics_sort_points", defines);
     moments_ = ctx_.kernel("metrics.cl", "metrics_moments", defines);
     if (cpu) histogram_ = ctx_.kernel("metrics.cl", "metrics_histogram", defines);
@@ -119,7 +122,8 @@ void SwarmMetrics::sample() {
     launch(ctx_, sort_, n);
     set_args(nearest_, sorted_.get(), n, n_, grid_.geometry().get(), grid_.cell_start().get(), nn_idx_.get(),
              nn_dist_.get(), hist_.get(), vals_.get());
-    launch(ctx_, nearest_, n);
+    if (lanes_ > 1) launch_worlds(ctx_, nearest_, (n_ + lanes_ - 1) / lanes_, worlds_);
+    else launch(ctx_, nearest_, n);
     // Sample 0 has d only: the other metrics' moments stay empty (filled
     // with zeros at construction, never written for sample 0).
     const cl_uint mask = s >= 1 ? (1u << kMetricCount) - 1u : 1u << uint32_t(Metric::NearestDistance);

@@ -94,6 +94,9 @@ private:
     std::vector<std::array<RawMoments, kMetricCount>> world_moments_;
     std::vector<MetricAccumulator> folded_;
     cl::Kernel gather_, sample_, nearest_, sort_, moments_, histogram_;
+    // Lanes of the nearest-neighbour kernel: 1 (metrics_nearest, one point a
+    // work-item), or 8 or 16 on CPU devices (metrics_nearest_w).
+    uint32_t lanes_ = 1;
 };
 
 }  // namespace swarmcl
