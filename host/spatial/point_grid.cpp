@@ -32,6 +32,15 @@ uint32_t PointGrid::max_cells(uint32_t n) {
     return uint32_t(std::clamp<uint64_t>(uint64_t(kCellsPerPoint) * n, kMinCells, kMaxCells));
 }
 
+void PointGrid::set_cells_per_point(uint32_t cells) {
+    require(cells >= 1 && cells <= kCellsPerPoint, "point grid: cells a point must be 1 to 8");
+    cells_per_point_ = cells;
+}
+
+uint32_t PointGrid::cells_for(uint32_t n) const {
+    return uint32_t(std::clamp<uint64_t>(uint64_t(cells_per_point_) * n, kMinCells, kMaxCells));
+}
+
 void PointGrid::reserve(uint32_t n, uint32_t keys) {
     if (allocated_ && n == n_ && keys == keys_) return;
     n_ = n;
@@ -63,7 +72,7 @@ void PointGrid::build_groups_apart(const DeviceBuffer<cl_float4>& points, uint32
 void PointGrid::build_bounded(const DeviceBuffer<cl_float4>& points, uint32_t n, uint32_t groups, float min_cell,
                               const std::vector<float>* apart_min_cells) {
     require(groups >= 1 && n % groups == 0, "point grid: the groups must split the points evenly");
-    const uint32_t cells = max_cells(n / groups);
+    const uint32_t cells = cells_for(n / groups);
     require(uint64_t(cells) * groups <= kMaxCells, "point grid: too many groups of cells for 32-bit keys");
     groups_ = groups;
     // One group apart is build(): the same chunks, geometry and keys.

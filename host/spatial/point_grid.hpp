@@ -50,8 +50,13 @@ public:
     // The given cells (points outside are clamped into the border cells).
     void build(const DeviceBuffer<cl_float4>& points, uint32_t n, const GridGeometry& geometry);
 
-    // Cells at most of a grid built over n points from their bounding box.
+    // Cells at most of a grid built over n points from their bounding box
+    // (8 a point, the default; at least 1024, at most 2^30).
     static uint32_t max_cells(uint32_t n);
+    // The cells a point the builds from a bounding box allow from now on,
+    // 1 to 8 (coarser cells for a search that gains from more points a row:
+    // the metrics' 16-lane nearest neighbours, eval/swarm_metrics.cpp).
+    void set_cells_per_point(uint32_t cells);
 
     uint32_t count() const { return n_; }
     // geometry()[0] = origin xyz, 1 / cell edge in w; [1] = cells per axis
@@ -69,6 +74,8 @@ public:
     GridGeometry read_geometry(uint32_t group = 0);
 
 private:
+    uint32_t cells_for(uint32_t n) const;
+    uint32_t cells_per_point_ = 8;  // kCellsPerPoint (point_grid.cpp), the default
     void reserve(uint32_t n, uint32_t keys);
     void sort_and_count(const DeviceBuffer<cl_float4>& points);
     void build_bounded(const DeviceBuffer<cl_float4>& points, uint32_t n, uint32_t groups, float min_cell,
