@@ -278,23 +278,10 @@ __kernel void metrics_nearest(__global const float4* sp, uint n, uint per_world,
         for (int k = 0;; ++k) {
             const int4 lo = max(c - (int4)(k, k, k, 0), (int4)(0, 0, 0, 0));
             const int4 hi = min(c + (int4)(k, k, k, 0), last);
-            for (int z = lo.z; z <= hi.z; ++z)
-                for (int y = lo.y; y <= hi.y; ++y) {
-                    const bool inner = z >= plo.z && z <= phi.z && y >= plo.y && y <= phi.y;
-                    if (!inner) {
-                        const uint2 rg = grid_row_range(&g, lo.x, hi.x, y, z);
-                        metrics_visit(sp, self, p, rg.x, rg.y, &best_d2, &best);
-                    } else {  // only the x-cells outside the previous box
-                        if (lo.x < plo.x) {
-                            const uint2 rg = grid_row_range(&g, lo.x, plo.x - 1, y, z);
-                            metrics_visit(sp, self, p, rg.x, rg.y, &best_d2, &best);
-                        }
-                        if (hi.x > phi.x) {
-                            const uint2 rg = grid_row_range(&g, phi.x + 1, hi.x, y, z);
-                            metrics_visit(sp, self, p, rg.x, rg.y, &best_d2, &best);
-                        }
-                    }
-                }
+            GRID_FOR_EACH_NEW_RANGE(&g, lo, hi, plo, phi, rg) {
+                metrics_visit(sp, self, p, rg.x, rg.y, &best_d2, &best);
+            }
+            GRID_END_NEW_RANGE
             if (all(lo.xyz == (int3)(0)) && all(hi.xyz == last.xyz)) break;
             const float bound = grid_outside_bound(&g, p, lo, hi);
             if (bound > 0.0f && best_d2 <= bound * bound) break;
@@ -391,23 +378,10 @@ __kernel void metrics_nearest_w(__global const float4* sp, uint n, uint per_worl
     for (int r = 0;; ++r) {
         const int4 lo = max(clo - (int4)(r, r, r, 0), (int4)(0, 0, 0, 0));
         const int4 hi = min(chi + (int4)(r, r, r, 0), top);
-        for (int z = lo.z; z <= hi.z; ++z)
-            for (int y = lo.y; y <= hi.y; ++y) {
-                const bool inner = z >= plo.z && z <= phi.z && y >= plo.y && y <= phi.y;
-                if (!inner) {
-                    const uint2 rg = grid_row_range(&g, lo.x, hi.x, y, z);
-                    MN_VISIT_W(rg.x, rg.y)
-                } else {  // only the x-cells outside the previous box
-                    if (lo.x < plo.x) {
-                        const uint2 rg = grid_row_range(&g, lo.x, plo.x - 1, y, z);
-                        MN_VISIT_W(rg.x, rg.y)
-                    }
-                    if (hi.x > phi.x) {
-                        const uint2 rg = grid_row_range(&g, phi.x + 1, hi.x, y, z);
-                        MN_VISIT_W(rg.x, rg.y)
-                    }
-                }
-            }
+        GRID_FOR_EACH_NEW_RANGE(&g, lo, hi, plo, phi, rg) {
+            MN_VISIT_W(rg.x, rg.y)
+        }
+        GRID_END_NEW_RANGE
         {
             const swcl_iw better = (odd_d2 < best_d2) | ((odd_d2 == best_d2) & (odd < best));
             best_d2 = select(best_d2, odd_d2, better);

@@ -69,23 +69,10 @@ __kernel void nearest_neighbor(__global const float4* pos, __global const uint* 
     for (int k = 0;; ++k) {
         const int4 lo = max(c - (int4)(k, k, k, 0), (int4)(0, 0, 0, 0));
         const int4 hi = min(c + (int4)(k, k, k, 0), last);
-        for (int z = lo.z; z <= hi.z; ++z)
-            for (int y = lo.y; y <= hi.y; ++y) {
-                const bool inner = z >= plo.z && z <= phi.z && y >= plo.y && y <= phi.y;
-                if (!inner) {
-                    const uint2 rg = grid_row_range(&g, lo.x, hi.x, y, z);
-                    visit_nearest(pos, ids, i, p, rg.x, rg.y, &best_d2, &best_id);
-                } else {  // only the x-cells outside the previous box
-                    if (lo.x < plo.x) {
-                        const uint2 rg = grid_row_range(&g, lo.x, plo.x - 1, y, z);
-                        visit_nearest(pos, ids, i, p, rg.x, rg.y, &best_d2, &best_id);
-                    }
-                    if (hi.x > phi.x) {
-                        const uint2 rg = grid_row_range(&g, phi.x + 1, hi.x, y, z);
-                        visit_nearest(pos, ids, i, p, rg.x, rg.y, &best_d2, &best_id);
-                    }
-                }
-            }
+        GRID_FOR_EACH_NEW_RANGE(&g, lo, hi, plo, phi, rg) {
+            visit_nearest(pos, ids, i, p, rg.x, rg.y, &best_d2, &best_id);
+        }
+        GRID_END_NEW_RANGE
         const bool whole = lo.x == 0 && lo.y == 0 && lo.z == 0 && hi.x == last.x && hi.y == last.y &&
                            hi.z == last.z;
         if (whole) break;

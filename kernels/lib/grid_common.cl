@@ -115,6 +115,24 @@ static inline uint2 grid_row_range(const Grid* g, int x0, int x1, int y, int z) 
                 for (uint j = grid_rng_.x; j < grid_rng_.y; ++j)
 #define GRID_END_FOR }}
 
+// The slot ranges of the cells of box [lo, hi] outside the previous box
+// [plo, phi] (none: plo > phi), row by row (z, y, then x ascending), as a
+// nearest-neighbour search that grows its box one cell a side each time
+// visits them: a row outside the previous box whole, a row through it in
+// the parts left and right of it.
+//   GRID_FOR_EACH_NEW_RANGE(&g, lo, hi, plo, phi, rg) { ... rg.x, rg.y ... } GRID_END_NEW_RANGE
+#define GRID_FOR_EACH_NEW_RANGE(gp, lo, hi, plo, phi, rg)                                                    \
+    for (int gn_z_ = (lo).z; gn_z_ <= (hi).z; ++gn_z_)                                                     \
+        for (int gn_y_ = (lo).y; gn_y_ <= (hi).y; ++gn_y_)                                                 \
+            for (int gn_part_ = 0; gn_part_ < 2; ++gn_part_) {                                             \
+                const bool gn_inner_ = gn_z_ >= (plo).z && gn_z_ <= (phi).z && gn_y_ >= (plo).y && gn_y_ <= (phi).y; \
+                if (!gn_inner_ && gn_part_ == 1) break;                                                     \
+                const int gn_x0_ = !gn_inner_ || gn_part_ == 0 ? (lo).x : (phi).x + 1;                      \
+                const int gn_x1_ = !gn_inner_ || gn_part_ == 1 ? (hi).x : (plo).x - 1;                      \
+                if (gn_x0_ > gn_x1_) continue;                                                              \
+                const uint2 rg = grid_row_range((gp), gn_x0_, gn_x1_, gn_y_, gn_z_);
+#define GRID_END_NEW_RANGE }
+
 static inline float dist2(float4 a, float4 b) {
     const float4 d = a - b;
     return d.x * d.x + d.y * d.y + d.z * d.z;
