@@ -69,9 +69,10 @@ Pass run_pass(const std::vector<float>& xyz, float cell, float d_min, uint32_t w
 
 struct Case {
     float cell, d_min;
-    bool wide;  // the explicit-width kernel runs (cells of at most 3 d_min)
+    bool wide;  // the explicit-width kernel runs (cells of at most 8 d_min, min_distance.cpp)
 };
-const Case kCases[] = {{0.1f, 0.05f, true}, {0.05f, 0.1f, true}, {0.25f, 0.1f, true}, {0.6f, 0.1f, false}};
+const Case kCases[] = {{0.1f, 0.05f, true}, {0.05f, 0.1f, true}, {0.25f, 0.1f, true}, {0.6f, 0.1f, true},
+                       {0.9f, 0.1f, false}};
 
 }  // namespace
 

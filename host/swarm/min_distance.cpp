@@ -71,8 +71,15 @@ namespace {
 // the wide kernel takes 0.55x the scalar one's at cells of 2 d_min, the same
 // at 3 and 4 d_min, 1.6x at 6 d_min.  Since it prefetches its cell starts
 // (1M locusts, AVX-512 EPYC, d_min 0.1 m): 0.8x at 4.4 d_min, about the same
-// at 6, 1.3x at 9 and 1.8x at 12.
-constexpr float kWideCellPerDistance = 5.0f;
+// at 6, 1.3x at 9 and 1.8x at 12.  Since its any() is one mask test
+// (kernels/lib/lanes.cl; 2026-12-02, 2-core Xeon, AVX-512, 200k agents
+// uniform in a 10 m cube, d_min 0.03 m, the whole field step, both kernels
+// alternated): at cells of 5 d_min 7.3-7.4 against 8.8-9.2 ms (7.5-7.7
+// against 9.0-9.2 with a goal gathering them), 7.5 d_min 7.7-7.8 against
+// 8.7-8.8 (8.6-8.9 against 9.7-9.9), 10 d_min 8.4-8.6 against 8.6-8.7
+// (10.0-10.1 against 9.6-9.7), 14 d_min 11.0-11.1 against 9.6-9.7, 20 d_min
+// 16.8-17.7 against 13.3.
+constexpr float kWideCellPerDistance = 8.0f;
 // The explicit-width kernel where the noise module uses one (CPU devices;
 // $SWARMCL_NOISE_WIDTH = 1 selects the scalar kernel everywhere).
 uint32_t mde_width(Context& ctx) { return preferred_noise_width(ctx.device()); }

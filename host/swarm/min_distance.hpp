@@ -57,7 +57,7 @@ public:
     bool matches(const StepStages& stages, uint32_t worlds) const;
     // Agents per work-item of the explicit-width kernel
     // (min_distance_enforce_w, 8 or 16 lanes) on CPU devices, used where the
-    // grid's cells are at most 5 d_min; 1 (the scalar kernel everywhere) on
+    // grid's cells are at most 8 d_min; 1 (the scalar kernel everywhere) on
     // other devices or with $SWARMCL_NOISE_WIDTH = 1.
     uint32_t width() const { return width_; }
     // Whether a pass over n agents on a grid `g` runs the wide kernel.
