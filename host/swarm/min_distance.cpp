@@ -1,6 +1,7 @@
 #include "swarm/min_distance.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 #include <string>
 
 #include "core/error.hpp"
@@ -72,13 +73,10 @@ namespace {
 // at 3 and 4 d_min, 1.6x at 6 d_min.  Since it prefetches its cell starts
 // (1M locusts, AVX-512 EPYC, d_min 0.1 m): 0.8x at 4.4 d_min, about the same
 // at 6, 1.3x at 9 and 1.8x at 12.  Since its any() is one mask test
-// (kernels/lib/lanes.cl; 2026-12-02, 2-core Xeon, AVX-512, 200k agents
-// uniform in a 10 m cube, d_min 0.03 m, the whole field step, both kernels
-// alternated): at cells of 5 d_min 7.3-7.4 against 8.8-9.2 ms (7.5-7.7
-// against 9.0-9.2 with a goal gathering them), 7.5 d_min 7.7-7.8 against
-// 8.7-8.8 (8.6-8.9 against 9.7-9.9), 10 d_min 8.4-8.6 against 8.6-8.7
-// (10.0-10.1 against 9.6-9.7), 14 d_min 11.0-11.1 against 9.6-9.7, 20 d_min
-// 16.8-17.7 against 13.3.
+// (kernels/lib/lanes.cl), the whole field step of 200k agents, wide / scalar
+// (bench/mde_kernel_bench.py, 2-core Xeon with AVX-512, 2026-12-02): 0.82 at
+// cells of 5 d_min, 0.87 at 7.5, 0.97 at 10, 1.12 at 14, 1.26 at 20 (with a
+// goal gathering them 0.80, 0.92, 1.02, 1.13, 1.28).
 constexpr float kWideCellPerDistance = 8.0f;
 // The explicit-width kernel where the noise module uses one (CPU devices;
 // $SWARMCL_NOISE_WIDTH = 1 selects the scalar kernel everywhere).
@@ -124,9 +122,13 @@ bool MinDistance::matches(const StepStages& st, uint32_t worlds) const {
 bool MinDistance::uses_wide_kernel(const GridGeometry& g, uint32_t n) const {
     // The wide kernel pays off where each agent's box holds few candidates:
     // cells of at most kWideCellPerDistance * d_min (the scalar kernel's long
-    // loops over big cells predict well).  Its lanes index floats and cells
-    // as 32-bit ints.
-    return width_ > 1 && g.cell <= kWideCellPerDistance * d_min_smallest_ && uint64_t(n) * 4 < (uint64_t(1) << 31) &&
+    // loops over big cells predict well).  $SWARMCL_MDE_KERNEL ("wide" or
+    // "scalar") overrides the choice, for benchmarks (bench/mde_kernel_bench.py).
+    // Its lanes index floats and cells as 32-bit ints.
+    const char* env = std::getenv("SWARMCL_MDE_KERNEL");
+    const std::string choice = env ? env : "";
+    const bool small_cells = choice.empty() ? g.cell <= kWideCellPerDistance * d_min_smallest_ : choice == "wide";
+    return width_ > 1 && small_cells && uint64_t(n) * 4 < (uint64_t(1) << 31) &&
            uint64_t(g.cell_count()) + 1 < (uint64_t(1) << 31);
 }
 

@@ -1,0 +1,87 @@
+#!/usr/bin/env python3
+"""Minimum distance enforcement: the explicit-width kernel against the scalar
+one by cell size (host/swarm/min_distance.cpp picks the wide kernel for cells
+of at most kWideCellPerDistance d_min on CPU devices).  The field model's
+whole step (curl noise, MDE at d_min, optionally a goal gathering the agents)
+of N agents uniform in a 10 m cube, with the grid's cells set through the
+interaction radius, each case run with $SWARMCL_MDE_KERNEL=wide and =scalar
+alternated (wide, scalar, scalar, wide), best of 3 timings of 10 steps each.
+
+    python bench/mde_kernel_bench.py [--agents 200000] [--d-min 0.03] [--ratios 5,7.5,10,14,20]
+
+Writes bench/results/mde_kernel.json.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def scenario(agents: int, radius: float, d_min: float, goal: bool) -> dict:
+    s = {"name": "mde_kernel", "seed": 1, "dt": 0.01, "steps": 10,
+         "domain": {"min": [-5, -5, -5], "max": [5, 5, 5]}, "interaction_radius": radius,
+         "agents": {"count": agents, "initial": {"type": "uniform"}},
+         "model": {"type": "field", "noise": {"type": "curl", "scale": 0.4, "gain": 0.5, "seed": 2},
+                   "min_distance": d_min}}
+    if goal:
+        s["model"]["goal"] = {"center": [0, 0, 0], "radius": 0.3, "speed": 2.0}
+    return s
+
+
+def step_ms(swarmcl, ctx, doc: dict, goal: bool) -> float:
+    """Best of 3 timings of 10 steps, after 20 steps (a goal's gathering) or 2."""
+    with swarmcl.Scenario.parse(json.dumps(doc)) as sc, sc.create_swarm(ctx) as sw:
+        sw.step(20 if goal else 2)
+        sw.read_positions()
+        best = float("inf")
+        for _ in range(3):
+            t = time.perf_counter()
+            sw.step(10)
+            sw.read_positions()  # waits for the queue
+            best = min(best, (time.perf_counter() - t) / 10)
+        return best * 1e3
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--agents", type=int, default=200000)
+    ap.add_argument("--d-min", type=float, default=0.03)
+    ap.add_argument("--ratios", default="5,7.5,10,14,20", help="cell edges in units of d_min")
+    ap.add_argument("--json", default=os.path.join(ROOT, "bench", "results", "mde_kernel.json"))
+    args = ap.parse_args()
+    import swarmcl
+    sys.path.insert(0, os.path.join(ROOT, "scripts"))
+    from evaluation_studies import cpu_model
+    out = {"cpu": cpu_model(), "agents": args.agents, "d_min": args.d_min, "cases": []}
+    with swarmcl.Context() as ctx:
+        out["device"] = ctx.device.device_name
+        print(f"MDE kernels on {out['cpu']} ({out['device']}): the field model's step, {args.agents} agents "
+              f"uniform in a 10 m cube, d_min {args.d_min} m; wide and scalar alternated, best of 3 x 10 steps; "
+              f"load {os.getloadavg()[0]:.2f}")
+        for goal in (False, True):
+            for ratio in (float(r) for r in args.ratios.split(",")):
+                doc = scenario(args.agents, ratio * args.d_min, args.d_min, goal)
+                times = {"wide": [], "scalar": []}
+                for kernel in ("wide", "scalar", "scalar", "wide"):
+                    os.environ["SWARMCL_MDE_KERNEL"] = kernel
+                    times[kernel].append(step_ms(swarmcl, ctx, doc, goal))
+                os.environ.pop("SWARMCL_MDE_KERNEL")
+                w, s = min(times["wide"]), min(times["scalar"])
+                out["cases"].append({"cell_over_d_min": ratio, "goal": goal, "wide_ms": times["wide"],
+                                     "scalar_ms": times["scalar"], "wide_over_scalar": w / s})
+                print(f"  cells {ratio:4.1f} d_min, {'goal' if goal else 'no goal'}: wide {w:6.2f} ms, "
+                      f"scalar {s:6.2f} ms a step: wide / scalar {w / s:.2f}")
+    os.makedirs(os.path.dirname(args.json), exist_ok=True)
+    with open(args.json, "w", encoding="utf-8") as f:
+        json.dump(out, f, indent=1)
+    print(f"written to {os.path.relpath(args.json, ROOT)}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
