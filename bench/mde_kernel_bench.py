@@ -7,6 +7,12 @@ of N agents uniform in a 10 m cube, with the grid's cells set through the
 interaction radius, each case run with $SWARMCL_MDE_KERNEL=wide and =scalar
 alternated (wide, scalar, scalar, wide), best of 3 timings of 10 steps each.
 
+Then a fit's worlds: 64 worlds of 300 agents of
+examples/evaluation/field_mosquito.json (cells of about 0.28 m, the grid's
+cap of 4 cells an agent over each world's 3 m domain) with d_min set for
+cells of about 10, 14 and 20 d_min, with its goal gathering the agents (200
+steps first) and without, 3 timings of 50 steps each.
+
     python bench/mde_kernel_bench.py [--agents 200000] [--d-min 0.03] [--ratios 5,7.5,10,14,20]
 
 Writes bench/results/mde_kernel.json.
@@ -47,6 +53,29 @@ def step_ms(swarmcl, ctx, doc: dict, goal: bool) -> float:
         return best * 1e3
 
 
+def world_step_ms(swarmcl, ctx, d_min: float, goal: bool) -> float:
+    """Best of 3 timings of 50 steps of 64 worlds of field_mosquito (300
+    agents each, seeds 5..68), after 200 steps."""
+    with open(os.path.join(ROOT, "examples", "evaluation", "field_mosquito.json"), encoding="utf-8") as f:
+        doc = json.load(f)
+    doc["agents"]["count"] = 300
+    doc["model"]["min_distance"] = d_min
+    if not goal:
+        doc["model"].pop("goal")
+    with swarmcl.Scenario.parse(json.dumps(doc)) as sc:
+        sw = sc.create_world_swarm(ctx, 64, [5 + k for k in range(64)], None)
+    with sw:
+        sw.step(200)
+        sw.read_positions()
+        best = float("inf")
+        for _ in range(3):
+            t = time.perf_counter()
+            sw.step(50)
+            sw.read_positions()
+            best = min(best, (time.perf_counter() - t) / 50)
+        return best * 1e3
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--agents", type=int, default=200000)
@@ -76,6 +105,21 @@ def main() -> int:
                                      "scalar_ms": times["scalar"], "wide_over_scalar": w / s})
                 print(f"  cells {ratio:4.1f} d_min, {'goal' if goal else 'no goal'}: wide {w:6.2f} ms, "
                       f"scalar {s:6.2f} ms a step: wide / scalar {w / s:.2f}")
+        out["world_cases"] = []
+        for goal in (True, False):
+            for d_min in (0.028, 0.02, 0.014):
+                times = {"wide": [], "scalar": []}
+                for kernel in ("wide", "scalar", "scalar", "wide"):
+                    os.environ["SWARMCL_MDE_KERNEL"] = kernel
+                    times[kernel].append(world_step_ms(swarmcl, ctx, d_min, goal))
+                os.environ.pop("SWARMCL_MDE_KERNEL")
+                w, s = min(times["wide"]), min(times["scalar"])
+                out["world_cases"].append({"worlds": 64, "agents": 300, "d_min": d_min, "goal": goal,
+                                           "wide_ms": times["wide"], "scalar_ms": times["scalar"],
+                                           "wide_over_scalar": w / s})
+                print(f"  64 worlds x 300, d_min {d_min} (cells ~{0.28 / d_min:.0f} d_min), "
+                      f"{'goal' if goal else 'no goal'}: wide {w:6.3f} ms, scalar {s:6.3f} ms a step: "
+                      f"wide / scalar {w / s:.2f}")
     os.makedirs(os.path.dirname(args.json), exist_ok=True)
     with open(args.json, "w", encoding="utf-8") as f:
         json.dump(out, f, indent=1)

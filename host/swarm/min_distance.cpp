@@ -74,10 +74,18 @@ namespace {
 // (1M locusts, AVX-512 EPYC, d_min 0.1 m): 0.8x at 4.4 d_min, about the same
 // at 6, 1.3x at 9 and 1.8x at 12.  Since its any() is one mask test
 // (kernels/lib/lanes.cl), the whole field step of 200k agents, wide / scalar
-// (bench/mde_kernel_bench.py, 2-core Xeon with AVX-512, 2026-12-02): 0.82 at
-// cells of 5 d_min, 0.87 at 7.5, 0.97 at 10, 1.12 at 14, 1.26 at 20 (with a
-// goal gathering them 0.80, 0.92, 1.02, 1.13, 1.28).
+// (bench/mde_kernel_bench.py, 2-core Xeon with AVX-512, 2026-12-02,
+// bench/results/mde_kernel.json): 0.82 at cells of 5 d_min, 0.88 at 7.5,
+// 0.96 at 10, 1.13 at 14, 1.24 at 20 (with a goal gathering them 0.84, 0.93,
+// 1.04, 1.21, 1.37).
 constexpr float kWideCellPerDistance = 8.0f;
+// Worlds (or swarms) of at most kSmallWorld agents run it up to cells of
+// kSmallWorldCellPerDistance d_min: a fit's 64 worlds of 300 agents (the
+// same bench and JSON), wide / scalar 0.82, 0.80 and 0.84 of the step at
+// about 10, 14 and 20 d_min with the goal gathering them, 0.91, 0.93 and
+// 0.95 without.  (Between 300 and 200k agents a world the bound is a guess.)
+constexpr uint32_t kSmallWorld = 4096;
+constexpr float kSmallWorldCellPerDistance = 20.0f;
 // The explicit-width kernel where the noise module uses one (CPU devices;
 // $SWARMCL_NOISE_WIDTH = 1 selects the scalar kernel everywhere).
 uint32_t mde_width(Context& ctx) { return preferred_noise_width(ctx.device()); }
@@ -119,15 +127,17 @@ bool MinDistance::matches(const StepStages& st, uint32_t worlds) const {
            seed_ == per_world(st.world_seed, st.seed, worlds);
 }
 
-bool MinDistance::uses_wide_kernel(const GridGeometry& g, uint32_t n) const {
+bool MinDistance::uses_wide_kernel(const GridGeometry& g, uint32_t n, uint32_t world_agents) const {
     // The wide kernel pays off where each agent's box holds few candidates:
     // cells of at most kWideCellPerDistance * d_min (the scalar kernel's long
-    // loops over big cells predict well).  $SWARMCL_MDE_KERNEL ("wide" or
+    // loops over big cells predict well), or kSmallWorldCellPerDistance in
+    // small worlds.  $SWARMCL_MDE_KERNEL ("wide" or
     // "scalar") overrides the choice, for benchmarks (bench/mde_kernel_bench.py).
     // Its lanes index floats and cells as 32-bit ints.
     const char* env = std::getenv("SWARMCL_MDE_KERNEL");
     const std::string choice = env ? env : "";
-    const bool small_cells = choice.empty() ? g.cell <= kWideCellPerDistance * d_min_smallest_ : choice == "wide";
+    const float limit = world_agents <= kSmallWorld ? kSmallWorldCellPerDistance : kWideCellPerDistance;
+    const bool small_cells = choice.empty() ? g.cell <= limit * d_min_smallest_ : choice == "wide";
     return width_ > 1 && small_cells && uint64_t(n) * 4 < (uint64_t(1) << 31) &&
            uint64_t(g.cell_count()) + 1 < (uint64_t(1) << 31);
 }
@@ -138,7 +148,7 @@ void MinDistance::apply(Swarm& swarm, DeviceBuffer<cl_uint>& moved) {
     require(worlds == d_min_.size(), "minimum distance enforcement: built for another number of worlds");
     bool wide = true;  // where every world's grid suits it
     for (uint32_t k = 0; k < worlds; ++k)
-        wide = wide && uses_wide_kernel(swarm.grid().world_geometry(k), uint32_t(swarm.total_agents()));
+        wide = wide && uses_wide_kernel(swarm.grid().world_geometry(k), uint32_t(swarm.total_agents()), n);
     cl::Kernel& k = wide ? wide_ : kernel_;
     cl_uint i = 0;
     k.setArg(i++, swarm.positions().get());

@@ -57,11 +57,13 @@ public:
     bool matches(const StepStages& stages, uint32_t worlds) const;
     // Agents per work-item of the explicit-width kernel
     // (min_distance_enforce_w, 8 or 16 lanes) on CPU devices, used where the
-    // grid's cells are at most 8 d_min; 1 (the scalar kernel everywhere) on
+    // grid's cells are at most 8 d_min (20 in worlds of at most 4096 agents);
+    // 1 (the scalar kernel everywhere) on
     // other devices or with $SWARMCL_NOISE_WIDTH = 1.
     uint32_t width() const { return width_; }
-    // Whether a pass over n agents on a grid `g` runs the wide kernel.
-    bool uses_wide_kernel(const GridGeometry& g, uint32_t n) const;
+    // Whether a pass over n agents in all, world_agents a world, on a
+    // world's grid `g` runs the wide kernel.
+    bool uses_wide_kernel(const GridGeometry& g, uint32_t n, uint32_t world_agents) const;
 
 private:
     std::vector<float> d_min_;     // per world
