@@ -76,6 +76,17 @@ def world_step_ms(swarmcl, ctx, d_min: float, goal: bool) -> float:
         return best * 1e3
 
 
+def alternated(run):
+    """run() timed with $SWARMCL_MDE_KERNEL wide, scalar, scalar, wide: the
+    times of each and the best of each."""
+    times = {"wide": [], "scalar": []}
+    for kernel in ("wide", "scalar", "scalar", "wide"):
+        os.environ["SWARMCL_MDE_KERNEL"] = kernel
+        times[kernel].append(run())
+    os.environ.pop("SWARMCL_MDE_KERNEL")
+    return times, min(times["wide"]), min(times["scalar"])
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--agents", type=int, default=200000)
@@ -95,12 +106,7 @@ def main() -> int:
         for goal in (False, True):
             for ratio in (float(r) for r in args.ratios.split(",")):
                 doc = scenario(args.agents, ratio * args.d_min, args.d_min, goal)
-                times = {"wide": [], "scalar": []}
-                for kernel in ("wide", "scalar", "scalar", "wide"):
-                    os.environ["SWARMCL_MDE_KERNEL"] = kernel
-                    times[kernel].append(step_ms(swarmcl, ctx, doc, goal))
-                os.environ.pop("SWARMCL_MDE_KERNEL")
-                w, s = min(times["wide"]), min(times["scalar"])
+                times, w, s = alternated(lambda: step_ms(swarmcl, ctx, doc, goal))
                 out["cases"].append({"cell_over_d_min": ratio, "goal": goal, "wide_ms": times["wide"],
                                      "scalar_ms": times["scalar"], "wide_over_scalar": w / s})
                 print(f"  cells {ratio:4.1f} d_min, {'goal' if goal else 'no goal'}: wide {w:6.2f} ms, "
@@ -108,12 +114,7 @@ def main() -> int:
         out["world_cases"] = []
         for goal in (True, False):
             for d_min in (0.028, 0.02, 0.014):
-                times = {"wide": [], "scalar": []}
-                for kernel in ("wide", "scalar", "scalar", "wide"):
-                    os.environ["SWARMCL_MDE_KERNEL"] = kernel
-                    times[kernel].append(world_step_ms(swarmcl, ctx, d_min, goal))
-                os.environ.pop("SWARMCL_MDE_KERNEL")
-                w, s = min(times["wide"]), min(times["scalar"])
+                times, w, s = alternated(lambda: world_step_ms(swarmcl, ctx, d_min, goal))
                 out["world_cases"].append({"worlds": 64, "agents": 300, "d_min": d_min, "goal": goal,
                                            "wide_ms": times["wide"], "scalar_ms": times["scalar"],
                                            "wide_over_scalar": w / s})
