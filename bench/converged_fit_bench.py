@@ -26,6 +26,7 @@ import time
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
 from evaluation_studies import DATA, split_tracks  # noqa: E402  scripts/evaluation_studies.py
+from result_paths import write_result  # noqa: E402
 from machine_info import cpu_model  # noqa: E402  scripts/machine_info.py
 
 TARGET = {1: 300.0, 2: 180.0}
@@ -92,10 +93,7 @@ def main() -> int:
         print(f"  2 ranks {out['speedup_2_ranks']:.2f}x one process; same answer: {out['same_answer']}")
     else:
         print("  no mpirun: the 2-rank run is skipped")
-    os.makedirs(os.path.dirname(args.json), exist_ok=True)
-    with open(args.json, "w", encoding="utf-8") as f:
-        json.dump(out, f, indent=1)
-    print(f"written to {os.path.relpath(args.json, ROOT)}")
+    write_result(out, args.json)
     return 0
 
 

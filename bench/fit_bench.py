@@ -117,6 +117,7 @@ def main() -> int:
     import swarmcl
     sys.path.insert(0, os.path.join(ROOT, "scripts"))
     from evaluation_studies import cpu_model
+    from result_paths import write_result
     out = {"cpu": cpu_model(), "device": swarmcl.devices()[0].device_name if swarmcl.devices() else "",
            "population": args.population, "agents": args.agents, "steps": args.steps, "model": args.model}
     print(f"fit benchmark on {out['cpu']}: generations of {args.population} individuals x {args.agents} agents "
@@ -181,10 +182,7 @@ def main() -> int:
               f"2 ranks {out['generation_seconds_2_ranks']:6.2f} s: {ratio:.2f}x (ideal 2x on 2 cores)")
     else:
         print("  no mpirun: the 1 vs 2 ranks comparison is skipped")
-    os.makedirs(os.path.dirname(args.json), exist_ok=True)
-    with open(args.json, "w", encoding="utf-8") as f:
-        json.dump(out, f, indent=1)
-    print(f"written to {os.path.relpath(args.json, ROOT)}")
+    write_result(out, args.json)
     return 0
 
 

@@ -97,6 +97,7 @@ def main() -> int:
     import swarmcl
     sys.path.insert(0, os.path.join(ROOT, "scripts"))
     from evaluation_studies import cpu_model
+    from result_paths import write_result
     out = {"cpu": cpu_model(), "agents": args.agents, "d_min": args.d_min, "cases": []}
     with swarmcl.Context() as ctx:
         out["device"] = ctx.device.device_name
@@ -121,10 +122,7 @@ def main() -> int:
                 print(f"  64 worlds x 300, d_min {d_min} (cells ~{0.28 / d_min:.0f} d_min), "
                       f"{'goal' if goal else 'no goal'}: wide {w:6.3f} ms, scalar {s:6.3f} ms a step: "
                       f"wide / scalar {w / s:.2f}")
-    os.makedirs(os.path.dirname(args.json), exist_ok=True)
-    with open(args.json, "w", encoding="utf-8") as f:
-        json.dump(out, f, indent=1)
-    print(f"written to {os.path.relpath(args.json, ROOT)}")
+    write_result(out, args.json)
     return 0
 
 

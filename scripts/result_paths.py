@@ -7,6 +7,7 @@ gone after the run; the name says what it was)."""
 
 from __future__ import annotations
 
+import json
 import os
 import shlex
 import tempfile
@@ -49,3 +50,12 @@ def shown_command(argv) -> str:
     if not argv:
         return ""
     return shlex.join([Path(argv[0]).name, *(shown_value(a) for a in argv[1:])])
+
+
+def write_result(out: dict, path) -> None:
+    """A benchmark's results as JSON at `path` (its folder made), every path
+    in them shown by shown_value, and a line saying where."""
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    with open(path, "w", encoding="utf-8") as f:
+        json.dump(shown_value(out), f, indent=1)
+    print(f"written to {shown_path(path)}")
