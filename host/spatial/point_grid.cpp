@@ -13,7 +13,7 @@ namespace {
 // thousand cells per agent count: 9 bits, as the force model's fine grid
 // was tuned); cells per point at most, and at least this many cells.
 constexpr uint32_t kBoundsChunks = 16, kRadixBlocks = 16, kMaxRadixBits = 9;
-constexpr uint32_t kCellsPerPoint = 8, kMinCells = 1024, kMaxCells = 1u << 30;
+constexpr uint32_t kMinCells = 1024, kMaxCells = 1u << 30;
 }  // namespace
 
 PointGrid::PointGrid(Context& ctx) : ctx_(ctx) {

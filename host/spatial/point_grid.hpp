@@ -50,8 +50,11 @@ public:
     // The given cells (points outside are clamped into the border cells).
     void build(const DeviceBuffer<cl_float4>& points, uint32_t n, const GridGeometry& geometry);
 
+    // Cells a point of a grid built from a bounding box, unless
+    // set_cells_per_point says otherwise.
+    static constexpr uint32_t kCellsPerPoint = 8;
     // Cells at most of a grid built over n points from their bounding box
-    // (8 a point, the default; at least 1024, at most 2^30).
+    // (kCellsPerPoint a point; at least 1024, at most 2^30).
     static uint32_t max_cells(uint32_t n);
     // The cells a point the builds from a bounding box allow from now on,
     // 1 to 8 (coarser cells for a search that gains from more points a row:
@@ -75,7 +78,7 @@ public:
 
 private:
     uint32_t cells_for(uint32_t n) const;
-    uint32_t cells_per_point_ = 8;  // kCellsPerPoint (point_grid.cpp), the default
+    uint32_t cells_per_point_ = kCellsPerPoint;
     void reserve(uint32_t n, uint32_t keys);
     void sort_and_count(const DeviceBuffer<cl_float4>& points);
     void build_bounded(const DeviceBuffer<cl_float4>& points, uint32_t n, uint32_t groups, float min_cell,

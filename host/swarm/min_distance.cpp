@@ -109,6 +109,7 @@ MinDistance::MinDistance(Context& ctx, float d_min, uint64_t seed) : MinDistance
 MinDistance::MinDistance(Context& ctx, const StepStages& st, uint32_t worlds)
     : d_min_(per_world(st.world_min_distance, st.min_distance, worlds)),
       seed_(per_world(st.world_seed, st.seed, worlds)), width_(mde_width(ctx)),
+      kernel_choice_(std::getenv("SWARMCL_MDE_KERNEL") ? std::getenv("SWARMCL_MDE_KERNEL") : ""),
       kernel_(ctx.kernel("min_distance.cl", "min_distance_enforce", world_defines(worlds))) {
     require(d_min_.size() == worlds && seed_.size() == worlds,
             "minimum distance enforcement: one distance and seed per world expected");
@@ -131,13 +132,13 @@ bool MinDistance::uses_wide_kernel(const GridGeometry& g, uint32_t n, uint32_t w
     // The wide kernel pays off where each agent's box holds few candidates:
     // cells of at most kWideCellPerDistance * d_min (the scalar kernel's long
     // loops over big cells predict well), or kSmallWorldCellPerDistance in
-    // small worlds.  $SWARMCL_MDE_KERNEL ("wide" or
-    // "scalar") overrides the choice, for benchmarks (bench/mde_kernel_bench.py).
+    // small worlds.  $SWARMCL_MDE_KERNEL ("wide" or "scalar", read when the
+    // pass is made) overrides the choice, for benchmarks
+    // (bench/mde_kernel_bench.py).
     // Its lanes index floats and cells as 32-bit ints.
-    const char* env = std::getenv("SWARMCL_MDE_KERNEL");
-    const std::string choice = env ? env : "";
     const float limit = world_agents <= kSmallWorld ? kSmallWorldCellPerDistance : kWideCellPerDistance;
-    const bool small_cells = choice.empty() ? g.cell <= limit * d_min_smallest_ : choice == "wide";
+    const bool small_cells =
+        kernel_choice_.empty() ? g.cell <= limit * d_min_smallest_ : kernel_choice_ == "wide";
     return width_ > 1 && small_cells && uint64_t(n) * 4 < (uint64_t(1) << 31) &&
            uint64_t(g.cell_count()) + 1 < (uint64_t(1) << 31);
 }

@@ -3,6 +3,7 @@
 // model's StepStages ask for it; and the step statistics' counters.
 #pragma once
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "device/buffer.hpp"
@@ -70,6 +71,9 @@ private:
     std::vector<uint64_t> seed_;   // per world
     float d_min_smallest_ = 0.0f;  // picks the kernel (uses_wide_kernel)
     uint32_t width_;
+    // $SWARMCL_MDE_KERNEL when the pass was made: "wide", "scalar" or empty
+    // (the cell-size rule of uses_wide_kernel).
+    std::string kernel_choice_;
     DeviceBuffer<cl_float> d_min_buf_;
     DeviceBuffer<cl_ulong> seed_buf_;
     cl::Kernel kernel_, wide_;
