@@ -253,7 +253,7 @@ namespace {
 // Sorts the first m of `keys` (with slots 0.. and the given ids) on the
 // device and checks the result against std::stable_sort.
 void expect_stable_sort(uint32_t max_key, uint32_t max_bits, uint32_t blocks, const std::vector<cl_uint>& keys,
-                        uint32_t m, bool with_ids, uint32_t expected_passes) {
+                        uint32_t m, bool with_ids, uint32_t expected_passes, uint32_t max_count = UINT32_MAX) {
     auto ctx = shared_context();
     const size_t len = keys.size();
     std::vector<cl_uint> slots(len), ids(len);
@@ -273,7 +273,7 @@ void expect_stable_sort(uint32_t max_key, uint32_t max_bits, uint32_t blocks, co
     RadixSort sort(*ctx, max_key, blocks, max_bits);
     EXPECT_EQ(sort.passes(), expected_passes);
     RadixSort::Columns a{&k[0], &s[0], with_ids ? &i[0] : nullptr}, b{&k[1], &s[1], with_ids ? &i[1] : nullptr};
-    sort.sort(count, a, b);
+    sort.sort(count, a, b, max_count);
     std::vector<uint32_t> order(m);
     std::iota(order.begin(), order.end(), 0u);
     std::stable_sort(order.begin(), order.end(), [&](uint32_t x, uint32_t y) { return keys[x] < keys[y]; });
@@ -299,6 +299,27 @@ TEST(RadixSort, StableOverSeveralPassesWithAndWithoutIds) {
         expect_stable_sort(4999, 7, 64, keys, 20000, ids, 2);   // 2 passes (even)
         expect_stable_sort(4999, 13, 3, keys, 12345, ids, 1);   // 1 pass, few blocks
     }
+}
+
+// A bound on the count takes fewer blocks (each block's histogram row is
+// fixed work): 1, a few and all of them sort as the full count of blocks.
+TEST(RadixSort, FewerBlocksForABoundedCountSortTheSame) {
+    std::mt19937 rng(5);
+    std::vector<cl_uint> keys(20000);
+    for (auto& v : keys) v = (rng() % 300u) * 17u;  // up to 5083: 13 bits, 2 passes of 7
+    auto ctx = shared_context();
+    const RadixSort probe(*ctx, 5099, 64, 7);
+    const uint32_t per_block = RadixSort::kKeysPerDigit << probe.digit_bits();
+    EXPECT_EQ(probe.blocks_for(0), 1u);
+    EXPECT_EQ(probe.blocks_for(per_block - 1), 1u);
+    EXPECT_EQ(probe.blocks_for(5 * per_block), 5u);
+    EXPECT_EQ(probe.blocks_for(UINT32_MAX), 64u);
+    for (uint32_t m : {100u, 3000u, 20000u})
+        for (uint32_t bound : {m, 5 * per_block, UINT32_MAX}) {
+            SCOPED_TRACE(std::to_string(m) + " keys, bound " + std::to_string(bound));
+            if (bound < m) continue;
+            expect_stable_sort(5099, 7, 64, keys, m, true, 2, bound);
+        }
 }
 
 TEST(RadixSort, EmptyAndSingleEntry) {

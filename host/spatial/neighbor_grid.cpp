@@ -19,6 +19,7 @@ constexpr uint32_t kRadixBlocks = 64;    // movers: radix histograms and scatter
 // (each merge work-item starts with a binary search); a GPU wants the
 // work-items.
 constexpr uint32_t kOutputsPerItemCpu = 4096, kOutputsPerItemGpu = 256;
+constexpr uint32_t kStartItems = 64;  // grid_starts: work-items at least (below)
 // Digit width (2^11 x kRadixBlocks histogram): 22-bit keys of a 4M-cell grid
 // in 2 passes, not 3.  1M locusts, 600k movers: 6.3 ms against 7.0-7.5 at 8
 // bits (since the chunked kernels run on both cores).
@@ -179,7 +180,7 @@ void NeighborGrid::build(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<
     stage("movers_write");
     // Stable radix sort of the movers by new cell.
     RadixSort::Columns in{&r_key_, &r_slot_, &r_id_}, out{&t_key_, &t_slot_, &t_id_};
-    radix_.sort(movers_, in, out);
+    radix_.sort(movers_, in, out, n);  // movers <= n
     DeviceBuffer<cl_uint>*kin = in.key, *sin = in.slot, *iin = in.id, *kout = out.key;
     set_args(sort_runs_, movers_.get(), kin->get(), sin->get(), iin->get(), kRadixBlocks);
     launch(ctx_, sort_runs_, kRadixBlocks);
@@ -192,8 +193,13 @@ void NeighborGrid::build(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<
              outputs_per_item_, perm_.get(), pending_key_->get());
     launch_chunks(ctx_, merge_, items);
     stage("grid_merge");
-    set_args(starts_, pending_key_->get(), n, ncells_, outputs_per_item_, start_.get());
-    launch_chunks(ctx_, starts_, items);
+    // The starts of every cell: outputs split over at least kStartItems
+    // work-items when there are few agents in many cells (the cells between
+    // an item's outputs are its to write; 64 worlds x 300 agents in 216k
+    // cells were 5 items, one writing most cells).
+    const uint32_t per_start = std::clamp(div_up(n, kStartItems), 1u, outputs_per_item_);
+    set_args(starts_, pending_key_->get(), n, ncells_, per_start, start_.get());
+    launch_chunks(ctx_, starts_, div_up(n, per_start));
     stage("grid_starts");
 }
 

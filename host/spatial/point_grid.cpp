@@ -121,7 +121,7 @@ void PointGrid::sort_and_count(const DeviceBuffer<cl_float4>& points) {
                  slot_[0].get(), count_.get());
         launch(ctx_, keys_k_, n);
         RadixSort::Columns a{&key_[0], &slot_[0], nullptr}, b{&key_[1], &slot_[1], nullptr};
-        radix_->sort(count_, a, b);
+        radix_->sort(count_, a, b, n);  // count_ holds n
         sorted_key_ = a.key;
         sorted_slot_ = a.slot;
     }

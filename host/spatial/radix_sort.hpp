@@ -29,8 +29,16 @@ public:
 
     // Sorts the first *count entries of `a` by key, through `b` and back
     // (one pass each way): on return `a` names the buffers holding the
-    // sorted columns and `b` the others.  Enqueued only.
-    void sort(const DeviceBuffer<cl_uint>& count, Columns& a, Columns& b);
+    // sorted columns and `b` the others.  max_count bounds *count (known on
+    // the host): fewer blocks for fewer keys (blocks_for).  Enqueued only.
+    void sort(const DeviceBuffer<cl_uint>& count, Columns& a, Columns& b, uint32_t max_count = UINT32_MAX);
+
+    // The blocks a pass of up to max_count keys uses: at least
+    // kKeysPerDigit keys a block for each digit value (a block's fixed work
+    // is its histogram row: 64 rows of 512 digits were most of a step of 64
+    // worlds x 300 agents), at most the constructor's count, at least 1.
+    uint32_t blocks_for(uint32_t max_count) const;
+    static constexpr uint32_t kKeysPerDigit = 4;
 
     uint32_t passes() const { return passes_; }
     uint32_t digit_bits() const { return bits_; }
