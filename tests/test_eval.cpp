@@ -6,12 +6,14 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <random>
 
 #include "core/error.hpp"
 #include "data/tracks.hpp"
 #include "eval/entropy_weights.hpp"
 #include "eval/metrics.hpp"
+#include "eval/nearest_sweep.hpp"
 #include "eval/pdf_distance.hpp"
 #include "eval/time_window.hpp"
 
@@ -239,6 +241,47 @@ TEST(EvalMetrics, FrameNeighboursStayExactAsTheSwarmShrinksAndSpreads) {
     const double dt = 0.01;
     const auto m = frame_metrics(xyz.data(), frames, agents, dt);
     expect_brute_force_neighbours(m, xyz, frames, agents, dt);
+}
+
+// The sweep's two scans, four candidates at a time (AVX2, where the CPU has
+// it) and one at a time, against the brute force's least (r2, index): frames
+// of 2 to 70 points (fewer than a block, a block and a bit), random and on a
+// lattice (exact ties), with no hint, random hints and last frame's answers.
+TEST(EvalMetrics, NearestSweepScansGiveTheBruteForcesNeighbour) {
+    std::mt19937 rng(23);
+    std::uniform_real_distribution<float> u(-1.f, 1.f);
+    std::uniform_int_distribution<int> cell(0, 3);
+    for (size_t g : {size_t(2), size_t(3), size_t(4), size_t(5), size_t(8), size_t(9), size_t(33), size_t(70)})
+        for (int lattice = 0; lattice < 2; ++lattice) {
+            NearestSweep wide(true), narrow(false);
+            std::vector<uint32_t> last_wide, last_narrow;
+            for (int frame = 0; frame < 40; ++frame) {  // past kAxisEvery: the axis is chosen again
+                std::vector<NearestSweep::Vec3> p(g);
+                for (auto& q : p)
+                    for (double& c : q) c = lattice ? 0.25 * cell(rng) : double(u(rng));
+                std::vector<uint32_t> expect(g);
+                for (size_t i = 0; i < g; ++i) {
+                    double best = std::numeric_limits<double>::infinity();
+                    for (size_t j = 0; j < g; ++j) {
+                        if (j == i) continue;
+                        const double dx = p[j][0] - p[i][0], dy = p[j][1] - p[i][1], dz = p[j][2] - p[i][2];
+                        const double r2 = dx * dx + dy * dy + dz * dz;
+                        if (r2 < best) best = r2, expect[i] = uint32_t(j);
+                    }
+                }
+                std::vector<uint32_t> random_hint(g);
+                for (size_t i = 0; i < g; ++i) random_hint[i] = uint32_t(rng() % g);
+                const bool use_last = frame % 3 != 0 && !last_wide.empty();
+                const std::vector<uint32_t>* hw = frame % 3 == 0 ? nullptr : use_last ? &last_wide : &random_hint;
+                const std::vector<uint32_t>* hn = frame % 3 == 0 ? nullptr : use_last ? &last_narrow : &random_hint;
+                std::vector<uint32_t> a, b;
+                wide.find(p, hw, a);
+                narrow.find(p, hn, b);
+                ASSERT_EQ(a, expect) << g << " points, lattice " << lattice << ", frame " << frame;
+                ASSERT_EQ(b, expect) << g << " points, lattice " << lattice << ", frame " << frame;
+                last_wide = a, last_narrow = b;
+            }
+        }
 }
 
 TEST(EvalMetrics, BadInputIsRefused) {

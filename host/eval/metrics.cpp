@@ -8,6 +8,7 @@
 #include <nanoflann.hpp>
 
 #include "core/error.hpp"
+#include "eval/nearest_sweep.hpp"
 
 namespace swarmcl {
 namespace {
@@ -86,109 +87,6 @@ struct FramePoints {
 };
 using FrameTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, FramePoints>,
                                                       FramePoints, 3, uint32_t>;
-
-// Nearest other point of each point of a frame of up to kSweepMax points, by
-// a sweep along one axis: the points sorted on it, each scans outwards from
-// itself until the axis gap alone exceeds the best squared distance found.
-// Exact, and the lowest index wins ties (as the brute force and the device's
-// metrics).  The axis is the one with the widest interquartile range, so a
-// few far glitches do not pick an axis the bulk of the frame is flat on.
-// Frames of one recording follow each other: the last frame's order is
-// re-sorted by insertion (nearly sorted already), and a point's last
-// neighbour gives the scan its first bound.  The scan grows as g^(2/3) a
-// point, so larger frames use a kd-tree.
-constexpr size_t kSweepMax = 2048;
-
-class NearestSweep {
-public:
-    // nn[i]: the nearest other point of p[i]; hint (or null): a candidate
-    // per point, any index other than the point's own.
-    void find(const std::vector<Vec3>& p, const std::vector<uint32_t>* hint, std::vector<uint32_t>& nn) {
-        const size_t g = p.size();
-        nn.resize(g);
-        if (g != order_.size() || frames_since_axis_ >= kAxisEvery) {
-            axis_ = widest_axis(p);
-            frames_since_axis_ = 0;
-            order_.resize(g);
-            for (size_t i = 0; i < g; ++i) order_[i] = {p[i], uint32_t(i)};
-            std::sort(order_.begin(), order_.end(), [this](const Entry& a, const Entry& b) { return before(a, b); });
-        } else {
-            ++frames_since_axis_;
-            for (auto& o : order_) o.p = p[o.index];
-            for (size_t r = 1; r < g; ++r)  // insertion sort: few moves between frames
-                for (size_t k = r; k > 0 && before(order_[k], order_[k - 1]); --k) std::swap(order_[k], order_[k - 1]);
-        }
-        // The points in axis order, position and index side by side: the
-        // scans read memory in sequence.
-        for (size_t r = 0; r < g; ++r) {
-            const Vec3& q = order_[r].p;
-            const size_t i = order_[r].index;
-            const double x = q[axis_];
-            double best = std::numeric_limits<double>::infinity();
-            uint32_t who = std::numeric_limits<uint32_t>::max();
-            if (hint != nullptr && (*hint)[i] != i) consider(q, p[(*hint)[i]], (*hint)[i], best, who);
-            // r2 >= (axis gap)^2 in floating point too (adding non-negative
-            // squares never rounds below one of them), so stopping at a gap
-            // whose square exceeds best skips no nearer point, nor an equal one.
-            for (size_t k = r; k-- > 0;) {
-                const double gap = x - order_[k].p[axis_];
-                if (gap * gap > best) break;
-                consider(q, order_[k].p, order_[k].index, best, who);
-            }
-            for (size_t k = r + 1; k < g; ++k) {
-                const double gap = order_[k].p[axis_] - x;
-                if (gap * gap > best) break;
-                consider(q, order_[k].p, order_[k].index, best, who);
-            }
-            nn[i] = who;
-        }
-    }
-
-private:
-    static constexpr size_t kAxisEvery = 32;  // frames between choices of the axis
-
-    struct Entry {
-        Vec3 p;
-        uint32_t index;
-    };
-
-    bool before(const Entry& a, const Entry& b) const {
-        return a.p[axis_] < b.p[axis_] || (a.p[axis_] == b.p[axis_] && a.index < b.index);
-    }
-
-    // q is the searching point; the arithmetic is sub(p[j], p[i]) as the
-    // brute force's, so equal distances compare equal.
-    static void consider(const Vec3& q, const Vec3& pj, uint32_t j, double& best, uint32_t& who) {
-        const Vec3 d = sub(pj, q);
-        const double r2 = dot(d, d);
-        // Branch-free (4 % faster: a near candidate is as likely nearer as not).
-        const bool nearer = (r2 < best) | ((r2 == best) & (j < who));
-        best = nearer ? r2 : best;
-        who = nearer ? j : who;
-    }
-
-    size_t widest_axis(const std::vector<Vec3>& p) {
-        auto& c = coords_;
-        c.resize(p.size());
-        size_t axis = 0;
-        double widest = -1.0;
-        for (size_t d = 0; d < 3; ++d) {
-            for (size_t i = 0; i < p.size(); ++i) c[i] = p[i][d];
-            const size_t q1 = c.size() / 4, q3 = (3 * c.size()) / 4;
-            std::nth_element(c.begin(), c.begin() + q3, c.end());
-            const double hi = c[q3];
-            std::nth_element(c.begin(), c.begin() + q1, c.begin() + q3);
-            const double iqr = hi - c[q1];
-            if (iqr > widest) widest = iqr, axis = d;
-        }
-        return axis;
-    }
-
-    std::vector<Entry> order_;
-    std::vector<double> coords_;
-    size_t axis_ = 0;
-    size_t frames_since_axis_ = 0;
-};
 
 // Nearest other point of each point of one frame: up to kSweepMax points
 // (every real recording we hold, a fit's worlds) by the sweep, exact with the

@@ -1,0 +1,61 @@
+// The nearest other point of every point of a frame of up to kSweepMax
+// points (the metrics' d and η, eval/metrics.cpp), by a sweep along one axis:
+// the points sorted on it, each scans outwards from itself until the axis gap
+// alone exceeds the best squared distance found.  Exact, and the lowest index
+// wins ties (as the brute force and the device's metrics).
+#pragma once
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace swarmcl {
+
+// The scan grows as g^(2/3) a point, so larger frames use a kd-tree.
+constexpr size_t kSweepMax = 2048;
+
+class NearestSweep {
+public:
+    using Vec3 = std::array<double, 3>;
+
+    // wide: four candidates at a time where the CPU has AVX2 (the same
+    // answers; false: one at a time, the path of other CPUs).
+    explicit NearestSweep(bool wide = true) : wide_(wide) {}
+
+    // nn[i]: the nearest other point of p[i] (finite coordinates, at least
+    // two points); hint (or null): a candidate per point, any index other
+    // than the point's own.  Frames of one recording follow each other: the
+    // last frame's order is re-sorted by insertion (nearly sorted already),
+    // and a point's last neighbour (the hint) gives its scan a first bound.
+    void find(const std::vector<Vec3>& p, const std::vector<uint32_t>* hint, std::vector<uint32_t>& nn);
+
+private:
+    static constexpr size_t kAxisEvery = 32;  // frames between choices of the axis
+    static constexpr size_t kPad = 4;         // NaN entries past either end of the arrays
+
+    struct Entry {
+        Vec3 p;
+        uint32_t index;
+    };
+
+    bool before(const Entry& a, const Entry& b) const {
+        return a.p[axis_] < b.p[axis_] || (a.p[axis_] == b.p[axis_] && a.index < b.index);
+    }
+    size_t widest_axis(const std::vector<Vec3>& p);
+    void scan(const std::vector<Vec3>& p, const std::vector<uint32_t>* hint, std::vector<uint32_t>& nn) const;
+#if defined(__x86_64__) && defined(__GNUC__)
+    void scan_avx2(const std::vector<Vec3>& p, const std::vector<uint32_t>* hint, std::vector<uint32_t>& nn) const;
+#endif
+
+    std::vector<Entry> order_;
+    // The points in axis order as coordinate arrays and indices, kPad
+    // entries past either end (NaN coordinates: never nearer).
+    std::array<std::vector<double>, 3> xyz_;
+    std::vector<uint32_t> index_;
+    std::vector<double> coords_;
+    size_t axis_ = 0;
+    size_t frames_since_axis_ = 0;
+    bool wide_ = true;
+};
+
+}  // namespace swarmcl
