@@ -222,6 +222,175 @@ __kernel void metrics_sample(__global const float4* p0, __global const float4* p
         if (m != M_DIST) vals[(size_t)m * n + i] = (flags >> m) & 1u ? x[m] : as_float(M_MISSING);
 }
 
+#if defined(SWCL_W)
+// metrics_sample on SWCL_W consecutive agents per work-item (CPU devices:
+// the scalar kernel's call of atan2 kept PoCL from vectorising it across
+// work-items, and it was a third of a sampled frame at 100k agents).  Every
+// lane does the scalar kernel's operations in its order, the double ones in
+// double lanes, so the values are the scalar kernel's bitwise
+// (tests/test_swarm_metrics.cpp).  Launch ceil(n / SWCL_W); lanes past n
+// repeat agent n - 1 and write nothing.
+#if M_COUNT != 7
+#error "metrics_sample_w writes the six metrics besides d by name: a new metric needs its lanes here"
+#endif
+#if SWCL_W == 8
+#define MS_VSTORE vstore8
+#else
+#define MS_VSTORE vstore16
+#endif
+#ifdef cl_khr_fp64
+#if SWCL_W == 8
+typedef double8 ms_rw;
+typedef long8 ms_rm;
+#define ms_cvt_rw convert_double8
+#define ms_cvt_fw convert_float8
+#define ms_cvt_rm_iw convert_int8
+#else
+typedef double16 ms_rw;
+typedef long16 ms_rm;
+#define ms_cvt_rw convert_double16
+#define ms_cvt_fw convert_float16
+#define ms_cvt_rm_iw convert_int16
+#endif
+#else
+typedef swcl_fw ms_rw;
+typedef swcl_iw ms_rm;
+#define ms_cvt_rw(v) (v)
+#define ms_cvt_fw(v) (v)
+#define ms_cvt_rm_iw(v) (v)
+#endif
+
+// The x, y, z of W float4 (element idx(k) of `a` for lane k) as lanes.
+#define MS_LOAD_W(a, idx, X, Y, Z)                                  \
+    {                                                               \
+        float px_[SWCL_W], py_[SWCL_W], pz_[SWCL_W];                \
+        for (uint l = 0; l < SWCL_W; ++l) {                         \
+            const float4 q_ = (a)[idx(l)];                          \
+            px_[l] = q_.x;                                          \
+            py_[l] = q_.y;                                          \
+            pz_[l] = q_.z;                                          \
+        }                                                           \
+        X = swcl_vload_fw(0, px_);                                  \
+        Y = swcl_vload_fw(0, py_);                                  \
+        Z = swcl_vload_fw(0, pz_);                                  \
+    }
+// len3 of (bx - ax, by - ay, bz - az) in mreal lanes (diff3's exact difference).
+SWCL_INLINE ms_rw ms_len3_w(swcl_fw bx, swcl_fw by, swcl_fw bz, swcl_fw ax, swcl_fw ay, swcl_fw az) {
+    const ms_rw x = ms_cvt_rw(bx) - ms_cvt_rw(ax), y = ms_cvt_rw(by) - ms_cvt_rw(ay), z = ms_cvt_rw(bz) - ms_cvt_rw(az);
+    return sqrt(x * x + y * y + z * z);
+}
+
+__kernel void metrics_sample_w(__global const float4* p0, __global const float4* p1, __global const float4* p2,
+                               __global const float4* p3, uint n, uint per_world, uint have, float dt,
+                               __global const uint* nn_idx, __global const float* nn_dist,
+                               __global float2* omega, __global volatile uint* hist_all, __global float* vals) {
+    const uint base = get_global_id(0) * SWCL_W;
+    if (base >= n) return;
+    const uint lanes = min((uint)SWCL_W, n - base);
+    const mreal dtr = dt;
+#define MS_SELF_(l) min(base + (l), n - 1u)
+    swcl_fw a0x, a0y, a0z, a1x, a1y, a1z;
+    MS_LOAD_W(p0, MS_SELF_, a0x, a0y, a0z)
+    MS_LOAD_W(p1, MS_SELF_, a1x, a1y, a1z)
+    const swcl_fw d1x = a0x - a1x, d1y = a0y - a1y, d1z = a0z - a1z;
+    const swcl_fw speed = sqrt(d1x * d1x + d1y * d1y + d1z * d1z) / dt;
+    // η: the neighbour's forward speed against the agent's (scalar: j < n
+    // and d > 0; other lanes read agent n - 1 and are not kept).
+    float dn_[SWCL_W];
+    uint j_[SWCL_W];
+    for (uint l = 0; l < SWCL_W; ++l) {
+        dn_[l] = nn_dist[MS_SELF_(l)];
+        j_[l] = nn_idx[MS_SELF_(l)];
+    }
+    const swcl_fw dn = swcl_vload_fw(0, dn_);
+    const swcl_uw jn = swcl_vload_uw(0, j_);
+    const swcl_iw has_eta = (dn > 0.0f) & (jn < (swcl_uw)(n));
+#define MS_NEI_(l) (j_[l] < n ? j_[l] : n - 1u)
+    swcl_fw b0x, b0y, b0z, b1x, b1y, b1z;
+    MS_LOAD_W(p0, MS_NEI_, b0x, b0y, b0z)
+    MS_LOAD_W(p1, MS_NEI_, b1x, b1y, b1z)
+#undef MS_NEI_
+    const swcl_fw eta = ms_cvt_fw(fabs(ms_len3_w(b0x, b0y, b0z, b1x, b1y, b1z) / dtr -
+                                       ms_len3_w(a0x, a0y, a0z, a1x, a1y, a1z) / dtr) / ms_cvt_rw(dn));
+    swcl_fw accel = (swcl_fw)(0.0f), w1f = (swcl_fw)(0.0f), jerk = (swcl_fw)(0.0f), alpha = (swcl_fw)(0.0f);
+    swcl_iw turn = (swcl_iw)(0), has_alpha = (swcl_iw)(0);
+    if (have >= 2u) {
+        swcl_fw a2x, a2y, a2z;
+        MS_LOAD_W(p2, MS_SELF_, a2x, a2y, a2z)
+        const swcl_fw d2x = a1x - a2x, d2y = a1y - a2y, d2z = a1z - a2z;
+        const swcl_fw c1x = d1x - d2x, c1y = d1y - d2y, c1z = d1z - d2z;
+        accel = sqrt(c1x * c1x + c1y * c1y + c1z * c1z) / dt / dt;
+        // angle3(e2, e1), e1 = diff3(a0, a1), e2 = diff3(a1, a2)
+        const ms_rw e1x = ms_cvt_rw(a0x) - ms_cvt_rw(a1x), e1y = ms_cvt_rw(a0y) - ms_cvt_rw(a1y),
+                    e1z = ms_cvt_rw(a0z) - ms_cvt_rw(a1z);
+        const ms_rw e2x = ms_cvt_rw(a1x) - ms_cvt_rw(a2x), e2y = ms_cvt_rw(a1y) - ms_cvt_rw(a2y),
+                    e2z = ms_cvt_rw(a1z) - ms_cvt_rw(a2z);
+        const ms_rm turn_r = ((e1x != (ms_rw)(0)) | (e1y != (ms_rw)(0)) | (e1z != (ms_rw)(0))) &
+                             ((e2x != (ms_rw)(0)) | (e2y != (ms_rw)(0)) | (e2z != (ms_rw)(0)));
+        turn = ms_cvt_rm_iw(turn_r);
+        const ms_rw cx = e2y * e1z - e2z * e1y, cy = e2z * e1x - e2x * e1z, cz = e2x * e1y - e2y * e1x;
+        const ms_rw w1 = select((ms_rw)(0), atan2(sqrt(cx * cx + cy * cy + cz * cz), e2x * e1x + e2y * e1y + e2z * e1z) / dtr,
+                                turn_r);
+        w1f = ms_cvt_fw(w1);
+        const ms_rw w1lo = w1 - ms_cvt_rw(w1f);
+        // ω of the frame before (hi + lo), then this one's in its place.
+        float w0h[SWCL_W], w0l[SWCL_W], wlo[SWCL_W], whi[SWCL_W];
+        for (uint l = 0; l < SWCL_W; ++l) {
+            const float2 w = omega[MS_SELF_(l)];
+            w0h[l] = w.x;
+            w0l[l] = w.y;
+        }
+        swcl_vstore_fw(w1f, 0, whi);
+        swcl_vstore_fw(ms_cvt_fw(w1lo), 0, wlo);
+        int tn[SWCL_W];
+        MS_VSTORE(turn, 0, tn);
+        for (uint l = 0; l < lanes; ++l)
+            omega[base + l] = tn[l] ? (float2)(whi[l], wlo[l]) : (float2)(NAN, 0.0f);
+        if (have >= 3u) {
+            swcl_fw a3x, a3y, a3z;
+            MS_LOAD_W(p3, MS_SELF_, a3x, a3y, a3z)
+            const swcl_fw d3x = a2x - a3x, d3y = a2y - a3y, d3z = a2z - a3z;
+            const swcl_fw c0x = d2x - d3x, c0y = d2y - d3y, c0z = d2z - d3z;
+            const swcl_fw jx = c1x - c0x, jy = c1y - c0y, jz = c1z - c0z;
+            jerk = sqrt(jx * jx + jy * jy + jz * jz) / dt / dt / dt;
+            const swcl_fw w0x = swcl_vload_fw(0, w0h), w0y = swcl_vload_fw(0, w0l);
+            has_alpha = turn & ~isnan(w0x);
+            alpha = ms_cvt_fw((w1 - (ms_cvt_rw(w0x) + ms_cvt_rw(w0y))) / dtr);
+        }
+    }
+#undef MS_SELF_
+    // Each metric's lanes to its values (M_MISSING where the scalar kernel
+    // has none) and, on GPUs, to the lane's world's histogram.
+    const swcl_fw missing = (swcl_fw)(as_float(M_MISSING));
+    const swcl_iw yes = (swcl_iw)(-1);
+    const swcl_iw two = have >= 2u ? yes : (swcl_iw)(0), three = have >= 3u ? yes : (swcl_iw)(0);
+    const swcl_fw val[6] = {speed, eta, accel, w1f, jerk, alpha};
+    const swcl_iw has[6] = {yes, has_eta, two, two & turn, three, three & has_alpha};
+    const uint metric[6] = {M_SPEED, M_ETA, M_ACCEL, M_OMEGA, M_JERK, M_ALPHA};
+    for (uint q = 0; q < 6u; ++q) {
+        const swcl_fw v = select(missing, val[q], has[q]);
+        __global float* out = vals + (size_t)metric[q] * n + base;
+        if (lanes == SWCL_W) {
+            swcl_vstore_fw(v, 0, out);
+        } else {
+            float vl[SWCL_W];
+            swcl_vstore_fw(v, 0, vl);
+            for (uint l = 0; l < lanes; ++l) out[l] = vl[l];
+        }
+#if HIST_ATOMIC
+        float vl[SWCL_W];
+        int hl[SWCL_W];
+        swcl_vstore_fw(v, 0, vl);
+        MS_VSTORE(has[q], 0, hl);
+        for (uint l = 0; l < lanes; ++l)
+            if (hl[l]) count_value(hist_all + (size_t)((base + l) / per_world) * M_COUNT * FB_COUNT, metric[q], vl[l]);
+#endif
+    }
+}
+#undef MS_LOAD_W
+#undef MS_VSTORE
+#endif
+
 // sorted[k] = the point at sorted position k of the point grid, its index
 // in w (as uint bits): the nearest-neighbour search then reads candidates
 // in a row's range contiguously, and neighbouring work-items search

@@ -124,7 +124,7 @@ CASES = [
     ("test_swarm_metrics", "SwarmMetrics.NonFinitePositionsAreCountedAndRefuseAPdf", GPU),
     ("test_swarm_metrics", "SwarmMetrics.NonFinitePositionsAreCountedAndRefuseAPdf", CPU),
     ("test_swarm_metrics", "SwarmMetrics.NearestNeighbourMatchesBruteForce", GPU),
-    # The CPU profile's 16-lane nearest-neighbour kernel (metrics_nearest_w).
+    # The CPU profile's 16-lane kernels (metrics_nearest_w, metrics_sample_w).
     ("test_swarm_metrics", "SwarmMetrics.NearestNeighbourMatchesBruteForce", CPU),
 ]
 

@@ -301,12 +301,14 @@ TEST(SwarmMetrics, SameSeedGivesBitwiseTheSameHistogramsAndMoments) {
     }
 }
 
-// The nearest-neighbour kernel at 8 and 16 lanes (metrics_nearest_w, the
-// CPU devices' default) against one point a work-item: the same neighbours, so bitwise
-// the same d and η, and every other metric with them.  1003 agents (the
-// last work-item's lanes past the end), a swarm the goal gathers (dense
-// cells) and a few agents far out (a box grown to the grid's edge).
-TEST(SwarmMetrics, EveryNearestWidthGivesTheScalarKernelsResults) {
+// The nearest-neighbour and per-agent kernels at 8 and 16 lanes
+// (metrics_nearest_w and metrics_sample_w, the CPU devices' default) against
+// one point a work-item: the same neighbours and the same arithmetic, so
+// bitwise the same values of every metric (v, a, ω and α in double lanes, μ,
+// d, η).  1003 agents (the last work-item's lanes past the end), a swarm the
+// goal gathers (dense cells) and a few agents far out (a box grown to the
+// grid's edge).
+TEST(SwarmMetrics, EveryKernelWidthGivesTheScalarKernelsResults) {
     // Any device runs the wide kernel when the width is forced (the GPU
     // profile too, with its atomic histograms).
     std::vector<MetricAccumulator> r;

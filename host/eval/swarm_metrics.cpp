@@ -46,7 +46,7 @@ SwarmMetrics::SwarmMetrics(Swarm& swarm, double dt_between_samples)
     const std::string defines =
         metric_defines(kBlock, !cpu) + (lanes_ > 1 ? " -DNOISE_WIDTH=" + std::to_string(lanes_) : "");
     gather_ = ctx_.kernel("metrics.cl", "metrics_gather", defines);
-    sample_ = ctx_.kernel("metrics.cl", "metrics_sample", defines);
+    sample_ = ctx_.kernel("metrics.cl", lanes_ > 1 ? "metrics_sample_w" : "metrics_sample", defines);
     nearest_ = ctx_.kernel("metrics.cl", lanes_ > 1 ? "metrics_nearest_w" : "metrics_nearest", defines);
     // 16 consecutive sorted points share one box: 2 cells a point instead of
     // 8 put more of them in a row of cells (17.7 -> 16.1 ms a frame of 100k
@@ -116,7 +116,7 @@ void SwarmMetrics::sample() {
         const cl_uint have = cl_uint(std::min<uint64_t>(s, 3));
         set_args(sample_, cur.get(), r1.get(), r2.get(), r3.get(), n, n_, have, cl_float(dt_), nn_idx_.get(),
                  nn_dist_.get(), omega_.get(), hist_.get(), vals_.get());
-        launch(ctx_, sample_, n);
+        launch(ctx_, sample_, lanes_ > 1 ? (n + lanes_ - 1) / lanes_ : n);
     }
     // Cells of the bounding box at most 8 per point of a world (PointGrid's
     // own bound), each world its own cells: exact at any cell size, so the
