@@ -63,34 +63,42 @@ void NearestSweep::find(const std::vector<Vec3>& p, const std::vector<uint32_t>*
     scan(p, hint, nn);
 }
 
+NearestSweep::Sorted NearestSweep::sorted() const {
+    return {xyz_[0].data() + kPad, xyz_[1].data() + kPad, xyz_[2].data() + kPad, xyz_[axis_].data() + kPad,
+            index_.data() + kPad, long(index_.size() - 2 * kPad)};
+}
+
+void NearestSweep::first_bound(const Sorted& s, long r, const std::vector<Vec3>& p, const std::vector<uint32_t>* hint,
+                               double& best, uint32_t& who) {
+    best = std::numeric_limits<double>::infinity();
+    who = std::numeric_limits<uint32_t>::max();
+    const uint32_t i = s.index[r];
+    if (hint == nullptr || (*hint)[i] == i) return;
+    const Vec3& h = p[(*hint)[i]];
+    take(distance2(s.x[r], s.y[r], s.z[r], h[0], h[1], h[2]), (*hint)[i], best, who);
+}
+
 void NearestSweep::scan(const std::vector<Vec3>& p, const std::vector<uint32_t>* hint, std::vector<uint32_t>& nn) const {
-    const long g = long(index_.size() - 2 * kPad);
-    const double *X = xyz_[0].data() + kPad, *Y = xyz_[1].data() + kPad, *Z = xyz_[2].data() + kPad;
-    const double* A = xyz_[axis_].data() + kPad;
-    const uint32_t* I = index_.data() + kPad;
-    for (long r = 0; r < g; ++r) {
-        const uint32_t i = I[r];
-        const double x = A[r];
-        double best = std::numeric_limits<double>::infinity();
-        uint32_t who = std::numeric_limits<uint32_t>::max();
-        if (hint != nullptr && (*hint)[i] != i) {
-            const Vec3& h = p[(*hint)[i]];
-            take(distance2(X[r], Y[r], Z[r], h[0], h[1], h[2]), (*hint)[i], best, who);
+    const Sorted s = sorted();
+    // Candidate k for point r: its distance, and whether its axis gap alone
+    // exceeds the best so far.  r2 >= (axis gap)^2 in floating point too
+    // (adding non-negative squares never rounds below one of them), so
+    // stopping there skips no nearer point, nor an equal one.
+    const auto candidate = [&s](long r, long k, double& best, uint32_t& who) {
+        const double gap = s.axis[k] - s.axis[r];
+        if (gap * gap > best) return false;
+        take(distance2(s.x[r], s.y[r], s.z[r], s.x[k], s.y[k], s.z[k]), s.index[k], best, who);
+        return true;
+    };
+    for (long r = 0; r < s.count; ++r) {
+        double best;
+        uint32_t who;
+        first_bound(s, r, p, hint, best, who);
+        for (long k = r - 1; k >= 0 && candidate(r, k, best, who); --k) {
         }
-        // r2 >= (axis gap)^2 in floating point too (adding non-negative
-        // squares never rounds below one of them), so stopping at a gap
-        // whose square exceeds best skips no nearer point, nor an equal one.
-        for (long k = r - 1; k >= 0; --k) {
-            const double gap = x - A[k];
-            if (gap * gap > best) break;
-            take(distance2(X[r], Y[r], Z[r], X[k], Y[k], Z[k]), I[k], best, who);
+        for (long k = r + 1; k < s.count && candidate(r, k, best, who); ++k) {
         }
-        for (long k = r + 1; k < g; ++k) {
-            const double gap = A[k] - x;
-            if (gap * gap > best) break;
-            take(distance2(X[r], Y[r], Z[r], X[k], Y[k], Z[k]), I[k], best, who);
-        }
-        nn[i] = who;
+        nn[s.index[r]] = who;
     }
 }
 
@@ -124,19 +132,15 @@ __attribute__((target("avx2"), always_inline)) inline void take4(const double* X
 __attribute__((target("avx2"))) void NearestSweep::scan_avx2(const std::vector<Vec3>& p,
                                                              const std::vector<uint32_t>* hint,
                                                              std::vector<uint32_t>& nn) const {
-    const long g = long(index_.size() - 2 * kPad);
-    const double *X = xyz_[0].data() + kPad, *Y = xyz_[1].data() + kPad, *Z = xyz_[2].data() + kPad;
-    const double* A = xyz_[axis_].data() + kPad;
-    const uint32_t* I = index_.data() + kPad;
+    const Sorted s = sorted();
+    const double *X = s.x, *Y = s.y, *Z = s.z, *A = s.axis;
+    const uint32_t* I = s.index;
+    const long g = s.count;
     for (long r = 0; r < g; ++r) {
-        const uint32_t i = I[r];
         const double x = A[r];
-        double best = std::numeric_limits<double>::infinity();
-        uint32_t who = std::numeric_limits<uint32_t>::max();
-        if (hint != nullptr && (*hint)[i] != i) {
-            const Vec3& h = p[(*hint)[i]];
-            take(distance2(X[r], Y[r], Z[r], h[0], h[1], h[2]), (*hint)[i], best, who);
-        }
+        double best;
+        uint32_t who;
+        first_bound(s, r, p, hint, best, who);
         const __m256d qx = _mm256_set1_pd(X[r]), qy = _mm256_set1_pd(Y[r]), qz = _mm256_set1_pd(Z[r]);
         for (long k = r - 4;; k -= 4) {  // r - 4 >= -kPad
             take4(X, Y, Z, I, k, qx, qy, qz, best, who);
@@ -148,7 +152,7 @@ __attribute__((target("avx2"))) void NearestSweep::scan_avx2(const std::vector<V
             const double gap = A[k + 3] - x;  // NaN past the end: the loop's test stops it
             if (gap * gap > best) break;
         }
-        nn[i] = who;
+        nn[I[r]] = who;
     }
 }
 #endif

@@ -41,6 +41,17 @@ private:
     bool before(const Entry& a, const Entry& b) const {
         return a.p[axis_] < b.p[axis_] || (a.p[axis_] == b.p[axis_] && a.index < b.index);
     }
+    // The sorted arrays past their front pads, and the point count.
+    struct Sorted {
+        const double *x, *y, *z, *axis;
+        const uint32_t* index;
+        long count;
+    };
+    Sorted sorted() const;
+    // Sorted point r's first bound: its hint's squared distance and index
+    // (best infinite where it has none).
+    static void first_bound(const Sorted& s, long r, const std::vector<Vec3>& p, const std::vector<uint32_t>* hint,
+                            double& best, uint32_t& who);
     size_t widest_axis(const std::vector<Vec3>& p);
     void scan(const std::vector<Vec3>& p, const std::vector<uint32_t>* hint, std::vector<uint32_t>& nn) const;
 #if defined(__x86_64__) && defined(__GNUC__)
