@@ -577,8 +577,10 @@ SizeResult run_size(const Options& opt, const std::shared_ptr<swarmcl::Context>&
     if (n == 1000000) {
         const double q = res.qps_swarmcl / res.qps_nanoflann;
         const double q3 = res.qps_swarmcl / res.qps_nanoflann_tree_order;
-        std::printf("   target (1M) queries/s >= 10x nanoflann: %.2fx vs radiusSearch -> %s; %.2fx vs tree order -> %s\n",
-                    q, q >= 10 ? "met" : "NOT met", q3, q3 >= 10 ? "met" : "NOT met");
+        // Issue 29's: 30x nanoflann's radiusSearch, 10x in tree order.
+        std::printf("   target (1M) queries/s >= 30x nanoflann's radiusSearch: %.2fx -> %s; >= 10x in tree order: "
+                    "%.2fx -> %s\n",
+                    q, q >= 30 ? "met" : "NOT met", q3, q3 >= 10 ? "met" : "NOT met");
         std::printf("   target (1M) grid rebuild <= 10 ms: build grid order %.2f ms -> %s; rebuild incl. reorder, "
                     "grid order %.2f ms -> %s; 5%% moved incl. reorder %.2f ms -> %s; random order incl. "
                     "reorder %.2f ms -> %s\n",

@@ -233,11 +233,6 @@ __kernel void metrics_sample(__global const float4* p0, __global const float4* p
 #if M_COUNT != 7
 #error "metrics_sample_w writes the six metrics besides d by name: a new metric needs its lanes here"
 #endif
-#if SWCL_W == 8
-#define MS_VSTORE vstore8
-#else
-#define MS_VSTORE vstore16
-#endif
 #ifdef cl_khr_fp64
 #if SWCL_W == 8
 typedef double8 ms_rw;
@@ -343,7 +338,7 @@ __kernel void metrics_sample_w(__global const float4* p0, __global const float4*
         swcl_vstore_fw(w1f, 0, whi);
         swcl_vstore_fw(ms_cvt_fw(w1lo), 0, wlo);
         int tn[SWCL_W];
-        MS_VSTORE(turn, 0, tn);
+        swcl_vstore_iw(turn, 0, tn);
         for (uint l = 0; l < lanes; ++l)
             omega[base + l] = tn[l] ? (float2)(whi[l], wlo[l]) : (float2)(NAN, 0.0f);
         if (have >= 3u) {
@@ -381,14 +376,13 @@ __kernel void metrics_sample_w(__global const float4* p0, __global const float4*
         float vl[SWCL_W];
         int hl[SWCL_W];
         swcl_vstore_fw(v, 0, vl);
-        MS_VSTORE(has[q], 0, hl);
+        swcl_vstore_iw(has[q], 0, hl);
         for (uint l = 0; l < lanes; ++l)
             if (hl[l]) count_value(hist_all + (size_t)((base + l) / per_world) * M_COUNT * FB_COUNT, metric[q], vl[l]);
 #endif
     }
 }
 #undef MS_LOAD_W
-#undef MS_VSTORE
 #endif
 
 // sorted[k] = the point at sorted position k of the point grid, its index

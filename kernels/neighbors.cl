@@ -4,6 +4,7 @@
 // agents (lib/grid_common.cl): each world's queries see its own agents only,
 // ids and results are the world's (ids from 0), results at world w n + id.
 #include "lib/grid_common.cl"
+#include "lib/lanes.cl"
 
 #ifdef SWCL_WORLDS
 #define NB_WORLD_VIEW()                                       \
@@ -33,6 +34,65 @@ __kernel void neighbor_count(__global const float4* pos, __global const uint* id
     } GRID_END_FOR
     out_counts[ids[i]] = count;
 }
+
+#if defined(SWCL_W)
+// neighbor_count for SWCL_W consecutive slots a work-item (CPU devices,
+// launch ceil(n / SWCL_W) a world; PoCL runs the scalar kernel one agent at
+// a time).  The lanes' slots are neighbours in cell order, so their search
+// boxes overlap: the union of the boxes is walked cell by cell, each cell's
+// candidates loaded once and tested against the lanes whose own box holds
+// the cell (so each lane counts exactly the candidates the scalar kernel
+// visits, with dist2's arithmetic: the same counts).  Lanes past n repeat
+// slot n - 1 and write nothing.
+__kernel void neighbor_count_w(__global const float4* pos, __global const uint* ids, uint n,
+                               GRID_WORLD_PARAMS, float radius, __global uint* out_counts) {
+    const uint base = get_global_id(0) * SWCL_W;
+    if (base >= n) return;
+    NB_WORLD_VIEW()
+    out_counts += world_base;
+    const float r2 = radius * radius;
+    float lx[SWCL_W], ly[SWCL_W], lz[SWCL_W];
+    int blo[3][SWCL_W], bhi[3][SWCL_W];
+    int4 lo = g.dims, hi = (int4)(0);
+    for (uint l = 0; l < SWCL_W; ++l) {
+        const float4 p = pos[min(base + l, n - 1u)];
+        lx[l] = p.x;
+        ly[l] = p.y;
+        lz[l] = p.z;
+        int4 a, b;
+        grid_search_box(&g, p, radius, &a, &b);  // the scalar kernel's box
+        blo[0][l] = a.x, blo[1][l] = a.y, blo[2][l] = a.z;
+        bhi[0][l] = b.x, bhi[1][l] = b.y, bhi[2][l] = b.z;
+        lo = min(lo, a);
+        hi = max(hi, b);
+    }
+    const swcl_fw px = swcl_vload_fw(0, lx), py = swcl_vload_fw(0, ly), pz = swcl_vload_fw(0, lz);
+    const swcl_iw lox = swcl_vload_iw(0, blo[0]), loy = swcl_vload_iw(0, blo[1]), loz = swcl_vload_iw(0, blo[2]);
+    const swcl_iw hix = swcl_vload_iw(0, bhi[0]), hiy = swcl_vload_iw(0, bhi[1]), hiz = swcl_vload_iw(0, bhi[2]);
+    const swcl_uw self = min((swcl_uw)(base) + (swcl_uw)(SWCL_LANES(SWCL_LANE_I)), (swcl_uw)(n - 1u));
+    swcl_uw count = (swcl_uw)(0u);
+    for (int z = lo.z; z <= hi.z; ++z)
+        for (int y = lo.y; y <= hi.y; ++y) {
+            const swcl_iw in_row = (loy <= y) & (y <= hiy) & (loz <= z) & (z <= hiz);
+            if (!swcl_any_w(in_row)) continue;
+            const uint row = (uint)g.dims.x * ((uint)y + (uint)g.dims.y * (uint)z);
+            for (int x = lo.x; x <= hi.x; ++x) {
+                const swcl_iw in_box = in_row & (lox <= x) & (x <= hix);
+                const uint j0 = g.cell_start[row + (uint)x] - g.slot_base, j1 = g.cell_start[row + (uint)x + 1u] - g.slot_base;
+                if (j0 == j1 || !swcl_any_w(in_box)) continue;
+                for (uint j = j0; j < j1; ++j) {
+                    const float4 q = pos[j];
+                    const swcl_fw dx = px - q.x, dy = py - q.y, dz = pz - q.z;
+                    const swcl_iw hit = in_box & (self != (swcl_uw)(j)) & (dx * dx + dy * dy + dz * dz <= r2);
+                    count -= swcl_as_uw(hit);  // true is -1
+                }
+            }
+        }
+    uint c[SWCL_W];
+    swcl_vstore_uw(count, 0, c);
+    for (uint l = 0; l < SWCL_W && base + l < n; ++l) out_counts[ids[base + l]] = c[l];
+}
+#endif
 
 // (d2, id) lexicographic order: deterministic ties.
 static inline bool closer(float d2a, uint ida, float d2b, uint idb) {

@@ -37,7 +37,7 @@ import tempfile
 CPU_ONLY = {
     "min_distance_enforce_w", "noise_sample_w", "field_model_advance_w", "path_model_advance_w",
     "force_model_force_w", "force_model_repulsion_w", "policy_observe_w", "metrics_histogram",
-    "metrics_nearest_w", "metrics_sample_w",
+    "metrics_nearest_w", "metrics_sample_w", "neighbor_count_w",
 }
 
 # Builds the GPU profile never makes: the policy MLP's lanes (PM_W 8 or 16

@@ -78,6 +78,8 @@ CASES = [
     ("test_point_grid", "PointGrid.GroupsApartHaveTheGeometryAndOrderOfEachGroupAlone", GPU),
     ("test_neighbors", "Neighbors.LatticeAtExactlyTheRadius", GPU),
     ("test_neighbors", "Neighbors.SparseSwarmNearestSearchesFar", GPU),  # three swarms in one process
+    # The CPU profile's count SWCL_W slots a work-item (neighbor_count_w).
+    ("test_neighbors", "Neighbors.LatticeAtExactlyTheRadius", CPU),
     ("test_capi", "CApi.StepMovesBallisticallyAndCounts", GPU),  # no model: integrate_ballistic
     ("test_capi", "CApi.GrowingAndShrinkingTheAgentCountKeepsVelocities", GPU),  # set_count's fill
     ("test_step_stages", "StepStages.ModelWithoutMinDistanceCountsStepsOnly", GPU),

@@ -142,6 +142,45 @@ TEST(Neighbors, SparseSwarmNearestSearchesFar) {
     expect_queries_match({}, cube_config(1, 0.0f, 10.0f, 0.1f), 0.1f, 2);
 }
 
+// The count at 1, 8 and 16 slots a work-item (neighbor_count_w, the CPU
+// devices' default, walks the union of its lanes' boxes but counts for each
+// lane only the cells of its own): the brute force's counts at every width,
+// with a radius above and below the cell, agents outside the domain, a
+// count that is no multiple of the lanes, and points exactly at the radius.
+TEST(Neighbors, CountsAtEveryWidthAreTheBruteForces) {
+    struct Case {
+        std::vector<float> xyz;
+        SwarmConfig config;
+        float radius;
+    };
+    std::vector<Case> cases;
+    cases.push_back({random_points(1003, -1.0f, 1.0f, 21), cube_config(1, -1.0f, 1.0f, 0.1f), 0.35f});
+    cases.push_back({random_points(1003, -1.0f, 1.0f, 22), cube_config(1, -1.0f, 1.0f, 0.4f), 0.05f});
+    auto outside = random_points(777, -6.0f, 6.0f, 23);
+    outside[3] = 1e20f;
+    cases.push_back({outside, cube_config(1, -1.0f, 1.0f, 0.2f), 0.5f});
+    std::vector<float> lattice;
+    for (int z = 0; z < 6; ++z)
+        for (int y = 0; y < 6; ++y)
+            for (int x = 0; x < 6; ++x) lattice.insert(lattice.end(), {x * 0.25f, y * 0.25f, z * 0.25f});
+    cases.push_back({lattice, cube_config(1, 0.0f, 1.25f, 0.25f), 0.25f});
+    for (size_t c = 0; c < cases.size(); ++c) {
+        const auto& k = cases[c];
+        const uint32_t n = uint32_t(k.xyz.size() / 3);
+        const auto want = brute_counts(k.xyz, k.radius);
+        for (const uint32_t width : {1u, 8u, 16u}) {
+            ScopedKernelWidth w(width);
+            SwarmConfig config = k.config;
+            config.capacity = n;
+            Swarm swarm(shared_context(), config);
+            swarm.write(Attribute::Position, k.xyz.data(), n);
+            std::vector<uint32_t> counts(n);
+            swarm.neighbor_count(k.radius, counts.data(), n);
+            EXPECT_EQ(counts, want) << "case " << c << ", " << width << " lanes";
+        }
+    }
+}
+
 TEST(Neighbors, QueriesAreBitwiseRepeatable) {
     const auto xyz = random_points(20000, 0.0f, 2.0f, 15);
     std::vector<float> d1(20000), d2(20000);

@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "core/philox.hpp"
+#include "fields/noise_field.hpp"
 
 namespace swarmcl {
 namespace {
@@ -124,7 +125,10 @@ Swarm::Swarm(std::shared_ptr<Context> ctx, const SwarmConfig& config)
     integrate_ = c.kernel("swarm_state.cl", "integrate_ballistic");
     slot_of_k_ = c.kernel("swarm_state.cl", "slot_of_from_ids");
     const std::string worlds = world_defines(worlds_);
-    count_ = c.kernel("neighbors.cl", "neighbor_count", worlds);
+    // CPU devices: the count SWCL_W slots a work-item (neighbor_count_w).
+    lanes_ = preferred_noise_width(c.device());
+    count_ = lanes_ > 1 ? c.kernel("neighbors.cl", "neighbor_count_w", worlds + " -DNOISE_WIDTH=" + std::to_string(lanes_))
+                        : c.kernel("neighbors.cl", "neighbor_count", worlds);
     nearest_ = c.kernel("neighbors.cl", "nearest_neighbor", worlds);
     lists_ = c.kernel("neighbors.cl", "neighbor_lists", worlds);
     place_uniformly(config_.agent_count);
@@ -486,7 +490,7 @@ void Swarm::neighbor_count(float radius, uint32_t* out_counts, size_t count) {
     count_.setArg(i++, radius);
     count_.setArg(i++, query_u32_.get());
     check_arg_count(count_, i);
-    launch_worlds(*ctx_, count_, n_, worlds_);
+    launch_worlds(*ctx_, count_, (size_t(n_) + lanes_ - 1) / lanes_, worlds_);
     query_u32_.download(*ctx_, out_counts, total);
 }
 

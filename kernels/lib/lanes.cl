@@ -22,6 +22,8 @@ typedef uint8 swcl_uw;
 #define swcl_vstore_fw vstore8
 #define swcl_vload_uw vload8
 #define swcl_vstore_uw vstore8
+#define swcl_vload_iw vload8
+#define swcl_vstore_iw vstore8
 #define SWCL_LANES(E) E(0), E(1), E(2), E(3), E(4), E(5), E(6), E(7)
 #define SWCL_EACH_LANE(E) E(0) E(1) E(2) E(3) E(4) E(5) E(6) E(7)
 #elif SWCL_W == 16
@@ -35,6 +37,8 @@ typedef uint16 swcl_uw;
 #define swcl_vstore_fw vstore16
 #define swcl_vload_uw vload16
 #define swcl_vstore_uw vstore16
+#define swcl_vload_iw vload16
+#define swcl_vstore_iw vstore16
 #define SWCL_LANES(E) E(0), E(1), E(2), E(3), E(4), E(5), E(6), E(7), \
                       E(8), E(9), E(a), E(b), E(c), E(d), E(e), E(f)
 #define SWCL_EACH_LANE(E) E(0) E(1) E(2) E(3) E(4) E(5) E(6) E(7) \
