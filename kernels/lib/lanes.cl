@@ -6,8 +6,8 @@
 // the any() helpers for 8 and 16 lanes (below) always are.
 #ifndef SWCL_LANES_CL
 #define SWCL_LANES_CL
-// (Outside every #if: kernel_sources.cpp expands a file at its first
-// #include only.)
+// (Outside every #if: kernel_sources.cpp expands a file where it is first
+// included, and only there.)
 #include "lib/halves.cl"
 #if defined(NOISE_WIDTH) && NOISE_WIDTH > 1
 #define SWCL_W NOISE_WIDTH
