@@ -94,10 +94,10 @@ void NearestSweep::scan(const std::vector<Vec3>& p, const std::vector<uint32_t>*
         double best;
         uint32_t who;
         first_bound(s, r, p, hint, best, who);
-        for (long k = r - 1; k >= 0 && candidate(r, k, best, who); --k) {
-        }
-        for (long k = r + 1; k < s.count && candidate(r, k, best, who); ++k) {
-        }
+        for (long k = r - 1; k >= 0; --k)
+            if (!candidate(r, k, best, who)) break;
+        for (long k = r + 1; k < s.count; ++k)
+            if (!candidate(r, k, best, who)) break;
         nn[s.index[r]] = who;
     }
 }
