@@ -3,6 +3,7 @@
 // PDFs and their distances (Eq. 1-3), and the entropy weights (Eq. 4).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -303,6 +304,62 @@ TEST(EvalPdf, DensitiesIntegrateToOneAndTailsGoToTheEndBins) {
     for (double v : q) mass += v * (2 * o.half_width) / o.bins;
     EXPECT_NEAR(mass, 1.0, 1e-12);
     EXPECT_GT(q.back(), 0.0);  // the 1e6 outliers
+}
+
+// Step 2-3 as written: z, floor, clamp, one count per sample.
+static std::vector<double> pdf_by_definition(const std::vector<double>& x, const Moments& m, const PdfOptions& o) {
+    const double u1 = -o.half_width, u2 = o.half_width;
+    std::vector<uint64_t> counts(o.bins, 0);
+    for (double v : x) {
+        const double z = m.sigma > 0.0 ? (v - m.mean) / m.sigma : 0.0;
+        const double b = std::clamp(std::floor((z - u1) / (u2 - u1) * o.bins), 0.0, double(o.bins - 1));
+        ++counts[size_t(b)];
+    }
+    std::vector<double> q(o.bins, 0.0);
+    for (uint32_t i = 0; i < o.bins && !x.empty(); ++i) q[i] = double(counts[i]) * o.bins / (double(x.size()) * (u2 - u1));
+    return q;
+}
+
+TEST(EvalPdf, DensitiesAreTheDefinitionsBitForBit) {
+    std::mt19937 rng(11);
+    std::normal_distribution<double> normal(0.0, 1.0);
+    for (const size_t n : {size_t(0), size_t(1), size_t(3), size_t(1027), size_t(5003)}) {
+        std::vector<double> x;
+        for (size_t i = 0; i < n; ++i) {
+            // Runs of one value (an insect hovering), far tails both sides,
+            // and the bulk.
+            const double v = i % 7 == 0 ? 2.5 : i % 11 == 0 ? (i % 2 ? 1e9 : -1e9) : normal(rng);
+            x.push_back(v);
+        }
+        for (const uint32_t bins : {1u, 2u, 50u, 333u}) {
+            PdfOptions o;
+            o.bins = bins;
+            for (const auto how : {Standardise::MeanSigma, Standardise::MedianMad}) {
+                o.standardise = how;
+                const Moments m = location_scale(x, how);
+                EXPECT_EQ(discrete_pdf(x, m, o), pdf_by_definition(x, m, o)) << n << " " << bins;
+            }
+            // Samples on the bins' edges: z = 0 and 1 with mean 0, sigma 1.
+            Moments unit;
+            unit.mean = 0.0, unit.sigma = 1.0, unit.count = x.size();
+            std::vector<double> edges;
+            for (uint32_t b = 0; b <= bins; ++b) edges.push_back(-o.half_width + 2.0 * o.half_width * b / bins);
+            EXPECT_EQ(discrete_pdf(edges, unit, o), pdf_by_definition(edges, unit, o)) << bins;
+            // Scale 0: everything in the bin of z = 0.
+            const Moments flat{};
+            EXPECT_EQ(discrete_pdf(x, flat, o), pdf_by_definition(x, flat, o)) << bins;
+        }
+    }
+    // A sample that is not finite is refused by name.
+    MetricSamples a, b;
+    for (size_t k = 0; k < kMetricCount; ++k) a.values[k] = b.values[k] = {1.0, 2.0, 3.0};
+    b.values[size_t(Metric::Jerk)][1] = std::numeric_limits<double>::infinity();
+    try {
+        metric_distances(a, b, PdfOptions{});
+        ADD_FAILURE() << "an infinite sample was taken";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find(metric_name(Metric::Jerk)), std::string::npos) << e.what();
+    }
 }
 
 TEST(EvalPdf, ZScoringMakesTheDistanceBlindToShiftAndScale) {
