@@ -343,6 +343,7 @@ class PopulationEvaluator:
         # device's metrics where streamed) and "metrics" (the host's metrics
         # and the scores; streamed, reading each world's back and scoring it).
         self.stage_seconds = {"steps": 0.0, "metrics": 0.0}
+        self._frames = None  # _frames_of
 
     #: The models whose swarms run worlds (the path model unless chasing with a baked noise:
     #: world_model above; the policy model with its followers' parameters, world_key).
@@ -589,7 +590,7 @@ class PopulationEvaluator:
         # world's frames are measured where they lie (Metrics.from_frames
         # reads a strided world without copying it).
         n, sampled = swarm.agent_count, self.steps // self.every
-        frames = np.empty((sampled + 1, worlds, n, 3), dtype=np.float32)
+        frames = self._frames_of((sampled + 1, worlds, n, 3))
         shape = (n, 3) if worlds == 1 else (worlds, n, 3)  # read_positions' shape
         swarm.read_positions(out=frames[0].reshape(shape))
         swarm.step_frames(sampled, self.every, out=frames[1:].reshape((sampled,) + shape))
@@ -610,6 +611,15 @@ class PopulationEvaluator:
             out = [measure(k) for k in range(worlds)]
         self.stage_seconds["metrics"] += time.perf_counter() - stepped
         return out
+
+    def _frames_of(self, shape) -> np.ndarray:
+        """The array a generation's frames are read into, kept from the last
+        generation where the shape is the same: a fresh one of a fit's size
+        (64 worlds x 300 agents x 501 frames, 115 MB) costs its first touch
+        of every page, about 3 % of a generation."""
+        if self._frames is None or self._frames.shape != shape:
+            self._frames = np.empty(shape, dtype=np.float32)
+        return self._frames
 
     def _streamed_world_terms(self, swarm, worlds: int) -> list:
         """Each world's E_phi from its metrics on the device (the error of
