@@ -38,19 +38,21 @@ void NearestSweep::find(const std::vector<Vec3>& p, const std::vector<uint32_t>*
         axis_ = widest_axis(p);
         frames_since_axis_ = 0;
         order_.resize(g);
-        for (size_t i = 0; i < g; ++i) order_[i] = {p[i], uint32_t(i)};
-        std::sort(order_.begin(), order_.end(), [this](const Entry& a, const Entry& b) { return before(a, b); });
+        for (size_t i = 0; i < g; ++i) order_[i] = {p[i][axis_], uint32_t(i)};
+        std::sort(order_.begin(), order_.end(), [](const Entry& a, const Entry& b) { return before(a, b); });
+        // The pads stay NaN; the frames below write the entries between.
+        for (auto& c : xyz_) c.assign(g + 2 * kPad, std::numeric_limits<double>::quiet_NaN());
+        index_.assign(g + 2 * kPad, 0);
     } else {
         ++frames_since_axis_;
-        for (auto& o : order_) o.p = p[o.index];
+        for (auto& o : order_) o.key = p[o.index][axis_];
         for (size_t r = 1; r < g; ++r)  // insertion sort: few moves between frames
             for (size_t k = r; k > 0 && before(order_[k], order_[k - 1]); --k) std::swap(order_[k], order_[k - 1]);
     }
     // The scans read the coordinates in axis order, in sequence.
-    for (auto& c : xyz_) c.assign(g + 2 * kPad, std::numeric_limits<double>::quiet_NaN());
-    index_.assign(g + 2 * kPad, 0);
     for (size_t r = 0; r < g; ++r) {
-        for (size_t d = 0; d < 3; ++d) xyz_[d][kPad + r] = order_[r].p[d];
+        const Vec3& q = p[order_[r].index];
+        for (size_t d = 0; d < 3; ++d) xyz_[d][kPad + r] = q[d];
         index_[kPad + r] = order_[r].index;
     }
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -68,7 +70,7 @@ NearestSweep::Sorted NearestSweep::sorted() const {
             index_.data() + kPad, long(index_.size() - 2 * kPad)};
 }
 
-void NearestSweep::first_bound(const Sorted& s, long r, const std::vector<Vec3>& p, const std::vector<uint32_t>* hint,
+__attribute__((always_inline)) inline void NearestSweep::first_bound(const Sorted& s, long r, const std::vector<Vec3>& p, const std::vector<uint32_t>* hint,
                                double& best, uint32_t& who) {
     best = std::numeric_limits<double>::infinity();
     who = std::numeric_limits<uint32_t>::max();

@@ -33,13 +33,14 @@ private:
     static constexpr size_t kAxisEvery = 32;  // frames between choices of the axis
     static constexpr size_t kPad = 4;         // NaN entries past either end of the arrays
 
+    // A point's coordinate on the axis and its index: what the sort moves.
     struct Entry {
-        Vec3 p;
+        double key;
         uint32_t index;
     };
 
-    bool before(const Entry& a, const Entry& b) const {
-        return a.p[axis_] < b.p[axis_] || (a.p[axis_] == b.p[axis_] && a.index < b.index);
+    static bool before(const Entry& a, const Entry& b) {
+        return a.key < b.key || (a.key == b.key && a.index < b.index);
     }
     // The sorted arrays past their front pads, and the point count.
     struct Sorted {
