@@ -285,6 +285,35 @@ TEST(EvalMetrics, NearestSweepScansGiveTheBruteForcesNeighbour) {
         }
 }
 
+// One sweep across frames of changing size (its arrays laid out again, the
+// pads past either end kept NaN) answers as the brute force.
+TEST(EvalMetrics, OneNearestSweepServesFramesOfChangingSize) {
+    std::mt19937 rng(29);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (const bool wide_scan : {true, false}) {
+        NearestSweep sweep(wide_scan);
+        std::vector<uint32_t> last;
+        size_t last_g = 0;
+        for (size_t g : {size_t(33), size_t(9), size_t(9), size_t(2), size_t(70), size_t(33), size_t(5)}) {
+            std::vector<NearestSweep::Vec3> p(g);
+            for (auto& q : p)
+                for (double& c : q) c = u(rng);
+            std::vector<uint32_t> expect(g);
+            for (size_t i = 0; i < g; ++i) {
+                double best = std::numeric_limits<double>::infinity();
+                for (size_t j = 0; j < g; ++j) {
+                    const double dx = p[j][0] - p[i][0], dy = p[j][1] - p[i][1], dz = p[j][2] - p[i][2];
+                    if (j != i && dx * dx + dy * dy + dz * dz < best) best = dx * dx + dy * dy + dz * dz, expect[i] = uint32_t(j);
+                }
+            }
+            std::vector<uint32_t> nn;
+            sweep.find(p, g == last_g ? &last : nullptr, nn);
+            ASSERT_EQ(nn, expect) << g << " points, wide " << wide_scan;
+            last = nn, last_g = g;
+        }
+    }
+}
+
 TEST(EvalMetrics, BadInputIsRefused) {
     TrackSet set;
     set.frame_time = 0.0;
