@@ -26,6 +26,7 @@
 
 #include "lib/inline.cl"
 #include "lib/lanes.cl"
+#include "lib/prefetch.cl"
 
 // The metrics' indices, M_SPEED ... M_ETA and M_COUNT: build defines from
 // the host's metric table (host/eval/metric_table.hpp), one row per metric.
@@ -297,6 +298,21 @@ __kernel void metrics_sample_w(__global const float4* p0, __global const float4*
         dn_[l] = nn_dist[MS_SELF_(l)];
         j_[l] = nn_idx[MS_SELF_(l)];
     }
+#ifdef SWCL_PREFETCH_ISSUES
+    // The next work-item's neighbours, asked for now: they are agents
+    // anywhere in the frame (frames are in agent order, not cell order), and
+    // the gathers below waited on memory lane after lane (perf: half of the
+    // kernel's samples on those loads; this kernel's share of metrics_bench
+    // 0.73-0.78 of metrics_nearest_w's before, 0.59-0.60 after).
+    for (uint l = 0; l < SWCL_W; ++l) {
+        const uint k = base + SWCL_W + l;
+        const uint j = k < n ? nn_idx[k] : n;
+        if (j < n) {
+            SWCL_PREFETCH(p0 + j);
+            SWCL_PREFETCH(p1 + j);
+        }
+    }
+#endif
     const swcl_fw dn = swcl_vload_fw(0, dn_);
     const swcl_uw jn = swcl_vload_uw(0, j_);
     const swcl_iw has_eta = (dn > 0.0f) & (jn < (swcl_uw)(n));

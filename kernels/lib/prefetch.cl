@@ -15,6 +15,7 @@
 #if defined(SWCL_CPU_PROFILE) && SWCL_CPU_PROFILE && defined(__x86_64__) && defined(__has_builtin)
 #if __has_builtin(__builtin_prefetch)
 #define SWCL_PREFETCH(p) __builtin_prefetch((const void*)(size_t)(p))
+#define SWCL_PREFETCH_ISSUES 1  // for prefetch loops worth running only where it does
 #endif
 #endif
 #ifndef SWCL_PREFETCH
