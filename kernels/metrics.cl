@@ -302,8 +302,7 @@ __kernel void metrics_sample_w(__global const float4* p0, __global const float4*
     // The next work-item's neighbours, asked for now: they are agents
     // anywhere in the frame (frames are in agent order, not cell order), and
     // the gathers below waited on memory lane after lane (perf: half of the
-    // kernel's samples on those loads; this kernel's share of metrics_bench
-    // 0.73-0.78 of metrics_nearest_w's before, 0.59-0.60 after).
+    // kernel's samples on those loads; bench/results/metrics_prefetch/ab.json).
     for (uint l = 0; l < SWCL_W; ++l) {
         const uint k = base + SWCL_W + l;
         const uint j = k < n ? nn_idx[k] : n;

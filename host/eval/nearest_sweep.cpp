@@ -70,8 +70,11 @@ NearestSweep::Sorted NearestSweep::sorted() const {
             index_.data() + kPad, long(index_.size() - 2 * kPad)};
 }
 
-__attribute__((always_inline)) inline void NearestSweep::first_bound(const Sorted& s, long r, const std::vector<Vec3>& p, const std::vector<uint32_t>* hint,
-                               double& best, uint32_t& who) {
+// Inlined into the scans (a call a point was 6 % of the sweep's samples).
+__attribute__((always_inline)) inline void NearestSweep::first_bound(const Sorted& s, long r,
+                                                                     const std::vector<Vec3>& p,
+                                                                     const std::vector<uint32_t>* hint, double& best,
+                                                                     uint32_t& who) {
     best = std::numeric_limits<double>::infinity();
     who = std::numeric_limits<uint32_t>::max();
     const uint32_t i = s.index[r];

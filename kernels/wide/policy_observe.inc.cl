@@ -125,8 +125,8 @@ __kernel void SWCL_KERNEL(policy_observe)(__global const float4* pos, __global c
                    pass the rows' cull only near its sides. */                                                  \
                 const swcl_bf h = select(fabs(lr), sqrt(lf * lf + lr * lr), lf >= 0.0f);                       \
                 const swcl_bf need = (dd - b2) - 1e-5f * dd;                                                   \
-                /* The rows' tests unrolled: mrows stays in mask registers, not on the stack (4 % of \
-                   policy_bench's observations at 100k agents). */                                             \
+                /* The rows' tests unrolled: 4 % of policy_bench's observations at 100k agents    \
+                   (bench/results/policy_observe/unrolled_rows_ab.json). */                                     \
                 swcl_bi mrows[RL_RAYS / 7], any_row = (swcl_bi)(0);                                            \
                 _Pragma("unroll") for (int e = 0; e < RL_RAYS / 7; ++e) {                                      \
                     const swcl_bf bound = rl_row_cos[e] * h + rl_row_sin[e] * lu;                              \
