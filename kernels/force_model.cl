@@ -44,24 +44,28 @@
 // Width 1: branches, and float4 arithmetic on p, u and the sums ali, att,
 // rep (fm_zones_begin_s), component by component the lanes' (fm_zone_w,
 // below); as float4 the scalar kernel is ~5 % faster than with three scalar
-// components (PoCL, exact zones).
+// components (PoCL, exact zones).  The squares and the sums are fma():
+// correctly rounded, so the same bits at every width and on every device,
+// and in the wide kernel a fused multiply-add instead of a multiply and an
+// add (the generation of a force fit steps ~10 % faster,
+// bench/results/force_fma/ab.json).
 #define fm_zone_s(j, rep_too)                                                 \
     {                                                                         \
-        const float4 q = (float4)(pos[j].xyz, 0.0f);                          \
-        const float d2 = dist2(q, p);                                         \
+        const float4 q = (float4)(pos[j].xyz, 0.0f), dq = q - p;              \
+        const float d2 = fma(dq.z, dq.z, fma(dq.y, dq.y, dq.x * dq.x));        \
         if (self != (j) && d2 <= r_att2) {                                    \
             if (d2 < r_rep2) {                                                \
                 if ((rep_too) && d2 != 0.0f) {                                \
-                    rep -= (q - p) * rsqrt(d2);                               \
+                    rep = fma(-dq, (float4)(rsqrt(d2)), rep);                 \
                     ++n_rep;                                                  \
                 }                                                             \
             } else if (d2 < r_ali2) {                                         \
                 const float4 du = (float4)(vel[j].xyz, 0.0f) - u;             \
-                const float m2 = du.x * du.x + du.y * du.y + du.z * du.z;     \
-                if (m2 > 0.0f) ali += du * rsqrt(m2);                         \
+                const float m2 = fma(du.z, du.z, fma(du.y, du.y, du.x * du.x)); \
+                if (m2 > 0.0f) ali = fma(du, (float4)(rsqrt(m2)), ali);       \
                 ++n_ali;                                                      \
             } else {                                                          \
-                att += (q - p) * rsqrt(d2);                                   \
+                att = fma(dq, (float4)(rsqrt(d2)), att);                      \
                 ++n_att;                                                      \
             }                                                                 \
         }                                                                     \
@@ -344,28 +348,28 @@ SWCL_INLINE swcl_uw fm_gather_u_w(__global const uint* a, swcl_uw j) { return (s
     {                                                                             \
         const float4 q = pos[j], v = vel[j];                                      \
         const swcl_fw dx = q.x - px, dy = q.y - py, dz = q.z - pz;                \
-        const swcl_fw d2 = dx * dx + dy * dy + dz * dz;                           \
+        const swcl_fw d2 = fma(dz, dz, fma(dy, dy, dx * dx));                \
         const swcl_iw near = (self != (j)) & (d2 <= r_att2);                      \
         const swcl_iw in = near & (d2 >= r_rep2);                                 \
         const swcl_iw is_ali = in & (d2 < r_ali2), is_att = in & ~(d2 < r_ali2);  \
         const swcl_fw dux = v.x - ux, duy = v.y - uy, duz = v.z - uz;             \
-        const swcl_fw m2 = dux * dux + duy * duy + duz * duz;                     \
+        const swcl_fw m2 = fma(duz, duz, fma(duy, duy, dux * dux));          \
         /* a lane uses rsqrt(m2) (alignment) or rsqrt(d2), never both */        \
         const swcl_fw rs = rsqrt(select(d2, m2, is_ali));                         \
         const swcl_iw add_ali = is_ali & (m2 > 0.0f);                             \
-        ali_x = select(ali_x, ali_x + dux * rs, add_ali);                         \
-        ali_y = select(ali_y, ali_y + duy * rs, add_ali);                         \
-        ali_z = select(ali_z, ali_z + duz * rs, add_ali);                         \
-        att_x = select(att_x, att_x + dx * rs, is_att);                           \
-        att_y = select(att_y, att_y + dy * rs, is_att);                           \
-        att_z = select(att_z, att_z + dz * rs, is_att);                           \
+        ali_x = select(ali_x, fma(dux, rs, ali_x), add_ali);                         \
+        ali_y = select(ali_y, fma(duy, rs, ali_y), add_ali);                         \
+        ali_z = select(ali_z, fma(duz, rs, ali_z), add_ali);                         \
+        att_x = select(att_x, fma(dx, rs, att_x), is_att);                           \
+        att_y = select(att_y, fma(dy, rs, att_y), is_att);                           \
+        att_z = select(att_z, fma(dz, rs, att_z), is_att);                           \
         n_ali -= swcl_as_uw(is_ali); /* true is -1 */                             \
         n_att -= swcl_as_uw(is_att);                                              \
         if (rep_too) {                                                            \
             const swcl_iw is_rep = near & (d2 < r_rep2) & (d2 != 0.0f);           \
-            rep_x = select(rep_x, rep_x - dx * rs, is_rep);                       \
-            rep_y = select(rep_y, rep_y - dy * rs, is_rep);                       \
-            rep_z = select(rep_z, rep_z - dz * rs, is_rep);                       \
+            rep_x = select(rep_x, fma(-dx, rs, rep_x), is_rep);                       \
+            rep_y = select(rep_y, fma(-dy, rs, rep_y), is_rep);                       \
+            rep_z = select(rep_z, fma(-dz, rs, rep_z), is_rep);                       \
             n_rep -= swcl_as_uw(is_rep);                                          \
         }                                                                         \
     }

@@ -56,13 +56,13 @@ __kernel void SWCL_KERNEL(force_model_repulsion)(__global const float* fine_soa,
         FM_LANES_WALK(&fg, px, py, pz, on, r_rep, j) {
             const float qx = fine_soa[j], qy = fine_soa[stride + j], qz = fine_soa[2 * stride + j];
             const swcl_bf dx = qx - px, dy = qy - py, dz = qz - pz;
-            const swcl_bf d2 = dx * dx + dy * dy + dz * dz;
+            const swcl_bf d2 = fma(dz, dz, fma(dy, dy, dx * dx));  // as the zone walk's (fm_zone_s)
             const swcl_bi hit = on & (d2 < r_rep2) & (d2 != 0.0f);
             if (SWCL_BANY(hit)) {
                 const swcl_bf rs = rsqrt(d2);
-                rep_x = select(rep_x, rep_x - dx * rs, hit);
-                rep_y = select(rep_y, rep_y - dy * rs, hit);
-                rep_z = select(rep_z, rep_z - dz * rs, hit);
+                rep_x = select(rep_x, fma(-dx, rs, rep_x), hit);
+                rep_y = select(rep_y, fma(-dy, rs, rep_y), hit);
+                rep_z = select(rep_z, fma(-dz, rs, rep_z), hit);
                 SWCL_BCOUNT_IF(n_rep, hit);
             }
         }
