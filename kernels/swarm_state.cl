@@ -13,6 +13,23 @@ __kernel void gather_xyz(__global const float4* src, __global const uint* slot_o
     dst[3 * id + 2] = v.z;
 }
 
+// One frame of swcl_swarm_step_frames: dst[offset + 3 id + k] = src[s].k for
+// every slot s, id = its agent's id over all worlds (as slot_of_from_ids
+// numbers them: world s / world_agents counts from s / world_agents *
+// world_agents).  A scatter by ids rather than gather_xyz's gather through
+// slot_of: one launch a frame instead of slot_of's, gather_xyz's and a copy
+// into the frames buffer.
+__kernel void frame_xyz(__global const float4* src, __global const uint* ids, uint n, uint world_agents,
+                        __global float* dst, ulong offset) {
+    const uint s = get_global_id(0);
+    if (s >= n) return;
+    const float4 v = src[s];
+    __global float* o = dst + offset + 3 * (size_t)(s / world_agents * world_agents + ids[s]);
+    o[0] = v.x;
+    o[1] = v.y;
+    o[2] = v.z;
+}
+
 // dst[slot_of[id]] = (src[3 id], src[3 id + 1], src[3 id + 2], 0)
 __kernel void scatter_xyz(__global const float* src, __global const uint* slot_of, uint n,
                           __global float4* dst) {

@@ -93,6 +93,7 @@ CASES = [
     # Worlds: the -DSWCL_WORLDS kernels (grid keys, MDE, queries, field model).
     ("test_worlds", "Worlds.SmallWorldsAreBitwiseTheSwarmsAlone", GPU),
     ("test_worlds", "Worlds.SmallWorldsAreBitwiseTheSwarmsAlone", CPU),
+    ("test_worlds", "Worlds.SmallStepFramesAreTheFramesOfStepThenRead", GPU),  # frame_xyz
     # Worlds' metrics: the point grid's groups, per-world atomic histograms
     # and blocks of moments (the GPU profile only: each world's histograms
     # take Oclgrind ~15 s to clear and read; the CPU profile's chunk copies

@@ -84,6 +84,7 @@ protected:
     }
 
     void check_bitwise(uint32_t agents, uint32_t steps, bool expect_mde);
+    void check_step_frames(uint32_t agents, uint32_t frames, uint32_t every);
     int32_t walls_ = 0;
     bool box_ = false;
     void check_world_metrics(uint32_t agents, uint32_t worlds, uint32_t samples);
@@ -418,23 +419,22 @@ TEST_F(Worlds, WorldMetricsRefuseTracksAndWorldsTooSmall) {
 
 // swcl_swarm_step_frames: the frames of step(every) then read, bitwise, for
 // worlds and for one; bad input changes nothing (no step taken).
-TEST_F(Worlds, StepFramesAreTheFramesOfStepThenRead) {
+void Worlds::check_step_frames(uint32_t agents, uint32_t n_frames, uint32_t every) {
     for (uint32_t worlds : {kWorlds, 1u}) {
-        swcl_swarm a = ensemble(kAgents, worlds), b = ensemble(kAgents, worlds);
-        const size_t total = size_t(worlds) * kAgents;
-        constexpr uint32_t kFrames = 7, kEvery = 3;
-        std::vector<float> frames(kFrames * total * 3, -1.0f);
-        ASSERT_EQ(swcl_swarm_step_frames(a, kFrames, kEvery, frames.data(), kFrames * total), SWCL_OK)
+        swcl_swarm a = ensemble(agents, worlds), b = ensemble(agents, worlds);
+        const size_t total = size_t(worlds) * agents;
+        std::vector<float> frames(n_frames * total * 3, -1.0f);
+        ASSERT_EQ(swcl_swarm_step_frames(a, n_frames, every, frames.data(), n_frames * total), SWCL_OK)
             << swcl_last_error();
-        for (uint32_t f = 0; f < kFrames; ++f) {
-            ASSERT_EQ(swcl_swarm_step(b, kEvery), SWCL_OK);
+        for (uint32_t f = 0; f < n_frames; ++f) {
+            ASSERT_EQ(swcl_swarm_step(b, every), SWCL_OK);
             const std::vector<float> one = read(b, SWCL_ATTRIBUTE_POSITION, total);
             EXPECT_EQ(std::memcmp(one.data(), frames.data() + f * total * 3, one.size() * sizeof(float)), 0)
                 << "frame " << f << " of " << worlds << " worlds";
         }
         uint64_t steps = 0;
         ASSERT_EQ(swcl_swarm_step_count(a, &steps), SWCL_OK);
-        EXPECT_EQ(steps, uint64_t(kFrames) * kEvery);
+        EXPECT_EQ(steps, uint64_t(n_frames) * every);
         EXPECT_EQ(swcl_swarm_step_frames(a, 2, 0, frames.data(), 2 * total), SWCL_ERROR_INVALID_ARGUMENT);
         EXPECT_NE(std::string(swcl_last_error()).find("every must be >= 1"), std::string::npos) << swcl_last_error();
         EXPECT_EQ(swcl_swarm_step_frames(a, 2, 1, frames.data(), 2 * total - 1), SWCL_ERROR_INVALID_ARGUMENT);
@@ -443,11 +443,15 @@ TEST_F(Worlds, StepFramesAreTheFramesOfStepThenRead) {
             << swcl_last_error();
         EXPECT_EQ(swcl_swarm_step_frames(a, 2, 1, nullptr, 2 * total), SWCL_ERROR_INVALID_ARGUMENT);
         ASSERT_EQ(swcl_swarm_step_count(a, &steps), SWCL_OK);
-        EXPECT_EQ(steps, uint64_t(kFrames) * kEvery);  // nothing stepped
+        EXPECT_EQ(steps, uint64_t(n_frames) * every);  // nothing stepped
         EXPECT_EQ(swcl_swarm_step_frames(a, 0, 1, nullptr, 0), SWCL_OK);
         destroy_swarms();
     }
 }
+
+TEST_F(Worlds, StepFramesAreTheFramesOfStepThenRead) { check_step_frames(kAgents, 7, 3); }
+// Small, for the Oclgrind check (frame_xyz): 4 worlds of 37 agents, 2 frames.
+TEST_F(Worlds, SmallStepFramesAreTheFramesOfStepThenRead) { check_step_frames(37, 2, 1); }
 
 TEST_F(Worlds, OlderDescriptorsAreOneWorld) {
     swcl_swarm_desc d = desc(7, 3, nullptr);

@@ -124,6 +124,7 @@ Swarm::Swarm(std::shared_ptr<Context> ctx, const SwarmConfig& config)
     identity_ = c.kernel("swarm_state.cl", "identity_layout");
     integrate_ = c.kernel("swarm_state.cl", "integrate_ballistic");
     slot_of_k_ = c.kernel("swarm_state.cl", "slot_of_from_ids");
+    frame_k_ = c.kernel("swarm_state.cl", "frame_xyz");
     const std::string worlds = world_defines(worlds_);
     // CPU devices: the count SWCL_W slots a work-item (neighbor_count_w).
     lanes_ = preferred_noise_width(c.device());
@@ -281,11 +282,9 @@ void Swarm::step_frames(uint32_t frames, uint32_t every, float* dst, size_t coun
         const uint32_t in_chunk = std::min(chunk, frames - f0);
         for (uint32_t f = 0; f < in_chunk; ++f) {
             step(every);
-            ensure_slot_of();
-            set_args(gather_, pos_.get(), slot_of_.get(), cl_uint(total), packed_.get());
-            launch(*ctx_, gather_, total);
-            copy_buffer(*ctx_, packed_.get(), frames_.get(), 0, size_t(f) * frame_floats * sizeof(float),
-                        frame_floats * sizeof(float));
+            set_args(frame_k_, pos_.get(), ids_.get(), cl_uint(total), n_ ? n_ : 1u, frames_.get(),
+                     cl_ulong(size_t(f) * frame_floats));
+            launch(*ctx_, frame_k_, total);
         }
         frames_.download(*ctx_, dst + size_t(f0) * frame_floats, size_t(in_chunk) * frame_floats);
     }

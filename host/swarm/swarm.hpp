@@ -179,7 +179,7 @@ private:
     DeviceBuffer<cl_float> frames_;  // step_frames: a few frames of packed positions
     DeviceBuffer<cl_uint> query_u32_;
     DeviceBuffer<cl_float> query_f32_;
-    cl::Kernel gather_, scatter_, identity_, integrate_, slot_of_k_;
+    cl::Kernel gather_, scatter_, identity_, integrate_, slot_of_k_, frame_k_;
     cl::Kernel count_, nearest_, lists_;
     uint32_t lanes_ = 1;  // slots a work-item of count_ (neighbor_count_w on CPU devices)
     std::shared_ptr<Behavior> behavior_;
