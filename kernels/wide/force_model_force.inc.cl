@@ -76,13 +76,15 @@ __kernel void SWCL_KERNEL(force_model_force)(FM_FORCE_PARAMS) {
     // fm_zones_begin_s.)
     if (terms & (FM_ALI | FM_ATT)) {
         SWCL_BFN(fm_zones_begin)
+        // The swarm grid was built on pos this step (ForceModel::advance).
+        const int2 zs = fm_occupied_z(&g, pos, n);
         if (sample_cap == 0u && rep_in_walk) {
-            FM_LANES_WALK(&g, px, py, pz, live, zones.z, j) {
+            FM_LANES_WALK(&g, px, py, pz, live, zones.z, zs, j) {
                 SWCL_BFN(fm_rep_ali_att)(j);
             }
             FM_LANES_WALK_END
         } else if (sample_cap == 0u) {
-            FM_LANES_WALK(&g, px, py, pz, live, zones.z, j) {
+            FM_LANES_WALK(&g, px, py, pz, live, zones.z, zs, j) {
                 SWCL_BFN(fm_ali_att)(j);
             }
             FM_LANES_WALK_END

@@ -53,7 +53,7 @@ __kernel void SWCL_KERNEL(force_model_repulsion)(__global const float* fine_soa,
 #undef FM_FIRST_ROW_
         const swcl_bi on = todo & (row == r0);
         todo &= ~on;
-        FM_LANES_WALK(&fg, px, py, pz, on, r_rep, j) {
+        FM_LANES_WALK(&fg, px, py, pz, on, r_rep, FM_ALL_Z, j) {
             const float qx = fine_soa[j], qy = fine_soa[stride + j], qz = fine_soa[2 * stride + j];
             const swcl_bf dx = qx - px, dy = qy - py, dz = qz - pz;
             const swcl_bf d2 = fma(dz, dz, fma(dy, dy, dx * dx));  // as the zone walk's (fm_zone_s)
