@@ -93,7 +93,7 @@ def generations_seconds(args, comm=None, worlds: bool = True, streamed=None, sta
         pop = [np.random.default_rng(i).uniform(size=len(ranges)) for i in range(args.population)]
         ranks.map(pop[:2])  # builds the kernels on every rank first
         out = []
-        for g in range(generations):
+        for _ in range(generations):
             before = dict(ev.stage_seconds)
             t = time.perf_counter()
             scores = ranks.map(pop)

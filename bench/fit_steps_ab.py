@@ -33,7 +33,7 @@ sys.path.insert(0, os.path.join(ROOT, "bench"))
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
 
 
-def world_swarm(swarmcl, ctx, args, real):
+def world_swarm(ctx, args, real):
     """The generation's worlds as one swarm (None: refused)."""
     import fit_bench
     from swarmcl.fitting import PopulationEvaluator, load_ranges
@@ -56,6 +56,7 @@ def hundred_steps(swarm, frames) -> float:
 
 
 def frames_of(args, swarm):
+    """The array step_frames fills with --frames (None without)."""
     return np.zeros((100, args.population, swarm.agent_count, 3), np.float32) if args.frames else None
 
 
@@ -65,7 +66,7 @@ def worker(args) -> int:
     import fit_bench
     import swarmcl
     with swarmcl.Context() as ctx, fit_bench.synthetic_tracks(swarmcl) as real:
-        swarm = world_swarm(swarmcl, ctx, args, real)
+        swarm = world_swarm(ctx, args, real)
         if swarm is None:
             return 1
         with swarm:
@@ -86,7 +87,7 @@ def in_process(args) -> dict:
                 os.environ["SWARMCL_KERNEL_DIR"] = os.path.abspath(d)
                 ctx = swarmcl.Context()
                 held.append(ctx)
-                swarm = world_swarm(swarmcl, ctx, args, real)
+                swarm = world_swarm(ctx, args, real)
                 if swarm is None:
                     raise SystemExit(f"{d}: the scenario was refused (or these kernels do not build with this library)")
                 swarms.append(swarm)

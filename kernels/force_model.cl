@@ -47,7 +47,7 @@
 // components (PoCL, exact zones).  The squares and the sums are fma():
 // correctly rounded, so the same bits at every width and on every device,
 // and in the wide kernel a fused multiply-add instead of a multiply and an
-// add (the generation of a force fit steps ~10 % faster,
+// add (a force fit generation's stepping 1.17x faster,
 // bench/results/force_fma/ab.json).
 #define fm_zone_s(j, rep_too)                                                 \
     {                                                                         \

@@ -13,18 +13,21 @@ __kernel void gather_xyz(__global const float4* src, __global const uint* slot_o
     dst[3 * id + 2] = v.z;
 }
 
+// The place in id order (over all worlds) of slot s holding agent `id`:
+// world s / world_agents counts its ids from s / world_agents * world_agents.
+static inline uint swcl_id_place(uint s, uint world_agents, uint id) { return s / world_agents * world_agents + id; }
+
 // One frame of swcl_swarm_step_frames: dst[offset + 3 id + k] = src[s].k for
-// every slot s, id = its agent's id over all worlds (as slot_of_from_ids
-// numbers them: world s / world_agents counts from s / world_agents *
-// world_agents).  A scatter by ids rather than gather_xyz's gather through
-// slot_of: one launch a frame instead of slot_of's, gather_xyz's and a copy
-// into the frames buffer.
+// every slot s, id = its agent's place in id order (swcl_id_place).  A
+// scatter by ids rather than gather_xyz's gather through slot_of: one launch
+// a frame instead of slot_of's, gather_xyz's and a copy into the frames
+// buffer.
 __kernel void frame_xyz(__global const float4* src, __global const uint* ids, uint n, uint world_agents,
                         __global float* dst, ulong offset) {
     const uint s = get_global_id(0);
     if (s >= n) return;
     const float4 v = src[s];
-    __global float* o = dst + offset + 3 * (size_t)(s / world_agents * world_agents + ids[s]);
+    __global float* o = dst + offset + 3 * (size_t)swcl_id_place(s, world_agents, ids[s]);
     o[0] = v.x;
     o[1] = v.y;
     o[2] = v.z;
@@ -53,7 +56,7 @@ __kernel void identity_layout(uint n, uint world_agents, __global uint* ids, __g
 // worlds' slots stay apart in every order (their cells are).
 __kernel void slot_of_from_ids(__global const uint* ids, uint n, uint world_agents, __global uint* slot_of) {
     const uint s = get_global_id(0);
-    if (s < n) slot_of[s / world_agents * world_agents + ids[s]] = s;
+    if (s < n) slot_of[swcl_id_place(s, world_agents, ids[s])] = s;
 }
 
 // Ballistic step (no behaviour model): p += v dt.
