@@ -15,6 +15,12 @@ context builds; all variants step in this process) or a library file
 (libswarmcl.so of another build, for host changes; SWARMCL_LIBRARY, a
 process per variant and round, each stepping one warm-up and then the
 timed 100 steps five times).
+
+--metrics (library files): instead of the stepping, the measuring of the
+generation's frames on the host (Metrics.from_frames of each world, two
+threads, as PopulationEvaluator does): each library's process steps the
+worlds 500 steps once, reading every frame back, then measures them five
+times.
 """
 from __future__ import annotations
 
@@ -60,9 +66,22 @@ def frames_of(args, swarm):
     return np.zeros((100, args.population, swarm.agent_count, 3), np.float32) if args.frames else None
 
 
+def measure_seconds(swarmcl, frames) -> float:
+    """Seconds to measure every world's frames (frames, worlds, agents, 3)
+    on the host, two threads."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    def measure(k):
+        swarmcl.Metrics.from_frames(frames[:, k], 0.01).close()
+    t = time.perf_counter()
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        list(pool.map(measure, range(frames.shape[1])))
+    return time.perf_counter() - t
+
+
 def worker(args) -> int:
     """One library's rounds (SWARMCL_LIBRARY is set by the parent): JSON of
-    its seconds per 500 steps."""
+    its seconds per 500 steps (--metrics: to measure 500 steps' frames)."""
     import fit_bench
     import swarmcl
     with swarmcl.Context() as ctx, fit_bench.synthetic_tracks(swarmcl) as real:
@@ -70,6 +89,13 @@ def worker(args) -> int:
         if swarm is None:
             return 1
         with swarm:
+            if args.metrics:
+                frames = np.empty((501, args.population, swarm.agent_count, 3), np.float32)
+                swarm.read_positions(out=frames[0])
+                swarm.step_frames(500, 1, out=frames[1:])
+                measure_seconds(swarmcl, frames)  # first touch of the samples' memory
+                print(json.dumps([round(measure_seconds(swarmcl, frames), 4) for _ in range(5)]))
+                return 0
             frames = frames_of(args, swarm)
             hundred_steps(swarm, frames)  # builds the kernels, first touch of the frames
             print(json.dumps([round(hundred_steps(swarm, frames), 4) for _ in range(5)]))
@@ -111,7 +137,8 @@ def by_process(args) -> dict:
     """Library files: a process per variant and round, alternated."""
     seconds = {lib: [] for lib in args.variants}
     cmd = [sys.executable, os.path.abspath(__file__), "--worker", "--model", args.model, "--population",
-           str(args.population), "--agents", str(args.agents)] + (["--frames"] if args.frames else [])
+           str(args.population), "--agents", str(args.agents)] + (["--frames"] if args.frames else []) \
+        + (["--metrics"] if args.metrics else [])
     for r in range(args.rounds):
         for lib in args.variants if r % 2 == 0 else args.variants[::-1]:
             env = dict(os.environ, SWARMCL_LIBRARY=os.path.abspath(lib))
@@ -126,6 +153,8 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("variants", nargs="*", help="kernel directories, or libswarmcl files; two or more")
     ap.add_argument("--frames", action="store_true", help="read every step's positions back, as a fit does")
+    ap.add_argument("--metrics", action="store_true",
+                    help="library files: time measuring the frames on the host, not the stepping")
     ap.add_argument("--model", choices=("force", "field", "path"), default="force")
     ap.add_argument("--population", type=int, default=64)
     ap.add_argument("--agents", type=int, default=300)
@@ -140,23 +169,27 @@ def main() -> int:
     dirs = [os.path.isdir(v) for v in args.variants]
     if not all(dirs) and not all(os.path.isfile(v) for v in args.variants):
         ap.error("the variants must all be kernel directories or all library files")
+    if args.metrics and any(dirs):
+        ap.error("--metrics compares library files")
     from evaluation_studies import cpu_model
     seconds = in_process(args) if all(dirs) else by_process(args)
     what = "kernel directory" if all(dirs) else "library"
-    print(f"{args.model} model, {args.population} worlds x {args.agents} agents on {cpu_model()}: seconds per "
-          f"500 steps{', frames read back' if args.frames else ''}, by {what}, alternated")
+    timed = ("seconds to measure 500 steps' frames on the host (Metrics.from_frames, 2 threads)" if args.metrics
+             else "seconds per 500 steps" + (", each step's positions read back (step_frames)" if args.frames else ""))
+    print(f"{args.model} model, {args.population} worlds x {args.agents} agents on {cpu_model()}: {timed}, "
+          f"by {what}, alternated")
     base = float(np.median(seconds[args.variants[0]]))
     for v in args.variants:
         s = seconds[v]
         print(f"  {v}: min {min(s):.3f}  median {np.median(s):.3f}  ({base / np.median(s):.2f}x the first's median)")
     if args.json:
         from result_paths import shown_path, shown_value, write_result
-        write_result({"what": f"seconds per 500 steps of a fit generation's worlds, by {what}"
-                      + (", each step's positions read back (step_frames)" if args.frames else ""),
+        write_result({"what": f"{timed}, a fit generation's worlds, by {what}",
                       "command": "python bench/fit_steps_ab.py " + shlex.join(shown_value(a) for a in sys.argv[1:]),
                       "cpu": cpu_model(), "model": args.model, "population": args.population,
                       "agents": args.agents, "rounds": args.rounds,
-                      "seconds_per_500_steps": {shown_path(v): s for v, s in seconds.items()}}, args.json)
+                      "seconds_to_measure" if args.metrics else "seconds_per_500_steps":
+                          {shown_path(v): s for v, s in seconds.items()}}, args.json)
     return 0
 
 

@@ -285,6 +285,40 @@ TEST(EvalMetrics, NearestSweepScansGiveTheBruteForcesNeighbour) {
         }
 }
 
+// The wide scan filters candidates in float and confirms them in double: on
+// double coordinates that float rounds (far from the origin, spacings below
+// a float's resolution there, exact ties on a lattice) and past the float
+// range (1e20: the double scan), it still answers as the brute force.
+TEST(EvalMetrics, NearestSweepsFloatFilterKeepsEveryCandidateItMustTest) {
+    std::mt19937 rng(31);
+    for (const double offset : {0.0, 1e3, 1e6, 1e20})
+        for (const double spread : {1e-4, 1.0})
+            for (int lattice = 0; lattice < 2; ++lattice) {
+                std::uniform_real_distribution<double> u(-spread, spread);
+                std::uniform_int_distribution<int> cell(0, 4);
+                NearestSweep wide(true), narrow(false);
+                for (int frame = 0; frame < 6; ++frame) {
+                    std::vector<NearestSweep::Vec3> p(90);
+                    for (auto& q : p)
+                        for (double& c : q) c = offset + (lattice ? spread * 0.25 * cell(rng) : u(rng));
+                    std::vector<uint32_t> expect(p.size());
+                    for (size_t i = 0; i < p.size(); ++i) {
+                        double best = std::numeric_limits<double>::infinity();
+                        for (size_t j = 0; j < p.size(); ++j) {
+                            const double dx = p[j][0] - p[i][0], dy = p[j][1] - p[i][1], dz = p[j][2] - p[i][2];
+                            const double r2 = dx * dx + dy * dy + dz * dz;
+                            if (j != i && r2 < best) best = r2, expect[i] = uint32_t(j);
+                        }
+                    }
+                    std::vector<uint32_t> a, b;
+                    wide.find(p, nullptr, a);
+                    narrow.find(p, nullptr, b);
+                    ASSERT_EQ(a, expect) << "offset " << offset << ", spread " << spread << ", lattice " << lattice;
+                    ASSERT_EQ(b, expect) << "offset " << offset << ", spread " << spread << ", lattice " << lattice;
+                }
+            }
+}
+
 // One sweep across frames of changing size (its arrays laid out again, the
 // pads past either end kept NaN) answers as the brute force.
 TEST(EvalMetrics, OneNearestSweepServesFramesOfChangingSize) {

@@ -30,7 +30,7 @@ struct FrameSample {
 // Scratch vectors of segment_metrics, kept across segments.
 struct SegmentScratch {
     std::vector<Vec3> v, a;
-    std::vector<double> omega;
+    std::vector<double> speed, omega;
 };
 
 // The per-sample metrics of one gap-free segment of n samples, sample k at
@@ -41,11 +41,14 @@ template <class Time, class Pos>
 void segment_metrics(size_t n, Time t, Pos p, SegmentScratch& s, MetricSamples& out) {
     if (n < 2) return;
     auto& v = s.v;
+    auto& speed = s.speed;  // |v_k|, again in ω's cosine
     v.resize(n - 1);
+    speed.resize(n - 1);
     for (size_t k = 0; k + 1 < n; ++k) {
         v[k] = scale(sub(p(k + 1), p(k)), 1.0 / (t(k + 1) - t(k)));
-        out[Metric::Speed].push_back(norm(v[k]));
+        speed[k] = norm(v[k]);
     }
+    out[Metric::Speed].insert(out[Metric::Speed].end(), speed.begin(), speed.end());
     auto& a = s.a;
     auto& omega = s.omega;
     a.clear();
@@ -54,7 +57,7 @@ void segment_metrics(size_t n, Time t, Pos p, SegmentScratch& s, MetricSamples& 
         const double dt = t(k + 1) - t(k);
         a.push_back(scale(sub(v[k + 1], v[k]), 1.0 / dt));
         out[Metric::Acceleration].push_back(norm(a.back()));
-        const double n0 = norm(v[k]), n1 = norm(v[k + 1]);
+        const double n0 = speed[k], n1 = speed[k + 1];
         double w = std::numeric_limits<double>::quiet_NaN();
         if (n0 > 0.0 && n1 > 0.0) {
             const double c = std::clamp(dot(v[k], v[k + 1]) / (n0 * n1), -1.0, 1.0);

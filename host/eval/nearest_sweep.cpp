@@ -1,6 +1,7 @@
 #include "eval/nearest_sweep.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -42,6 +43,7 @@ void NearestSweep::find(const std::vector<Vec3>& p, const std::vector<uint32_t>*
         std::sort(order_.begin(), order_.end(), [](const Entry& a, const Entry& b) { return before(a, b); });
         // The pads stay NaN; the frames below write the entries between.
         for (auto& c : xyz_) c.assign(g + 2 * kPad, std::numeric_limits<double>::quiet_NaN());
+        for (auto& c : xyz_f_) c.assign(g + 2 * kPad, std::numeric_limits<float>::quiet_NaN());
         index_.assign(g + 2 * kPad, 0);
     } else {
         ++frames_since_axis_;
@@ -50,14 +52,22 @@ void NearestSweep::find(const std::vector<Vec3>& p, const std::vector<uint32_t>*
             for (size_t k = r; k > 0 && before(order_[k], order_[k - 1]); --k) std::swap(order_[k], order_[k - 1]);
     }
     // The scans read the coordinates in axis order, in sequence.
+    double extent = 0.0;
     for (size_t r = 0; r < g; ++r) {
         const Vec3& q = p[order_[r].index];
-        for (size_t d = 0; d < 3; ++d) xyz_[d][kPad + r] = q[d];
+        for (size_t d = 0; d < 3; ++d) {
+            xyz_[d][kPad + r] = q[d];
+            xyz_f_[d][kPad + r] = float(q[d]);
+            extent = std::max(extent, std::abs(q[d]));
+        }
         index_[kPad + r] = order_[r].index;
     }
+    extent_ = extent;
 #if defined(__x86_64__) && defined(__GNUC__)
     static const bool avx2 = __builtin_cpu_supports("avx2");
-    if (wide_ && avx2) {
+    // Past 1e18 m float squares could overflow and the filter reject a
+    // point: such frames take the double scan.
+    if (wide_ && avx2 && extent <= 1e18) {
         scan_avx2(p, hint, nn);
         return;
     }
@@ -66,8 +76,9 @@ void NearestSweep::find(const std::vector<Vec3>& p, const std::vector<uint32_t>*
 }
 
 NearestSweep::Sorted NearestSweep::sorted() const {
-    return {xyz_[0].data() + kPad, xyz_[1].data() + kPad, xyz_[2].data() + kPad, xyz_[axis_].data() + kPad,
-            index_.data() + kPad, long(index_.size() - 2 * kPad)};
+    return {xyz_[0].data() + kPad,   xyz_[1].data() + kPad,   xyz_[2].data() + kPad,   xyz_[axis_].data() + kPad,
+            xyz_f_[0].data() + kPad, xyz_f_[1].data() + kPad, xyz_f_[2].data() + kPad, index_.data() + kPad,
+            long(index_.size() - 2 * kPad)};
 }
 
 // Inlined into the scans (a call a point was 6 % of the sweep's samples).
@@ -109,52 +120,79 @@ void NearestSweep::scan(const std::vector<Vec3>& p, const std::vector<uint32_t>*
 
 #if defined(__x86_64__) && defined(__GNUC__)
 namespace {
-// Candidates k..k+3 against q, four lanes at a time, each lane distance2()'s
-// operations in its order (no FMA: the target is AVX2 alone, so no
-// contraction either); the lanes at or below best go through take().
-__attribute__((target("avx2"), always_inline)) inline void take4(const double* X, const double* Y, const double* Z,
-                                                                const uint32_t* I, long k, __m256d qx, __m256d qy,
-                                                                __m256d qz, double& best, uint32_t& who) {
-    const __m256d dx = _mm256_sub_pd(_mm256_loadu_pd(X + k), qx);
-    const __m256d dy = _mm256_sub_pd(_mm256_loadu_pd(Y + k), qy);
-    const __m256d dz = _mm256_sub_pd(_mm256_loadu_pd(Z + k), qz);
-    const __m256d r2 =
-        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
-    int near = _mm256_movemask_pd(_mm256_cmp_pd(r2, _mm256_set1_pd(best), _CMP_LE_OQ));  // NaN: never
+// The float filter's bound for the best squared distance so far: every
+// candidate whose squared distance in double (distance2) is at or below
+// best has a float squared distance at or below the bound.  Rounding the
+// coordinates to float moves a point by at most sqrt(3) u M (u = 2^-24, M
+// the frame's largest |coordinate|) and the float differences, squares and
+// sums add a few u relative: the float distance is below (sqrt(best) (1 +
+// 16 u) + e) (1 + 8 u) with e = 8 u M, whose square is below best (1 +
+// 2^-9) + 1040 e^2 (2 sqrt(best) e <= 2^-10 best + 2^10 e^2).  `slack` is
+// 1040 e^2 (filter_slack); a few extra candidates reach the double test,
+// never one fewer.  Infinite without a best yet.
+inline double filter_slack(double extent) {
+    const double e = 8.0 * 0x1p-24 * extent;
+    return 1040.0 * e * e;
+}
+__attribute__((target("avx2"), always_inline)) inline __m256 filter_bound(double best, double slack) {
+    // (1 + 2^-20): float() rounds down by less than that.
+    return _mm256_set1_ps(float((best * (1.0 + 0x1p-9) + slack) * (1.0 + 0x1p-20)));
+}
+
+// Candidates k..k+7 against the query (q*f in float, x, y, z in double):
+// their float squared distances, (x_f - q_f) squared and summed x, y, z,
+// against the filter's bound; the lanes at or below it go through take()
+// with the double distance2, and a nearer best lowers the bound.
+__attribute__((target("avx2"), always_inline)) inline void take8(const float* XF, const float* YF, const float* ZF,
+                                                                const double* X, const double* Y, const double* Z,
+                                                                const uint32_t* I, long k, __m256 qxf, __m256 qyf,
+                                                                __m256 qzf, double x, double y, double z,
+                                                                double slack, __m256& bound, double& best,
+                                                                uint32_t& who) {
+    const __m256 dx = _mm256_sub_ps(_mm256_loadu_ps(XF + k), qxf);
+    const __m256 dy = _mm256_sub_ps(_mm256_loadu_ps(YF + k), qyf);
+    const __m256 dz = _mm256_sub_ps(_mm256_loadu_ps(ZF + k), qzf);
+    const __m256 r2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)), _mm256_mul_ps(dz, dz));
+    int near = _mm256_movemask_ps(_mm256_cmp_ps(r2, bound, _CMP_LE_OQ));  // NaN (the pads): never
     if (near == 0) return;
-    alignas(32) double lane[4];
-    _mm256_store_pd(lane, r2);
+    const double was = best;
     for (; near != 0; near &= near - 1) {
-        const int l = __builtin_ctz(unsigned(near));
-        take(lane[l], I[k + l], best, who);
+        const long j = k + __builtin_ctz(unsigned(near));
+        take(distance2(x, y, z, X[j], Y[j], Z[j]), I[j], best, who);
     }
+    if (best != was) bound = filter_bound(best, slack);
 }
 }  // namespace
 
-// scan() four candidates at a time (1.4x faster on a fit's frames): the
-// blocks run from r - 4 down and from r + 1 up, never take r itself, and read
-// the NaN pads past either end; a block's last candidate decides the stop.
+// scan() eight candidates at a time, filtered in float (about twice the
+// candidates an instruction of the double lanes took): the blocks run from
+// r - 8 down and from r + 1 up, never take r itself, and read the NaN pads
+// past either end; a block's last candidate decides the stop, on the
+// double axis as scan()'s.
 __attribute__((target("avx2"))) void NearestSweep::scan_avx2(const std::vector<Vec3>& p,
                                                              const std::vector<uint32_t>* hint,
                                                              std::vector<uint32_t>& nn) const {
     const Sorted s = sorted();
     const double *X = s.x, *Y = s.y, *Z = s.z, *A = s.axis;
+    const float *XF = s.xf, *YF = s.yf, *ZF = s.zf;
     const uint32_t* I = s.index;
     const long g = s.count;
+    const double slack = filter_slack(extent_);
     for (long r = 0; r < g; ++r) {
-        const double x = A[r];
+        const double a = A[r];
         double best;
         uint32_t who;
         first_bound(s, r, p, hint, best, who);
-        const __m256d qx = _mm256_set1_pd(X[r]), qy = _mm256_set1_pd(Y[r]), qz = _mm256_set1_pd(Z[r]);
-        for (long k = r - 4;; k -= 4) {  // r - 4 >= -kPad
-            take4(X, Y, Z, I, k, qx, qy, qz, best, who);
-            const double gap = x - A[k];
+        __m256 bound = filter_bound(best, slack);
+        const __m256 qx = _mm256_set1_ps(XF[r]), qy = _mm256_set1_ps(YF[r]), qz = _mm256_set1_ps(ZF[r]);
+        for (long k = r - 8;; k -= 8) {  // r - 8 >= -kPad
+            take8(XF, YF, ZF, X, Y, Z, I, k, qx, qy, qz, X[r], Y[r], Z[r], slack, bound, best, who);
+            const double gap = a - A[k];
             if (k <= 0 || gap * gap > best) break;
         }
-        for (long k = r + 1; k < g; k += 4) {  // k + 3 < g + kPad
-            take4(X, Y, Z, I, k, qx, qy, qz, best, who);
-            const double gap = A[k + 3] - x;  // NaN past the end: the loop's test stops it
+        for (long k = r + 1; k < g; k += 8) {  // k + 7 < g + kPad
+            take8(XF, YF, ZF, X, Y, Z, I, k, qx, qy, qz, X[r], Y[r], Z[r], slack, bound, best, who);
+            const double gap = A[k + 7] - a;  // NaN past the end: the loop's test stops it
             if (gap * gap > best) break;
         }
         nn[I[r]] = who;

@@ -18,8 +18,9 @@ class NearestSweep {
 public:
     using Vec3 = std::array<double, 3>;
 
-    // wide: four candidates at a time where the CPU has AVX2 (the same
-    // answers; false: one at a time, the path of other CPUs).
+    // wide: eight candidates at a time where the CPU has AVX2, filtered in
+    // float and confirmed in double (the same answers; false: one at a
+    // time in double, the path of other CPUs).
     explicit NearestSweep(bool wide = true) : wide_(wide) {}
 
     // nn[i]: the nearest other point of p[i] (finite coordinates, at least
@@ -31,7 +32,7 @@ public:
 
 private:
     static constexpr size_t kAxisEvery = 32;  // frames between choices of the axis
-    static constexpr size_t kPad = 4;         // NaN entries past either end of the arrays
+    static constexpr size_t kPad = 8;         // NaN entries past either end of the arrays
 
     // A point's coordinate on the axis and its index: what the sort moves.
     struct Entry {
@@ -45,6 +46,7 @@ private:
     // The sorted arrays past their front pads, and the point count.
     struct Sorted {
         const double *x, *y, *z, *axis;
+        const float *xf, *yf, *zf;
         const uint32_t* index;
         long count;
     };
@@ -63,6 +65,10 @@ private:
     // The points in axis order as coordinate arrays and indices, kPad
     // entries past either end (NaN coordinates: never nearer).
     std::array<std::vector<double>, 3> xyz_;
+    // The same in float (the wide scan's filter, as xyz_) and the largest
+    // |coordinate| of the frame, which bounds their rounding.
+    std::array<std::vector<float>, 3> xyz_f_;
+    double extent_ = 0.0;
     std::vector<uint32_t> index_;
     std::vector<double> coords_;
     size_t axis_ = 0;
