@@ -16,7 +16,12 @@ after its first (a fit keeps its evaluator); the first, which also touches
 its frames array for the first time, is printed and stored beside it.
 --model field and --model path do the same for those models.
 
-    python bench/fit_bench.py [--model force|field|path] [--population 64] [--agents 300] [--steps 500] [--full]
+    python bench/fit_bench.py [--model force|field|path] [--population 64] [--agents 300] [--steps 500]
+                              [--streak 8] [--full]
+
+--streak N: then N generations of one evaluator in a row, the default
+metrics, each timed (the first is the evaluator's first): a fit's
+generations as they come on a shared machine, beside the best of two.
 
 Needs pip install 'swarmcl[fit,mpi]' and mpirun (Open MPI).  Writes
 bench/results/eval/fit_bench.json.  The tracks are synthetic (deterministic,
@@ -120,6 +125,7 @@ def main() -> int:
     ap.add_argument("--agents", type=int, default=300)
     ap.add_argument("--steps", type=int, default=500)
     ap.add_argument("--generations", type=int, default=30)
+    ap.add_argument("--streak", type=int, default=8, help="generations of one evaluator in a row, each timed (0: none)")
     ap.add_argument("--full", action="store_true", help="run the whole fit, not only estimate it")
     ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--json")
@@ -176,6 +182,13 @@ def main() -> int:
           f"back every sample), metrics and scores {split['metrics']:.2f} s")
     print(f"  one swarm per individual:     {a:6.2f} s   ({rate(a):.2f} M agent-steps/s): worlds {a / best:.1f}x "
           f"(best of 2 each, alternated)")
+    if args.streak > 0:
+        streak = generations_seconds(args, worlds=True, streamed=not cpu, generations=args.streak)
+        out["generation_streak_seconds"] = streak
+        above = sum(1 for t in streak if t > 2.0)
+        print(f"  {args.streak} generations in a row: {min(streak):.2f}-{max(streak):.2f} s, median "
+              f"{float(np.median(streak)):.2f} s, {above} of {args.streak} above 2 s (the first: {streak[0]:.2f} s, "
+              f"the evaluator's first)")
     if args.full:
         with synthetic_tracks(swarmcl) as real:
             t = time.perf_counter()
