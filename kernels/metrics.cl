@@ -23,6 +23,7 @@
 // FB_SIDE, FB_COUNT (fine_bins), METRICS_BLOCK, HIST_ATOMIC, and each
 // metric's index M_<kernel> with M_COUNT (eval/metric_table.hpp).
 #include "lib/grid_common.cl"
+#include "lib/halves.cl"
 
 #include "lib/inline.cl"
 #include "lib/lanes.cl"
@@ -72,12 +73,22 @@ SWCL_INLINE mreal angle3(mreal3 a, mreal3 b) {
     return atan2(sqrt(cx * cx + cy * cy + cz * cz), a.x * b.x + a.y * b.y + a.z * b.z);
 }
 
+// The 16 lanes' sum in a fixed order (halves, recursively).
+SWCL_INLINE float metrics_sum16(float16 v) {
+    const float8 a = swcl_lo16f(v) + swcl_hi16f(v);
+    const float4 c = a.lo + a.hi;
+    const float2 d = c.lo + c.hi;
+    return d.x + d.y;
+}
+
 // Moments of block b of every metric in `mask`: block lb = b % per_block of
 // world w = b / per_block (per_block: blocks per world) covers vals[m * n + k]
-// for k in [w per_world + lb METRICS_BLOCK, ...) up to the world's end, in
-// order, two passes (mean, then M2); part[m * blocks + b] = (count, mean,
-// M2, 0) (the count as a float: exact up to 2^24, and not denormal bits a
-// GPU might flush).
+// for k in [w per_world + lb METRICS_BLOCK, ...) up to the world's end, two
+// passes (mean, then M2), each 16 values at a time (value k in lane k -
+// begin mod 16, the lanes summed by metrics_sum16) and the last few in
+// order: a fixed order, and the block's scalar loops were most of the
+// kernel's time; part[m * blocks + b] = (count, mean, M2, 0) (the count as
+// a float: exact up to 2^24, and not denormal bits a GPU might flush).
 __kernel void metrics_moments(__global const float* vals, uint n, uint per_world, uint per_block, uint mask,
                               uint blocks, __global float4* part) {
     const uint b = get_global_id(0);
@@ -85,24 +96,37 @@ __kernel void metrics_moments(__global const float* vals, uint n, uint per_world
     const uint world0 = (b / per_block) * per_world;
     const uint begin = world0 + (b % per_block) * METRICS_BLOCK;
     const uint end = min(world0 + per_world, begin + METRICS_BLOCK);
+    const float16 zero = (float16)(0.0f);
     for (uint m = 0; m < M_COUNT; ++m) {
         if (!((mask >> m) & 1u)) continue;
         __global const float* v = vals + (size_t)m * n;
-        uint c = 0;
-        float sum = 0.0f;
-        for (uint k = begin; k < end; ++k)
+        float16 s = zero, c = zero;
+        uint k = begin;
+        for (; k + 16u <= end; k += 16u) {
+            const float16 x = vload16(0, v + k);
+            const int16 ok = isfinite(x);
+            s += select(zero, x, ok);
+            c += select(zero, (float16)(1.0f), ok);
+        }
+        float sum = metrics_sum16(s), count = metrics_sum16(c);
+        for (; k < end; ++k)
             if (isfinite(v[k])) {
                 sum += v[k];
-                ++c;
+                count += 1.0f;
             }
-        const float mean = c ? sum / (float)c : 0.0f;
-        float m2 = 0.0f;
-        for (uint k = begin; k < end; ++k)
+        const float mean = count > 0.0f ? sum / count : 0.0f;
+        float16 q = zero;
+        for (k = begin; k + 16u <= end; k += 16u) {
+            const float16 x = vload16(0, v + k), d = x - mean;
+            q += select(zero, d * d, isfinite(x));
+        }
+        float m2 = metrics_sum16(q);
+        for (; k < end; ++k)
             if (isfinite(v[k])) {
                 const float d = v[k] - mean;
                 m2 += d * d;
             }
-        part[m * blocks + b] = (float4)((float)c, mean, m2, 0.0f);
+        part[m * blocks + b] = (float4)(count, mean, m2, 0.0f);
     }
 }
 
