@@ -85,15 +85,6 @@ typedef float16 emv;
 
 #include "lib/halves.cl"
 
-// Sum of the 16 lanes in a fixed order (halves, recursively).
-static inline float em_hsum(emv v) {
-    const float8 a = swcl_lo16f(v) + swcl_hi16f(v);
-    const float4 b = a.lo + a.hi;
-    const float2 c = b.lo + b.hi;
-    return c.x + c.y;
-}
-
-
 static inline emv em_lenv(emv x, emv y, emv z) { return sqrt(x * x + y * y + z * z); }
 
 // |v^ - u| over the lanes' unit vectors (hx, hy, hz) for one direction u.
@@ -457,11 +448,11 @@ EM_INLINE void em_gather_neighbors(const EmAgent* a, uint i, float4 p4, float4 r
     }
     if (pk > 0u) EM_WINDOW(pa, pa, pk, pk)
 #ifdef EM_TAYLOR_OA
-    s0 += em_hsum(v0);
-    s1 += (float3)(em_hsum(v1x), em_hsum(v1y), em_hsum(v1z));
-    s3 += 0.5f * em_hsum(v3);
-    sxx += em_hsum(vxx); syy += em_hsum(vyy); szz += em_hsum(vzz);
-    sxy += em_hsum(vxy); sxz += em_hsum(vxz); syz += em_hsum(vyz);
+    s0 += swcl_sum16f(v0);
+    s1 += (float3)(swcl_sum16f(v1x), swcl_sum16f(v1y), swcl_sum16f(v1z));
+    s3 += 0.5f * swcl_sum16f(v3);
+    sxx += swcl_sum16f(vxx); syy += swcl_sum16f(vyy); szz += swcl_sum16f(vzz);
+    sxy += swcl_sum16f(vxy); sxz += swcl_sum16f(vxz); syz += swcl_sum16f(vyz);
     {
         int cnt[EM_W];
         vstore16(vatt, 0, cnt);

@@ -73,19 +73,11 @@ SWCL_INLINE mreal angle3(mreal3 a, mreal3 b) {
     return atan2(sqrt(cx * cx + cy * cy + cz * cz), a.x * b.x + a.y * b.y + a.z * b.z);
 }
 
-// The 16 lanes' sum in a fixed order (halves, recursively).
-SWCL_INLINE float metrics_sum16(float16 v) {
-    const float8 a = swcl_lo16f(v) + swcl_hi16f(v);
-    const float4 c = a.lo + a.hi;
-    const float2 d = c.lo + c.hi;
-    return d.x + d.y;
-}
-
 // Moments of block b of every metric in `mask`: block lb = b % per_block of
 // world w = b / per_block (per_block: blocks per world) covers vals[m * n + k]
 // for k in [w per_world + lb METRICS_BLOCK, ...) up to the world's end, two
 // passes (mean, then M2), each 16 values at a time (value k in lane k -
-// begin mod 16, the lanes summed by metrics_sum16) and the last few in
+// begin mod 16, the lanes summed by swcl_sum16f) and the last few in
 // order: a fixed order, and the block's scalar loops were most of the
 // kernel's time; part[m * blocks + b] = (count, mean, M2, 0) (the count as
 // a float: exact up to 2^24, and not denormal bits a GPU might flush).
@@ -108,7 +100,7 @@ __kernel void metrics_moments(__global const float* vals, uint n, uint per_world
             s += select(zero, x, ok);
             c += select(zero, (float16)(1.0f), ok);
         }
-        float sum = metrics_sum16(s), count = metrics_sum16(c);
+        float sum = swcl_sum16f(s), count = swcl_sum16f(c);
         for (; k < end; ++k)
             if (isfinite(v[k])) {
                 sum += v[k];
@@ -120,7 +112,7 @@ __kernel void metrics_moments(__global const float* vals, uint n, uint per_world
             const float16 x = vload16(0, v + k), d = x - mean;
             q += select(zero, d * d, isfinite(x));
         }
-        float m2 = metrics_sum16(q);
+        float m2 = swcl_sum16f(q);
         for (; k < end; ++k)
             if (isfinite(v[k])) {
                 const float d = v[k] - mean;

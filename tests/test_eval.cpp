@@ -244,7 +244,22 @@ TEST(EvalMetrics, FrameNeighboursStayExactAsTheSwarmShrinksAndSpreads) {
     expect_brute_force_neighbours(m, xyz, frames, agents, dt);
 }
 
-// The sweep's two scans, four candidates at a time (AVX2, where the CPU has
+// The brute force's nearest other point of each point: the least (r2,
+// index), r2 the differences (other - point) squared and summed x, y, z.
+static std::vector<uint32_t> brute_nearest(const std::vector<NearestSweep::Vec3>& p) {
+    std::vector<uint32_t> nn(p.size());
+    for (size_t i = 0; i < p.size(); ++i) {
+        double best = std::numeric_limits<double>::infinity();
+        for (size_t j = 0; j < p.size(); ++j) {
+            const double dx = p[j][0] - p[i][0], dy = p[j][1] - p[i][1], dz = p[j][2] - p[i][2];
+            const double r2 = dx * dx + dy * dy + dz * dz;
+            if (j != i && r2 < best) best = r2, nn[i] = uint32_t(j);
+        }
+    }
+    return nn;
+}
+
+// The sweep's two scans, eight candidates at a time (AVX2, where the CPU has
 // it) and one at a time, against the brute force's least (r2, index): frames
 // of 2 to 70 points (fewer than a block, a block and a bit), random and on a
 // lattice (exact ties), with no hint, random hints and last frame's answers.
@@ -260,16 +275,7 @@ TEST(EvalMetrics, NearestSweepScansGiveTheBruteForcesNeighbour) {
                 std::vector<NearestSweep::Vec3> p(g);
                 for (auto& q : p)
                     for (double& c : q) c = lattice ? 0.25 * cell(rng) : double(u(rng));
-                std::vector<uint32_t> expect(g);
-                for (size_t i = 0; i < g; ++i) {
-                    double best = std::numeric_limits<double>::infinity();
-                    for (size_t j = 0; j < g; ++j) {
-                        if (j == i) continue;
-                        const double dx = p[j][0] - p[i][0], dy = p[j][1] - p[i][1], dz = p[j][2] - p[i][2];
-                        const double r2 = dx * dx + dy * dy + dz * dz;
-                        if (r2 < best) best = r2, expect[i] = uint32_t(j);
-                    }
-                }
+                const std::vector<uint32_t> expect = brute_nearest(p);
                 std::vector<uint32_t> random_hint(g);
                 for (size_t i = 0; i < g; ++i) random_hint[i] = uint32_t(rng() % g);
                 const bool use_last = frame % 3 != 0 && !last_wide.empty();
@@ -301,15 +307,7 @@ TEST(EvalMetrics, NearestSweepsFloatFilterKeepsEveryCandidateItMustTest) {
                     std::vector<NearestSweep::Vec3> p(90);
                     for (auto& q : p)
                         for (double& c : q) c = offset + (lattice ? spread * 0.25 * cell(rng) : u(rng));
-                    std::vector<uint32_t> expect(p.size());
-                    for (size_t i = 0; i < p.size(); ++i) {
-                        double best = std::numeric_limits<double>::infinity();
-                        for (size_t j = 0; j < p.size(); ++j) {
-                            const double dx = p[j][0] - p[i][0], dy = p[j][1] - p[i][1], dz = p[j][2] - p[i][2];
-                            const double r2 = dx * dx + dy * dy + dz * dz;
-                            if (j != i && r2 < best) best = r2, expect[i] = uint32_t(j);
-                        }
-                    }
+                    const std::vector<uint32_t> expect = brute_nearest(p);
                     std::vector<uint32_t> a, b;
                     wide.find(p, nullptr, a);
                     narrow.find(p, nullptr, b);
@@ -332,14 +330,7 @@ TEST(EvalMetrics, OneNearestSweepServesFramesOfChangingSize) {
             std::vector<NearestSweep::Vec3> p(g);
             for (auto& q : p)
                 for (double& c : q) c = u(rng);
-            std::vector<uint32_t> expect(g);
-            for (size_t i = 0; i < g; ++i) {
-                double best = std::numeric_limits<double>::infinity();
-                for (size_t j = 0; j < g; ++j) {
-                    const double dx = p[j][0] - p[i][0], dy = p[j][1] - p[i][1], dz = p[j][2] - p[i][2];
-                    if (j != i && dx * dx + dy * dy + dz * dz < best) best = dx * dx + dy * dy + dz * dz, expect[i] = uint32_t(j);
-                }
-            }
+            const std::vector<uint32_t> expect = brute_nearest(p);
             std::vector<uint32_t> nn;
             sweep.find(p, g == last_g ? &last : nullptr, nn);
             ASSERT_EQ(nn, expect) << g << " points, wide " << wide_scan;

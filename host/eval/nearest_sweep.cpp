@@ -62,13 +62,12 @@ void NearestSweep::find(const std::vector<Vec3>& p, const std::vector<uint32_t>*
         }
         index_[kPad + r] = order_[r].index;
     }
-    extent_ = extent;
 #if defined(__x86_64__) && defined(__GNUC__)
     static const bool avx2 = __builtin_cpu_supports("avx2");
     // Past 1e18 m float squares could overflow and the filter reject a
     // point: such frames take the double scan.
     if (wide_ && avx2 && extent <= 1e18) {
-        scan_avx2(p, hint, nn);
+        scan_avx2(p, hint, extent, nn);
         return;
     }
 #endif
@@ -170,14 +169,14 @@ __attribute__((target("avx2"), always_inline)) inline void take8(const float* XF
 // past either end; a block's last candidate decides the stop, on the
 // double axis as scan()'s.
 __attribute__((target("avx2"))) void NearestSweep::scan_avx2(const std::vector<Vec3>& p,
-                                                             const std::vector<uint32_t>* hint,
+                                                             const std::vector<uint32_t>* hint, double extent,
                                                              std::vector<uint32_t>& nn) const {
     const Sorted s = sorted();
     const double *X = s.x, *Y = s.y, *Z = s.z, *A = s.axis;
     const float *XF = s.xf, *YF = s.yf, *ZF = s.zf;
     const uint32_t* I = s.index;
     const long g = s.count;
-    const double slack = filter_slack(extent_);
+    const double slack = filter_slack(extent);
     for (long r = 0; r < g; ++r) {
         const double a = A[r];
         double best;

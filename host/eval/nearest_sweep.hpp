@@ -58,17 +58,17 @@ private:
     size_t widest_axis(const std::vector<Vec3>& p);
     void scan(const std::vector<Vec3>& p, const std::vector<uint32_t>* hint, std::vector<uint32_t>& nn) const;
 #if defined(__x86_64__) && defined(__GNUC__)
-    void scan_avx2(const std::vector<Vec3>& p, const std::vector<uint32_t>* hint, std::vector<uint32_t>& nn) const;
+    // extent: the frame's largest |coordinate|, which bounds float's rounding.
+    void scan_avx2(const std::vector<Vec3>& p, const std::vector<uint32_t>* hint, double extent,
+                   std::vector<uint32_t>& nn) const;
 #endif
 
     std::vector<Entry> order_;
     // The points in axis order as coordinate arrays and indices, kPad
     // entries past either end (NaN coordinates: never nearer).
     std::array<std::vector<double>, 3> xyz_;
-    // The same in float (the wide scan's filter, as xyz_) and the largest
-    // |coordinate| of the frame, which bounds their rounding.
+    // The same in float (the wide scan's filter, as xyz_).
     std::array<std::vector<float>, 3> xyz_f_;
-    double extent_ = 0.0;
     std::vector<uint32_t> index_;
     std::vector<double> coords_;
     size_t axis_ = 0;

@@ -1,4 +1,4 @@
-// The halves of a 16-lane vector (include-only, no kernels): v.lo and v.hi,
+// The halves of a 16-lane vector and the sum of its lanes (include-only, no kernels): v.lo and v.hi,
 // except under -DSWCL_OCLGRIND (passed by scripts/oclgrind_check.py, never
 // by the library), where they go through private memory.  Oclgrind 21.10's
 // uninitialised-value check gets LLVM's shufflevector wrong twice: it
@@ -38,4 +38,13 @@ static inline int8 swcl_hi16i(int16 v) {
 #define swcl_lo16i(v) ((v).lo)
 #define swcl_hi16i(v) ((v).hi)
 #endif
+
+// Sum of a 16-lane vector's lanes in a fixed order (halves, recursively):
+// the same bits wherever it is summed.
+static inline float swcl_sum16f(float16 v) {
+    const float8 a = swcl_lo16f(v) + swcl_hi16f(v);
+    const float4 b = a.lo + a.hi;
+    const float2 c = b.lo + b.hi;
+    return c.x + c.y;
+}
 #endif
