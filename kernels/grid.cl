@@ -24,6 +24,7 @@
 // Chunked kernels: work-item b of `nchunks` loops serially over a contiguous
 // chunk (no barriers or local memory; PoCL runs such loops well on a CPU).
 #include "lib/grid_common.cl"
+#include "lib/prefetch.cl"
 
 static inline uint chunk_size(uint n, uint nchunks) { return (n + nchunks - 1u) / nchunks; }
 
@@ -420,4 +421,32 @@ __kernel void permute_state(__global const float4* pos, __global const float4* v
     pos_out[s] = pos[p];
     vel_out[s] = vel[p];
     ids_out[s] = ids[p];
+}
+
+// permute_state on CPU devices: work-item b copies the slots of chunk b in
+// order, asking for the sources PERMUTE_AHEAD slots ahead first.  The
+// sources are anywhere in the arrays after a random-order build, and the
+// one-slot-a-work-item kernel waits on them one gather at a time.
+#define PERMUTE_AHEAD 16u
+__kernel void permute_state_chunks(__global const float4* pos, __global const float4* vel,
+                                   __global const uint* ids, __global const uint* perm, uint n, uint nchunks,
+                                   __global float4* pos_out, __global float4* vel_out, __global uint* ids_out) {
+    const uint b = get_global_id(0);
+    if (b >= nchunks) return;
+    const uint size = chunk_size(n, nchunks);
+    const uint begin = min(b * size, n), end = min(begin + size, n);
+    for (uint s = begin; s < end; ++s) {
+#ifdef SWCL_PREFETCH_ISSUES
+        if (s + PERMUTE_AHEAD < end) {
+            const uint q = perm[s + PERMUTE_AHEAD];
+            SWCL_PREFETCH(pos + q);
+            SWCL_PREFETCH(vel + q);
+            SWCL_PREFETCH(ids + q);
+        }
+#endif
+        const uint p = perm[s];
+        pos_out[s] = pos[p];
+        vel_out[s] = vel[p];
+        ids_out[s] = ids[p];
+    }
 }

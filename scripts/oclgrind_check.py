@@ -73,6 +73,7 @@ CASES = [
     ("test_grid", "Grid.ReorderKeepsEachAgentsVelocityWithIt", GPU),
     ("test_grid", "Grid.AgentsOutsideTheDomainAreClampedIntoBorderCells", GPU),
     ("test_grid", "Grid.AllAgentsInOneCellAndDuplicates", GPU),
+    ("test_grid", "Grid.PermuteStateMovesEveryArrayByThePermutation", CPU),
     ("test_point_grid", "PointGrid.NoPointsAndOnePoint", GPU),
     ("test_point_grid", "PointGrid.GivenGeometryMatchesBruteForce", GPU),
     ("test_point_grid", "PointGrid.GroupsApartHaveTheGeometryAndOrderOfEachGroupAlone", GPU),

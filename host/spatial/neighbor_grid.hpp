@@ -107,7 +107,7 @@ private:
     DeviceBuffer<cl_uint> start_, layout_start_, chunk_counts_;
     DeviceBuffer<cl_float4> world_geometry_;  // grid_common.cl's grid_worlds
     RadixSort radix_;  // of the movers, by cell
-    cl::Kernel keys_k_, movers_write_, sort_runs_, merge_, starts_, permute_state_;
+    cl::Kernel keys_k_, movers_write_, sort_runs_, merge_, starts_, permute_state_, permute_chunks_;
     // The counting sort (build_counting): its kernels and the scan's group sums.
     bool counting_ = false;
     cl::Kernel count_cells_, scan_blocks_, scan_sums_, scan_add_, scatter_, sort_cells_;
