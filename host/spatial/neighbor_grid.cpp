@@ -243,8 +243,8 @@ void NeighborGrid::permute_state(const DeviceBuffer<cl_float4>& pos, const Devic
                                  const DeviceBuffer<cl_uint>& ids, DeviceBuffer<cl_float4>& pos_out,
                                  DeviceBuffer<cl_float4>& vel_out, DeviceBuffer<cl_uint>& ids_out, uint32_t n) {
     // CPU devices: chunks of slots copied in order, the sources prefetched
-    // (kernels/grid.cl, permute_state_chunks); 16-23 -> 14-18 ms at 1M from
-    // random order (docs/benchmarks.md, "The permutation in chunks").
+    // (kernels/grid.cl, permute_state_chunks); at 1M from random order
+    // 20-26 -> 15-20 ms (docs/benchmarks.md, "The permutation in chunks").
     if (ctx_.device().cpu_profile) {
         const uint32_t chunks = std::clamp(n / kMinChunkSlots, 1u, kMoverChunks);
         set_args(permute_chunks_, pos.get(), vel.get(), ids.get(), perm_.get(), n, chunks, pos_out.get(),
