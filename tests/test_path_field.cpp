@@ -61,30 +61,49 @@ TEST(Repulsion, BellFunctionOfEq6) {
     for (int i = 1; i <= 100; ++i) EXPECT_LE(repulsion(two_a * i / 100, l), repulsion(two_a * (i - 1) / 100, l));
 }
 
-// No obstacles, a point goal, A = 1, B = 0: C is the Euclidean distance up
-// to the first-order error (scikit-fmm's bound, 1.5 cells); second order is closer.
-TEST(CostField, FreeSpacePointGoalIsTheDistance) {
-    const Grid3 g = cube_grid(-1, 1, 40);
+// The cost from a point goal (x, y, z) on an n^3 grid of [-1, 1]^3 with no
+// obstacles and A = 1, B = 0, first and second order, and each order's
+// largest distance from the Euclidean distance (+inf if a cell is not finite).
+namespace {
+struct FreeSpaceCost {
+    Grid3 grid;
+    std::vector<double> slowness, c1, c2;
+    Goal goal;
+    double err1 = 0, err2 = 0;
+};
+FreeSpaceCost free_space_cost(uint32_t n, float x, float y, float z) {
+    FreeSpaceCost r;
+    r.grid = cube_grid(-1, 1, n);
     CostWeights w;
     w.A = 1.0;
     w.B = 0.0;
-    const auto f = cost_slowness(g, {}, w);
-    const Goal goal = point_goal(0.13f, -0.31f, 0.07f);
-    double err1 = 0, err2 = 0;
-    const auto c1 = solve_cost(g, f, {goal}, false), c2 = solve_cost(g, f, {goal}, true);
-    for (uint32_t k = 0; k < 40; ++k)
-        for (uint32_t j = 0; j < 40; ++j)
-            for (uint32_t i = 0; i < 40; ++i) {
-                const auto p = g.center(i, j, k);
-                const double d = std::hypot(p[0] - 0.13, p[1] + 0.31, p[2] - 0.07);
-                err1 = std::max(err1, std::fabs(c1[g.index(i, j, k)] - d));
-                err2 = std::max(err2, std::fabs(c2[g.index(i, j, k)] - d));
+    r.slowness = cost_slowness(r.grid, {}, w);
+    r.goal = point_goal(x, y, z);
+    r.c1 = solve_cost(r.grid, r.slowness, {r.goal}, false);
+    r.c2 = solve_cost(r.grid, r.slowness, {r.goal}, true);
+    for (uint32_t k = 0; k < n; ++k)
+        for (uint32_t j = 0; j < n; ++j)
+            for (uint32_t i = 0; i < n; ++i) {
+                const auto p = r.grid.center(i, j, k);
+                const double d = std::hypot(p[0] - x, p[1] - y, p[2] - z);
+                const size_t c = r.grid.index(i, j, k);
+                r.err1 = std::max(r.err1, std::fabs(r.c1[c] - d));
+                r.err2 = std::max(r.err2, std::fabs(r.c2[c] - d));
+                if (!std::isfinite(r.c1[c]) || !std::isfinite(r.c2[c])) r.err1 = r.err2 = kInf;  // max() skips NaN
             }
-    EXPECT_LT(err1, 1.5 * g.h);
-    EXPECT_LT(err2, err1);
+    return r;
+}
+}  // namespace
+
+// No obstacles, a point goal, A = 1, B = 0: C is the Euclidean distance up
+// to the first-order error (scikit-fmm's bound, 1.5 cells); second order is closer.
+TEST(CostField, FreeSpacePointGoalIsTheDistance) {
+    const FreeSpaceCost r = free_space_cost(40, 0.13f, -0.31f, 0.07f);
+    EXPECT_LT(r.err1, 1.5 * r.grid.h);
+    EXPECT_LT(r.err2, r.err1);
     // The default weights scale it by A = 0.6.
-    const auto c = solve_cost(g, cost_slowness(g, {}, CostWeights{}), {goal});
-    for (size_t i = 0; i < c.size(); i += 97) EXPECT_NEAR(c[i], 0.6 * c1[i], 1e-9);
+    const auto c = solve_cost(r.grid, cost_slowness(r.grid, {}, CostWeights{}), {r.goal});
+    for (size_t i = 0; i < c.size(); i += 97) EXPECT_NEAR(c[i], 0.6 * r.c1[i], 1e-9);
 }
 
 // A grid past 2 MB of cells (64^3: 4.8 MB padded), which fast_march keeps on
@@ -94,28 +113,11 @@ TEST(CostField, FreeSpacePointGoalIsTheDistance) {
 // fmm_bench, scikit-fmm 2.19 there), second order closer, and every run the
 // same bit for bit.
 TEST(CostField, LargeGridIsTheDistanceAndTheSameEveryRun) {
-    const Grid3 g = cube_grid(-1, 1, 64);
-    CostWeights w;
-    w.A = 1.0;
-    w.B = 0.0;
-    const auto f = cost_slowness(g, {}, w);
-    const Goal goal = point_goal(-0.27f, 0.41f, 0.05f);
-    const auto c1 = solve_cost(g, f, {goal}, false), c2 = solve_cost(g, f, {goal}, true);
-    double err1 = 0, err2 = 0;
-    for (uint32_t k = 0; k < 64; ++k)
-        for (uint32_t j = 0; j < 64; ++j)
-            for (uint32_t i = 0; i < 64; ++i) {
-                const auto p = g.center(i, j, k);
-                const double d = std::hypot(p[0] + 0.27, p[1] - 0.41, p[2] - 0.05);
-                const size_t c = g.index(i, j, k);
-                ASSERT_TRUE(std::isfinite(c1[c]) && std::isfinite(c2[c])) << c;
-                err1 = std::max(err1, std::fabs(c1[c] - d));
-                err2 = std::max(err2, std::fabs(c2[c] - d));
-            }
-    EXPECT_LT(err1, 2.0 * g.h);
-    EXPECT_LT(err2, err1);
-    EXPECT_EQ(solve_cost(g, f, {goal}, false), c1);
-    EXPECT_EQ(solve_cost(g, f, {goal}, true), c2);
+    const FreeSpaceCost r = free_space_cost(64, -0.27f, 0.41f, 0.05f);
+    EXPECT_LT(r.err1, 2.0 * r.grid.h);
+    EXPECT_LT(r.err2, r.err1);
+    EXPECT_EQ(solve_cost(r.grid, r.slowness, {r.goal}, false), r.c1);
+    EXPECT_EQ(solve_cost(r.grid, r.slowness, {r.goal}, true), r.c2);
 }
 
 // With obstacles: every free cell has a finite cost and, outside the goal,
