@@ -7,8 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <string>
 #include <numeric>
+#include <string>
 
 #include "spatial/neighbor_grid.hpp"
 #include "test_support.hpp"

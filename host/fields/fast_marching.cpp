@@ -72,8 +72,8 @@ struct Cell {
 // them (madvise; Debian's default is "madvise").  A cell's stencil reaches one
 // z-slice either way (279 KB apart at 128^3), so on 4 KB pages nearly every
 // neighbour is another page and a TLB miss (docs/benchmarks.md, "Fast
-// marching on huge pages").  Small grids
-// (under one 2 MB page) take plain memory.
+// marching on huge pages").  Small grids (under one 2 MB page) take plain
+// memory.
 class CellArray {
 public:
     explicit CellArray(size_t n) {
