@@ -443,6 +443,32 @@ SWCL_INLINE void metrics_visit(__global const float4* sp, uint self, float4 p, u
     }
 }
 
+// The nearest other point of p (sorted position self) into (best_d2, best):
+// boxes of cells around p's cell growing one cell per side from k0, each
+// visiting the cells not in the previous box (first [plo, phi]: cells an
+// earlier search has seen; an empty box is lo > hi), until the best
+// distance is below the distance to anything outside the box or the box is
+// the whole grid.  A cell seen twice changes nothing (the least (d2, index)
+// is the same).
+SWCL_INLINE void metrics_search(const Grid* g, __global const float4* sp, uint self, float4 p, int k0, int4 plo,
+                                int4 phi, float* best_d2, uint* best) {
+    const int4 c = grid_cell_of(g, p);
+    const int4 last = g->dims - (int4)(1, 1, 1, 1);
+    for (int k = k0;; ++k) {
+        const int4 lo = max(c - (int4)(k, k, k, 0), (int4)(0, 0, 0, 0));
+        const int4 hi = min(c + (int4)(k, k, k, 0), last);
+        GRID_FOR_EACH_NEW_RANGE(g, lo, hi, plo, phi, rg) {
+            metrics_visit(sp, self, p, rg.x, rg.y, best_d2, best);
+        }
+        GRID_END_NEW_RANGE
+        if (all(lo.xyz == (int3)(0)) && all(hi.xyz == last.xyz)) break;
+        const float bound = grid_outside_bound(g, p, lo, hi);
+        if (bound > 0.0f && *best_d2 <= bound * bound) break;
+        plo = lo;
+        phi = hi;
+    }
+}
+
 // d of the frame just sampled (§3.2, the shortest distance): the nearest
 // other point of every point over the point grid (spatial/point_grid.hpp,
 // built on these points; sp: metrics_sort_points), one work-item per
@@ -464,24 +490,9 @@ __kernel void metrics_nearest(__global const float4* sp, uint n, uint per_world,
         const Grid g = grid_from_geometry(geo, cell_start + (size_t)world * as_uint(geo[1].w));
         const float4 p = sp[self];
         const uint i = as_uint(p.w);
-        const int4 c = grid_cell_of(&g, p);
-        const int4 last = g.dims - (int4)(1, 1, 1, 1);
         float best_d2 = INFINITY;
         uint best = 0xffffffffu;
-        int4 plo = (int4)(1, 1, 1, 0), phi = (int4)(0, 0, 0, 0);  // empty "previous" box
-        for (int k = 0;; ++k) {
-            const int4 lo = max(c - (int4)(k, k, k, 0), (int4)(0, 0, 0, 0));
-            const int4 hi = min(c + (int4)(k, k, k, 0), last);
-            GRID_FOR_EACH_NEW_RANGE(&g, lo, hi, plo, phi, rg) {
-                metrics_visit(sp, self, p, rg.x, rg.y, &best_d2, &best);
-            }
-            GRID_END_NEW_RANGE
-            if (all(lo.xyz == (int3)(0)) && all(hi.xyz == last.xyz)) break;
-            const float bound = grid_outside_bound(&g, p, lo, hi);
-            if (bound > 0.0f && best_d2 <= bound * bound) break;
-            plo = lo;
-            phi = hi;
-        }
+        metrics_search(&g, sp, self, p, 0, (int4)(1, 1, 1, 0), (int4)(0, 0, 0, 0), &best_d2, &best);
         const float d = sqrt(best_d2);
         nn_idx[i] = best;
         nn_dist[i] = d;
@@ -494,16 +505,24 @@ __kernel void metrics_nearest(__global const float4* sp, uint n, uint per_world,
 }
 
 #if defined(SWCL_W)
+// The boxes the lanes grow together (sizes 0 and 1: the union of their cells
+// and one cell more a side) before the lanes still unsettled go on alone.
+#ifndef MN_SHARED_BOXES
+#define MN_SHARED_BOXES 2
+#endif
 // metrics_nearest on SWCL_W consecutive sorted positions per work-item (CPU
 // devices; PoCL does not vectorise the scalar kernel across work-items, and
 // its loop was a third of a sample's time): the lanes' points are
 // neighbours in the grid's order, so they grow one box together, the union
 // of their cells grown one cell per side, and every candidate of it is
 // loaded once and tested against all lanes.  The box stops when every lane's
-// best distance is below that lane's distance to anything outside it.  The
-// nearest point is the least (d2, index) over the whole world, found exactly
-// by either search with dist2's arithmetic, so every lane gets the scalar
-// kernel's answer bitwise (tests/test_swarm_metrics.cpp).  A 2-D range:
+// best distance is below that lane's distance to anything outside it, or
+// after MN_SHARED_BOXES boxes: 16 consecutive points span half a row or
+// more, so a third box would be rows wide for the one or two lanes (of 16)
+// whose neighbour lies past a cell; those search on alone (metrics_search).
+// The nearest point is the least (d2, index) over the whole world, found
+// exactly by either search with dist2's arithmetic, so every lane gets the
+// scalar kernel's answer bitwise (tests/test_swarm_metrics.cpp).  A 2-D range:
 // ceil(per_world / SWCL_W) work-items for each world (get_global_id(1));
 // lanes past the world's last point repeat it and write nothing.
 __kernel void metrics_nearest_w(__global const float4* sp, uint n, uint per_world, __global const float4* geo,
@@ -547,6 +566,11 @@ __kernel void metrics_nearest_w(__global const float4* sp, uint n, uint per_worl
     // which is never less nor equal.
     swcl_fw best_d2 = (swcl_fw)(INFINITY), odd_d2 = (swcl_fw)(INFINITY);
     swcl_uw best = (swcl_uw)(0xffffffffu), odd = (swcl_uw)(0xffffffffu);
+    // A candidate as far as the lane's best so far sets the lane's tie: the
+    // strict test keeps the first of equals, not the lowest index, so such a
+    // lane searches again alone (rare: equal float distances of distinct
+    // points).  Without one, the least d2 was met once and is the answer.
+    swcl_iw tie = (swcl_iw)(0);
     int4 plo = (int4)(1, 1, 1, 0), phi = (int4)(0, 0, 0, 0);  // empty "previous" box
     // Candidate k against every lane into (bd2, bj), as metrics_visit lane
     // by lane (d = p - q, dist2's order).
@@ -555,10 +579,10 @@ __kernel void metrics_nearest_w(__global const float4* sp, uint n, uint per_worl
         const float4 q = sp[k];                                                                    \
         const swcl_fw dx = px - q.x, dy = py - q.y, dz = pz - q.z;                                 \
         const swcl_fw d2 = select(dx * dx + dy * dy + dz * dz, (swcl_fw)(NAN), self == (swcl_uw)(k)); \
-        const swcl_uw j = (swcl_uw)(as_uint(q.w));                                                 \
-        const swcl_iw better = (d2 < (bd2)) | ((d2 == (bd2)) & (j < (bj)));                        \
+        const swcl_iw better = d2 < (bd2);                                                         \
+        tie |= d2 == (bd2);                                                                        \
         (bd2) = select((bd2), d2, better);                                                         \
-        (bj) = select((bj), j, better);                                                            \
+        (bj) = select((bj), (swcl_uw)(as_uint(q.w)), better);                                      \
     }
 #define MN_VISIT_W(k0, k1)                                                                          \
     {                                                                                              \
@@ -569,9 +593,12 @@ __kernel void metrics_nearest_w(__global const float4* sp, uint n, uint per_worl
         }                                                                                          \
         if (k < (k1)) MN_CANDIDATE_W(k, best_d2, best)                                             \
     }
-    for (int r = 0;; ++r) {
-        const int4 lo = max(clo - (int4)(r, r, r, 0), (int4)(0, 0, 0, 0));
-        const int4 hi = min(chi + (int4)(r, r, r, 0), top);
+    int r = 0;
+    int4 lo, hi;
+    bool tail = false;
+    for (;; ++r) {
+        lo = max(clo - (int4)(r, r, r, 0), (int4)(0, 0, 0, 0));
+        hi = min(chi + (int4)(r, r, r, 0), top);
         GRID_FOR_EACH_NEW_RANGE(&g, lo, hi, plo, phi, rg) {
             MN_VISIT_W(rg.x, rg.y)
         }
@@ -590,6 +617,10 @@ __kernel void metrics_nearest_w(__global const float4* sp, uint n, uint per_worl
             done = bound > 0.0f && bd2[l] <= bound * bound;
         }
         if (done) break;
+        if (r + 1 == MN_SHARED_BOXES) {
+            tail = true;
+            break;
+        }
         plo = lo;
         phi = hi;
     }
@@ -599,6 +630,23 @@ __kernel void metrics_nearest_w(__global const float4* sp, uint n, uint per_worl
     uint bj[SWCL_W];
     swcl_vstore_fw(best_d2, 0, bd2);
     swcl_vstore_uw(best, 0, bj);
+    // The lanes the shared boxes did not settle go on alone, their own boxes
+    // growing from the next size and skipping the shared box's cells.
+    int ties[SWCL_W];
+    swcl_vstore_iw(tie, 0, ties);
+    for (uint l = 0; l < SWCL_W && t + l < per_world; ++l) {
+        const float4 p = sp[first + t + l];
+        if (ties[l]) {
+            bd2[l] = INFINITY;
+            bj[l] = 0xffffffffu;
+            metrics_search(&g, sp, first + t + l, p, 0, (int4)(1, 1, 1, 0), (int4)(0, 0, 0, 0), &bd2[l], &bj[l]);
+            continue;
+        }
+        if (!tail) continue;
+        const float bound = grid_outside_bound(&g, p, lo, hi);
+        if (bound > 0.0f && bd2[l] <= bound * bound) continue;
+        metrics_search(&g, sp, first + t + l, p, r + 1, lo, hi, &bd2[l], &bj[l]);
+    }
     for (uint l = 0; l < SWCL_W && t + l < per_world; ++l) {
         const uint i = as_uint(sp[first + t + l].w);
         const float d = sqrt(bd2[l]);
