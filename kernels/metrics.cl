@@ -513,13 +513,13 @@ __kernel void metrics_nearest(__global const float4* sp, uint n, uint per_world,
 // metrics_nearest on SWCL_W consecutive sorted positions per work-item (CPU
 // devices; PoCL does not vectorise the scalar kernel across work-items, and
 // its loop was a third of a sample's time): the lanes' points are
-// neighbours in the grid's order, so they grow one box together, the union
-// of their cells grown one cell per side, and every candidate of it is
-// loaded once and tested against all lanes.  The box stops when every lane's
-// best distance is below that lane's distance to anything outside it, or
-// after MN_SHARED_BOXES boxes: 16 consecutive points span half a row or
-// more, so a third box would be rows wide for the one or two lanes (of 16)
-// whose neighbour lies past a cell; those search on alone (metrics_search).
+// neighbours in the grid's order, so the lanes of one row of cells grow one
+// box together, the union of their cells grown one cell per side, and every
+// candidate of it is loaded once and tested against those lanes.  The box
+// stops when every such lane's best distance is below its distance to
+// anything outside it, or after MN_SHARED_BOXES boxes: a third box would be
+// 25 rows for the one or two lanes (of 16) whose neighbour lies past a
+// cell; those search on alone (metrics_search).
 // The nearest point is the least (d2, index) over the whole world, found
 // exactly by either search with dist2's arithmetic, so every lane gets the
 // scalar kernel's answer bitwise (tests/test_swarm_metrics.cpp).  A 2-D range:
@@ -533,19 +533,10 @@ __kernel void metrics_nearest_w(__global const float4* sp, uint n, uint per_worl
     const uint world = get_global_id(1), first = world * per_world, last = first + per_world - 1u;
     __global volatile uint* hist = hist_all + (size_t)world * M_COUNT * FB_COUNT;
     const Grid g = grid_from_geometry(geo, cell_start + (size_t)world * as_uint(geo[1].w));
-    float lx[SWCL_W], ly[SWCL_W], lz[SWCL_W];
-    int4 clo = g.dims, chi = (int4)(0);
-    for (uint l = 0; l < SWCL_W; ++l) {
-        const float4 p = sp[min(first + t + l, last)];
-        lx[l] = p.x;
-        ly[l] = p.y;
-        lz[l] = p.z;
-        const int4 c = grid_cell_of(&g, p);
-        clo = min(clo, c);
-        chi = max(chi, c);
-    }
-    // The lanes' coordinates read again lane by lane: a vector load of lx
-    // right after its 16 scalar stores waited on them (perf annotate: a
+    int4 cell[SWCL_W];
+    for (uint l = 0; l < SWCL_W; ++l) cell[l] = grid_cell_of(&g, sp[min(first + t + l, last)]);
+    // The lanes' coordinates read lane by lane: a vector load of 16 floats
+    // right after their 16 scalar stores waited on them (perf annotate: a
     // seventh of the kernel on that one load).
 #define MN_P_(k) sp[min(first + t + SWCL_LANE_I(k), last)]
 #define MN_PX_(k) MN_P_(k).x
@@ -557,7 +548,8 @@ __kernel void metrics_nearest_w(__global const float4* sp, uint n, uint per_worl
 #undef MN_PY_
 #undef MN_PZ_
 #undef MN_P_
-    const swcl_uw self = min((swcl_uw)(first + t) + (swcl_uw)(SWCL_LANES(SWCL_LANE_I)), (swcl_uw)(last));
+    const swcl_uw lane = (swcl_uw)(SWCL_LANES(SWCL_LANE_I));
+    const swcl_uw self = min((swcl_uw)(first + t) + lane, (swcl_uw)(last));
     const int4 top = g.dims - (int4)(1, 1, 1, 1);
     // The least (d2, index) so far in two halves, even and odd candidates of
     // each row, merged after every box: each half's update waits on its own
@@ -571,13 +563,13 @@ __kernel void metrics_nearest_w(__global const float4* sp, uint n, uint per_worl
     // lane searches again alone (rare: equal float distances of distinct
     // points).  Without one, the least d2 was met once and is the answer.
     swcl_iw tie = (swcl_iw)(0);
-    int4 plo = (int4)(1, 1, 1, 0), phi = (int4)(0, 0, 0, 0);  // empty "previous" box
-    // Candidate k against every lane into (bd2, bj), as metrics_visit lane
-    // by lane (d = p - q, dist2's order).
+    // Candidate k against the segment's lanes (the others' coordinates are
+    // NaN: never less nor equal) into (bd2, bj), as metrics_visit lane by
+    // lane (d = p - q, dist2's order).
 #define MN_CANDIDATE_W(k, bd2, bj)                                                                  \
     {                                                                                              \
         const float4 q = sp[k];                                                                    \
-        const swcl_fw dx = px - q.x, dy = py - q.y, dz = pz - q.z;                                 \
+        const swcl_fw dx = qx - q.x, dy = qy - q.y, dz = qz - q.z;                                 \
         const swcl_fw d2 = select(dx * dx + dy * dy + dz * dz, (swcl_fw)(NAN), self == (swcl_uw)(k)); \
         const swcl_iw better = d2 < (bd2);                                                         \
         tie |= d2 == (bd2);                                                                        \
@@ -593,62 +585,79 @@ __kernel void metrics_nearest_w(__global const float4* sp, uint n, uint per_worl
         }                                                                                          \
         if (k < (k1)) MN_CANDIDATE_W(k, best_d2, best)                                             \
     }
-    int r = 0;
-    int4 lo, hi;
-    bool tail = false;
-    for (;; ++r) {
-        lo = max(clo - (int4)(r, r, r, 0), (int4)(0, 0, 0, 0));
-        hi = min(chi + (int4)(r, r, r, 0), top);
-        GRID_FOR_EACH_NEW_RANGE(&g, lo, hi, plo, phi, rg) {
-            MN_VISIT_W(rg.x, rg.y)
+    float bd2[SWCL_W], sd2[SWCL_W];  // final; a segment's vectors
+    uint bj[SWCL_W], sj[SWCL_W];
+    int ties[SWCL_W], sties[SWCL_W];
+    // The lanes in segments of one row of cells each (the points are in cell
+    // order, so a segment's cells run along x): 16 consecutive points often
+    // end one row and start the next, and one box over both would be whole
+    // rows wide.
+    for (uint s0 = 0, s1; s0 < SWCL_W; s0 = s1) {
+        for (s1 = s0 + 1u; s1 < SWCL_W && all(cell[s1].yz == cell[s0].yz); ++s1) {
         }
-        GRID_END_NEW_RANGE
-        {
-            const swcl_iw better = (odd_d2 < best_d2) | ((odd_d2 == best_d2) & (odd < best));
-            best_d2 = select(best_d2, odd_d2, better);
-            best = select(best, odd, better);
+        const int4 clo = cell[s0], chi = cell[s1 - 1u];
+        const swcl_iw in = (lane >= (swcl_uw)(s0)) & (lane < (swcl_uw)(s1));
+        const swcl_fw qx = select((swcl_fw)(NAN), px, in), qy = select((swcl_fw)(NAN), py, in),
+                      qz = select((swcl_fw)(NAN), pz, in);
+        int4 plo = (int4)(1, 1, 1, 0), phi = (int4)(0, 0, 0, 0);  // empty "previous" box
+        int r = 0;
+        int4 lo, hi;
+        bool tail = false;
+        for (;; ++r) {
+            lo = max(clo - (int4)(r, r, r, 0), (int4)(0, 0, 0, 0));
+            hi = min(chi + (int4)(r, r, r, 0), top);
+            GRID_FOR_EACH_NEW_RANGE(&g, lo, hi, plo, phi, rg) {
+                MN_VISIT_W(rg.x, rg.y)
+            }
+            GRID_END_NEW_RANGE
+            {
+                const swcl_iw better = (odd_d2 < best_d2) | ((odd_d2 == best_d2) & (odd < best));
+                best_d2 = select(best_d2, odd_d2, better);
+                best = select(best, odd, better);
+            }
+            if (all(lo.xyz == (int3)(0)) && all(hi.xyz == top.xyz)) break;
+            swcl_vstore_fw(best_d2, 0, sd2);
+            bool done = true;
+            for (uint l = s0; l < s1 && done; ++l) {
+                const float bound = grid_outside_bound(&g, sp[min(first + t + l, last)], lo, hi);
+                done = bound > 0.0f && sd2[l] <= bound * bound;
+            }
+            if (done) break;
+            if (r + 1 == MN_SHARED_BOXES) {
+                tail = true;
+                break;
+            }
+            plo = lo;
+            phi = hi;
         }
-        if (all(lo.xyz == (int3)(0)) && all(hi.xyz == top.xyz)) break;
-        float bd2[SWCL_W];
-        swcl_vstore_fw(best_d2, 0, bd2);
-        bool done = true;
-        for (uint l = 0; l < SWCL_W && done; ++l) {
-            const float bound = grid_outside_bound(&g, (float4)(lx[l], ly[l], lz[l], 0.0f), lo, hi);
-            done = bound > 0.0f && bd2[l] <= bound * bound;
+        // The segment's lanes are final but for those the shared boxes did
+        // not settle: they go on alone, their own boxes growing from the
+        // next size and skipping the shared box's cells.
+        swcl_vstore_fw(best_d2, 0, sd2);
+        swcl_vstore_uw(best, 0, sj);
+        swcl_vstore_iw(tie, 0, sties);
+        for (uint l = s0; l < s1; ++l) {
+            bd2[l] = sd2[l];
+            bj[l] = sj[l];
+            ties[l] = sties[l];
         }
-        if (done) break;
-        if (r + 1 == MN_SHARED_BOXES) {
-            tail = true;
-            break;
+        for (uint l = s0; tail && l < s1 && t + l < per_world; ++l) {
+            const float4 p = sp[first + t + l];
+            const float bound = grid_outside_bound(&g, p, lo, hi);
+            if (ties[l] || (bound > 0.0f && bd2[l] <= bound * bound)) continue;
+            metrics_search(&g, sp, first + t + l, p, r + 1, lo, hi, &bd2[l], &bj[l]);
         }
-        plo = lo;
-        phi = hi;
     }
 #undef MN_VISIT_W
 #undef MN_CANDIDATE_W
-    float bd2[SWCL_W];
-    uint bj[SWCL_W];
-    swcl_vstore_fw(best_d2, 0, bd2);
-    swcl_vstore_uw(best, 0, bj);
-    // The lanes the shared boxes did not settle go on alone, their own boxes
-    // growing from the next size and skipping the shared box's cells.
-    int ties[SWCL_W];
-    swcl_vstore_iw(tie, 0, ties);
     for (uint l = 0; l < SWCL_W && t + l < per_world; ++l) {
         const float4 p = sp[first + t + l];
         if (ties[l]) {
             bd2[l] = INFINITY;
             bj[l] = 0xffffffffu;
             metrics_search(&g, sp, first + t + l, p, 0, (int4)(1, 1, 1, 0), (int4)(0, 0, 0, 0), &bd2[l], &bj[l]);
-            continue;
         }
-        if (!tail) continue;
-        const float bound = grid_outside_bound(&g, p, lo, hi);
-        if (bound > 0.0f && bd2[l] <= bound * bound) continue;
-        metrics_search(&g, sp, first + t + l, p, r + 1, lo, hi, &bd2[l], &bj[l]);
-    }
-    for (uint l = 0; l < SWCL_W && t + l < per_world; ++l) {
-        const uint i = as_uint(sp[first + t + l].w);
+        const uint i = as_uint(p.w);
         const float d = sqrt(bd2[l]);
         nn_idx[i] = bj[l];
         nn_dist[i] = d;

@@ -48,10 +48,11 @@ SwarmMetrics::SwarmMetrics(Swarm& swarm, double dt_between_samples)
     gather_ = ctx_.kernel("metrics.cl", "metrics_gather", defines);
     sample_ = ctx_.kernel("metrics.cl", lanes_ > 1 ? "metrics_sample_w" : "metrics_sample", defines);
     nearest_ = ctx_.kernel("metrics.cl", lanes_ > 1 ? "metrics_nearest_w" : "metrics_nearest", defines);
-    // 16 consecutive sorted points share one box: 2 cells a point instead of
-    // 8 put more of them in a row of cells (17.7 -> 16.1 ms a frame of 100k
-    // agents, docs/benchmarks.md); one point a work-item keeps the 8.
-    if (lanes_ > 1) grid_.set_cells_per_point(2);
+    // 16 consecutive sorted points share boxes, one a row of cells they lie
+    // in: 1 cell a point instead of 8 puts more of them in a row (17.7 ->
+    // 16.1 ms a frame of 100k agents at 2, about 4 % less again at 1 with
+    // the rows apart; docs/benchmarks.md); one point a work-item keeps the 8.
+    if (lanes_ > 1) grid_.set_cells_per_point(1);
     sort_ = ctx_.kernel("metrics.cl", "metrics_sort_points", defines);
     moments_ = ctx_.kernel("metrics.cl", "metrics_moments", defines);
     if (cpu) histogram_ = ctx_.kernel("metrics.cl", "metrics_histogram", defines);
