@@ -510,6 +510,11 @@ __kernel void metrics_nearest(__global const float4* sp, uint n, uint per_world,
 #ifndef MN_SHARED_BOXES
 #define MN_SHARED_BOXES 2
 #endif
+// 1: boxes a row of cells each (below; SwarmMetrics sets it where a row of
+// cells is expected to hold at least as many points as lanes).
+#ifndef MN_ROWS_APART
+#define MN_ROWS_APART 0
+#endif
 // metrics_nearest on SWCL_W consecutive sorted positions per work-item (CPU
 // devices; PoCL does not vectorise the scalar kernel across work-items, and
 // its loop was a third of a sample's time): the lanes' points are
@@ -534,20 +539,12 @@ __kernel void metrics_nearest_w(__global const float4* sp, uint n, uint per_worl
     __global volatile uint* hist = hist_all + (size_t)world * M_COUNT * FB_COUNT;
     const Grid g = grid_from_geometry(geo, cell_start + (size_t)world * as_uint(geo[1].w));
     int4 cell[SWCL_W];
-    for (uint l = 0; l < SWCL_W; ++l) cell[l] = grid_cell_of(&g, sp[min(first + t + l, last)]);
-    // The lanes' coordinates read lane by lane: a vector load of 16 floats
-    // right after their 16 scalar stores waited on them (perf annotate: a
-    // seventh of the kernel on that one load).
-#define MN_P_(k) sp[min(first + t + SWCL_LANE_I(k), last)]
-#define MN_PX_(k) MN_P_(k).x
-#define MN_PY_(k) MN_P_(k).y
-#define MN_PZ_(k) MN_P_(k).z
-    const swcl_fw px = (swcl_fw)(SWCL_LANES(MN_PX_)), py = (swcl_fw)(SWCL_LANES(MN_PY_)),
-                  pz = (swcl_fw)(SWCL_LANES(MN_PZ_));
-#undef MN_PX_
-#undef MN_PY_
-#undef MN_PZ_
-#undef MN_P_
+    int4 ulo = g.dims, uhi = (int4)(0);
+    for (uint l = 0; l < SWCL_W; ++l) {
+        cell[l] = grid_cell_of(&g, sp[min(first + t + l, last)]);
+        ulo = min(ulo, cell[l]);
+        uhi = max(uhi, cell[l]);
+    }
     const swcl_uw lane = (swcl_uw)(SWCL_LANES(SWCL_LANE_I));
     const swcl_uw self = min((swcl_uw)(first + t) + lane, (swcl_uw)(last));
     const int4 top = g.dims - (int4)(1, 1, 1, 1);
@@ -588,17 +585,32 @@ __kernel void metrics_nearest_w(__global const float4* sp, uint n, uint per_worl
     float bd2[SWCL_W], sd2[SWCL_W];  // final; a segment's vectors
     uint bj[SWCL_W], sj[SWCL_W];
     int ties[SWCL_W], sties[SWCL_W];
-    // The lanes in segments of one row of cells each (the points are in cell
-    // order, so a segment's cells run along x): 16 consecutive points often
+    // With MN_ROWS_APART, the lanes in segments of one row of cells each (the
+    // points are in cell order, so a segment's cells run along x): where a
+    // row holds more points than there are lanes, 16 consecutive points often
     // end one row and start the next, and one box over both would be whole
-    // rows wide.
+    // rows wide.  Where rows hold a few points (a fit's worlds), the lanes
+    // span several rows and one box over all of them is the smaller.
     for (uint s0 = 0, s1; s0 < SWCL_W; s0 = s1) {
-        for (s1 = s0 + 1u; s1 < SWCL_W && all(cell[s1].yz == cell[s0].yz); ++s1) {
+        for (s1 = s0 + 1u; s1 < SWCL_W && (!MN_ROWS_APART || all(cell[s1].yz == cell[s0].yz)); ++s1) {
         }
-        const int4 clo = cell[s0], chi = cell[s1 - 1u];
+        const int4 clo = MN_ROWS_APART ? cell[s0] : ulo, chi = MN_ROWS_APART ? cell[s1 - 1u] : uhi;
+        // The lanes' coordinates read lane by lane for each segment (kept
+        // over segments they took registers the candidate loop needs; a
+        // vector load of 16 floats right after their 16 scalar stores
+        // waited on them, perf annotate: a seventh of the kernel).
         const swcl_iw in = (lane >= (swcl_uw)(s0)) & (lane < (swcl_uw)(s1));
-        const swcl_fw qx = select((swcl_fw)(NAN), px, in), qy = select((swcl_fw)(NAN), py, in),
-                      qz = select((swcl_fw)(NAN), pz, in);
+#define MN_P_(k) sp[min(first + t + SWCL_LANE_I(k), last)]
+#define MN_PX_(k) MN_P_(k).x
+#define MN_PY_(k) MN_P_(k).y
+#define MN_PZ_(k) MN_P_(k).z
+        const swcl_fw qx = select((swcl_fw)(NAN), (swcl_fw)(SWCL_LANES(MN_PX_)), in),
+                      qy = select((swcl_fw)(NAN), (swcl_fw)(SWCL_LANES(MN_PY_)), in),
+                      qz = select((swcl_fw)(NAN), (swcl_fw)(SWCL_LANES(MN_PZ_)), in);
+#undef MN_PX_
+#undef MN_PY_
+#undef MN_PZ_
+#undef MN_P_
         int4 plo = (int4)(1, 1, 1, 0), phi = (int4)(0, 0, 0, 0);  // empty "previous" box
         int r = 0;
         int4 lo, hi;

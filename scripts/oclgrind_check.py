@@ -130,6 +130,8 @@ CASES = [
     ("test_swarm_metrics", "SwarmMetrics.NearestNeighbourMatchesBruteForce", GPU),
     # The CPU profile's 16-lane kernels (metrics_nearest_w, metrics_sample_w).
     ("test_swarm_metrics", "SwarmMetrics.NearestNeighbourMatchesBruteForce", CPU),
+    # metrics_nearest_w with a box a row of cells each (MN_ROWS_APART), 8 lanes.
+    ("test_swarm_metrics", "SwarmMetrics.NearestNeighbourMatchesBruteForceWithTheRowsApart", CPU),
 ]
 
 # Larger cases, not run under Oclgrind (minutes each there), that build

@@ -221,12 +221,14 @@ TEST(SwarmMetrics, ResultCanBeTakenWhileSamplingGoesOn) {
 // distance), coincident pairs and a far cluster: d of every frame and η
 // (which depends on which neighbour is taken: the lowest index) against a
 // brute force in float, written as the kernel computes.
-TEST(SwarmMetrics, NearestNeighbourMatchesBruteForce) {
+// d and η of two frames of a lattice (ties), `cloud` random points, a
+// coincident pair and one point far away, against the brute force.
+static void expect_nearest_matches_brute_force(uint32_t cloud_points) {
     std::vector<float> p0;
     for (int z = 0; z < 6; ++z)
         for (int y = 0; y < 6; ++y)
             for (int x = 0; x < 6; ++x) p0.insert(p0.end(), {0.125f * x, 0.125f * y, 0.125f * z});
-    const auto cloud = random_points(400, -0.9f, -0.3f, 9);
+    const auto cloud = random_points(cloud_points, -0.9f, -0.3f, 9);
     p0.insert(p0.end(), cloud.begin(), cloud.end());
     p0.insert(p0.end(), {0.7f, 0.7f, 0.7f, 0.7f, 0.7f, 0.7f, 5.0f, 5.0f, 5.0f});  // a coincident pair, one far away
     const uint32_t n = uint32_t(p0.size() / 3);
@@ -281,6 +283,16 @@ TEST(SwarmMetrics, NearestNeighbourMatchesBruteForce) {
     EXPECT_GE(double(matching_counts(r.histogram(Metric::VelocityDifference), eta_hist)), 0.999 * double(etas));
 }
 
+TEST(SwarmMetrics, NearestNeighbourMatchesBruteForce) { expect_nearest_matches_brute_force(400); }
+
+// 919 points at 8 lanes: a row of the 1,024 cells is expected to hold 9, so
+// the 8-lane kernel takes a box a row each (MN_ROWS_APART; Oclgrind runs
+// this case in the CPU profile).
+TEST(SwarmMetrics, NearestNeighbourMatchesBruteForceWithTheRowsApart) {
+    ScopedKernelWidth w(8);
+    expect_nearest_matches_brute_force(700);
+}
+
 TEST(SwarmMetrics, SameSeedGivesBitwiseTheSameHistogramsAndMoments) {
     MetricAccumulator r[2];
     for (int t = 0; t < 2; ++t) {
@@ -308,17 +320,19 @@ TEST(SwarmMetrics, SameSeedGivesBitwiseTheSameHistogramsAndMoments) {
 // d, η).  1003 agents (the last work-item's lanes past the end), a swarm the
 // goal gathers (dense cells) and a few agents far out (a box grown to the
 // grid's edge).
-TEST(SwarmMetrics, EveryKernelWidthGivesTheScalarKernelsResults) {
+// The metrics of a noisy swarm of `agents` at kernel widths 1, 8 and 16 agree
+// bitwise (with five points a line of equal gaps: ties).
+static void expect_every_width_agrees(uint32_t agents) {
     // Any device runs the wide kernel when the width is forced (the GPU
     // profile too, with its atomic histograms).
     std::vector<MetricAccumulator> r;
     for (const uint32_t width : {1u, 8u, 16u}) {
         ScopedKernelWidth w(width);
-        auto swarm = noisy_swarm(1003, 8);
-        std::vector<float> p(3 * 1003);
-        swarm->read(Attribute::Position, p.data(), 1003);
+        auto swarm = noisy_swarm(agents, 8);
+        std::vector<float> p(3 * agents);
+        swarm->read(Attribute::Position, p.data(), agents);
         for (uint32_t i = 0; i < 5; ++i) p[3 * i] = 0.95f, p[3 * i + 1] = 0.95f - 0.01f * float(i);
-        swarm->write(Attribute::Position, p.data(), 1003);
+        swarm->write(Attribute::Position, p.data(), agents);
         SwarmMetrics dev(*swarm, 2.0 * kDt);
         for (int f = 0; f < 10; ++f) {
             swarm->step(2);
@@ -337,6 +351,14 @@ TEST(SwarmMetrics, EveryKernelWidthGivesTheScalarKernelsResults) {
             EXPECT_EQ(r[w].raw_moments(m).m2, r[0].raw_moments(m).m2);
         }
 }
+
+TEST(SwarmMetrics, EveryKernelWidthGivesTheScalarKernelsResults) { expect_every_width_agrees(1003); }
+
+// 12,000 agents: a row of the point grid's cells holds about 23 points, so
+// the 16-lane nearest neighbours take a box a row each (MN_ROWS_APART; at
+// 1,003 agents only the 8-lane kernel does), and enough lanes of a group's
+// first rows go on alone that a later row's lanes overwriting theirs fails.
+TEST(SwarmMetrics, EveryKernelWidthAgreesWithTheRowsApart) { expect_every_width_agrees(12000); }
 
 // The 32-bit device counters folded into the host's every few samples
 // (as they are before one could overflow) give the same result.

@@ -47,12 +47,19 @@ SwarmMetrics::SwarmMetrics(Swarm& swarm, double dt_between_samples)
         metric_defines(kBlock, !cpu) + (lanes_ > 1 ? " -DNOISE_WIDTH=" + std::to_string(lanes_) : "");
     gather_ = ctx_.kernel("metrics.cl", "metrics_gather", defines);
     sample_ = ctx_.kernel("metrics.cl", lanes_ > 1 ? "metrics_sample_w" : "metrics_sample", defines);
-    nearest_ = ctx_.kernel("metrics.cl", lanes_ > 1 ? "metrics_nearest_w" : "metrics_nearest", defines);
-    // 16 consecutive sorted points share boxes, one a row of cells they lie
-    // in: 1 cell a point instead of 8 puts more of them in a row (17.7 ->
-    // 16.1 ms a frame of 100k agents at 2, about 4 % less again at 1 with
-    // the rows apart; docs/benchmarks.md); one point a work-item keeps the 8.
+    // 16 consecutive sorted points share boxes: 1 cell a point instead of 8
+    // puts more of them in a row of cells (17.7 -> 16.1 ms a frame of 100k
+    // agents at 2, about 4 % less again at 1 with the rows apart;
+    // docs/benchmarks.md); one point a work-item keeps the 8.  The rows
+    // apart (a box each row of cells the lanes lie in) where a row of the
+    // world's cells is expected to hold at least as many points as lanes: 16
+    // consecutive points then span one or two rows; in a fit's small worlds
+    // (1,024 cells for 300 agents, 3 a row) one box over all lanes is smaller.
     if (lanes_ > 1) grid_.set_cells_per_point(1);
+    const double rows = std::pow(double(grid_.cells_for(n_)), 2.0 / 3.0);
+    const bool rows_apart = lanes_ > 1 && double(n_) >= double(lanes_) * rows;
+    nearest_ = ctx_.kernel("metrics.cl", lanes_ > 1 ? "metrics_nearest_w" : "metrics_nearest",
+                           defines + (rows_apart ? " -DMN_ROWS_APART=1" : ""));
     sort_ = ctx_.kernel("metrics.cl", "metrics_sort_points", defines);
     moments_ = ctx_.kernel("metrics.cl", "metrics_moments", defines);
     if (cpu) histogram_ = ctx_.kernel("metrics.cl", "metrics_histogram", defines);

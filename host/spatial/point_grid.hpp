@@ -60,6 +60,9 @@ public:
     // 1 to 8 (coarser cells for a search that gains from more points a row:
     // the metrics' 16-lane nearest neighbours, eval/swarm_metrics.cpp).
     void set_cells_per_point(uint32_t cells);
+    // The cells of a build from a bounding box over n points (a group's n
+    // for build_groups).
+    uint32_t cells_for(uint32_t n) const;
 
     uint32_t count() const { return n_; }
     // geometry()[0] = origin xyz, 1 / cell edge in w; [1] = cells per axis
@@ -77,7 +80,6 @@ public:
     GridGeometry read_geometry(uint32_t group = 0);
 
 private:
-    uint32_t cells_for(uint32_t n) const;
     uint32_t cells_per_point_ = kCellsPerPoint;
     void reserve(uint32_t n, uint32_t keys);
     void sort_and_count(const DeviceBuffer<cl_float4>& points);
