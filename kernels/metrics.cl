@@ -563,25 +563,37 @@ __kernel void metrics_nearest_w(__global const float4* sp, uint n, uint per_worl
     // Candidate k against the segment's lanes (the others' coordinates are
     // NaN: never less nor equal) into (bd2, bj), as metrics_visit lane by
     // lane (d = p - q, dist2's order).
-#define MN_CANDIDATE_W(k, bd2, bj)                                                                  \
+#define MN_CANDIDATE_W(k, bd2, bj, SELF)                                                            \
     {                                                                                              \
         const float4 q = sp[k];                                                                    \
         const swcl_fw dx = qx - q.x, dy = qy - q.y, dz = qz - q.z;                                 \
-        const swcl_fw d2 = select(dx * dx + dy * dy + dz * dz, (swcl_fw)(NAN), self == (swcl_uw)(k)); \
+        const swcl_fw e2 = dx * dx + dy * dy + dz * dz;                                            \
+        const swcl_fw d2 = (SELF) ? select(e2, (swcl_fw)(NAN), self == (swcl_uw)(k)) : e2;         \
         const swcl_iw better = d2 < (bd2);                                                         \
         tie |= d2 == (bd2);                                                                        \
         (bd2) = select((bd2), d2, better);                                                         \
         (bj) = select((bj), (swcl_uw)(as_uint(q.w)), better);                                      \
     }
-#define MN_VISIT_W(k0, k1)                                                                          \
+#define MN_VISIT_SELF_W(k0, k1, SELF)                                                               \
     {                                                                                              \
         uint k = (k0);                                                                             \
         for (; k + 1u < (k1); k += 2u) {                                                           \
-            MN_CANDIDATE_W(k, best_d2, best)                                                       \
-            MN_CANDIDATE_W(k + 1u, odd_d2, odd)                                                    \
+            MN_CANDIDATE_W(k, best_d2, best, SELF)                                                 \
+            MN_CANDIDATE_W(k + 1u, odd_d2, odd, SELF)                                              \
         }                                                                                          \
-        if (k < (k1)) MN_CANDIDATE_W(k, best_d2, best)                                             \
+        if (k < (k1)) MN_CANDIDATE_W(k, best_d2, best, SELF)                                       \
     }
+#if MN_ROWS_APART
+    // Only ranges holding one of the lanes' own positions test for it (long
+    // rows: 6 % of the kernel at 100k agents; in a fit's small worlds the
+    // branch a range cost more than it saved).
+    const uint own_lo = first + t, own_hi = min(first + t + SWCL_W, last + 1u);
+#define MN_VISIT_W(k0, k1)                                                                          \
+    if ((k1) <= own_lo || (k0) >= own_hi) MN_VISIT_SELF_W(k0, k1, false)                           \
+    else MN_VISIT_SELF_W(k0, k1, true)
+#else
+#define MN_VISIT_W(k0, k1) MN_VISIT_SELF_W(k0, k1, true)
+#endif
     float bd2[SWCL_W], sd2[SWCL_W];  // final; a segment's vectors
     uint bj[SWCL_W], sj[SWCL_W];
     int ties[SWCL_W], sties[SWCL_W];
@@ -661,6 +673,7 @@ __kernel void metrics_nearest_w(__global const float4* sp, uint n, uint per_worl
         }
     }
 #undef MN_VISIT_W
+#undef MN_VISIT_SELF_W
 #undef MN_CANDIDATE_W
     for (uint l = 0; l < SWCL_W && t + l < per_world; ++l) {
         const float4 p = sp[first + t + l];
