@@ -2,7 +2,7 @@
 // paper (§3.2) on the device from a running swarm (eval/swarm_metrics.hpp),
 // streamed into histograms, at --agents agents over --frames sampled frames,
 // the nearest-neighbour search included.  Target: 100k agents x 500 frames
-// within 10 s on the 2-core PoCL CPU.
+// within 10 s on the 2-core PoCL CPU (issue 14), 5 s since issue 29.
 //
 // The swarm runs the field model (curl noise, time varying, domain walls),
 // --steps-between steps per sample.  Figures (each the median of --repeats
