@@ -594,9 +594,9 @@ __kernel void metrics_nearest_w(__global const float4* sp, uint n, uint per_worl
 #else
 #define MN_VISIT_W(k0, k1) MN_VISIT_SELF_W(k0, k1, true)
 #endif
-    float bd2[SWCL_W], sd2[SWCL_W];  // final; a segment's vectors
+    float bd2[SWCL_W], sd2[SWCL_W];  // final; a segment's vector
     uint bj[SWCL_W], sj[SWCL_W];
-    int ties[SWCL_W], sties[SWCL_W];
+    int ties[SWCL_W];  // a lane's bit is final after its segment (NaN is never equal)
     // With MN_ROWS_APART, the lanes in segments of one row of cells each (the
     // points are in cell order, so a segment's cells run along x): where a
     // row holds more points than there are lanes, 16 consecutive points often
@@ -659,16 +659,16 @@ __kernel void metrics_nearest_w(__global const float4* sp, uint n, uint per_worl
         // next size and skipping the shared box's cells.
         swcl_vstore_fw(best_d2, 0, sd2);
         swcl_vstore_uw(best, 0, sj);
-        swcl_vstore_iw(tie, 0, sties);
+        swcl_vstore_iw(tie, 0, ties);
         for (uint l = s0; l < s1; ++l) {
             bd2[l] = sd2[l];
             bj[l] = sj[l];
-            ties[l] = sties[l];
         }
         for (uint l = s0; tail && l < s1 && t + l < per_world; ++l) {
+            if (ties[l]) continue;  // searched again below
             const float4 p = sp[first + t + l];
             const float bound = grid_outside_bound(&g, p, lo, hi);
-            if (ties[l] || (bound > 0.0f && bd2[l] <= bound * bound)) continue;
+            if (bound > 0.0f && bd2[l] <= bound * bound) continue;
             metrics_search(&g, sp, first + t + l, p, r + 1, lo, hi, &bd2[l], &bj[l]);
         }
     }

@@ -220,9 +220,8 @@ TEST(SwarmMetrics, ResultCanBeTakenWhileSamplingGoesOn) {
 // Nearest neighbours over points with exact ties (a lattice: 6 at the same
 // distance), coincident pairs and a far cluster: d of every frame and η
 // (which depends on which neighbour is taken: the lowest index) against a
-// brute force in float, written as the kernel computes.
-// d and η of two frames of a lattice (ties), `cloud` random points, a
-// coincident pair and one point far away, against the brute force.
+// brute force in float, written as the kernel computes; `cloud_points`
+// random points beside the lattice.
 static void expect_nearest_matches_brute_force(uint32_t cloud_points) {
     std::vector<float> p0;
     for (int z = 0; z < 6; ++z)
@@ -317,11 +316,9 @@ TEST(SwarmMetrics, SameSeedGivesBitwiseTheSameHistogramsAndMoments) {
 // (metrics_nearest_w and metrics_sample_w, the CPU devices' default) against
 // one point a work-item: the same neighbours and the same arithmetic, so
 // bitwise the same values of every metric (v, a, ω and α in double lanes, μ,
-// d, η).  1003 agents (the last work-item's lanes past the end), a swarm the
-// goal gathers (dense cells) and a few agents far out (a box grown to the
-// grid's edge).
-// The metrics of a noisy swarm of `agents` at kernel widths 1, 8 and 16 agree
-// bitwise (with five points a line of equal gaps: ties).
+// d, η), for a swarm of `agents`: a swarm the goal gathers (dense cells), a
+// few agents far out (a box grown to the grid's edge) and five points a line
+// of equal gaps (ties).  1003 agents: the last work-item's lanes past the end.
 static void expect_every_width_agrees(uint32_t agents) {
     // Any device runs the wide kernel when the width is forced (the GPU
     // profile too, with its atomic histograms).
