@@ -4,7 +4,11 @@
 // (bench/fmm_skfmm.py through /usr/bin/python3, Debian's python3-scikit-fmm),
 // first and second order, with both max errors against the exact distance.
 //
-//   fmm_bench [--n 128] [--repeats 3] [--python /usr/bin/python3] [--json PATH]
+//   fmm_bench [--n 128] [--repeats 3] [--threads 0] [--python /usr/bin/python3] [--json PATH]
+//
+// --threads: FastMarchingOptions::threads (0: a second thread on large
+// grids, 1: the caller's alone); the run with the other setting is timed as
+// well, first order, and printed beside it.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -31,15 +35,17 @@ using Clock = std::chrono::steady_clock;
 int main(int argc, char** argv) {
     uint32_t n = 128;
     int repeats = 3;
+    unsigned threads = 0;
     std::string python = "/usr/bin/python3", json = std::string(SWARMCL_BENCH_RESULTS_DIR) + "/fmm.json";
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         auto next = [&] { return i + 1 < argc ? std::string(argv[++i]) : std::string(); };
         if (a == "--n") n = uint32_t(std::atoi(next().c_str()));
         else if (a == "--repeats") repeats = std::atoi(next().c_str());
+        else if (a == "--threads") threads = unsigned(std::atoi(next().c_str()));
         else if (a == "--python") python = next();
         else if (a == "--json") json = next();
-        else { std::fprintf(stderr, "usage: fmm_bench [--n 128] [--repeats 3] [--python PATH] [--json PATH]\n"); return 2; }
+        else { std::fprintf(stderr, "usage: fmm_bench [--n 128] [--repeats 3] [--threads 0] [--python PATH] [--json PATH]\n"); return 2; }
     }
     Grid3 g;
     g.h = 1.0 / n;
@@ -57,15 +63,16 @@ int main(int argc, char** argv) {
     std::printf("fmm_bench: %u^3 cells, distance from a sphere of radius %.4f (2 cells), load %.2f\n", n, R,
                 load_average());
     double secs[2], err[2];
-    std::vector<double> runs[2];
+    std::vector<double> runs[2], first_order;
     for (int order = 0; order < 2; ++order) {
         std::vector<double> u;
         for (int r = 0; r < repeats; ++r) {
             const auto t0 = Clock::now();
-            u = solve_cost(g, slowness, {goal}, order == 1);
+            u = solve_cost(g, slowness, {goal}, order == 1, threads);
             runs[order].push_back(std::chrono::duration<double>(Clock::now() - t0).count());
         }
         secs[order] = median(runs[order]);
+        if (order == 0) first_order = u;
         err[order] = 0;
         for (uint32_t k = 0; k < n; ++k)
             for (uint32_t j = 0; j < n; ++j)
@@ -106,6 +113,20 @@ int main(int argc, char** argv) {
     const double s2 = field("order2", "seconds"), e2 = field("order2", "max_error");
     std::printf("  swarmcl first order   %7.3f s   max error %.2f cells\n", secs[0], err[0] / g.h);
     std::printf("  swarmcl second order  %7.3f s   max error %.2f cells\n", secs[1], err[1] / g.h);
+    // The first order once more with the other threads setting: its time,
+    // and whether its result is the same bits.
+    const unsigned other = threads == 1 ? 0 : 1;
+    std::vector<double> other_runs;
+    bool same_bits = true;
+    for (int r = 0; r < repeats; ++r) {
+        const auto t0 = Clock::now();
+        const auto u = solve_cost(g, slowness, {goal}, false, other);
+        other_runs.push_back(std::chrono::duration<double>(Clock::now() - t0).count());
+        same_bits &= u == first_order;
+    }
+    const double other_secs = median(other_runs);
+    std::printf("  first order, threads %u %7.3f s   (threads %u: %.3f s, %.2fx; the same bits: %s)\n", other, other_secs,
+                threads, secs[0], other_secs / secs[0], same_bits ? "yes" : "NO");
     if (s1 > 0) {
         std::printf("  scikit-fmm order 1    %7.3f s   max error %.2f cells   (scikit-fmm / swarmcl: %.2f)\n", s1,
                     e1 / g.h, s1 / secs[0]);
@@ -119,7 +140,9 @@ int main(int argc, char** argv) {
         << load_average() << ",\n  \"cells\": " << n << ",\n  \"swarmcl_order1_seconds\": " << secs[0]
         << ",\n  \"swarmcl_order1_runs\": " << json_array(runs[0], 1.0) << ",\n  \"swarmcl_order1_max_error_cells\": "
         << err[0] / g.h << ",\n  \"swarmcl_order2_seconds\": " << secs[1] << ",\n  \"swarmcl_order2_max_error_cells\": "
-        << err[1] / g.h << ",\n  \"roofline_host_copy\": " << roofline_json(roof, host_gbs) << ",\n  \"skfmm\": " << (peer.empty() ? "null" : peer) << "\n}\n";
+        << err[1] / g.h << ",\n  \"threads\": " << threads << ",\n  \"order1_other_threads\": {\"threads\": " << other
+        << ", \"seconds\": " << other_secs << ", \"runs\": " << json_array(other_runs, 1.0)
+        << ", \"same_bits\": " << (same_bits ? "true" : "false") << "},\n  \"roofline_host_copy\": " << roofline_json(roof, host_gbs) << ",\n  \"skfmm\": " << (peer.empty() ? "null" : peer) << "\n}\n";
     std::printf("  wrote %s\n", json.c_str());
     return 0;
 }

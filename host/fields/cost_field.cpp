@@ -98,7 +98,7 @@ void check_goals(const Grid3& grid, const std::vector<Goal>& goals, const std::v
 }
 
 std::vector<double> solve_cost(const Grid3& grid, const std::vector<double>& slowness, const std::vector<Goal>& goals,
-                               bool second_order) {
+                               bool second_order, unsigned threads) {
     check_goals(grid, goals, slowness);
     std::vector<double> u(grid.count(), kInf);
     for (const Goal& g : goals)
@@ -107,6 +107,7 @@ std::vector<double> solve_cost(const Grid3& grid, const std::vector<double>& slo
         });
     FastMarchingOptions o;
     o.second_order = second_order;
+    o.threads = threads;
     fast_march(grid, slowness, u, o);
     return u;
 }

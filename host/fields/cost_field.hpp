@@ -39,9 +39,10 @@ void check_goals(const Grid3& grid, const std::vector<Goal>& goals, const std::v
 // C by fast marching from the goals: cells within a goal get 0; cells
 // within 3 cells of a goal get slowness * distance to it, exactly (the
 // march starts from a ring, as scikit-fmm does, so a point goal is not a
-// one-cell square).  Impassable and unreachable cells keep +inf.
+// one-cell square).  Impassable and unreachable cells keep +inf.  threads:
+// FastMarchingOptions::threads (0: a second thread on large grids; 1: none).
 std::vector<double> solve_cost(const Grid3& grid, const std::vector<double>& slowness, const std::vector<Goal>& goals,
-                               bool second_order = false);
+                               bool second_order = false, unsigned threads = 0);
 
 // Eq. 8 without s0: -grad C / |grad C| per cell, by central differences where
 // both neighbours are finite and one-sided ones otherwise; where that

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "core/helper_thread.hpp"
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -23,6 +24,8 @@ namespace {
 // side that is impassable and never known, so neighbour indices (up to two
 // cells away for the second-order stencil) need no bounds checks.
 constexpr int64_t kPad = 2;
+
+constexpr size_t kHugePage = size_t(2) << 20;
 
 // The per-neighbour steps are lambdas called six times per accepted cell;
 // GCC would otherwise call them.
@@ -119,12 +122,11 @@ struct Cell {
 class CellArray {
 public:
     explicit CellArray(size_t n) {
-        constexpr size_t kHuge = size_t(2) << 20;
         const size_t bytes = n * sizeof(Cell);
         void* p = nullptr;
-        if (bytes >= kHuge) {
-            const size_t rounded = (bytes + kHuge - 1) / kHuge * kHuge;  // aligned_alloc wants a multiple
-            p = std::aligned_alloc(kHuge, rounded);
+        if (bytes >= kHugePage) {
+            const size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;  // aligned_alloc wants a multiple
+            p = std::aligned_alloc(kHugePage, rounded);
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
             if (p) madvise(p, rounded, MADV_HUGEPAGE);  // a hint: refused, the pages stay small
 #endif
@@ -146,7 +148,7 @@ private:
 };
 
 template <bool kSecond>
-void march(Cell* cell, size_t np, const int64_t stride[3], double h, double delta) {
+void march(Cell* cell, size_t np, const int64_t stride[3], double h, double delta, HelperThread* helper) {
     // The value of cell q for the stencil, +inf unless known: u + 0 or
     // u + inf by the sign bit of f (exact; u is never -inf or NaN), not a
     // branch, as the processor could not predict which neighbours are known.
@@ -262,6 +264,7 @@ void march(Cell* cell, size_t np, const int64_t stride[3], double h, double delt
         (void)q;
 #endif
     };
+    constexpr size_t kChunk = 256;  // candidates a thread takes at a time
     constexpr size_t kAhead = 4;  // entries ahead: enough to hide the latency, not so many the lines are evicted again
 
     for (size_t p = 0; p < np; ++p)
@@ -275,80 +278,175 @@ void march(Cell* cell, size_t np, const int64_t stride[3], double h, double delt
     // later of the two was, one at a time; without it the error at 128^3
     // grows from 1.79 to 4.2 cells).  Values that fall into the bucket being
     // drained make its next batch.
-    std::vector<uint32_t> batch, sorted, bins, candidates;
+    //
+    // Each stage but the sort and the queueing runs on two threads where
+    // there is a helper, with results that do not depend on it (the same
+    // bits on one thread): the solves write only their own cells; the batch
+    // is split in two halves of cell indices, and the cells within a z-slice
+    // of the split (the only ones whose stencils reach into the other half)
+    // are solved again after both halves, in order.
+    std::vector<uint32_t> batch, sorted, bins, candidates, queue_at;
     std::vector<double> values, olds;  // a candidate's new and old value
-    std::vector<uint8_t> listed(np, 0);  // kInBatch, kCandidate or 0
-    constexpr uint8_t kInBatch = 1, kCandidate = 2;
+    // in_batch: the number of the batch a cell was accepted in (mod 255:
+    // cleared when the number wraps, so no pass clears a batch's marks);
+    // listed: a candidate already.
+    std::vector<uint8_t> in_batch(np, 0), listed(np, 0);
+    uint8_t batch_id = 0;
+    struct alignas(64) Half {  // a cache line of its own: each thread writes its half's
+        size_t begin = 0, end = 0;  // its accepted cells, sorted[begin, end)
+        std::vector<uint32_t> found, near;
+    } halves[2];
+    constexpr uint32_t kNoQueue = 0xFFFFFFFFu;
     // A batch sorted by blocks of 256 cells (a counting sort), so that
     // neighbouring cells are visited together: a bucket is in no spatial
     // order (0.255 -> 0.232 s at 128^3).
     constexpr int kBlockShift = 8;
     bins.resize((np >> kBlockShift) + 2);
     const int64_t axes[6] = {-stride[0], stride[0], -stride[1], stride[1], -stride[2], stride[2]};
+    const size_t slice = size_t(stride[2]);
+    size_t split = 0, edge = 0;  // the batch's halves: sorted[0, split), [split, size); cells < edge in the first
+
+    // A cell of the batch beside a lower one of the same batch is solved again.
+    auto resolve_if_lower = [&](size_t p) SWARMCL_INLINE {
+        bool lower = false;
+        for (const int64_t o : axes) lower |= in_batch[p + o] == batch_id && cell[p + o].u < cell[p].u;
+        if (lower) cell[p].u = min_nb(cell[p].u, solve(p, -cell[p].f));
+    };
+    // Half k of the batch accepted: its open cells (a cell queued twice is
+    // in one block, so in one half) marked known and kept in order.
+    auto accept_half = [&](size_t k, size_t) {
+        Half& half = halves[k];
+        half.begin = half.end = k ? split : 0;
+        for (size_t i = half.begin, end = k ? sorted.size() : split; i < end; ++i) {
+            const uint32_t p = sorted[i];
+            if (!(cell[p].f > 0.0)) continue;  // accepted already: queued again when its value dropped a bucket
+            cell[p].f = -cell[p].f;
+            in_batch[p] = batch_id;
+            sorted[half.end++] = p;
+        }
+    };
+    // Half k of the batch: its cells solved again where they are beside a
+    // lower one (in order), and its open neighbours listed, each once.  A
+    // neighbour beside both halves is the first half's; cells within a slice
+    // of the edge are left for after both halves.
+    auto gather_half = [&](size_t k, size_t) {
+        std::vector<uint32_t>& found = halves[k].found;
+        std::vector<uint32_t>& near = halves[k].near;
+        found.clear();
+        near.clear();
+        for (size_t i = halves[k].begin; i < halves[k].end; ++i) {
+            const size_t p = sorted[i];
+            bool lower = false;  // beside a lower cell of the batch
+            for (const int64_t o : axes) {
+                const size_t q = p + o;
+                lower |= in_batch[q] == batch_id && cell[q].u < cell[p].u;
+                if (!(cell[q].f > 0.0)) continue;
+                if (k == 1 && q < edge + slice) {  // beside the first half too? (before listed[q]: the other thread's)
+                    bool first = false;
+                    for (const int64_t r : axes) first |= in_batch[q + r] == batch_id && q + r < edge;
+                    if (first) continue;
+                }
+                if (listed[q]) continue;
+                listed[q] = 1;
+                found.push_back(uint32_t(q));
+            }
+            if (k == 0 ? p + slice >= edge : p < edge + slice) near.push_back(uint32_t(p));
+            else if (lower) cell[p].u = min_nb(cell[p].u, solve(p, -cell[p].f));
+        }
+    };
+    // The candidates' new values and their old ones, the candidates [begin,
+    // end): each writes only its own.
+    auto solve_candidates = [&](size_t begin, size_t end) {
+        size_t i = begin;
+#if defined(__SSE2__)
+        // First order: two cells at a time, the same bits as one at a time
+        // (0.225 -> 0.195 s at 128^3).
+        if (!kSecond)
+            for (; i + 2 <= end; i += 2) {
+                if (i + kAhead < end) prefetch_stencil(candidates[i + kAhead]);
+                if (i + kAhead + 1 < end) prefetch_stencil(candidates[i + kAhead + 1]);
+                const size_t p = candidates[i], q = candidates[i + 1];
+                __m128d b[3];
+                for (int a = 0; a < 3; ++a)
+                    b[a] = min_nb(_mm_set_pd(known(q + stride[a]), known(p + stride[a])),
+                                  _mm_set_pd(known(q - stride[a]), known(p - stride[a])));
+                const __m128d fh = _mm_mul_pd(_mm_set_pd(cell[q].f, cell[p].f), _mm_set1_pd(h));
+                olds[i] = cell[p].u;
+                olds[i + 1] = cell[q].u;
+                _mm_storeu_pd(&values[i], first_order(b[0], b[1], b[2], fh));
+            }
+#endif
+        for (; i < end; ++i) {
+            if (i + kAhead < end) prefetch_stencil(candidates[i + kAhead]);
+            values[i] = solve(candidates[i], cell[candidates[i]].f);
+            olds[i] = cell[candidates[i]].u;
+        }
+    };
+    // The candidates' lower values written, and the bucket each must join
+    // (kNoQueue: none; a queued cell whose value stays in its bucket keeps
+    // its place, and is accepted with the value it has then).
+    auto lower_candidates = [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) {
+            const size_t q = candidates[i];
+            const double v = values[i], t = olds[i];
+            listed[q] = 0;
+            queue_at[i] = kNoQueue;
+            if (!(v < t)) continue;
+            cell[q].u = v;
+            const size_t b = size_t(v * inv_delta);
+            if (!(t < kInf) || b != size_t(t * inv_delta)) queue_at[i] = uint32_t(std::min<size_t>(b, kNoQueue - 1));
+        }
+    };
+    auto on_both = [&](size_t n, size_t chunk, auto& body) {
+        if (helper && n > chunk) helper->for_chunks(n, chunk, body);
+        else body(0, n);
+    };
+
     for (current = 0; current < buckets.size(); ++current) {
         while (!buckets[current].empty()) {
             batch.clear();
             batch.swap(buckets[current]);
-            std::fill(bins.begin(), bins.end(), 0u);
-            size_t m = 0;
-            for (const uint32_t p : batch)
-                if (cell[p].f > 0.0) {  // else accepted already: queued again when its value dropped a bucket
-                    cell[p].f = -cell[p].f;
-                    listed[p] = kInBatch;
-                    batch[m++] = p;
-                    ++bins[(p >> kBlockShift) + 1];
-                }
-            for (size_t k = 1; k < bins.size(); ++k) bins[k] += bins[k - 1];
-            sorted.resize(m);
-            for (size_t i = 0; i < m; ++i) sorted[bins[batch[i] >> kBlockShift]++] = batch[i];
-
-            candidates.clear();
-            for (size_t i = 0; i < m; ++i) {
-                const size_t p = sorted[i];
-                bool lower = false;  // beside a lower cell of the batch
-                for (const int64_t o : axes) {
-                    const size_t q = p + o;
-                    lower |= listed[q] == kInBatch && cell[q].u < cell[p].u;
-                    if (cell[q].f > 0.0 && !listed[q]) {
-                        listed[q] = kCandidate;
-                        candidates.push_back(uint32_t(q));
-                    }
-                }
-                if (lower) cell[p].u = min_nb(cell[p].u, solve(p, -cell[p].f));
+            if (++batch_id == 0) {
+                std::fill(in_batch.begin(), in_batch.end(), uint8_t(0));
+                batch_id = 1;
             }
-            for (size_t i = 0; i < m; ++i) listed[sorted[i]] = 0;
+            std::fill(bins.begin(), bins.end(), 0u);
+            for (const uint32_t p : batch) ++bins[(p >> kBlockShift) + 1];
+            for (size_t k = 1; k < bins.size(); ++k) bins[k] += bins[k - 1];
+            const size_t n = batch.size();
+            sorted.resize(n);
+            for (const uint32_t p : batch) sorted[bins[p >> kBlockShift]++] = p;
 
+            // The halves split at a block's start near the middle; a batch
+            // too small to share stays whole (the same with a helper or not).
+            split = n;
+            if (n >= 2 * kChunk) {
+                split = n / 2;
+                while (split < n && sorted[split] >> kBlockShift == sorted[split - 1] >> kBlockShift) ++split;
+            }
+            edge = split < n ? size_t(sorted[split] >> kBlockShift) << kBlockShift : np;
+            if (helper && split < n) {
+                helper->for_chunks(2, 1, accept_half);
+                helper->for_chunks(2, 1, gather_half);
+            } else {
+                accept_half(0, 0);
+                accept_half(1, 0);
+                gather_half(0, 0);
+                gather_half(1, 0);
+            }
+            for (const Half& half : halves)
+                for (const uint32_t p : half.near) resolve_if_lower(p);
+
+            candidates.assign(halves[0].found.begin(), halves[0].found.end());
+            candidates.insert(candidates.end(), halves[1].found.begin(), halves[1].found.end());
             const size_t nc = candidates.size();
             values.resize(nc);
             olds.resize(nc);
-            size_t i = 0;
-#if defined(__SSE2__)
-            // First order: two cells at a time, the same bits as one at a time
-            // (0.225 -> 0.195 s at 128^3).
-            if (!kSecond)
-                for (; i + 2 <= nc; i += 2) {
-                    if (i + kAhead < nc) prefetch_stencil(candidates[i + kAhead]);
-                    if (i + kAhead + 1 < nc) prefetch_stencil(candidates[i + kAhead + 1]);
-                    const size_t p = candidates[i], q = candidates[i + 1];
-                    __m128d b[3];
-                    for (int a = 0; a < 3; ++a)
-                        b[a] = min_nb(_mm_set_pd(known(q + stride[a]), known(p + stride[a])),
-                                      _mm_set_pd(known(q - stride[a]), known(p - stride[a])));
-                    const __m128d fh = _mm_mul_pd(_mm_set_pd(cell[q].f, cell[p].f), _mm_set1_pd(h));
-                    olds[i] = cell[p].u;
-                    olds[i + 1] = cell[q].u;
-                    _mm_storeu_pd(&values[i], first_order(b[0], b[1], b[2], fh));
-                }
-#endif
-            for (; i < nc; ++i) {
-                if (i + kAhead < nc) prefetch_stencil(candidates[i + kAhead]);
-                values[i] = solve(candidates[i], cell[candidates[i]].f);
-                olds[i] = cell[candidates[i]].u;
-            }
-            for (size_t i = 0; i < nc; ++i) {
-                listed[candidates[i]] = 0;
-                lower_to(candidates[i], values[i], olds[i]);
-            }
+            queue_at.resize(nc);
+            on_both(nc, kChunk, solve_candidates);
+            on_both(nc, 4 * kChunk, lower_candidates);
+            for (size_t i = 0; i < nc; ++i)
+                if (queue_at[i] != kNoQueue) enqueue(candidates[i], queue_at[i]);
         }
         if (buckets[current].capacity()) spare.push_back(std::move(buckets[current]));
     }
@@ -396,8 +494,12 @@ void fast_march(const Grid3& g, const std::vector<double>& slowness, std::vector
     // drained (the second-order stencil keeps it only above the smallest
     // neighbour) joins that bucket.
     const double delta = g.h * f_min / std::sqrt(3.0) * (options.second_order ? 0.5 : 1.0);
-    if (options.second_order) march<true>(cell.data(), np, stride, g.h, delta);
-    else march<false>(cell.data(), np, stride, g.h, delta);
+    // The march's stages on two threads where the grid is large enough to
+    // pay for starting one (a few tens of microseconds).
+    std::unique_ptr<HelperThread> helper;
+    if (options.threads != 1 && np * sizeof(Cell) >= kHugePage) helper = std::make_unique<HelperThread>();
+    if (options.second_order) march<true>(cell.data(), np, stride, g.h, delta, helper.get());
+    else march<false>(cell.data(), np, stride, g.h, delta, helper.get());
 
     for (int64_t z = 0; z < nz; ++z)
         for (int64_t y = 0; y < ny; ++y) {

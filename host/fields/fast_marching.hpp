@@ -13,6 +13,10 @@ namespace swarmcl {
 
 struct FastMarchingOptions {
     bool second_order = false;  // Sethian's second-order upwind stencil where two known cells line up
+    // 1: the caller's thread alone; otherwise a second thread beside it
+    // where the grid is large (over 2 MB of cells) and the machine has a
+    // second processor.  The result is the same bits either way.
+    unsigned threads = 0;
 };
 
 // u: in: the known values (finite) and +inf elsewhere; out: the solution.
