@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <queue>
 #include <random>
 
@@ -242,6 +243,31 @@ TEST(CostField, FastMarchingGivesTheSameBitsOnOneThreadOrTwo) {
         EXPECT_EQ(a, b) << "second order " << second;
         EXPECT_EQ(b, c) << "second order " << second;
         EXPECT_TRUE(std::all_of(a.begin(), a.end(), [](double v) { return v >= 0; }));
+    }
+}
+
+// Bad slowness (0, negative, NaN) anywhere, on a grid small enough for one
+// thread and on one large enough for two, or arrays that do not match the
+// grid: an InvalidArgument error, and the caller's values untouched.
+TEST(CostField, FastMarchingRejectsBadSlowness) {
+    for (const uint32_t N : {8u, 64u}) {
+        const Grid3 g = cube_grid(0, 1, N);
+        for (const double bad : {0.0, -1.0, double(NAN)}) {
+            std::vector<double> f(g.count(), 1.0), u(g.count(), kInf);
+            u[0] = 0.0;
+            f[g.index(N - 1, N / 2, N - 2)] = bad;
+            const std::vector<double> before = u;
+            try {
+                fast_march(g, f, u);
+                ADD_FAILURE() << "slowness " << bad << " accepted at " << N << "^3";
+            } catch (const Error& e) {
+                EXPECT_EQ(e.status(), Status::InvalidArgument);
+                EXPECT_NE(std::string(e.what()).find("slowness"), std::string::npos) << e.what();
+            }
+            EXPECT_EQ(std::memcmp(u.data(), before.data(), u.size() * sizeof(double)), 0);
+        }
+        std::vector<double> f(g.count(), 1.0), short_u(g.count() - 1, kInf);
+        EXPECT_THROW(fast_march(g, f, short_u), Error);
     }
 }
 

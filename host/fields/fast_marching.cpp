@@ -134,8 +134,7 @@ public:
             p = std::malloc(std::max<size_t>(bytes, 1));
         }
         if (!p) fail(Status::OutOfMemory, "fast marching: out of memory for " + std::to_string(n) + " cells");
-        cells_.reset(static_cast<Cell*>(p));
-        std::fill(cells_.get(), cells_.get() + n, Cell{kInf, -kInf});
+        cells_.reset(static_cast<Cell*>(p));  // uninitialised: fast_march writes every cell
     }
     Cell* data() { return cells_.get(); }
     Cell& operator[](size_t i) { return cells_.get()[i]; }
@@ -287,9 +286,9 @@ void march(Cell* cell, size_t np, const int64_t stride[3], double h, double delt
     // are solved again after both halves, in order.
     std::vector<uint32_t> batch, sorted, bins, candidates, queue_at;
     std::vector<double> values, olds;  // a candidate's new and old value
-    // in_batch: the number of the batch a cell was accepted in (mod 255:
-    // cleared when the number wraps, so no pass clears a batch's marks);
-    // listed: a candidate already.
+    // in_batch: the number of the batch a cell was accepted in; listed: of
+    // the batch it was listed a candidate in (mod 255: both cleared when the
+    // number wraps, so no pass clears a batch's marks).
     std::vector<uint8_t> in_batch(np, 0), listed(np, 0);
     uint8_t batch_id = 0;
     struct alignas(64) Half {  // a cache line of its own: each thread writes its half's
@@ -346,8 +345,8 @@ void march(Cell* cell, size_t np, const int64_t stride[3], double h, double delt
                     for (const int64_t r : axes) first |= in_batch[q + r] == batch_id && q + r < edge;
                     if (first) continue;
                 }
-                if (listed[q]) continue;
-                listed[q] = 1;
+                if (listed[q] == batch_id) continue;
+                listed[q] = batch_id;
                 found.push_back(uint32_t(q));
             }
             if (k == 0 ? p + slice >= edge : p < edge + slice) near.push_back(uint32_t(p));
@@ -389,7 +388,6 @@ void march(Cell* cell, size_t np, const int64_t stride[3], double h, double delt
         for (size_t i = begin; i < end; ++i) {
             const size_t q = candidates[i];
             const double v = values[i], t = olds[i];
-            listed[q] = 0;
             queue_at[i] = kNoQueue;
             if (!(v < t)) continue;
             cell[q].u = v;
@@ -408,6 +406,7 @@ void march(Cell* cell, size_t np, const int64_t stride[3], double h, double delt
             batch.swap(buckets[current]);
             if (++batch_id == 0) {
                 std::fill(in_batch.begin(), in_batch.end(), uint8_t(0));
+                std::fill(listed.begin(), listed.end(), uint8_t(0));
                 batch_id = 1;
             }
             std::fill(bins.begin(), bins.end(), 0u);
@@ -465,20 +464,47 @@ void fast_march(const Grid3& g, const std::vector<double>& slowness, std::vector
     const int64_t stride[3] = {1, px, px * py};
     auto padded = [&](int64_t y, int64_t z) { return size_t(kPad + stride[1] * (y + kPad) + stride[2] * (z + kPad)); };
 
+    // The padded copy, a z-plane at a time on both threads where there is
+    // a helper (see march): the border impassable and never known, each
+    // plane's least slowness and whether every slowness is > 0 kept apart.
+    std::unique_ptr<HelperThread> helper;
+    if (options.threads != 1 && np * sizeof(Cell) >= kHugePage) helper = std::make_unique<HelperThread>();
     CellArray cell(np);
-    double f_min = kInf;
-    bool positive = true;
-    for (int64_t z = 0; z < nz; ++z)
-        for (int64_t y = 0; y < ny; ++y) {
-            const size_t c0 = size_t(nx * (y + ny * z)), p0 = padded(y, z);
-            for (int64_t x = 0; x < nx; ++x) {
-                const double s = slowness[c0 + x], v = u[c0 + x];
-                positive &= s > 0.0;
-                f_min = std::min(f_min, s);
-                const bool known = std::isfinite(v);
-                cell[p0 + x] = known ? Cell{v, -s} : Cell{kInf, std::isfinite(s) ? s : -kInf};
+    std::vector<double> plane_min(size_t(pz), kInf);
+    std::vector<uint8_t> plane_positive(size_t(pz), 1);
+    auto copy_in = [&](size_t begin, size_t end) {
+        const Cell border{kInf, -kInf};
+        for (size_t zp = begin; zp < end; ++zp) {
+            Cell* plane = cell.data() + zp * size_t(stride[2]);
+            const int64_t z = int64_t(zp) - kPad;
+            if (z < 0 || z >= nz) {
+                std::fill(plane, plane + stride[2], border);
+                continue;
             }
+            std::fill(plane, plane + kPad * stride[1], border);
+            std::fill(plane + (kPad + ny) * stride[1], plane + stride[2], border);
+            double f_min = kInf;
+            bool positive = true;
+            for (int64_t y = 0; y < ny; ++y) {
+                const size_t c0 = size_t(nx * (y + ny * z)), p0 = padded(y, z);
+                std::fill(&cell[p0 - kPad], &cell[p0], border);
+                std::fill(&cell[p0 + nx], &cell[p0 + nx + kPad], border);
+                for (int64_t x = 0; x < nx; ++x) {
+                    const double s = slowness[c0 + x], v = u[c0 + x];
+                    positive &= s > 0.0;
+                    f_min = std::min(f_min, s);
+                    const bool known = std::isfinite(v);
+                    cell[p0 + x] = known ? Cell{v, -s} : Cell{kInf, std::isfinite(s) ? s : -kInf};
+                }
+            }
+            plane_min[zp] = f_min;
+            plane_positive[zp] = positive;
         }
+    };
+    if (helper) helper->for_chunks(size_t(pz), 4, copy_in);
+    else copy_in(0, size_t(pz));
+    const double f_min = *std::min_element(plane_min.begin(), plane_min.end());
+    const bool positive = std::all_of(plane_positive.begin(), plane_positive.end(), [](uint8_t p) { return p != 0; });
     require(positive, "fast marching: slowness must be > 0 (+inf: impassable)");
     if (!std::isfinite(f_min)) return;  // every cell impassable
 
@@ -494,18 +520,18 @@ void fast_march(const Grid3& g, const std::vector<double>& slowness, std::vector
     // drained (the second-order stencil keeps it only above the smallest
     // neighbour) joins that bucket.
     const double delta = g.h * f_min / std::sqrt(3.0) * (options.second_order ? 0.5 : 1.0);
-    // The march's stages on two threads where the grid is large enough to
-    // pay for starting one (a few tens of microseconds).
-    std::unique_ptr<HelperThread> helper;
-    if (options.threads != 1 && np * sizeof(Cell) >= kHugePage) helper = std::make_unique<HelperThread>();
     if (options.second_order) march<true>(cell.data(), np, stride, g.h, delta, helper.get());
     else march<false>(cell.data(), np, stride, g.h, delta, helper.get());
 
-    for (int64_t z = 0; z < nz; ++z)
-        for (int64_t y = 0; y < ny; ++y) {
-            const size_t c0 = size_t(nx * (y + ny * z)), p0 = padded(y, z);
-            for (int64_t x = 0; x < nx; ++x) u[c0 + x] = cell[p0 + x].u;
-        }
+    auto copy_out = [&](size_t begin, size_t end) {
+        for (int64_t z = int64_t(begin); z < int64_t(end); ++z)
+            for (int64_t y = 0; y < ny; ++y) {
+                const size_t c0 = size_t(nx * (y + ny * z)), p0 = padded(y, z);
+                for (int64_t x = 0; x < nx; ++x) u[c0 + x] = cell[p0 + x].u;
+            }
+    };
+    if (helper) helper->for_chunks(size_t(nz), 4, copy_out);
+    else copy_out(0, size_t(nz));
 }
 
 }  // namespace swarmcl
