@@ -5,7 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <memory>
+#include <stdexcept>
+#include <thread>
 #include <vector>
 
 #include "core/helper_thread.hpp"
@@ -58,5 +61,46 @@ TEST(HelperThread, StopsWhenIdleOrAfterWork) {
             helper->for_chunks(1000, 10, body);
             ASSERT_EQ(sum.load(), 1000u);
         }
+    }
+}
+
+// A body that throws, on whichever thread runs that chunk: for_chunks
+// rethrows it once both threads have stopped, and the next job runs whole.
+TEST(HelperThread, AThrowingBodyIsRethrownAndTheHelperGoesOn) {
+    HelperThread helper;
+    for (int round = 0; round < 200; ++round) {
+        std::atomic<size_t> ran{0};
+        auto failing = [&](size_t begin, size_t end) {
+            ran += end - begin;
+            if (begin <= 700 && 700 < end) throw std::runtime_error("chunk 700");
+        };
+        EXPECT_THROW(helper.for_chunks(1000, 10, failing), std::runtime_error);
+        EXPECT_LE(ran.load(), 1000u);
+        std::atomic<size_t> sum{0};
+        auto counting = [&](size_t begin, size_t end) { sum += end - begin; };
+        helper.for_chunks(1000, 10, counting);
+        ASSERT_EQ(sum.load(), 1000u) << round;
+    }
+}
+
+// The helper's own exception reaches the caller: a body that throws only on
+// the helper thread, and on the caller's waits (up to 10 s) until the helper
+// has taken a chunk.
+TEST(HelperThread, TheHelpersExceptionReachesTheCaller) {
+    HelperThread helper;
+    if (!helper.running()) GTEST_SKIP() << "one processor: no helper thread";
+    const auto caller = std::this_thread::get_id();
+    for (int round = 0; round < 20; ++round) {
+        std::atomic<bool> helper_ran{false};
+        auto on_helper_only = [&](size_t, size_t) {
+            if (std::this_thread::get_id() != caller) {
+                helper_ran = true;
+                throw std::runtime_error("helper");
+            }
+            const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+            while (!helper_ran && std::chrono::steady_clock::now() < until) std::this_thread::yield();
+        };
+        EXPECT_THROW(helper.for_chunks(100, 1, on_helper_only), std::runtime_error) << round;
+        EXPECT_TRUE(helper_ran.load());
     }
 }

@@ -3,9 +3,11 @@
 // (host/core/helper_thread.cpp, host/fields/fast_marching.cpp), compiled
 // with -fsanitize=thread, on a 64^3 grid with a wall and random slowness,
 // both orders, against the caller's thread alone; then 2,000 loops posted
-// back to back.  A race makes TSan exit with 66; different bits exit 1.
+// back to back, and 200 whose body throws.  A race makes TSan exit with 66;
+// different bits, or an exception lost, exit 1.
 #include <cstdio>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 #include "core/helper_thread.hpp"
@@ -47,6 +49,20 @@ int main() {
         };
         helper.for_chunks(n, 256, body);
         for (size_t i = 0; i < n; ++i) failed |= out[i] != round;
+    }
+    // A throwing body: rethrown on the caller, the helper stopped cleanly.
+    for (int round = 0; round < 200; ++round) {
+        auto throwing = [&](size_t begin, size_t end) {
+            for (size_t i = begin; i < end; ++i) out[i] = -round;
+            if (begin <= 5000 && 5000 < end) throw std::runtime_error("chunk 5000");
+        };
+        bool threw = false;
+        try {
+            helper.for_chunks(out.size(), 64, throwing);
+        } catch (const std::runtime_error&) {
+            threw = true;
+        }
+        failed |= !threw;
     }
     std::printf("tsan_host_threads: %s\n", failed ? "FAILED" : "ok");
     return failed;

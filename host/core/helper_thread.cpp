@@ -1,6 +1,7 @@
 #include "core/helper_thread.hpp"
 
 #include <chrono>
+#include <exception>
 #include <system_error>
 
 #if defined(__SSE2__)
@@ -61,6 +62,7 @@ void HelperThread::run(size_t n, size_t chunk, Fn fn, void* ctx) {
     chunk_ = chunk ? chunk : 1;
     fn_ = fn;
     ctx_ = ctx;
+    error_ = nullptr;
     next_.store(0, std::memory_order_relaxed);
     if (!thread_.joinable() || n <= chunk_) {
         take_chunks();
@@ -73,10 +75,18 @@ void HelperThread::run(size_t n, size_t chunk, Fn fn, void* ctx) {
         posted_.store(job, std::memory_order_release);
     }
     wake_.notify_one();
-    take_chunks();
+    std::exception_ptr mine;
+    try {
+        take_chunks();
+    } catch (...) {
+        mine = std::current_exception();
+        next_.store(n_, std::memory_order_relaxed);  // no more chunks for the helper either
+    }
     uint64_t expected = job;
-    if (open_.compare_exchange_strong(expected, job | kClosed, std::memory_order_acq_rel)) return;
-    while (finished_.load(std::memory_order_acquire) != job) cpu_relax();  // the helper is inside its last chunk
+    if (!open_.compare_exchange_strong(expected, job | kClosed, std::memory_order_acq_rel))
+        while (finished_.load(std::memory_order_acquire) != job) cpu_relax();  // the helper is inside its last chunk
+    if (mine) std::rethrow_exception(mine);
+    if (error_) std::rethrow_exception(error_);
 }
 
 void HelperThread::loop() {
@@ -96,7 +106,12 @@ void HelperThread::loop() {
         seen = posted_.load(std::memory_order_acquire);
         uint64_t expected = seen;
         if (!open_.compare_exchange_strong(expected, seen | kTaken, std::memory_order_acq_rel)) continue;
-        take_chunks();
+        try {
+            take_chunks();
+        } catch (...) {  // the caller rethrows it
+            error_ = std::current_exception();
+            next_.store(n_, std::memory_order_relaxed);
+        }
         finished_.store(seen, std::memory_order_release);
     }
 }

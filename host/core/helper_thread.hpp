@@ -9,6 +9,7 @@
 #include <condition_variable>
 #include <cstddef>
 #include <cstdint>
+#include <exception>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -27,7 +28,9 @@ public:
     bool running() const { return thread_.joinable(); }
 
     // body(begin, end) over [0, n) in chunks of `chunk`, on both threads;
-    // returns when every chunk is done.  body must not throw.
+    // returns when every chunk is done.  Where body throws, the chunks not
+    // yet started are dropped and the first exception is rethrown here once
+    // both threads have stopped.
     template <class Body>
     void for_chunks(size_t n, size_t chunk, Body& body) {
         run(n, chunk, [](void* b, size_t begin, size_t end) { (*static_cast<Body*>(b))(begin, end); }, &body);
@@ -50,6 +53,7 @@ private:
     size_t n_ = 0, chunk_ = 1;
     Fn fn_ = nullptr;
     void* ctx_ = nullptr;
+    std::exception_ptr error_;  // the helper's, read by the caller after finished_
     std::thread thread_;
 };
 

@@ -424,6 +424,11 @@ void march(Cell* cell, size_t np, const int64_t stride[3], double h, double delt
                 while (split < n && sorted[split] >> kBlockShift == sorted[split - 1] >> kBlockShift) ++split;
             }
             edge = split < n ? size_t(sorted[split] >> kBlockShift) << kBlockShift : np;
+            for (size_t k = 0; k < 2; ++k) {  // room for every push of the halves (6 neighbours a cell)
+                const size_t cells = k ? n - split : split;
+                halves[k].found.reserve(6 * cells);
+                halves[k].near.reserve(cells);
+            }
             if (helper && split < n) {
                 helper->for_chunks(2, 1, accept_half);
                 helper->for_chunks(2, 1, gather_half);
