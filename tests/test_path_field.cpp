@@ -12,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "fields/cost_field.hpp"
+#include "fast_march_cases.hpp"
 #include "fields/fast_marching.hpp"
 #include "models/path_model.hpp"
 #include "test_support.hpp"
@@ -194,14 +195,11 @@ std::vector<double> heap_fast_march(const Grid3& g, const std::vector<double>& f
 TEST(CostField, FastMarchingMatchesTheHeapOrderedReference) {
     const uint32_t N = 48;
     const Grid3 g = cube_grid(0, 1, N);
-    std::mt19937 rng(7);
-    std::uniform_real_distribution<double> slow(1.0, 3.0);
-    std::vector<double> f(g.count()), u(g.count(), kInf);
-    for (auto& x : f) x = slow(rng);
+    std::vector<double> f = test::random_slowness(g.count(), 7, 1.0, 3.0), u(g.count(), kInf);
     for (uint32_t k = 0; k < N; ++k)
         for (uint32_t j = 0; j < N; ++j) {
             if (j < 10 || j >= 14) f[g.index(20, j, k)] = kInf;  // a wall with a gap
-            f[g.index(j, 30, k)] = kInf;                                    // a wall that seals off y > 30
+            f[g.index(j, 30, k)] = kInf;                         // a wall that seals off y > 30
         }
     u[g.index(5, 7, 9)] = 0.0;
     const auto reference = heap_fast_march(g, f, u);
@@ -222,24 +220,15 @@ TEST(CostField, FastMarchingMatchesTheHeapOrderedReference) {
 // which fast_march starts one) give the same bits as the caller's thread
 // alone, for either order, every run.
 TEST(CostField, FastMarchingGivesTheSameBitsOnOneThreadOrTwo) {
-    const uint32_t N = 64;
-    const Grid3 g = cube_grid(0, 1, N);
-    std::mt19937 rng(11);
-    std::uniform_real_distribution<double> slow(1.0, 2.0);
-    std::vector<double> f(g.count()), u(g.count(), kInf);
-    for (auto& x : f) x = slow(rng);
-    for (uint32_t k = 0; k < 50; ++k)
-        for (uint32_t j = 10; j < N; ++j) f[g.index(32, j, k)] = kInf;
-    u[g.index(50, 40, 3)] = 0.0;
-    u[g.index(7, 60, 60)] = 0.0;
+    const test::WalledGrid w = test::walled_grid_64();
     for (const bool second : {false, true}) {
         FastMarchingOptions one, two;
         one.threads = 1;
         one.second_order = two.second_order = second;
-        std::vector<double> a = u, b = u, c = u;
-        fast_march(g, f, a, one);
-        fast_march(g, f, b, two);
-        fast_march(g, f, c, two);
+        std::vector<double> a = w.known, b = w.known, c = w.known;
+        fast_march(w.grid, w.slowness, a, one);
+        fast_march(w.grid, w.slowness, b, two);
+        fast_march(w.grid, w.slowness, c, two);
         EXPECT_EQ(a, b) << "second order " << second;
         EXPECT_EQ(b, c) << "second order " << second;
         EXPECT_TRUE(std::all_of(a.begin(), a.end(), [](double v) { return v >= 0; }));

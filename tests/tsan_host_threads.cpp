@@ -1,40 +1,30 @@
 // The host's own threads under ThreadSanitizer (tests/CMakeLists.txt,
 // tsan.host_threads): fast marching's helper thread
 // (host/core/helper_thread.cpp, host/fields/fast_marching.cpp), compiled
-// with -fsanitize=thread, on a 64^3 grid with a wall and random slowness,
-// both orders, against the caller's thread alone; then 2,000 loops posted
+// with -fsanitize=thread, on tests/fast_march_cases.hpp's 64^3 grid with a
+// wall, both orders, against the caller's thread alone; then 2,000 loops posted
 // back to back, and 200 whose body throws.  A race makes TSan exit with 66;
 // different bits, or an exception lost, exit 1.
 #include <cstdio>
-#include <random>
 #include <stdexcept>
 #include <vector>
 
 #include "core/helper_thread.hpp"
+#include "fast_march_cases.hpp"
 #include "fields/fast_marching.hpp"
 
 using namespace swarmcl;
 
 int main() {
-    const uint32_t N = 64;
-    Grid3 g;
-    g.h = 1.0 / N;
-    g.dims = {N, N, N};
-    std::mt19937 rng(3);
-    std::uniform_real_distribution<double> slow(1.0, 2.0);
-    std::vector<double> f(g.count()), u(g.count(), kInf);
-    for (auto& x : f) x = slow(rng);
-    for (uint32_t k = 0; k < 50; ++k)
-        for (uint32_t j = 10; j < N; ++j) f[g.index(32, j, k)] = kInf;
-    u[g.index(50, 40, 3)] = 0.0;
+    const test::WalledGrid w = test::walled_grid_64();
     int failed = 0;
     for (const bool second : {false, true}) {
         FastMarchingOptions one, two;
         one.threads = 1;
         one.second_order = two.second_order = second;
-        std::vector<double> a = u, b = u;
-        fast_march(g, f, a, one);
-        fast_march(g, f, b, two);
+        std::vector<double> a = w.known, b = w.known;
+        fast_march(w.grid, w.slowness, a, one);
+        fast_march(w.grid, w.slowness, b, two);
         if (a != b) {
             std::printf("order %d: one thread and two differ\n", second ? 2 : 1);
             failed = 1;
