@@ -223,11 +223,19 @@ void march(Cell* cell, size_t np, const int64_t stride[3], double h, double delt
     // Cell q's value becomes v where that is lower.  A queued cell whose
     // value stays in its bucket keeps its place (it is accepted with the
     // value it has then).
-    auto lower_to = [&](size_t q, double v, double t) SWARMCL_INLINE {  // t: cell[q].u
-        if (!(v < t)) return;
+    // Writes v where it is below t (cell q's value) and returns the bucket q
+    // must join, kNoQueue where none (a queued cell whose value stays in its
+    // bucket keeps its place).
+    constexpr size_t kNoQueue = 0xFFFFFFFFu;
+    auto lower_cell = [&](size_t q, double v, double t) SWARMCL_INLINE -> size_t {
+        if (!(v < t)) return kNoQueue;
         cell[q].u = v;
         const size_t b = size_t(v * inv_delta);
-        if (!(t < kInf) || b != size_t(t * inv_delta)) enqueue(uint32_t(q), b);
+        return !(t < kInf) || b != size_t(t * inv_delta) ? std::min<size_t>(b, kNoQueue - 1) : kNoQueue;
+    };
+    auto lower_to = [&](size_t q, double v, double t) SWARMCL_INLINE {  // t: cell[q].u
+        const size_t b = lower_cell(q, v, t);
+        if (b != kNoQueue) enqueue(uint32_t(q), b);
     };
     auto visit = [&](size_t nb) SWARMCL_INLINE {
         if (!(cell[nb].f > 0.0)) return;  // known or blocked
@@ -295,7 +303,6 @@ void march(Cell* cell, size_t np, const int64_t stride[3], double h, double delt
         size_t begin = 0, end = 0;  // its accepted cells, sorted[begin, end)
         std::vector<uint32_t> found, near;
     } halves[2];
-    constexpr uint32_t kNoQueue = 0xFFFFFFFFu;
     // A batch sorted by blocks of 256 cells (a counting sort), so that
     // neighbouring cells are visited together: a bucket is in no spatial
     // order (0.255 -> 0.232 s at 128^3).
@@ -386,13 +393,7 @@ void march(Cell* cell, size_t np, const int64_t stride[3], double h, double delt
     // its place, and is accepted with the value it has then).
     auto lower_candidates = [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) {
-            const size_t q = candidates[i];
-            const double v = values[i], t = olds[i];
-            queue_at[i] = kNoQueue;
-            if (!(v < t)) continue;
-            cell[q].u = v;
-            const size_t b = size_t(v * inv_delta);
-            if (!(t < kInf) || b != size_t(t * inv_delta)) queue_at[i] = uint32_t(std::min<size_t>(b, kNoQueue - 1));
+            queue_at[i] = uint32_t(lower_cell(candidates[i], values[i], olds[i]));
         }
     };
     auto on_both = [&](size_t n, size_t chunk, auto& body) {
