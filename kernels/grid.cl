@@ -7,9 +7,10 @@
 // (An invalid layout has old_key = ncells, "no cell": every agent then counts
 // as moved.)  An agent still in its layout cell is a "stayer"; the stayers,
 // in slot order, are already sorted by (cell, id).  Only the "movers" are
-// sorted: compacted in slot order, sorted by cell with a stable LSD radix
-// sort (per-block digit histograms, no atomics), then each run of equal
-// cells by id.  The new order is the merge of the two sorted lists (merge
+// sorted: compacted in slot order, sorted by cell in two passes of buckets
+// on CPU devices ("Movers on a CPU" below) or with a stable LSD radix sort
+// (per-block digit histograms, no atomics), then each run of equal cells by
+// id.  The new order is the merge of the two sorted lists (merge
 // path: every work-item finds its start by a binary search), and the cell
 // starts follow from the merged keys in one pass.  A simulation step moves
 // some agents to another cell, so a rebuild costs a few streaming passes over
@@ -27,6 +28,15 @@
 #include "lib/prefetch.cl"
 
 static inline uint chunk_size(uint n, uint nchunks) { return (n + nchunks - 1u) / nchunks; }
+
+// Whether `part` of `whole` is under an eighth or over seven eighths: then a
+// branch on which kind comes next is predicted nearly always, and beats
+// grid_movers_write's and grid_merge's branch-free loops (whose next loads
+// wait on each compare: at 5 % movers the merge took 2.4 ms for 1.1 at 1M);
+// at half movers (a field-model step at 1M) the branch-free ones win.
+static inline bool mostly_one_kind(uint part, uint whole) {
+    return 8ul * part < (ulong)whole || 8ul * part > 7ul * whole;
+}
 
 // The key of an agent at p: the first cell of its world + its cell there.
 static inline uint grid_key(float4 p, float4 origin, float inv_cell, int4 dims, uint first) {
@@ -98,15 +108,42 @@ __kernel void grid_movers_write(__global const uint* keys, __global const uint* 
         for (uint s = begin; s < end; ++s) st_slot[stay++] = s;
         return;
     }
-    for (uint s = begin; s < end; ++s) {
-        if (keys[s] != old_key[s]) {
-            r_key[out] = keys[s];
-            r_slot[out] = s;
-            r_id[out] = ids[s];
-            ++out;
-        } else {
-            st_slot[stay++] = s;
+    // Both outputs written, one kept: no branch on whether the agent moved
+    // (half of them do in a field-model step at 1M, unpredictably).  A
+    // stayer's write to r_*[out] is overwritten by the chunk's next mover, a
+    // mover's to st_slot[stay] by its next stayer; so while both have one
+    // to come, which the chunk's count tells.  Then the rest are all one.
+    if (mostly_one_kind(counts[b], end - begin)) {
+        for (uint s = begin; s < end; ++s) {
+            if (keys[s] != old_key[s]) {
+                r_key[out] = keys[s];
+                r_slot[out] = s;
+                r_id[out] = ids[s];
+                ++out;
+            } else {
+                st_slot[stay++] = s;
+            }
         }
+        return;
+    }
+    const uint out_end = out + counts[b], stay_end = stay + (end - begin - counts[b]);
+    uint s = begin;
+    for (; out < out_end && stay < stay_end; ++s) {
+        const uint k = keys[s];
+        const uint moved = k != old_key[s] ? 1u : 0u;
+        r_key[out] = k;
+        r_slot[out] = s;
+        r_id[out] = ids[s];
+        st_slot[stay] = s;
+        out += moved;
+        stay += 1u - moved;
+    }
+    for (; stay < stay_end; ++s) st_slot[stay++] = s;
+    for (; out < out_end; ++s) {
+        r_key[out] = keys[s];
+        r_slot[out] = s;
+        r_id[out] = ids[s];
+        ++out;
     }
 }
 
@@ -165,8 +202,9 @@ __kernel void radix_scatter(__global const uint* keys, __global const uint* slot
     }
 }
 
-// Sorts a few movers (slot[i], id[i]) by id: insertion sort when short or
-// nearly sorted, heap sort for crowded cells so the cost stays n log n.
+// Sorts a few movers (slot[i], id[i]) by id: by rank up to 16, else
+// insertion sort when short or nearly sorted, heap sort for crowded cells so
+// the cost stays n log n.
 static inline void swap_pair(__global uint* slot, __global uint* id, uint a, uint b) {
     const uint ts = slot[a], ti = id[a];
     slot[a] = slot[b];
@@ -185,7 +223,36 @@ static inline void sift_down(__global uint* slot, __global uint* id, uint root, 
     }
 }
 
+// A run of 2 to 16 by rank: each value's place is the count of smaller ids
+// (unique within a cell's world), 16 compares a value whatever the length
+// (the padding, UINT_MAX, is smaller than none), so no branch depends on
+// the ids; every rank first, then the stores.  Insertion sort mispredicted
+// about once a value: at 1M random movers it was most of the sort
+// (docs/benchmarks.md, "Movers in buckets").
+#define SHORT_RUN 16u
+static inline void sort_short_run(__global uint* slot, __global uint* id, uint len) {
+    uint a[SHORT_RUN], s[SHORT_RUN];
+    for (uint k = 0; k < SHORT_RUN; ++k) a[k] = UINT_MAX;
+    for (uint k = 0; k < len; ++k) {
+        a[k] = id[k];
+        s[k] = slot[k];
+    }
+    const uint16 v = vload16(0, a);
+    int16 below = (int16)(0);
+    for (uint j = 0; j < SHORT_RUN; ++j) below += v > (uint16)(a[j]);  // -1 where a[j] is smaller
+    uint rank[SHORT_RUN];
+    vstore16(as_uint16(-below), 0, rank);
+    for (uint i = 0; i < len; ++i) {
+        id[rank[i]] = a[i];
+        slot[rank[i]] = s[i];
+    }
+}
+
 static inline void sort_by_id(__global uint* slot, __global uint* id, uint len) {
+    if (len <= SHORT_RUN) {
+        sort_short_run(slot, id, len);
+        return;
+    }
     uint descents = 0;
     for (uint i = 1; i < len; ++i) descents += id[i - 1u] > id[i] ? 1u : 0u;
     if (descents == 0u) return;
@@ -207,6 +274,85 @@ static inline void sort_by_id(__global uint* slot, __global uint* id, uint len) 
     for (uint e = len - 1u; e > 0u; --e) {
         swap_pair(slot, id, 0u, e);
         sift_down(slot, id, 0u, e);
+    }
+}
+
+// ---- Movers on a CPU: a bucket sort in two passes (NeighborGrid) ----
+// The radix sort scattered three columns twice, into 512 places a block each
+// time: at 1M random movers its writes were most of the build.  Here pass 1
+// (radix_hist and radix_rows on the key's high digit, then bucket_scatter)
+// moves each mover once, as one (key, slot, id) record into its bucket:
+// stable, and in a simulation step nearly streaming, as movers come in slot
+// order, which is their old cells' order.  Pass 2 (grid_sort_buckets) sorts
+// each bucket, a few thousand records in the cache, by the low digit into
+// the key, slot and id columns, then each run of equal keys by id: the
+// radix sort and grid_sort_runs' result, bitwise.
+__kernel void bucket_scatter(__global const uint* keys, __global const uint* slots, __global const uint* ids,
+                             __global const uint* m_ptr, uint shift, uint mask, uint nblocks,
+                             __global uint* offsets, __global const uint* totals, __global uint4* records) {
+    const uint b = get_global_id(0);
+    if (b >= nblocks) return;
+    const uint m = *m_ptr;
+    const uint size = chunk_size(m, nblocks);
+    const uint begin = min(b * size, m), end = min(begin + size, m);
+    if (begin >= end) return;
+    uint base = 0;
+    for (uint d = 0; d <= mask; ++d) {
+        offsets[d * nblocks + b] += base;
+        base += totals[d];
+    }
+    for (uint j = begin; j < end; ++j) {
+        const uint k = keys[j];
+        const uint o = offsets[((k >> shift) & mask) * nblocks + b]++;
+        records[o] = (uint4)(k, slots[j], ids[j], 0u);
+    }
+}
+
+// The low digit's counters live in private memory: at most 2^11 (8 KB).
+#define BUCKET_MAX_LOW_BITS 11u
+
+// Work-item t of `items` sorts the buckets that start in its share of the
+// *m records (bucket d holds totals[d] records, after those of buckets < d),
+// so the items get records, not buckets, alike.
+__kernel void grid_sort_buckets(__global const uint4* records, __global const uint* m_ptr,
+                                __global const uint* totals, uint nbuckets, uint items, uint low_mask,
+                                __global uint* out_key, __global uint* out_slot, __global uint* out_id) {
+    const uint t = get_global_id(0);
+    if (t >= items) return;
+    const uint m = *m_ptr;
+    const uint share = chunk_size(m, items);
+    const uint first = min(t * share, m), last = min(first + share, m);
+    if (first >= last) return;
+    uint place[1u << BUCKET_MAX_LOW_BITS];
+    uint lo = 0;
+    for (uint d = 0; d < nbuckets && lo < last; ++d) {
+        const uint hi = lo + totals[d];
+        if (lo < first || hi == lo) {
+            lo = hi;
+            continue;
+        }
+        for (uint v = 0; v <= low_mask; ++v) place[v] = 0u;
+        for (uint j = lo; j < hi; ++j) place[records[j].x & low_mask] += 1u;
+        uint run = lo;
+        for (uint v = 0; v <= low_mask; ++v) {
+            const uint c = place[v];
+            place[v] = run;
+            run += c;
+        }
+        for (uint j = lo; j < hi; ++j) {
+            const uint4 r = records[j];
+            const uint o = place[r.x & low_mask]++;
+            out_key[o] = r.x;
+            out_slot[o] = r.y;
+            out_id[o] = r.z;
+        }
+        for (uint j = lo; j < hi;) {
+            uint e = j + 1u;
+            while (e < hi && out_key[e] == out_key[j]) ++e;
+            if (e - j > 1u) sort_by_id(out_slot + j, out_id + j, e - j);
+            j = e;
+        }
+        lo = hi;
     }
 }
 
@@ -237,6 +383,40 @@ __kernel void grid_sort_runs(__global const uint* m_ptr, __global const uint* m_
 // perm[new slot] = old slot; new_key[new slot] = cell (the next layout).
 static inline bool stayer_first(uint sk, uint sid, uint mk, uint mid) { return sk < mk || (sk == mk && sid < mid); }
 
+
+// The stayers among the first d outputs of the merge: a binary search on
+// the merge path.
+static inline uint merge_split(__global const uint* keys, __global const uint* ids, __global const uint* st_slot,
+                               __global const uint* m_key, __global const uint* m_id, uint m, uint ns, uint d) {
+    uint lo = d > m ? d - m : 0u, hi = min(d, ns);
+    while (lo < hi) {
+        const uint i = lo + (hi - lo) / 2u, j = d - 1u - i;
+        const uint s = st_slot[i];
+        if (stayer_first(keys[s], ids[s], m_key[j], m_id[j])) lo = i + 1u; else hi = i;
+    }
+    return lo;
+}
+
+// Output d of the merge without a branch, from i stayers and j movers
+// before it: (cell, id) as one 64-bit key, one compare (the order of
+// stayer_first()); an exhausted side compares as the largest.
+static inline void merge_one(__global const uint* keys, __global const uint* ids, __global const uint* st_slot,
+                             __global const uint* m_key, __global const uint* m_slot, __global const uint* m_id,
+                             uint m, uint ns, uint d, uint* i, uint* j, __global uint* perm,
+                             __global uint* new_key) {
+    const uint s = *i < ns ? st_slot[*i] : 0u;
+    const uint jj = min(*j, m > 0u ? m - 1u : 0u);
+    const uint sk = keys[s], mk = m_key[jj];
+    const ulong sv = *i < ns ? upsample(sk, ids[s]) : ULONG_MAX;
+    const ulong mv = *j < m ? upsample(mk, m_id[jj]) : ULONG_MAX;
+    const uint take_stayer = sv < mv ? 1u : 0u;
+    const uint ms = m_slot[jj];
+    perm[d] = take_stayer ? s : ms;
+    new_key[d] = take_stayer ? sk : mk;
+    *i += take_stayer;
+    *j += 1u - take_stayer;
+}
+
 __kernel void grid_merge(__global const uint* keys, __global const uint* ids, __global const uint* st_slot,
                          __global const uint* m_ptr, __global const uint* m_key, __global const uint* m_slot,
                          __global const uint* m_id, uint n, uint per_item, __global uint* perm,
@@ -246,26 +426,33 @@ __kernel void grid_merge(__global const uint* keys, __global const uint* ids, __
     if (d0 >= n) return;
     const uint d1 = min(d0 + per_item, n);
     const uint m = *m_ptr, ns = n - m;
-    uint lo = d0 > m ? d0 - m : 0u, hi = min(d0, ns);
-    while (lo < hi) {  // stayers among the first d0 outputs
-        const uint i = lo + (hi - lo) / 2u, j = d0 - 1u - i;
-        const uint s = st_slot[i];
-        if (stayer_first(keys[s], ids[s], m_key[j], m_id[j])) lo = i + 1u; else hi = i;
-    }
-    uint i = lo, j = d0 - lo;
-    for (uint d = d0; d < d1; ++d) {
-        const uint s = i < ns ? st_slot[i] : 0u;
-        const bool take_stayer = i < ns && (j >= m || stayer_first(keys[s], ids[s], m_key[j], m_id[j]));
-        if (take_stayer) {
-            perm[d] = s;
-            new_key[d] = keys[s];
-            ++i;
-        } else {
-            perm[d] = m_slot[j];
-            new_key[d] = m_key[j];
-            ++j;
+    uint i = merge_split(keys, ids, st_slot, m_key, m_id, m, ns, d0), j = d0 - i;
+    if (mostly_one_kind(m, n)) {
+        // Few movers (or few stayers): the branch is predicted, and the
+        // loads of the next outputs need not wait for this compare.
+        for (uint d = d0; d < d1; ++d) {
+            const uint s = i < ns ? st_slot[i] : 0u;
+            if (i < ns && (j >= m || stayer_first(keys[s], ids[s], m_key[j], m_id[j]))) {
+                perm[d] = s;
+                new_key[d] = keys[s];
+                ++i;
+            } else {
+                perm[d] = m_slot[j];
+                new_key[d] = m_key[j];
+                ++j;
+            }
         }
+        return;
     }
+    // Branch-free, each output's loads wait on the compare before it: so
+    // the range merges as two halves side by side, two such chains at once.
+    const uint second = (d1 - d0) / 2u, dm = d1 - second;
+    uint i2 = merge_split(keys, ids, st_slot, m_key, m_id, m, ns, dm), j2 = dm - i2;
+    for (uint k = 0; k < second; ++k) {
+        merge_one(keys, ids, st_slot, m_key, m_slot, m_id, m, ns, d0 + k, &i, &j, perm, new_key);
+        merge_one(keys, ids, st_slot, m_key, m_slot, m_id, m, ns, dm + k, &i2, &j2, perm, new_key);
+    }
+    if (d0 + second < dm) merge_one(keys, ids, st_slot, m_key, m_slot, m_id, m, ns, d0 + second, &i, &j, perm, new_key);
 }
 
 // Cell starts from the sorted keys: output d opens the cells after its

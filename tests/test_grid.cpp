@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <numeric>
+#include <random>
 #include <string>
 
 #include "spatial/neighbor_grid.hpp"
@@ -77,6 +78,35 @@ TEST(Grid, RandomPointsMatchHostCountingSort) {
     Swarm swarm(ctx, cube_config(20000, -5.0f, 5.0f, 0.4f));
     swarm.write(Attribute::Position, xyz.data(), 20000);
     expect_matches_reference(swarm, xyz);
+}
+
+// Builds after a history, so the state is in the last build's order and ids
+// are not in slot order: half the agents moved a little (movers and stayers
+// interleaved in every chunk, each cell's movers from several old cells, so
+// in no id order; the merge's and the compaction's branch-free loops), one
+// in 40 (their loops for few movers), then every agent (all movers, runs of
+// every length up to a 40-agent cell: the short runs' rank sort and the
+// longer runs' sort).
+TEST(Grid, MovedAgentsMatchHostCountingSort) {
+    auto ctx = shared_context();
+    const uint32_t n = 30001;  // the merge's last work-item gets an odd count
+    auto xyz = random_points(n, 0.0f, 4.0f, 21);
+    Swarm swarm(ctx, cube_config(n, 0.0f, 4.0f, 0.2f));
+    swarm.write(Attribute::Position, xyz.data(), n);
+    expect_matches_reference(swarm, xyz);
+    std::mt19937 rng(22);
+    std::uniform_real_distribution<float> jitter(-0.08f, 0.08f);
+    for (const uint32_t every : {2u, 2u, 40u}) {
+        for (uint32_t i = 0; i < n; i += every)
+            for (int a = 0; a < 3; ++a) xyz[3 * i + a] = std::clamp(xyz[3 * i + a] + jitter(rng), 0.0f, 3.999f);
+        swarm.write(Attribute::Position, xyz.data(), n);
+        expect_matches_reference(swarm, xyz);
+    }
+    auto fresh = random_points(n, 0.0f, 4.0f, 23);
+    for (uint32_t i = 0; i < 40; ++i)  // one crowded cell
+        for (int a = 0; a < 3; ++a) fresh[3 * (i * 701) + a] = 1.01f + 0.001f * float(i % 7);
+    swarm.write(Attribute::Position, fresh.data(), n);
+    expect_matches_reference(swarm, fresh);
 }
 
 TEST(Grid, AgentsOutsideTheDomainAreClampedIntoBorderCells) {
@@ -213,7 +243,8 @@ std::pair<std::vector<cl_uint>, std::vector<cl_uint>> build_grid(Context& ctx, N
 }
 
 // The counting sort (the GPU default) and the chunked sort of the movers
-// (the CPU default) build the same grid, bitwise: three worlds of their own
+// (the CPU default), its movers in buckets (the CPU default) or by the radix
+// sort, build the same grid, bitwise: three worlds of their own
 // geometry, agents outside the domain, a crowded cell (the heap sort), and a
 // second build after a step-like reorder and moves (the chunked sort then
 // sorts only the movers).
@@ -235,15 +266,23 @@ TEST(Grid, CountingAndChunkedSortsBuildTheSameGrid) {
         if (s % per_world < 100) pos[s] = cl_float4{{0.01f, 0.01f, 2.0f * (s / per_world) + 0.01f, 0.0f}};
         ids[s] = per_world - 1 - s % per_world;  // reversed in each world
     }
-    NeighborGrid counting(*ctx, geo, n), chunked(*ctx, geo, n);
+    // The chunked path with each sort of its movers: the buckets and the
+    // radix sort.
+    NeighborGrid counting(*ctx, geo, n), chunked(*ctx, geo, n), radix(*ctx, geo, n);
     if (!counting.use_counting_sort(true)) GTEST_SKIP() << "the device cannot run the scan's work-groups";
     chunked.use_counting_sort(false);
+    radix.use_counting_sort(false);
     ASSERT_TRUE(counting.counting_sort());
     ASSERT_FALSE(chunked.counting_sort());
+    ASSERT_TRUE(chunked.use_bucket_sort(true));
+    ASSERT_FALSE(radix.use_bucket_sort(false));
     const auto a = build_grid(*ctx, counting, pos, ids, per_world, ncells);
     const auto b = build_grid(*ctx, chunked, pos, ids, per_world, ncells);
     EXPECT_EQ(a.first, b.first);
     EXPECT_EQ(a.second, b.second);
+    const auto r = build_grid(*ctx, radix, pos, ids, per_world, ncells);
+    EXPECT_EQ(a.first, r.first);
+    EXPECT_EQ(a.second, r.second);
     // A permutation that keeps every agent in its world's slots.
     std::vector<cl_uint> sorted = a.first;
     std::sort(sorted.begin(), sorted.end());
@@ -261,7 +300,7 @@ TEST(Grid, CountingAndChunkedSortsBuildTheSameGrid) {
         ids2[d] = ids[a.first[d]];
         if (d % 10 == 3) pos2[d].s[0] += 0.37f;
     }
-    for (NeighborGrid* g : {&counting, &chunked}) {
+    for (NeighborGrid* g : {&counting, &chunked, &radix}) {
         DeviceBuffer<cl_float4> p(*ctx, n, "p"), v(*ctx, n, "v"), ps(*ctx, n, "ps"), vs(*ctx, n, "vs");
         DeviceBuffer<cl_uint> id(*ctx, n, "id"), is(*ctx, n, "is");
         p.upload(*ctx, pos.data(), n);
@@ -274,6 +313,9 @@ TEST(Grid, CountingAndChunkedSortsBuildTheSameGrid) {
     const auto e = build_grid(*ctx, chunked, pos2, ids2, per_world, ncells);
     EXPECT_EQ(c.first, e.first);
     EXPECT_EQ(c.second, e.second);
+    const auto f = build_grid(*ctx, radix, pos2, ids2, per_world, ncells);
+    EXPECT_EQ(c.first, f.first);
+    EXPECT_EQ(c.second, f.second);
     EXPECT_NE(c.first, a.first);  // the moves changed the order
 }
 

@@ -24,6 +24,10 @@ constexpr uint32_t kStartItems = 64;  // grid_starts: work-items at least (below
 // in 2 passes, not 3.  1M locusts, 600k movers: 6.3 ms against 7.0-7.5 at 8
 // bits (since the chunked kernels run on both cores).
 constexpr uint32_t kMaxRadixBits = 11;
+// The bucket sort (sort_movers_in_buckets): the low digit's width at most
+// (kernels/grid.cl's BUCKET_MAX_LOW_BITS), and pass 2's work-items at most.
+constexpr uint32_t kMaxBucketLowBits = 11;
+constexpr uint32_t kBucketItems = 128;
 
 uint32_t div_up(uint32_t a, uint32_t b) { return (a + b - 1) / b; }
 
@@ -35,6 +39,13 @@ constexpr uint32_t kScanLocal = 256, kScanBlock = 256 * 8;
 bool counting_sort_wanted(const DeviceEntry& device) {
     if (const char* env = std::getenv("SWARMCL_GRID_SORT"); env && *env) return std::string(env) == "counting";
     return !device.cpu_profile;
+}
+
+// The movers' sort on the chunked path: the bucket sort on CPU devices
+// unless $SWARMCL_MOVER_SORT is "radix" (for comparisons).
+bool bucket_sort_wanted(const DeviceEntry& device) {
+    if (const char* env = std::getenv("SWARMCL_MOVER_SORT"); env && *env) return std::string(env) != "radix";
+    return device.cpu_profile;
 }
 
 uint32_t total_cells(const std::vector<GridGeometry>& worlds) {
@@ -70,8 +81,7 @@ NeighborGrid::NeighborGrid(Context& ctx, std::vector<GridGeometry> world_geometr
     keys_.allocate(ctx, capacity, "grid keys");
     perm_.allocate(ctx, capacity, "grid permutation");
     layout_key_.allocate(ctx, capacity, "grid layout keys");
-    for (auto* b : {&r_key_, &r_slot_, &r_id_, &st_slot_, &t_key_, &t_slot_, &t_id_})
-        b->allocate(ctx, capacity, "grid movers");
+    for (auto* b : {&r_key_, &r_slot_, &r_id_, &st_slot_, &t_key_}) b->allocate(ctx, capacity, "grid movers");
     movers_.allocate(ctx, 1, "grid mover count");
     start_.allocate(ctx, size_t(ncells_) + 1, "grid cell starts");
     layout_start_.allocate(ctx, size_t(ncells_) + 1, "grid layout cell starts");
@@ -97,6 +107,7 @@ NeighborGrid::NeighborGrid(Context& ctx, std::vector<GridGeometry> world_geometr
     sort_cells_ = ctx.kernel("grid.cl", "grid_sort_cells");
     scan_sums_buf_.allocate(ctx, div_up(ncells_ + 1, kScanBlock), "grid scan sums");
     use_counting_sort(counting_sort_wanted(ctx.device()));
+    use_bucket_sort(bucket_sort_wanted(ctx.device()));
 }
 
 bool NeighborGrid::use_counting_sort(bool counting) {
@@ -179,13 +190,19 @@ void NeighborGrid::build(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<
              r_slot_.get(), r_id_.get(), st_slot_.get(), movers_.get());
     launch_chunks(ctx_, movers_write_, chunks);
     stage("movers_write");
-    // Stable radix sort of the movers by new cell.
-    RadixSort::Columns in{&r_key_, &r_slot_, &r_id_}, out{&t_key_, &t_slot_, &t_id_};
-    radix_.sort(movers_, in, out, n);  // movers <= n
-    DeviceBuffer<cl_uint>*kin = in.key, *sin = in.slot, *iin = in.id, *kout = out.key;
-    set_args(sort_runs_, movers_.get(), kin->get(), sin->get(), iin->get(), kRadixBlocks);
-    launch(ctx_, sort_runs_, kRadixBlocks);
-    stage("radix sort of movers");
+    // The movers sorted by (new cell, id), into r_* (the bucket sort) or
+    // wherever the radix sort leaves them.
+    DeviceBuffer<cl_uint>*kin = &r_key_, *sin = &r_slot_, *iin = &r_id_, *kout = &t_key_;
+    if (bucket_sort_) {
+        sort_movers_in_buckets(n);
+    } else {
+        RadixSort::Columns in{&r_key_, &r_slot_, &r_id_}, out{&t_key_, &t_slot_, &t_id_};
+        radix_.sort(movers_, in, out, n);  // movers <= n
+        kin = in.key, sin = in.slot, iin = in.id, kout = out.key;
+        set_args(sort_runs_, movers_.get(), kin->get(), sin->get(), iin->get(), kRadixBlocks);
+        launch(ctx_, sort_runs_, kRadixBlocks);
+    }
+    stage("sort of movers");
     // The merge of stayers and movers: the permutation and the next layout's
     // keys (into the radix sort's free key buffer); then the cell starts.
     pending_key_ = kout;
@@ -202,6 +219,53 @@ void NeighborGrid::build(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<
     set_args(starts_, pending_key_->get(), n, ncells_, per_start, start_.get());
     launch_chunks(ctx_, starts_, div_up(n, per_start));
     stage("grid_starts");
+}
+
+void NeighborGrid::sort_movers_in_buckets(uint32_t n) {
+    // Pass 1: by the high digit (key >> low bits), as records; the blocks as
+    // RadixSort::blocks_for picks them.  Pass 2: each bucket by the low
+    // digit, then by id (kernels/grid.cl, "Movers on a CPU").
+    const uint32_t top_mask = (1u << bucket_top_bits_) - 1u;
+    const uint64_t per_block = uint64_t(RadixSort::kKeysPerDigit) << bucket_top_bits_;
+    const uint32_t blocks = uint32_t(std::clamp<uint64_t>(n / per_block, 1, kRadixBlocks));
+    set_args(bucket_hist_k_, r_key_.get(), movers_.get(), bucket_low_bits_, top_mask, blocks, bucket_hist_.get());
+    launch(ctx_, bucket_hist_k_, blocks);
+    set_args(bucket_rows_k_, bucket_hist_.get(), blocks, top_mask + 1u, bucket_totals_.get());
+    launch(ctx_, bucket_rows_k_, top_mask + 1u);
+    set_args(bucket_scatter_k_, r_key_.get(), r_slot_.get(), r_id_.get(), movers_.get(), bucket_low_bits_, top_mask,
+             blocks, bucket_hist_.get(), bucket_totals_.get(), records_.get());
+    launch(ctx_, bucket_scatter_k_, blocks);
+    // Buckets past the last cell's are empty.
+    const uint32_t buckets = ((ncells_ - 1u) >> bucket_low_bits_) + 1u;
+    const uint32_t items = std::clamp(n / kMinChunkSlots, 1u, kBucketItems);
+    set_args(sort_buckets_k_, records_.get(), movers_.get(), bucket_totals_.get(), buckets, items,
+             (1u << bucket_low_bits_) - 1u, r_key_.get(), r_slot_.get(), r_id_.get());
+    launch_chunks(ctx_, sort_buckets_k_, items);
+}
+
+bool NeighborGrid::use_bucket_sort(bool bucket) {
+    // Keys of up to 2 x 11 bits (a 4M-cell grid): pass 2's counters are
+    // private, 2^11 at most.
+    uint32_t key_bits = 1;
+    while (key_bits < 32 && uint64_t(ncells_ - 1u) >> key_bits) ++key_bits;
+    bucket_sort_ = bucket && key_bits <= 2 * kMaxBucketLowBits;
+    if (bucket_sort_) {
+        bucket_low_bits_ = key_bits / 2;
+        bucket_top_bits_ = key_bits - bucket_low_bits_;
+        records_.reserve(ctx_, capacity_, "grid mover records");
+        bucket_hist_.reserve(ctx_, size_t(kRadixBlocks) << bucket_top_bits_, "grid bucket histogram");
+        bucket_totals_.reserve(ctx_, size_t(1) << bucket_top_bits_, "grid bucket totals");
+        if (!bucket_scatter_k_()) {
+            bucket_hist_k_ = ctx_.kernel("grid.cl", "radix_hist");
+            bucket_rows_k_ = ctx_.kernel("grid.cl", "radix_rows");
+            bucket_scatter_k_ = ctx_.kernel("grid.cl", "bucket_scatter");
+            sort_buckets_k_ = ctx_.kernel("grid.cl", "grid_sort_buckets");
+        }
+    } else {
+        t_slot_.reserve(ctx_, capacity_, "grid movers");
+        t_id_.reserve(ctx_, capacity_, "grid movers");
+    }
+    return bucket_sort_;
 }
 
 void NeighborGrid::build_counting(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<cl_uint>& ids, uint32_t n,

@@ -66,6 +66,14 @@ public:
     // used (false where the device cannot run its 256-item work-groups).
     bool use_counting_sort(bool counting);
     bool counting_sort() const { return counting_; }
+    // The chunked path's sort of the movers (same result, bitwise): two
+    // passes of buckets (CPU devices; kernels/grid.cl, "Movers on a CPU") or
+    // the RadixSort with a sort of each cell's run by id.  The default
+    // follows the device's profile, $SWARMCL_MOVER_SORT=radix forces the
+    // radix sort.  Returns whether the buckets are now used (not for grids of
+    // over 2^22 cells).
+    bool use_bucket_sort(bool bucket);
+    bool bucket_sort() const { return bucket_sort_; }
 
     // The state's order is no longer one a build produced (e.g. agents put
     // back in id order): the next build sorts from scratch.
@@ -85,6 +93,7 @@ public:
     uint32_t worlds() const { return worlds_; }
 
 private:
+    void sort_movers_in_buckets(uint32_t n);
     void build_counting(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<cl_uint>& ids, uint32_t n,
                         uint32_t world_agents, const std::function<void(const char*)>& stage);
 
@@ -99,7 +108,9 @@ private:
     uint32_t layout_n_ = 0;
     uint32_t built_n_ = 0;
     // Per slot: keys (cell), perm, layout_key (the layout's cell); the
-    // movers (r_*), the radix sort's other half (t_*), the stayers' slots.
+    // movers (r_*), the radix sort's other half (t_*: t_slot_ and t_id_
+    // only for the radix sort; t_key_ the next layout's keys), the stayers'
+    // slots.
     // Per cell (+1): start, layout_start.
     DeviceBuffer<cl_uint> keys_, perm_, layout_key_, r_key_, r_slot_, r_id_, st_slot_, t_key_, t_slot_, t_id_,
         movers_;
@@ -107,6 +118,12 @@ private:
     DeviceBuffer<cl_uint> start_, layout_start_, chunk_counts_;
     DeviceBuffer<cl_float4> world_geometry_;  // grid_common.cl's grid_worlds
     RadixSort radix_;  // of the movers, by cell
+    // The bucket sort: its digits, the records of pass 1, its histogram.
+    bool bucket_sort_ = false;
+    uint32_t bucket_low_bits_ = 0, bucket_top_bits_ = 0;
+    DeviceBuffer<cl_uint4> records_;
+    DeviceBuffer<cl_uint> bucket_hist_, bucket_totals_;
+    cl::Kernel bucket_hist_k_, bucket_rows_k_, bucket_scatter_k_, sort_buckets_k_;
     cl::Kernel keys_k_, movers_write_, sort_runs_, merge_, starts_, permute_state_, permute_chunks_;
     // The counting sort (build_counting): its kernels and the scan's group sums.
     bool counting_ = false;
