@@ -178,24 +178,38 @@ __kernel void radix_rows(__global uint* hist, uint nblocks, uint radix, __global
 // Pass 3: block b adds the digit bases (prefix of totals: digit-major, so the
 // order is stable) to its column of offsets, then scatters its values in
 // order.
-__kernel void radix_scatter(__global const uint* keys, __global const uint* slots, __global const uint* ids,
-                            __global const uint* m_ptr, uint shift, uint mask, uint nblocks,
-                            __global uint* offsets, __global const uint* totals, __global uint* keys_out, __global uint* slots_out,
-                            __global uint* ids_out) {
-    const uint b = get_global_id(0);
-    if (b >= nblocks) return;
+// Block b's values [*begin, *end) of the *m_ptr, and its column of
+// offsets made places (the digit bases added); false when it has none.
+static inline bool radix_block(__global const uint* m_ptr, uint mask, uint nblocks, __global uint* offsets,
+                               __global const uint* totals, uint b, uint* begin, uint* end) {
     const uint m = *m_ptr;
     const uint size = chunk_size(m, nblocks);
-    const uint begin = min(b * size, m), end = min(begin + size, m);
-    if (begin >= end) return;
+    *begin = min(b * size, m);
+    *end = min(*begin + size, m);
+    if (*begin >= *end) return false;
     uint base = 0;
     for (uint d = 0; d <= mask; ++d) {
         offsets[d * nblocks + b] += base;
         base += totals[d];
     }
+    return true;
+}
+
+// The place of block b's next value of key k (its digit's offset, advanced).
+static inline uint radix_place(__global uint* offsets, uint k, uint shift, uint mask, uint nblocks, uint b) {
+    return offsets[((k >> shift) & mask) * nblocks + b]++;
+}
+
+__kernel void radix_scatter(__global const uint* keys, __global const uint* slots, __global const uint* ids,
+                            __global const uint* m_ptr, uint shift, uint mask, uint nblocks,
+                            __global uint* offsets, __global const uint* totals, __global uint* keys_out, __global uint* slots_out,
+                            __global uint* ids_out) {
+    const uint b = get_global_id(0);
+    uint begin, end;
+    if (b >= nblocks || !radix_block(m_ptr, mask, nblocks, offsets, totals, b, &begin, &end)) return;
     for (uint j = begin; j < end; ++j) {
         const uint k = keys[j];
-        const uint o = offsets[((k >> shift) & mask) * nblocks + b]++;
+        const uint o = radix_place(offsets, k, shift, mask, nblocks, b);
         keys_out[o] = k;
         slots_out[o] = slots[j];
         ids_out[o] = ids[j];
@@ -291,20 +305,11 @@ __kernel void bucket_scatter(__global const uint* keys, __global const uint* slo
                              __global const uint* m_ptr, uint shift, uint mask, uint nblocks,
                              __global uint* offsets, __global const uint* totals, __global uint4* records) {
     const uint b = get_global_id(0);
-    if (b >= nblocks) return;
-    const uint m = *m_ptr;
-    const uint size = chunk_size(m, nblocks);
-    const uint begin = min(b * size, m), end = min(begin + size, m);
-    if (begin >= end) return;
-    uint base = 0;
-    for (uint d = 0; d <= mask; ++d) {
-        offsets[d * nblocks + b] += base;
-        base += totals[d];
-    }
+    uint begin, end;
+    if (b >= nblocks || !radix_block(m_ptr, mask, nblocks, offsets, totals, b, &begin, &end)) return;
     for (uint j = begin; j < end; ++j) {
         const uint k = keys[j];
-        const uint o = offsets[((k >> shift) & mask) * nblocks + b]++;
-        records[o] = (uint4)(k, slots[j], ids[j], 0u);
+        records[radix_place(offsets, k, shift, mask, nblocks, b)] = (uint4)(k, slots[j], ids[j], 0u);
     }
 }
 
