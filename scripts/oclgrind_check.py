@@ -74,6 +74,9 @@ CASES = [
     ("test_grid", "Grid.AgentsOutsideTheDomainAreClampedIntoBorderCells", GPU),
     ("test_grid", "Grid.AllAgentsInOneCellAndDuplicates", GPU),
     ("test_grid", "Grid.PermuteStateMovesEveryArrayByThePermutation", CPU),
+    # The CPU profile's bucket sort, and its compaction and merge with movers
+    # and stayers mixed (their branch-free loops).
+    ("test_grid", "Grid.MovedAgentsMatchHostCountingSort", CPU),
     ("test_point_grid", "PointGrid.NoPointsAndOnePoint", GPU),
     ("test_point_grid", "PointGrid.GivenGeometryMatchesBruteForce", GPU),
     ("test_point_grid", "PointGrid.GroupsApartHaveTheGeometryAndOrderOfEachGroupAlone", GPU),
