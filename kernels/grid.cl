@@ -473,14 +473,15 @@ __kernel void grid_starts(__global const uint* new_key, uint n, uint ncells, uin
     const uint lim = d1 == n ? ncells : new_key[d1 - 1u];
     for (uint d = d0; d < d1; ++d) {
         const uint k = new_key[d];
-        // A gap of up to 8 cells (the common case) as one store of 8 without
-        // a loop to mispredict: cells past k get d for now and their own
-        // output's value when it comes (later in this loop).
-        if (k - c < 8u && k >= c && c + 8u <= lim + 1u) {
-            vstore8((uint8)(d), 0, start + c);
-            c = k + 1u;
-        }
-        for (; c <= k; ++c) start[c] = d;
+        if (k < c) continue;  // k's cell is open already
+        // The cells up to k 8 at a time (a sparse grid, 4 cells an agent,
+        // has gaps of 8 or more after one output in 7): cells past k get d
+        // for now and their own output's value when it comes (later in this
+        // loop, which starts again at k + 1); none past lim.
+        uint e = c;
+        for (; e <= k && e + 8u <= lim + 1u; e += 8u) vstore8((uint8)(d), 0, start + e);
+        for (; e <= k; ++e) start[e] = d;
+        c = k + 1u;
     }
     if (d1 == n)
         for (; c <= ncells; ++c) start[c] = n;
