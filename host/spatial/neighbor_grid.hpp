@@ -5,9 +5,11 @@
 // The grid remembers the cell ranges of the order the state is in (the
 // "layout": the last build whose permutation was applied with
 // reorder_state()).  A build only sorts the agents that left their layout
-// cell (with the one RadixSort, spatial/radix_sort.hpp), so rebuilding a nearly sorted swarm (a simulation step) costs a few
-// streaming passes; anything else (a fresh write, a new agent count) is
-// correct too, just a full sort.
+// cell (in two passes of buckets on CPU devices, else with the one
+// RadixSort, spatial/radix_sort.hpp), so rebuilding a nearly sorted swarm (a
+// simulation step) costs a few streaming passes and a sort of the movers;
+// anything else (a fresh write, a new agent count) is correct too, just a
+// full sort.
 #pragma once
 #include <cstdint>
 #include <functional>
