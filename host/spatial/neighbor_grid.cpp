@@ -222,12 +222,11 @@ void NeighborGrid::build(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<
 }
 
 void NeighborGrid::sort_movers_in_buckets(uint32_t n) {
-    // Pass 1: by the high digit (key >> low bits), as records; the blocks as
-    // RadixSort::blocks_for picks them.  Pass 2: each bucket by the low
-    // digit, then by id (kernels/grid.cl, "Movers on a CPU").
+    // Pass 1: by the high digit (key >> low bits), as records, in the radix
+    // sort's blocks.  Pass 2: each bucket by the low digit, then by id
+    // (kernels/grid.cl, "Movers on a CPU").
     const uint32_t top_mask = (1u << bucket_top_bits_) - 1u;
-    const uint64_t per_block = uint64_t(RadixSort::kKeysPerDigit) << bucket_top_bits_;
-    const uint32_t blocks = uint32_t(std::clamp<uint64_t>(n / per_block, 1, kRadixBlocks));
+    const uint32_t blocks = RadixSort::blocks_for(n, bucket_top_bits_, kRadixBlocks);
     set_args(bucket_hist_k_, r_key_.get(), movers_.get(), bucket_low_bits_, top_mask, blocks, bucket_hist_.get());
     launch(ctx_, bucket_hist_k_, blocks);
     set_args(bucket_rows_k_, bucket_hist_.get(), blocks, top_mask + 1u, bucket_totals_.get());
@@ -246,8 +245,7 @@ void NeighborGrid::sort_movers_in_buckets(uint32_t n) {
 bool NeighborGrid::use_bucket_sort(bool bucket) {
     // Keys of up to 2 x 11 bits (a 4M-cell grid): pass 2's counters are
     // private, 2^11 at most.
-    uint32_t key_bits = 1;
-    while (key_bits < 32 && uint64_t(ncells_ - 1u) >> key_bits) ++key_bits;
+    const uint32_t key_bits = RadixSort::key_bits(ncells_ - 1u);
     bucket_sort_ = bucket && key_bits <= 2 * kMaxBucketLowBits;
     if (bucket_sort_) {
         bucket_low_bits_ = key_bits / 2;

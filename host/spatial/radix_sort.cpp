@@ -7,10 +7,9 @@ namespace swarmcl {
 
 RadixSort::RadixSort(Context& ctx, uint32_t max_key, uint32_t blocks, uint32_t max_digit_bits)
     : ctx_(ctx), blocks_(blocks) {
-    uint32_t key_bits = 1;
-    while (key_bits < 32 && uint64_t(max_key) >> key_bits) ++key_bits;
-    passes_ = (key_bits + max_digit_bits - 1) / max_digit_bits;
-    bits_ = (key_bits + passes_ - 1) / passes_;
+    const uint32_t bits = key_bits(max_key);
+    passes_ = (bits + max_digit_bits - 1) / max_digit_bits;
+    bits_ = (bits + passes_ - 1) / passes_;
     hist_.allocate(ctx, size_t(blocks_) << bits_, "radix sort histogram");
     totals_.allocate(ctx, size_t(1) << bits_, "radix sort totals");
     hist_k_ = ctx.kernel("grid.cl", "radix_hist");
@@ -18,9 +17,15 @@ RadixSort::RadixSort(Context& ctx, uint32_t max_key, uint32_t blocks, uint32_t m
     scatter_k_ = ctx.kernel("grid.cl", "radix_scatter");
 }
 
-uint32_t RadixSort::blocks_for(uint32_t max_count) const {
-    const uint64_t per_block = uint64_t(kKeysPerDigit) << bits_;
-    return uint32_t(std::clamp<uint64_t>(max_count / per_block, 1, blocks_));
+uint32_t RadixSort::key_bits(uint32_t max_key) {
+    uint32_t bits = 1;
+    while (bits < 32 && uint64_t(max_key) >> bits) ++bits;
+    return bits;
+}
+
+uint32_t RadixSort::blocks_for(uint32_t max_count, uint32_t digit_bits, uint32_t max_blocks) {
+    const uint64_t per_block = uint64_t(kKeysPerDigit) << digit_bits;
+    return uint32_t(std::clamp<uint64_t>(max_count / per_block, 1, max_blocks));
 }
 
 void RadixSort::sort(const DeviceBuffer<cl_uint>& count, Columns& a, Columns& b, uint32_t max_count) {

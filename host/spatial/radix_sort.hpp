@@ -37,8 +37,13 @@ public:
     // kKeysPerDigit keys a block for each digit value (a block's fixed work
     // is its histogram row: 64 rows of 512 digits were most of a step of 64
     // worlds x 300 agents), at most the constructor's count, at least 1.
-    uint32_t blocks_for(uint32_t max_count) const;
+    uint32_t blocks_for(uint32_t max_count) const { return blocks_for(max_count, bits_, blocks_); }
+    // The same rule for digits of digit_bits and at most max_blocks blocks
+    // (the neighbour grid's bucket sort, whose pass 1 is these kernels').
+    static uint32_t blocks_for(uint32_t max_count, uint32_t digit_bits, uint32_t max_blocks);
     static constexpr uint32_t kKeysPerDigit = 4;
+    // The bits keys in [0, max_key] need (at least 1).
+    static uint32_t key_bits(uint32_t max_key);
 
     uint32_t passes() const { return passes_; }
     uint32_t digit_bits() const { return bits_; }
