@@ -38,6 +38,14 @@ static inline bool mostly_one_kind(uint part, uint whole) {
     return 8ul * part < (ulong)whole || 8ul * part > 7ul * whole;
 }
 
+// Whether the build writes the ids in the new order (new_id) for the
+// reorder to copy: where at least an eighth of the agents moved.  The
+// reorder's gather of ids by the permutation then reads anywhere in the
+// array (one random line an agent after a random-order build); with fewer
+// movers it reads nearly in order, and the merge's extra read and write of
+// every id would cost more (0.4 ms at 1M in grid order).
+static inline bool ids_from_build(uint movers, uint n) { return 8ul * movers >= (ulong)n; }
+
 // The key of an agent at p: the first cell of its world + its cell there.
 static inline uint grid_key(float4 p, float4 origin, float inv_cell, int4 dims, uint first) {
     const float4 hi = convert_float4(dims - 1);
@@ -385,7 +393,8 @@ __kernel void grid_sort_runs(__global const uint* m_ptr, __global const uint* m_
 // layout order) and the sorted movers (m_key, m_slot, m_id).  Work-item b
 // writes the outputs [b * per_item, ...): it finds how many stayers come
 // before its first output by a binary search on the merge path, then merges.
-// perm[new slot] = old slot; new_key[new slot] = cell (the next layout).
+// perm[new slot] = old slot; new_key[new slot] = cell (the next layout);
+// new_id[new slot] = its id where ids_from_build.
 static inline bool stayer_first(uint sk, uint sid, uint mk, uint mid) { return sk < mk || (sk == mk && sid < mid); }
 
 
@@ -408,16 +417,17 @@ static inline uint merge_split(__global const uint* keys, __global const uint* i
 static inline void merge_one(__global const uint* keys, __global const uint* ids, __global const uint* st_slot,
                              __global const uint* m_key, __global const uint* m_slot, __global const uint* m_id,
                              uint m, uint ns, uint d, uint* i, uint* j, __global uint* perm,
-                             __global uint* new_key) {
+                             __global uint* new_key, __global uint* new_id) {
     const uint s = *i < ns ? st_slot[*i] : 0u;
     const uint jj = min(*j, m > 0u ? m - 1u : 0u);
-    const uint sk = keys[s], mk = m_key[jj];
-    const ulong sv = *i < ns ? upsample(sk, ids[s]) : ULONG_MAX;
-    const ulong mv = *j < m ? upsample(mk, m_id[jj]) : ULONG_MAX;
+    const uint sk = keys[s], mk = m_key[jj], sid = ids[s], mid = m_id[jj];
+    const ulong sv = *i < ns ? upsample(sk, sid) : ULONG_MAX;
+    const ulong mv = *j < m ? upsample(mk, mid) : ULONG_MAX;
     const uint take_stayer = sv < mv ? 1u : 0u;
     const uint ms = m_slot[jj];
     perm[d] = take_stayer ? s : ms;
     new_key[d] = take_stayer ? sk : mk;
+    new_id[d] = take_stayer ? sid : mid;
     *i += take_stayer;
     *j += 1u - take_stayer;
 }
@@ -425,7 +435,7 @@ static inline void merge_one(__global const uint* keys, __global const uint* ids
 __kernel void grid_merge(__global const uint* keys, __global const uint* ids, __global const uint* st_slot,
                          __global const uint* m_ptr, __global const uint* m_key, __global const uint* m_slot,
                          __global const uint* m_id, uint n, uint per_item, __global uint* perm,
-                         __global uint* new_key) {
+                         __global uint* new_key, __global uint* new_id) {
     const uint b = get_global_id(0);
     const uint d0 = b * per_item;
     if (d0 >= n) return;
@@ -435,15 +445,18 @@ __kernel void grid_merge(__global const uint* keys, __global const uint* ids, __
     if (mostly_one_kind(m, n)) {
         // Few movers (or few stayers): the branch is predicted, and the
         // loads of the next outputs need not wait for this compare.
+        const bool with_ids = ids_from_build(m, n);
         for (uint d = d0; d < d1; ++d) {
             const uint s = i < ns ? st_slot[i] : 0u;
             if (i < ns && (j >= m || stayer_first(keys[s], ids[s], m_key[j], m_id[j]))) {
                 perm[d] = s;
                 new_key[d] = keys[s];
+                if (with_ids) new_id[d] = ids[s];
                 ++i;
             } else {
                 perm[d] = m_slot[j];
                 new_key[d] = m_key[j];
+                if (with_ids) new_id[d] = m_id[j];
                 ++j;
             }
         }
@@ -451,13 +464,15 @@ __kernel void grid_merge(__global const uint* keys, __global const uint* ids, __
     }
     // Branch-free, each output's loads wait on the compare before it: so
     // the range merges as two halves side by side, two such chains at once.
+    // (Here at least an eighth moved: the ids are written.)
     const uint second = (d1 - d0) / 2u, dm = d1 - second;
     uint i2 = merge_split(keys, ids, st_slot, m_key, m_id, m, ns, dm), j2 = dm - i2;
     for (uint k = 0; k < second; ++k) {
-        merge_one(keys, ids, st_slot, m_key, m_slot, m_id, m, ns, d0 + k, &i, &j, perm, new_key);
-        merge_one(keys, ids, st_slot, m_key, m_slot, m_id, m, ns, dm + k, &i2, &j2, perm, new_key);
+        merge_one(keys, ids, st_slot, m_key, m_slot, m_id, m, ns, d0 + k, &i, &j, perm, new_key, new_id);
+        merge_one(keys, ids, st_slot, m_key, m_slot, m_id, m, ns, dm + k, &i2, &j2, perm, new_key, new_id);
     }
-    if (d0 + second < dm) merge_one(keys, ids, st_slot, m_key, m_slot, m_id, m, ns, d0 + second, &i, &j, perm, new_key);
+    if (d0 + second < dm)
+        merge_one(keys, ids, st_slot, m_key, m_slot, m_id, m, ns, d0 + second, &i, &j, perm, new_key, new_id);
 }
 
 // Cell starts from the sorted keys: output d opens the cells after its
@@ -603,17 +618,19 @@ __kernel void grid_sort_cells(__global const uint* start, uint ncells, __global 
     for (uint d = b; d < e; ++d) new_key[d] = c;
 }
 
-// Reordering into cell order: dst[s] = src[perm[s]].
-// Positions, velocities and ids in one pass over perm.
+// Reordering into cell order: dst[s] = src[perm[s]], positions,
+// velocities and ids in one pass over perm; the ids copied from the build's
+// new_id where ids_from_build (the counting sort sets *m_ptr = n: it always
+// writes them).
 __kernel void permute_state(__global const float4* pos, __global const float4* vel, __global const uint* ids,
-                            __global const uint* perm, uint n, __global float4* pos_out,
-                            __global float4* vel_out, __global uint* ids_out) {
+                            __global const uint* new_id, __global const uint* m_ptr, __global const uint* perm,
+                            uint n, __global float4* pos_out, __global float4* vel_out, __global uint* ids_out) {
     const uint s = get_global_id(0);
     if (s >= n) return;
     const uint p = perm[s];
     pos_out[s] = pos[p];
     vel_out[s] = vel[p];
-    ids_out[s] = ids[p];
+    ids_out[s] = ids_from_build(*m_ptr, n) ? new_id[s] : ids[p];
 }
 
 // permute_state on CPU devices: work-item b copies the slots of chunk b in
@@ -622,24 +639,26 @@ __kernel void permute_state(__global const float4* pos, __global const float4* v
 // one-slot-a-work-item kernel waits on them one gather at a time.
 #define PERMUTE_AHEAD 16u
 __kernel void permute_state_chunks(__global const float4* pos, __global const float4* vel,
-                                   __global const uint* ids, __global const uint* perm, uint n, uint nchunks,
+                                   __global const uint* ids, __global const uint* new_id,
+                                   __global const uint* m_ptr, __global const uint* perm, uint n, uint nchunks,
                                    __global float4* pos_out, __global float4* vel_out, __global uint* ids_out) {
     const uint b = get_global_id(0);
     if (b >= nchunks) return;
     const uint size = chunk_size(n, nchunks);
     const uint begin = min(b * size, n), end = min(begin + size, n);
+    const bool copy_ids = ids_from_build(*m_ptr, n);
     for (uint s = begin; s < end; ++s) {
 #ifdef SWCL_PREFETCH_ISSUES
         if (s + PERMUTE_AHEAD < end) {
             const uint q = perm[s + PERMUTE_AHEAD];
             SWCL_PREFETCH(pos + q);
             SWCL_PREFETCH(vel + q);
-            SWCL_PREFETCH(ids + q);
+            if (!copy_ids) SWCL_PREFETCH(ids + q);
         }
 #endif
         const uint p = perm[s];
         pos_out[s] = pos[p];
         vel_out[s] = vel[p];
-        ids_out[s] = ids[p];
+        ids_out[s] = copy_ids ? new_id[s] : ids[p];
     }
 }

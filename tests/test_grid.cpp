@@ -317,6 +317,25 @@ TEST(Grid, CountingAndChunkedSortsBuildTheSameGrid) {
     EXPECT_EQ(c.first, f.first);
     EXPECT_EQ(c.second, f.second);
     EXPECT_NE(c.first, a.first);  // the moves changed the order
+    // Each reorders the state by that build: a tenth moved, so the chunked
+    // paths gather the ids (kernels/grid.cl, ids_from_build), the counting
+    // sort copies its own.
+    for (NeighborGrid* g : {&counting, &chunked, &radix}) {
+        DeviceBuffer<cl_float4> p(*ctx, n, "p"), v(*ctx, n, "v"), po(*ctx, n, "po"), vo(*ctx, n, "vo");
+        DeviceBuffer<cl_uint> id(*ctx, n, "id"), io(*ctx, n, "io");
+        p.upload(*ctx, pos2.data(), n);
+        v.upload(*ctx, pos2.data(), n);
+        id.upload(*ctx, ids2.data(), n);
+        g->permute_state(p, v, id, po, vo, io, n);
+        std::vector<cl_uint> ids_out(n);
+        std::vector<cl_float4> pos_out(n);
+        io.download(*ctx, ids_out.data(), n);
+        vo.download(*ctx, pos_out.data(), n);
+        for (uint32_t d = 0; d < n; ++d) {
+            ASSERT_EQ(ids_out[d], ids2[c.first[d]]) << d;
+            ASSERT_EQ(std::memcmp(&pos_out[d], &pos2[c.first[d]], sizeof(cl_float4)), 0) << d;
+        }
+    }
 }
 
 TEST(GridGeometry, CellCountIsBoundedByGrowingTheCell) {

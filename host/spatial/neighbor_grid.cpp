@@ -80,6 +80,7 @@ NeighborGrid::NeighborGrid(Context& ctx, std::vector<GridGeometry> world_geometr
     capacity_ = capacity;
     keys_.allocate(ctx, capacity, "grid keys");
     perm_.allocate(ctx, capacity, "grid permutation");
+    new_id_.allocate(ctx, capacity, "grid ids in the built order");
     layout_key_.allocate(ctx, capacity, "grid layout keys");
     for (auto* b : {&r_key_, &r_slot_, &r_id_, &st_slot_, &t_key_}) b->allocate(ctx, capacity, "grid movers");
     movers_.allocate(ctx, 1, "grid mover count");
@@ -203,12 +204,13 @@ void NeighborGrid::build(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<
         launch(ctx_, sort_runs_, kRadixBlocks);
     }
     stage("sort of movers");
-    // The merge of stayers and movers: the permutation and the next layout's
-    // keys (into the radix sort's free key buffer); then the cell starts.
+    // The merge of stayers and movers: the permutation, the next layout's
+    // keys (into the radix sort's free key buffer) and the ids in the new
+    // order; then the cell starts.
     pending_key_ = kout;
     const uint32_t items = div_up(n, outputs_per_item_);
     set_args(merge_, keys_.get(), ids.get(), st_slot_.get(), movers_.get(), kin->get(), sin->get(), iin->get(), n,
-             outputs_per_item_, perm_.get(), pending_key_->get());
+             outputs_per_item_, perm_.get(), pending_key_->get(), new_id_.get());
     launch_chunks(ctx_, merge_, items);
     stage("grid_merge");
     // The starts of every cell: outputs split over at least kStartItems
@@ -290,13 +292,15 @@ void NeighborGrid::build_counting(const DeviceBuffer<cl_float4>& pos, const Devi
     set_args(scan_add_, start_.get(), len, scan_sums_buf_.get());
     launch_groups_2d(ctx_, scan_add_, groups, 1, kScanLocal, 1);
     stage("cell starts (prefix sum)");
-    // Every agent to its place; each cell's agents by id; the next layout's
-    // keys in t_key_.
-    set_args(scatter_, keys_.get(), r_key_.get(), ids.get(), start_.get(), n, perm_.get(), r_id_.get());
+    // Every agent to its place; each cell's agents by id (the ids in the new
+    // order in new_id_, for permute_state: "every agent moved"); the next
+    // layout's keys in t_key_.
+    movers_.fill(ctx_, n, 1);
+    set_args(scatter_, keys_.get(), r_key_.get(), ids.get(), start_.get(), n, perm_.get(), new_id_.get());
     launch(ctx_, scatter_, n);
     stage("grid_scatter");
     pending_key_ = &t_key_;
-    set_args(sort_cells_, start_.get(), ncells_, perm_.get(), r_id_.get(), pending_key_->get());
+    set_args(sort_cells_, start_.get(), ncells_, perm_.get(), new_id_.get(), pending_key_->get());
     launch(ctx_, sort_cells_, ncells_);
     stage("grid_sort_cells");
 }
@@ -309,13 +313,13 @@ void NeighborGrid::permute_state(const DeviceBuffer<cl_float4>& pos, const Devic
     // 20-26 -> 15-20 ms (docs/benchmarks.md, "The permutation in chunks").
     if (ctx_.device().cpu_profile) {
         const uint32_t chunks = std::clamp(n / kMinChunkSlots, 1u, kMoverChunks);
-        set_args(permute_chunks_, pos.get(), vel.get(), ids.get(), perm_.get(), n, chunks, pos_out.get(),
-                 vel_out.get(), ids_out.get());
+        set_args(permute_chunks_, pos.get(), vel.get(), ids.get(), new_id_.get(), movers_.get(), perm_.get(), n,
+                 chunks, pos_out.get(), vel_out.get(), ids_out.get());
         launch_chunks(ctx_, permute_chunks_, chunks);
         return;
     }
-    set_args(permute_state_, pos.get(), vel.get(), ids.get(), perm_.get(), n, pos_out.get(), vel_out.get(),
-             ids_out.get());
+    set_args(permute_state_, pos.get(), vel.get(), ids.get(), new_id_.get(), movers_.get(), perm_.get(), n,
+             pos_out.get(), vel_out.get(), ids_out.get());
     launch(ctx_, permute_state_, n);
 }
 

@@ -50,6 +50,9 @@ public:
 
     // x_out[s] = x[permutation[s]] for positions, velocities and ids, in one
     // pass, for the last build; changes nothing else (benchmarks time it).
+    // `ids` must be the ids the build sorted: where many agents moved the
+    // ids come from the build's own copy in the new order (a random-order
+    // build then gathers two arrays at random, not three).
     void permute_state(const DeviceBuffer<cl_float4>& pos, const DeviceBuffer<cl_float4>& vel,
                        const DeviceBuffer<cl_uint>& ids, DeviceBuffer<cl_float4>& pos_out,
                        DeviceBuffer<cl_float4>& vel_out, DeviceBuffer<cl_uint>& ids_out, uint32_t n);
@@ -109,13 +112,14 @@ private:
     bool start_in_layout_ = false;  // the current ranges are layout_start_'s (after reorder_state)
     uint32_t layout_n_ = 0;
     uint32_t built_n_ = 0;
-    // Per slot: keys (cell), perm, layout_key (the layout's cell); the
-    // movers (r_*), the radix sort's other half (t_*: t_slot_ and t_id_
-    // only for the radix sort; t_key_ the next layout's keys), the stayers'
-    // slots.
+    // Per slot: keys (cell), perm, new_id (the ids in the built order where
+    // many agents moved: kernels/grid.cl, ids_from_build), layout_key (the
+    // layout's cell); the movers (r_*), the radix sort's other half (t_*:
+    // t_slot_ and t_id_ only for the radix sort; t_key_ the next layout's
+    // keys), the stayers' slots.
     // Per cell (+1): start, layout_start.
-    DeviceBuffer<cl_uint> keys_, perm_, layout_key_, r_key_, r_slot_, r_id_, st_slot_, t_key_, t_slot_, t_id_,
-        movers_;
+    DeviceBuffer<cl_uint> keys_, perm_, new_id_, layout_key_, r_key_, r_slot_, r_id_, st_slot_, t_key_, t_slot_,
+        t_id_, movers_;
     DeviceBuffer<cl_uint>* pending_key_ = nullptr;  // the last build's keys in its order (r_key_ or t_key_)
     DeviceBuffer<cl_uint> start_, layout_start_, chunk_counts_;
     DeviceBuffer<cl_float4> world_geometry_;  // grid_common.cl's grid_worlds

@@ -75,11 +75,11 @@ SwarmConfig checked(SwarmConfig c, Context& ctx) {
         fail(Status::InvalidArgument, "swarm worlds: " + std::to_string(c.worlds) + " worlds of " +
                                           std::to_string(cells) + " grid cells in all exceed 2^31 cells; use fewer "
                                           "worlds or a larger interaction_radius");
-    // State, scratch and grid buffers per agent (float4 x4, uint x13, the
+    // State, scratch and grid buffers per agent (float4 x4, uint x14, the
     // grid's mover records (16 B less its radix sort's 8 B: NeighborGrid),
     // packed xyz), and the grid's per-cell arrays (2 uints).
     const double bytes =
-        (double(c.capacity) * (4 * 16 + 13 * 4 + 8 + 12) + double(max_cells_for(c.capacity)) * 8) * double(c.worlds);
+        (double(c.capacity) * (4 * 16 + 14 * 4 + 8 + 12) + double(max_cells_for(c.capacity)) * 8) * double(c.worlds);
     if (bytes > double(ctx.device().global_memory))
         fail(Status::OutOfMemory, "a swarm of capacity " + std::to_string(c.capacity) +
                                       (c.worlds > 1 ? " in each of " + std::to_string(c.worlds) + " worlds" : std::string()) +
