@@ -309,20 +309,27 @@ static inline void sort_by_id(__global uint* slot, __global uint* id, uint len) 
 // each bucket, a few thousand records in the cache, by the low digit into
 // the key, slot and id columns, then each run of equal keys by id: the
 // radix sort and grid_sort_runs' result, bitwise.
+// Either digit's counters live in private memory: at most 2^11 (8 KB; the
+// host splits keys of up to 22 bits, the high digit no wider than the low).
+#define BUCKET_MAX_LOW_BITS 11u
+
+// The block's places are copied to private counters first: in the offsets
+// table each digit's counter of the block is on its own cache line (digit-
+// major, for radix_rows), and at 1M random movers a quarter of the scatter's
+// samples waited on those loads.
 __kernel void bucket_scatter(__global const uint* keys, __global const uint* slots, __global const uint* ids,
                              __global const uint* m_ptr, uint shift, uint mask, uint nblocks,
                              __global uint* offsets, __global const uint* totals, __global uint4* records) {
     const uint b = get_global_id(0);
     uint begin, end;
     if (b >= nblocks || !radix_block(m_ptr, mask, nblocks, offsets, totals, b, &begin, &end)) return;
+    uint place[1u << BUCKET_MAX_LOW_BITS];
+    for (uint d = 0; d <= mask; ++d) place[d] = offsets[d * nblocks + b];
     for (uint j = begin; j < end; ++j) {
         const uint k = keys[j];
-        records[radix_place(offsets, k, shift, mask, nblocks, b)] = (uint4)(k, slots[j], ids[j], 0u);
+        records[place[(k >> shift) & mask]++] = (uint4)(k, slots[j], ids[j], 0u);
     }
 }
-
-// The low digit's counters live in private memory: at most 2^11 (8 KB).
-#define BUCKET_MAX_LOW_BITS 11u
 
 // Work-item t of `items` sorts the buckets that start in its share of the
 // *m records (bucket d holds totals[d] records, after those of buckets < d),

@@ -235,7 +235,7 @@ void NeighborGrid::sort_movers_in_buckets(uint32_t n) {
     launch(ctx_, bucket_rows_k_, top_mask + 1u);
     set_args(bucket_scatter_k_, r_key_.get(), r_slot_.get(), r_id_.get(), movers_.get(), bucket_low_bits_, top_mask,
              blocks, bucket_hist_.get(), bucket_totals_.get(), records_.get());
-    launch(ctx_, bucket_scatter_k_, blocks);
+    launch_chunks(ctx_, bucket_scatter_k_, blocks);  // a work-group each: 8 KB of private counters
     // Buckets past the last cell's are empty.
     const uint32_t buckets = ((ncells_ - 1u) >> bucket_low_bits_) + 1u;
     const uint32_t items = std::clamp(n / kMinChunkSlots, 1u, kBucketItems);
