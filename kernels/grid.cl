@@ -327,7 +327,9 @@ __kernel void bucket_scatter(__global const uint* keys, __global const uint* slo
     for (uint d = 0; d <= mask; ++d) place[d] = offsets[d * nblocks + b];
     for (uint j = begin; j < end; ++j) {
         const uint k = keys[j];
-        records[place[(k >> shift) & mask]++] = (uint4)(k, slots[j], ids[j], 0u);
+        const uint o = place[(k >> shift) & mask]++;
+        records[o] = (uint4)(k, slots[j], ids[j], 0u);
+        SWCL_PREFETCH_WRITE(records + o + 4u);  // the bucket's next line
     }
 }
 
@@ -352,7 +354,16 @@ __kernel void grid_sort_buckets(__global const uint4* records, __global const ui
             continue;
         }
         for (uint v = 0; v <= low_mask; ++v) place[v] = 0u;
-        for (uint j = lo; j < hi; ++j) place[records[j].x & low_mask] += 1u;
+        for (uint j = lo; j < hi; ++j) {
+#ifdef SWCL_PREFETCH_ISSUES
+            if ((j & 15u) == 0u || j == lo) {
+                SWCL_PREFETCH_WRITE(out_key + j);
+                SWCL_PREFETCH_WRITE(out_slot + j);
+                SWCL_PREFETCH_WRITE(out_id + j);
+            }
+#endif
+            place[records[j].x & low_mask] += 1u;
+        }
         uint run = lo;
         for (uint v = 0; v <= low_mask; ++v) {
             const uint c = place[v];

@@ -15,11 +15,14 @@
 #if defined(SWCL_CPU_PROFILE) && SWCL_CPU_PROFILE && defined(__x86_64__) && defined(__has_builtin)
 #if __has_builtin(__builtin_prefetch)
 #define SWCL_PREFETCH(p) __builtin_prefetch((const void*)(size_t)(p))
+// ... of a line that will be written (prefetchw: fetched for ownership).
+#define SWCL_PREFETCH_WRITE(p) __builtin_prefetch((const void*)(size_t)(p), 1)
 #define SWCL_PREFETCH_ISSUES 1  // for prefetch loops worth running only where it does
 #endif
 #endif
 #ifndef SWCL_PREFETCH
 #define SWCL_PREFETCH(p) ((void)0)
+#define SWCL_PREFETCH_WRITE(p) ((void)0)
 #endif
 
 #endif  // SWCL_PREFETCH_CL
