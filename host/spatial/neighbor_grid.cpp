@@ -234,13 +234,13 @@ void NeighborGrid::sort_movers_in_buckets(uint32_t n) {
     set_args(bucket_rows_k_, bucket_hist_.get(), blocks, top_mask + 1u, bucket_totals_.get());
     launch(ctx_, bucket_rows_k_, top_mask + 1u);
     set_args(bucket_scatter_k_, r_key_.get(), r_slot_.get(), r_id_.get(), movers_.get(), bucket_low_bits_, top_mask,
-             blocks, bucket_hist_.get(), bucket_totals_.get(), records_.get());
+             blocks, bucket_hist_.get(), bucket_totals_.get(), records_.get(), n);
     launch_chunks(ctx_, bucket_scatter_k_, blocks);  // a work-group each: 8 KB of private counters
     // Buckets past the last cell's are empty.
     const uint32_t buckets = ((ncells_ - 1u) >> bucket_low_bits_) + 1u;
     const uint32_t items = std::clamp(n / kMinChunkSlots, 1u, kBucketItems);
     set_args(sort_buckets_k_, records_.get(), movers_.get(), bucket_totals_.get(), buckets, items,
-             (1u << bucket_low_bits_) - 1u, r_key_.get(), r_slot_.get(), r_id_.get());
+             (1u << bucket_low_bits_) - 1u, r_key_.get(), r_slot_.get(), r_id_.get(), n);
     launch_chunks(ctx_, sort_buckets_k_, items);
 }
 
