@@ -242,6 +242,21 @@ std::pair<std::vector<cl_uint>, std::vector<cl_uint>> build_grid(Context& ctx, N
     return {perm, start};
 }
 
+// A state on the device: positions, velocities (the positions again) and
+// ids, and the reorder's outputs.
+struct StateBuffers {
+    StateBuffers(Context& ctx, const std::vector<cl_float4>& pos, const std::vector<cl_uint>& ids)
+        : n(pos.size()), p(ctx, n, "p"), v(ctx, n, "v"), po(ctx, n, "po"), vo(ctx, n, "vo"), id(ctx, n, "id"),
+          io(ctx, n, "io") {
+        p.upload(ctx, pos.data(), n);
+        v.upload(ctx, pos.data(), n);
+        id.upload(ctx, ids.data(), n);
+    }
+    size_t n;
+    DeviceBuffer<cl_float4> p, v, po, vo;
+    DeviceBuffer<cl_uint> id, io;
+};
+
 // The counting sort (the GPU default) and the chunked sort of the movers
 // (the CPU default), its movers in buckets (the CPU default) or by the radix
 // sort, build the same grid, bitwise: three worlds of their own
@@ -301,13 +316,9 @@ TEST(Grid, CountingAndChunkedSortsBuildTheSameGrid) {
         if (d % 10 == 3) pos2[d].s[0] += 0.37f;
     }
     for (NeighborGrid* g : {&counting, &chunked, &radix}) {
-        DeviceBuffer<cl_float4> p(*ctx, n, "p"), v(*ctx, n, "v"), ps(*ctx, n, "ps"), vs(*ctx, n, "vs");
-        DeviceBuffer<cl_uint> id(*ctx, n, "id"), is(*ctx, n, "is");
-        p.upload(*ctx, pos.data(), n);
-        v.upload(*ctx, pos.data(), n);
-        id.upload(*ctx, ids.data(), n);
-        g->build(p, id, n, per_world);
-        g->reorder_state(p, v, id, ps, vs, is, n);
+        StateBuffers st(*ctx, pos, ids);
+        g->build(st.p, st.id, n, per_world);
+        g->reorder_state(st.p, st.v, st.id, st.po, st.vo, st.io, n);
     }
     const auto c = build_grid(*ctx, counting, pos2, ids2, per_world, ncells);
     const auto e = build_grid(*ctx, chunked, pos2, ids2, per_world, ncells);
@@ -321,16 +332,12 @@ TEST(Grid, CountingAndChunkedSortsBuildTheSameGrid) {
     // paths gather the ids (kernels/grid.cl, ids_from_build), the counting
     // sort copies its own.
     for (NeighborGrid* g : {&counting, &chunked, &radix}) {
-        DeviceBuffer<cl_float4> p(*ctx, n, "p"), v(*ctx, n, "v"), po(*ctx, n, "po"), vo(*ctx, n, "vo");
-        DeviceBuffer<cl_uint> id(*ctx, n, "id"), io(*ctx, n, "io");
-        p.upload(*ctx, pos2.data(), n);
-        v.upload(*ctx, pos2.data(), n);
-        id.upload(*ctx, ids2.data(), n);
-        g->permute_state(p, v, id, po, vo, io, n);
+        StateBuffers st(*ctx, pos2, ids2);
+        g->permute_state(st.p, st.v, st.id, st.po, st.vo, st.io, n);
         std::vector<cl_uint> ids_out(n);
         std::vector<cl_float4> pos_out(n);
-        io.download(*ctx, ids_out.data(), n);
-        vo.download(*ctx, pos_out.data(), n);
+        st.io.download(*ctx, ids_out.data(), n);
+        st.vo.download(*ctx, pos_out.data(), n);
         for (uint32_t d = 0; d < n; ++d) {
             ASSERT_EQ(ids_out[d], ids2[c.first[d]]) << d;
             ASSERT_EQ(std::memcmp(&pos_out[d], &pos2[c.first[d]], sizeof(cl_float4)), 0) << d;
