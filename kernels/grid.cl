@@ -50,8 +50,8 @@ static inline bool ids_from_build(uint movers, uint n) { return 8ul * movers >= 
 // positions in no spatial order): the bucket sort then writes its buckets
 // at random, and prefetches the lines it will write.  In a step the movers
 // come in their old cells' order, nearly in sequence, and the prefetches
-// cost more than they save (0.25 ms each in the field model's 1M step,
-// 35-61 % moved).
+// measured no gain (the field model's 1M step, 35-61 % moved;
+// docs/benchmarks.md, "The bucket sort's scatter").
 static inline bool movers_scattered(uint movers, uint n) { return 8ul * movers > 7ul * (ulong)n; }
 
 // The key of an agent at p: the first cell of its world + its cell there.
@@ -334,18 +334,12 @@ __kernel void bucket_scatter(__global const uint* keys, __global const uint* slo
     if (b >= nblocks || !radix_block(m_ptr, mask, nblocks, offsets, totals, b, &begin, &end)) return;
     uint place[1u << BUCKET_MAX_LOW_BITS];
     for (uint d = 0; d <= mask; ++d) place[d] = offsets[d * nblocks + b];
-    if (movers_scattered(*m_ptr, n)) {
-        for (uint j = begin; j < end; ++j) {
-            const uint k = keys[j];
-            const uint o = place[(k >> shift) & mask]++;
-            records[o] = (uint4)(k, slots[j], ids[j], 0u);
-            SWCL_PREFETCH_WRITE(records + o + 4u);  // the bucket's next line
-        }
-        return;
-    }
+    const bool scattered = movers_scattered(*m_ptr, n);
     for (uint j = begin; j < end; ++j) {
         const uint k = keys[j];
-        records[place[(k >> shift) & mask]++] = (uint4)(k, slots[j], ids[j], 0u);
+        const uint o = place[(k >> shift) & mask]++;
+        records[o] = (uint4)(k, slots[j], ids[j], 0u);
+        if (scattered) SWCL_PREFETCH_WRITE(records + o + 4u);  // the bucket's next line
     }
 }
 
