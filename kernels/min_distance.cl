@@ -90,6 +90,7 @@ typedef float8 mde_fw;
 typedef int8 mde_iw;
 #define mde_any swcl_any8
 #define mde_cvt_iw convert_int8
+#define mde_as_uw as_uint8
 #define mde_vload vload8
 #define mde_vstore vstore8
 #define MDE_LANE_IDS (mde_iw)(0, 1, 2, 3, 4, 5, 6, 7)
@@ -104,6 +105,7 @@ typedef float16 mde_fw;
 typedef int16 mde_iw;
 #define mde_any swcl_any16
 #define mde_cvt_iw convert_int16
+#define mde_as_uw as_uint16
 #define mde_vload vload16
 #define mde_vstore vstore16
 #define MDE_LANE_IDS (mde_iw)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15)
@@ -151,11 +153,16 @@ static inline mde_iw mde_axis(mde_fw x, float origin, float inv_cell, int n) {
 
 // Candidate slots j (lanes where in_row) at qx, qy, qz: the scalar
 // MDE_CANDIDATE lane by lane.  dist2: d = p - q, d.x*d.x + d.y*d.y + d.z*d.z.
+// Lanes out of their row and each lane's own slot get d2 = +inf, so the hit
+// test is one compare: on AVX2 a 16-lane mask combined with & is packed to
+// bytes and back (perf annotate), a select from one compare is a blend.
 #define MDE_CANDIDATE_W(QX, QY, QZ)                                                                   \
     {                                                                                                 \
         const mde_fw dx = px - (QX), dy_ = py - (QY), dz_ = pz - (QZ);                                \
-        const mde_fw d2 = dx * dx + dy_ * dy_ + dz_ * dz_;                                            \
-        const mde_iw hit = in_row & (j != slot) & (d2 < d2_min);                                      \
+        mde_fw d2 = dx * dx + dy_ * dy_ + dz_ * dz_;                                                  \
+        d2 = select((mde_fw)(INFINITY), d2, in_row);                                                  \
+        d2 = select(d2, (mde_fw)(INFINITY), j == slot);                                               \
+        const mde_iw hit = d2 < d2_min;                                                               \
         if (mde_any(hit)) {                                                                           \
             const mde_fw d = sqrt(d2);                                                                \
             const mde_fw k = 0.5f * (d_min - d);                                                      \
@@ -248,7 +255,8 @@ __kernel void min_distance_enforce_w(__global const float4* pos, __global const 
                 for (int jj = lo; jj < hi; ++jj) {
                     const float4 qv = pos[jj];
                     const mde_iw j = (mde_iw)(jj);
-                    const mde_iw in_row = row_ok & (j >= j0) & (j < j1);
+                    // j0 <= j < j1 on a row_ok lane (len = 0 elsewhere): one unsigned compare
+                    const mde_iw in_row = mde_as_uw(j - j0) < mde_as_uw(len);
                     MDE_CANDIDATE_W((mde_fw)(qv.x), (mde_fw)(qv.y), (mde_fw)(qv.z))
                 }
             } else {
