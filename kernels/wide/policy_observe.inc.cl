@@ -99,12 +99,14 @@ __kernel void SWCL_KERNEL(policy_observe)(__global const float4* pos, __global c
 #define PO_VISIT(cx, cy, cz, cq, follower, self)                                                              \
     {                                                                                                          \
         const swcl_bf dx = (swcl_bf)(cx) - px, dy = (swcl_bf)(cy) - py, dz = (swcl_bf)(cz) - pz;               \
-        const swcl_bf dd = dx * dx + dy * dy + dz * dz;                                                        \
-        const swcl_bi cand = (dd <= s2) & ~(self);                                                             \
+        /* The lanes that are this candidate at +inf: cand is one compare (a mask combined with & is     \
+           packed to bytes and back on AVX2); every later mask is within cand. */                              \
+        const swcl_bf dd = select(dx * dx + dy * dy + dz * dz, (swcl_bf)(INFINITY), self);                    \
+        const swcl_bi cand = dd <= s2;                                                                         \
         if (SWCL_BANY(cand)) {                                                                                 \
             const swcl_bf dist = sqrt(dd);                                                                     \
             if (follower) {                                                                                    \
-                const swcl_bi m = cand & (dist <= r_nbr);                                                      \
+                const swcl_bi m = dist <= r_nbr; /* within cand: r_nbr <= search */                          \
                 const swcl_bf ex = (swcl_bf)((cq).x) - qx, ey = (swcl_bf)((cq).y) - qy,                        \
                               ez = (swcl_bf)((cq).z) - qz;                                                     \
                 SWCL_BCOUNT_IF(nn, m);                                                                         \
@@ -112,7 +114,7 @@ __kernel void SWCL_KERNEL(policy_observe)(__global const float4* pos, __global c
                 sq = select(sq, sq + sqrt(ex * ex + ey * ey + ez * ez), m);                                    \
                 sd = select(sd, sd + dist, m);                                                                 \
             }                                                                                                  \
-            const swcl_bi mr = cand & (dist <= reach);                                                         \
+            const swcl_bi mr = dist <= reach; /* within cand: reach <= search */                             \
             const swcl_bi inside = mr & (dd <= b2);                                                            \
             if (SWCL_BANY(inside))                                                                             \
                 for (int k = 0; k < RL_RAYS; ++k) ray[k] = select(ray[k], zero, inside);                       \
