@@ -1,0 +1,222 @@
+// Two kernel sources in one process: a stage is built twice, once from each
+// directory ($SWARMCL_KERNEL_DIR for each build, two contexts), and its
+// launches alternate (two builds of each, old, new, new, old, then
+// backwards), so both see the same machine at the same moment.  On a shared 2-core machine whose speed swings by 2x
+// over minutes, runs alternated between processes could not show a 5%
+// change; the ratio of each round here can (docs/benchmarks.md, "Masks from
+// one compare").  Also checks the two results are bitwise the same.
+//
+//   kernel_ab --stage mde|noise --old DIR --new DIR [--agents N] [--reps R] [--json PATH]
+//
+// mde: one minimum distance pass (min_distance.cl) over N agents spread
+// uniformly in noise_bench's field-model domain (20 x 20 x 10 m, grid cells
+// of 0.1 m, d_min 0.05 m: 0.25 agents a cell); each pass moves the agents,
+// the same on both sides.  noise: the curl noise with domain walls sampled at
+// N random points (noise_sample_w on CPU devices).
+#include <array>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "bench_util.hpp"
+#include "device/context.hpp"
+#include "fields/noise_field.hpp"
+#include "swarm/min_distance.hpp"
+#include "swarm/swarm.hpp"
+
+using namespace swarmcl;
+using namespace swarmcl::bench;
+
+namespace {
+
+struct Options {
+    std::string stage, old_dir, new_dir, json;
+    uint32_t agents = 1000000;
+    int reps = 20;
+};
+
+[[noreturn]] void usage(const std::string& why) {
+    std::fprintf(stderr,
+                 "kernel_ab: %s\nusage: kernel_ab --stage mde|noise --old DIR --new DIR [--agents N] [--reps R] "
+                 "[--json PATH]\n",
+                 why.c_str());
+    std::exit(2);
+}
+
+// One side: the stage built from one kernel directory; run() launches it
+// once and waits, result() reads what it wrote back.
+struct Side {
+    std::shared_ptr<Context> ctx;
+    std::function<void()> run;
+    std::function<std::vector<cl_float4>()> result;
+};
+
+const std::array<float, 3> kLo = {-10.0f, -10.0f, -5.0f}, kHi = {10.0f, 10.0f, 5.0f};
+
+std::vector<cl_float4> uniform_points(uint32_t n) {
+    std::vector<cl_float4> p(n);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    for (auto& q : p)
+        q = {{kLo[0] + (kHi[0] - kLo[0]) * u(rng), kLo[1] + (kHi[1] - kLo[1]) * u(rng),
+              kLo[2] + (kHi[2] - kLo[2]) * u(rng), 0.0f}};
+    return p;
+}
+
+void make_mde(Side& s, const std::vector<cl_float4>& pts) {
+    const uint32_t n = uint32_t(pts.size());
+    SwarmConfig c;
+    c.capacity = n;
+    c.domain_min = kLo;
+    c.domain_max = kHi;
+    c.interaction_radius = 0.1f;
+    auto swarm = std::make_shared<Swarm>(s.ctx, c);
+    std::vector<float> xyz(3 * size_t(n));
+    for (uint32_t i = 0; i < n; ++i)
+        for (int a = 0; a < 3; ++a) xyz[3 * size_t(i) + a] = pts[i].s[a];
+    swarm->write(Attribute::Position, xyz.data(), n);
+    auto mde = std::make_shared<MinDistance>(*s.ctx, 0.05f, 99);
+    auto moved = std::make_shared<DeviceBuffer<cl_uint>>(*s.ctx, 2, "moved");
+    moved->fill(*s.ctx, 0u, 2);
+    swarm->ensure_grid();
+    auto ctx = s.ctx;
+    s.run = [=] {
+        mde->apply(*swarm, *moved);
+        ctx->queue().finish();
+    };
+    s.result = [=] {
+        std::vector<cl_float4> out(n);
+        swarm->positions().download(*ctx, out.data(), n);
+        return out;
+    };
+}
+
+void make_noise(Side& s, const std::vector<cl_float4>& pts) {
+    const uint32_t n = uint32_t(pts.size());
+    NoiseConfig c;
+    c.type = NoiseType::Curl;
+    c.scale = 0.4f;
+    c.gain = 0.25f;
+    c.boundary_distance = 0.4f;
+    c.region_min = kLo;
+    c.region_max = kHi;
+    c.domain_walls = true;
+    auto field = std::make_shared<NoiseField>(*s.ctx, c);
+    auto kernel = std::make_shared<cl::Kernel>(field->sample_kernel());
+    auto in = std::make_shared<DeviceBuffer<cl_float4>>(*s.ctx, n, "points");
+    auto out = std::make_shared<DeviceBuffer<cl_float4>>(*s.ctx, n, "samples");
+    in->upload(*s.ctx, pts.data(), n);
+    auto ctx = s.ctx;
+    s.run = [=] {
+        field->enqueue_sample(*kernel, *in, n, 0.0f, 0, *out);
+        ctx->queue().finish();
+    };
+    s.result = [=] {
+        std::vector<cl_float4> r(n);
+        out->download(*ctx, r.data(), n);
+        return r;
+    };
+}
+
+std::string cpu_model() {
+    std::ifstream f("/proc/cpuinfo");
+    std::string line;
+    while (std::getline(f, line))
+        if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+    return "unknown";
+}
+
+}  // namespace
+
+int run(const Options& o);
+
+int main(int argc, char** argv) {
+    Options o;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (i + 1 >= argc) usage(a + " needs a value");
+        const std::string v = argv[++i];
+        if (a == "--stage") o.stage = v;
+        else if (a == "--old") o.old_dir = v;
+        else if (a == "--new") o.new_dir = v;
+        else if (a == "--json") o.json = v;
+        else if (a == "--agents") o.agents = uint32_t(std::strtoul(v.c_str(), nullptr, 10));
+        else if (a == "--reps") o.reps = std::atoi(v.c_str());
+        else usage("unknown option " + a);
+    }
+    if (o.stage != "mde" && o.stage != "noise") usage("--stage must be mde or noise");
+    if (o.old_dir.empty() || o.new_dir.empty()) usage("--old and --new name kernel directories");
+    if (o.agents == 0 || o.reps < 2) usage("--agents must be > 0 and --reps >= 2");
+    try {
+        return run(o);
+    } catch (const std::exception& e) {  // a kernel directory without the files, no device, ...
+        std::fprintf(stderr, "kernel_ab: %s\n", e.what());
+        return 2;
+    }
+}
+
+int run(const Options& o) {
+    const double load_before = load_average();
+    const auto pts = uniform_points(o.agents);
+    // Four builds: old, new, new, old.  Which build a context is (its place
+    // in memory, the order of creation) moved a null test (old against a
+    // copy of old) by up to 4%; with each source in the first and last
+    // place alike, the null test reads 1.00.
+    Side side[4];
+    const std::string dirs[2] = {o.old_dir, o.new_dir};
+    const int source[4] = {0, 1, 1, 0};
+    for (int k = 0; k < 4; ++k) {
+        setenv("SWARMCL_KERNEL_DIR", dirs[source[k]].c_str(), 1);  // read when each program is built
+        side[k].ctx = std::make_shared<Context>("", "");
+        if (o.stage == "mde") make_mde(side[k], pts);
+        else make_noise(side[k], pts);
+        side[k].run();  // built and warm
+    }
+    unsetenv("SWARMCL_KERNEL_DIR");
+    std::vector<double> ratio, ms[2];
+    for (int r = 0; r < o.reps; ++r) {
+        double t[2] = {0.0, 0.0};
+        for (int j = 0; j < 4; ++j) {
+            const int k = (r & 1) ? 3 - j : j;  // forwards, then backwards
+            const auto t0 = std::chrono::steady_clock::now();
+            side[k].run();
+            const double dt = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+            ms[source[k]].push_back(dt);
+            t[source[k]] += dt;
+        }
+        ratio.push_back(t[1] / t[0]);
+    }
+    const auto a = side[0].result();
+    bool same = true;
+    for (int k = 1; k < 4; ++k) {
+        const auto b = side[k].result();
+        same = same && std::memcmp(a.data(), b.data(), a.size() * sizeof(cl_float4)) == 0;
+    }
+    const std::string device = side[0].ctx->device().device_name;
+    std::printf("kernel_ab %s, %u agents, %d alternated rounds on %s (%s), load %.2f\n", o.stage.c_str(), o.agents,
+                o.reps, device.c_str(), cpu_model().c_str(), load_before);
+    std::printf("  old %s: median %.3f ms (min %.3f)\n  new %s: median %.3f ms (min %.3f)\n", o.old_dir.c_str(),
+                median(ms[0]), minimum(ms[0]), o.new_dir.c_str(), median(ms[1]), minimum(ms[1]));
+    std::printf("  new / old, median of the rounds' ratios: %.3f; results %s\n", median(ratio),
+                same ? "bitwise the same" : "DIFFER");
+    if (!o.json.empty()) {
+        std::ofstream j(o.json);
+        j << "{\n  \"benchmark\": \"kernel_ab\",\n  \"date\": \"" << utc_now() << "\",\n  \"stage\": \"" << o.stage
+          << "\",\n  \"agents\": " << o.agents << ",\n  \"device\": \"" << json_escape(device)
+          << "\",\n  \"cpu\": \"" << json_escape(cpu_model()) << "\",\n  \"load_before\": " << load_before
+          << ",\n  \"load_after\": " << load_average() << ",\n  \"old\": \"" << json_escape(o.old_dir)
+          << "\",\n  \"new\": \"" << json_escape(o.new_dir) << "\",\n  \"old_ms\": " << json_array(ms[0], 1.0)
+          << ",\n  \"new_ms\": " << json_array(ms[1], 1.0) << ",\n  \"round_ratios\": " << json_array(ratio, 1.0)
+          << ",\n  \"median_ratio\": " << median(ratio) << ",\n  \"bitwise_same\": " << (same ? "true" : "false")
+          << "\n}\n";
+        std::printf("wrote %s\n", o.json.c_str());
+    }
+    return same ? 0 : 1;
+}
