@@ -6,15 +6,22 @@
 // change; the ratio of each round here can (docs/benchmarks.md, "Masks from
 // one compare").  Also checks the two results are bitwise the same.
 //
-//   kernel_ab --stage mde|noise --old DIR --new DIR [--agents N] [--reps R] [--json PATH]
+//   kernel_ab --stage mde|noise|neighbors --old DIR --new DIR [--old-width W] [--new-width W]
+//             [--agents N] [--reps R] [--json PATH]
+//
+// --old-width / --new-width: the explicit-width kernels' lanes (1, 8 or 16,
+// $SWARMCL_NOISE_WIDTH) for that side, to compare widths with one source.
 //
 // mde: one minimum distance pass (min_distance.cl) over N agents spread
 // uniformly in noise_bench's field-model domain (20 x 20 x 10 m, grid cells
 // of 0.1 m, d_min 0.05 m: 0.25 agents a cell); each pass moves the agents,
 // the same on both sides.  noise: the curl noise with domain walls sampled at
-// N random points (noise_sample_w on CPU devices).
+// N random points (noise_sample_w on CPU devices).  neighbors: every agent
+// counts its neighbours within r as in neighbor_grid_bench (see
+// make_neighbors).
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -38,14 +45,15 @@ namespace {
 
 struct Options {
     std::string stage, old_dir, new_dir, json;
+    std::string widths[2];  // $SWARMCL_NOISE_WIDTH for each side's builds ("": the device's)
     uint32_t agents = 1000000;
     int reps = 20;
 };
 
 [[noreturn]] void usage(const std::string& why) {
     std::fprintf(stderr,
-                 "kernel_ab: %s\nusage: kernel_ab --stage mde|noise --old DIR --new DIR [--agents N] [--reps R] "
-                 "[--json PATH]\n",
+                 "kernel_ab: %s\nusage: kernel_ab --stage mde|noise|neighbors --old DIR --new DIR [--old-width W] [--new-width W] "
+                 "[--agents N] [--reps R] [--json PATH]\n",
                  why.c_str());
     std::exit(2);
 }
@@ -55,8 +63,15 @@ struct Options {
 struct Side {
     std::shared_ptr<Context> ctx;
     std::function<void()> run;
-    std::function<std::vector<cl_float4>()> result;
+    std::function<std::vector<uint8_t>()> result;  // what the stage wrote, as bytes
 };
+
+template <typename T>
+std::vector<uint8_t> as_bytes(const std::vector<T>& v) {
+    std::vector<uint8_t> b(v.size() * sizeof(T));
+    std::memcpy(b.data(), v.data(), b.size());
+    return b;
+}
 
 const std::array<float, 3> kLo = {-10.0f, -10.0f, -5.0f}, kHi = {10.0f, 10.0f, 5.0f};
 
@@ -94,8 +109,30 @@ void make_mde(Side& s, const std::vector<cl_float4>& pts) {
     s.result = [=] {
         std::vector<cl_float4> out(n);
         swarm->positions().download(*ctx, out.data(), n);
-        return out;
+        return as_bytes(out);
     };
+}
+
+// neighbor_grid_bench's pass: N agents uniform in a cube sized for 30
+// neighbours within r = 1 on average, each counting its neighbours
+// (Swarm::neighbor_count: the count kernel and the download of the counts).
+void make_neighbors(Side& s, uint32_t n) {
+    const float r = 1.0f;
+    const float edge = float(std::cbrt(n * (4.0 / 3.0 * 3.14159265358979 * r * r * r) / 30.0));
+    SwarmConfig c;
+    c.capacity = n;
+    c.domain_min = {0.0f, 0.0f, 0.0f};
+    c.domain_max = {edge, edge, edge};
+    c.interaction_radius = r;
+    auto swarm = std::make_shared<Swarm>(s.ctx, c);
+    std::vector<float> xyz(3 * size_t(n));
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(0.0f, edge);
+    for (auto& x : xyz) x = u(rng);
+    swarm->write(Attribute::Position, xyz.data(), n);
+    auto counts = std::make_shared<std::vector<uint32_t>>(n);
+    s.run = [=] { swarm->neighbor_count(r, counts->data(), n); };
+    s.result = [=] { return as_bytes(*counts); };
 }
 
 void make_noise(Side& s, const std::vector<cl_float4>& pts) {
@@ -121,7 +158,7 @@ void make_noise(Side& s, const std::vector<cl_float4>& pts) {
     s.result = [=] {
         std::vector<cl_float4> r(n);
         out->download(*ctx, r.data(), n);
-        return r;
+        return as_bytes(r);
     };
 }
 
@@ -147,11 +184,13 @@ int main(int argc, char** argv) {
         else if (a == "--old") o.old_dir = v;
         else if (a == "--new") o.new_dir = v;
         else if (a == "--json") o.json = v;
+        else if (a == "--old-width") o.widths[0] = v;
+        else if (a == "--new-width") o.widths[1] = v;
         else if (a == "--agents") o.agents = uint32_t(std::strtoul(v.c_str(), nullptr, 10));
         else if (a == "--reps") o.reps = std::atoi(v.c_str());
         else usage("unknown option " + a);
     }
-    if (o.stage != "mde" && o.stage != "noise") usage("--stage must be mde or noise");
+    if (o.stage != "mde" && o.stage != "noise" && o.stage != "neighbors") usage("--stage must be mde, noise or neighbors");
     if (o.old_dir.empty() || o.new_dir.empty()) usage("--old and --new name kernel directories");
     if (o.agents == 0 || o.reps < 2) usage("--agents must be > 0 and --reps >= 2");
     try {
@@ -174,12 +213,16 @@ int run(const Options& o) {
     const int source[4] = {0, 1, 1, 0};
     for (int k = 0; k < 4; ++k) {
         setenv("SWARMCL_KERNEL_DIR", dirs[source[k]].c_str(), 1);  // read when each program is built
+        if (o.widths[source[k]].empty()) unsetenv("SWARMCL_NOISE_WIDTH");
+        else setenv("SWARMCL_NOISE_WIDTH", o.widths[source[k]].c_str(), 1);  // read when each stage is made
         side[k].ctx = std::make_shared<Context>("", "");
         if (o.stage == "mde") make_mde(side[k], pts);
+        else if (o.stage == "neighbors") make_neighbors(side[k], o.agents);
         else make_noise(side[k], pts);
         side[k].run();  // built and warm
     }
     unsetenv("SWARMCL_KERNEL_DIR");
+    unsetenv("SWARMCL_NOISE_WIDTH");
     std::vector<double> ratio, ms[2];
     for (int r = 0; r < o.reps; ++r) {
         double t[2] = {0.0, 0.0};
@@ -197,7 +240,7 @@ int run(const Options& o) {
     bool same = true;
     for (int k = 1; k < 4; ++k) {
         const auto b = side[k].result();
-        same = same && std::memcmp(a.data(), b.data(), a.size() * sizeof(cl_float4)) == 0;
+        same = same && a == b;
     }
     const std::string device = side[0].ctx->device().device_name;
     std::printf("kernel_ab %s, %u agents, %d alternated rounds on %s (%s), load %.2f\n", o.stage.c_str(), o.agents,

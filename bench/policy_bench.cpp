@@ -41,6 +41,7 @@ struct Row {
     double step_s = 0, observe_s = 0, mlp_s = 0, infer_s = 0, env_step_s = 0, rag_s = 0, neighbours = 0;
     double copy_gbs = 0;  // the roofline's copy kernel at n float4, this run (issue 29)
     std::string mlp_kernel;  // policy_mlp_tiled (the GPU profile) or policy_mlp at its lanes
+    uint32_t observe_lanes = 1;  // policy_observe_w's agents per work-item (1: policy_observe)
     std::vector<bench::RooflineRow> roofline;
 };
 
@@ -77,7 +78,8 @@ Row run(std::shared_ptr<Context> ctx, const std::shared_ptr<const std::string>& 
     pc.leader_speed = 1.0f;
     auto model = std::make_shared<PolicyModel>(swarm, pc, bytes);
     r.mlp_kernel = model->tiled_mlp() ? "policy_mlp_tiled"
-                                      : "policy_mlp, " + std::to_string(model->lanes()) + " lanes";
+                                      : "policy_mlp, " + std::to_string(model->mlp_lanes()) + " lanes";
+    r.observe_lanes = model->lanes();
     swarm.set_behavior(model);
     // Mean neighbours within 18.5 m, from the grid's count query (a sample).
     {
@@ -222,10 +224,10 @@ int run(const std::string& weights, const std::string& out, const std::vector<st
                       bench::roofline_row("policy full step", 64 + 92 + 2 * obs_bytes, n, 1e3 * r.step_s,
                                           r.copy_gbs)};
         rows.push_back(r);
-        std::printf("N %8u: policy step %9.2f ms = %7.2f steps/s (observe %.1f ms, MLP %.1f ms = %.1f GFLOP/s "
+        std::printf("N %8u: policy step %9.2f ms = %7.2f steps/s (observe %.1f ms [%u lanes], MLP %.1f ms = %.1f GFLOP/s "
                     "[%s], %.1f ms with the host's copies; %.0f neighbours within 18.5 m) | env step (%u worlds x "
                     "100, RAG) %8.2f ms + RAG %7.2f ms\n",
-                    n, 1e3 * r.step_s, 1.0 / r.step_s, 1e3 * r.observe_s, 1e3 * r.mlp_s,
+                    n, 1e3 * r.step_s, 1.0 / r.step_s, 1e3 * r.observe_s, r.observe_lanes, 1e3 * r.mlp_s,
                     2.0 * macs * n / r.mlp_s * 1e-9, r.mlp_kernel.c_str(), 1e3 * r.infer_s, r.neighbours, std::max<uint32_t>(1, n / 100), 1e3 * r.env_step_s,
                     1e3 * r.rag_s);
         bench::print_roofline(r.roofline, r.copy_gbs);
@@ -241,7 +243,7 @@ int run(const std::string& weights, const std::string& out, const std::vector<st
         f << "    {\"agents\": " << r.n << ", \"steps_timed\": " << r.steps << ", \"policy_step_ms\": " << 1e3 * r.step_s
           << ", \"policy_steps_per_s\": " << 1.0 / r.step_s << ", \"observe_ms\": " << 1e3 * r.observe_s
           << ", \"mlp_ms\": " << 1e3 * r.mlp_s << ", \"mlp_gflops\": " << 2.0 * macs * r.n / r.mlp_s * 1e-9
-          << ", \"infer_with_copies_ms\": " << 1e3 * r.infer_s << ", \"mlp_kernel\": \"" << r.mlp_kernel << "\"" << ", \"mean_neighbours\": " << r.neighbours
+          << ", \"infer_with_copies_ms\": " << 1e3 * r.infer_s << ", \"mlp_kernel\": \"" << r.mlp_kernel << "\", \"observe_lanes\": " << r.observe_lanes << ", \"mean_neighbours\": " << r.neighbours
           << ", \"env_worlds_x_100_step_ms\": " << 1e3 * r.env_step_s << ", \"env_rag_ms\": " << 1e3 * r.rag_s
           << ", \"roofline\": " << bench::roofline_json(r.roofline, r.copy_gbs) << "}"
           << (i + 1 < rows.size() ? "," : "") << "\n";

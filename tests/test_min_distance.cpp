@@ -146,6 +146,30 @@ TEST(MinDistance, WideKernelEqualsScalarKernelBitwise) {
 
 // The process-wide width override (what these tests use instead of
 // $SWARMCL_NOISE_WIDTH) takes only the widths the kernels have.
+// The explicit-width kernels' default on CPU devices: 8 lanes where the
+// device prefers 8-float vectors (PoCL with AVX2), else 16; 1 on GPUs; a
+// forced width wins.  The policy's MLP keeps 16 lanes on CPU devices.
+TEST(MinDistance, DefaultWidthFollowsThePreferredFloatVectorWidth) {
+    DeviceEntry d = test::shared_context()->device();
+    if (kernel_width_forced()) GTEST_SKIP() << "$SWARMCL_NOISE_WIDTH forces the width in this run";
+    d.cpu_profile = true;
+    d.preferred_float_width = 8;
+    EXPECT_EQ(preferred_noise_width(d), 8u);
+    d.preferred_float_width = 16;
+    EXPECT_EQ(preferred_noise_width(d), 16u);
+    d.preferred_float_width = 4;  // no measurement there: the 16 of before
+    EXPECT_EQ(preferred_noise_width(d), 16u);
+    d.cpu_profile = false;
+    d.preferred_float_width = 8;
+    EXPECT_EQ(preferred_noise_width(d), 1u);
+    {
+        test::ScopedKernelWidth w(16);
+        d.cpu_profile = true;
+        EXPECT_TRUE(kernel_width_forced());
+        EXPECT_EQ(preferred_noise_width(d), 16u);
+    }
+}
+
 TEST(MinDistance, KernelWidthOverrideTakesOnlyKernelWidths) {
     EXPECT_THROW(set_kernel_width_override(4), Error);
     EXPECT_EQ(kernel_width_override(), 0u);

@@ -282,6 +282,26 @@ TEST(PolicyMlp, KernelMatchesReference) {
     expect_kernel_matches_reference(random_mlp({4}, "linear", 23, false), true, "one layer, no EFS");
 }
 
+// By default on CPU devices the observations take the explicit-width
+// kernels' width (8 where the device prefers 8-float vectors) and the MLP
+// 16 lanes; on GPUs both one.
+TEST(PolicyMlp, DefaultLanesAreTheNoiseWidthAndSixteenForTheMlp) {
+    const char* lanes_env = std::getenv("SWARMCL_POLICY_LANES");
+    if (kernel_width_forced() || (lanes_env && *lanes_env)) GTEST_SKIP() << "a forced width in this run";
+    const MlpFile f = paper_mlp(24);
+    const auto bytes = std::make_shared<const std::string>(f.bytes());
+    auto swarm = small_swarm(4);
+    PolicyModel m(*swarm, PolicyModelConfig{}, bytes);
+    const DeviceEntry& d = test::shared_context()->device();
+    if (d.cpu_profile) {
+        EXPECT_EQ(m.lanes(), preferred_noise_width(d));
+        EXPECT_EQ(m.mlp_lanes(), 16u);
+    } else {
+        EXPECT_EQ(m.lanes(), 1u);
+        EXPECT_EQ(m.mlp_lanes(), 1u);
+    }
+}
+
 TEST(PolicyMlp, EveryLaneWidthGivesTheSameActions) {
     const MlpFile f = paper_mlp(24);
     const auto bytes = std::make_shared<const std::string>(f.bytes());
@@ -292,6 +312,7 @@ TEST(PolicyMlp, EveryLaneWidthGivesTheSameActions) {
         test::ScopedKernelWidth scoped_width(w);
         PolicyModel m(*swarm, PolicyModelConfig{}, bytes);
         EXPECT_EQ(m.lanes(), w);
+        EXPECT_EQ(m.mlp_lanes(), w);  // a forced width sets both
         outs.push_back(m.infer(obs, 517));
     }
     for (size_t i = 1; i < outs.size(); ++i)

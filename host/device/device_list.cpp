@@ -66,6 +66,7 @@ std::vector<DeviceEntry> list_devices() {
             e.local_memory = device.getInfo<CL_DEVICE_LOCAL_MEM_SIZE>();
             e.opencl_c_version = trim(device.getInfo<CL_DEVICE_OPENCL_C_VERSION>());
             e.extensions = device.getInfo<CL_DEVICE_EXTENSIONS>();
+            e.preferred_float_width = device.getInfo<CL_DEVICE_PREFERRED_VECTOR_WIDTH_FLOAT>();
             e.cpu_profile = (e.type & CL_DEVICE_TYPE_CPU) != 0;
             out.push_back(std::move(e));
         }

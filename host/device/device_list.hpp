@@ -24,6 +24,7 @@ struct DeviceEntry {
     uint64_t local_memory = 0;
     std::string opencl_c_version;  // CL_DEVICE_OPENCL_C_VERSION, e.g. "OpenCL C 1.2 pocl"
     std::string extensions;        // CL_DEVICE_EXTENSIONS
+    uint32_t preferred_float_width = 1;  // CL_DEVICE_PREFERRED_VECTOR_WIDTH_FLOAT (PoCL: 8 with AVX2, 16 with AVX-512)
     // The code paths the library takes on the device (docs/architecture.md,
     // "Device profiles"): true on CPU devices: explicit-width kernels, the
     // CPU launch policy, x86 prefetch; false elsewhere: one agent per

@@ -23,8 +23,13 @@ constexpr uint64_t kMaxBakedNodes = uint64_t(1) << 27;
 
 // Explicit-width kernels: SWCL_W points per work-item (perlin.cl).  CPU
 // devices only by default: PoCL does not vectorise the scalar kernels across
-// work-items, GPUs run them one point per work-item.
+// work-items, GPUs run them one point per work-item.  16 lanes, or 8 where
+// the device prefers 8 floats a vector (PoCL with AVX2 and no AVX-512: a
+// 16-lane vector is two registers there; 8 lanes measured 7-21 % faster in
+// the noise, neighbour count, force and policy observation kernels and no
+// slower in the others, docs/benchmarks.md "Eight lanes with AVX2").
 constexpr uint32_t kCpuNoiseWidth = 16;
+uint32_t cpu_noise_width(const DeviceEntry& device) { return device.preferred_float_width == 8 ? 8u : kCpuNoiseWidth; }
 
 std::atomic<uint32_t> g_width_override{0};
 
@@ -38,6 +43,11 @@ void set_kernel_width_override(uint32_t width) {
 
 uint32_t kernel_width_override() { return g_width_override.load(); }
 
+bool kernel_width_forced() {
+    const char* env = std::getenv("SWARMCL_NOISE_WIDTH");
+    return g_width_override.load() != 0 || (env && *env);
+}
+
 uint32_t preferred_noise_width(const DeviceEntry& device) {
     if (const uint32_t w = g_width_override.load()) return w;
     const char* env = std::getenv("SWARMCL_NOISE_WIDTH");
@@ -48,7 +58,7 @@ uint32_t preferred_noise_width(const DeviceEntry& device) {
         if (v == "16") return 16;
         fail(Status::InvalidArgument, "SWARMCL_NOISE_WIDTH must be 1, 8 or 16 (got '" + v + "')");
     }
-    return device.cpu_profile ? kCpuNoiseWidth : 1;
+    return device.cpu_profile ? cpu_noise_width(device) : 1;
 }
 
 namespace {

@@ -15,10 +15,14 @@
 
 namespace swarmcl {
 
-// Points per work-item of the explicit-width kernels on `device`: 16 on CPU
-// devices, 1 elsewhere; $SWARMCL_NOISE_WIDTH = 1, 8 or 16 overrides it
+// Points per work-item of the explicit-width kernels on `device`: on CPU
+// devices 8 where the device prefers 8-float vectors (PoCL with AVX2), else
+// 16; 1 elsewhere; $SWARMCL_NOISE_WIDTH = 1, 8 or 16 overrides it
 // (docs/noise.md).  Throws InvalidArgument for another value.
 uint32_t preferred_noise_width(const DeviceEntry& device);
+// Whether the width is forced (set_kernel_width_override or
+// $SWARMCL_NOISE_WIDTH), not the device's default.
+bool kernel_width_forced();
 
 // A process-wide width for the explicit-width kernels (1, 8 or 16; 0 = none)
 // that wins over $SWARMCL_NOISE_WIDTH and the device default, and sets the

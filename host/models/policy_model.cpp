@@ -23,6 +23,8 @@ constexpr float kDegToRad = 0.017453292519943295f;
 // padded work-item of an earlier chunk would take a row past the scratch.
 constexpr uint32_t kMlpChunkTiles = 1024;
 static_assert(kMlpChunkTiles % 64 == 0, "kMlpChunkTiles: a multiple of launch()'s local sizes");
+// policy_mlp's lanes on CPU devices (weights read once per 16 agents).
+constexpr uint32_t kPolicyMlpCpuLanes = 16;
 
 // The tiled MLP (policy_mlp_tiled, the GPU profile): 64 outputs x 64 agents
 // per 16 x 16 work-group.  Agents are chunked so its two hidden buffers stay
@@ -157,31 +159,38 @@ PolicyModel::PolicyModel(Swarm& swarm, PolicyModelConfig config, std::shared_ptr
     box_c_.upload(ctx, bc.data(), bc.size());
     box_h_.upload(ctx, bh.data(), bh.size());
 
-    // CPU devices: the noise kernels' lane width (16 with AVX-512, 8 else);
-    // set_kernel_width_override, then $SWARMCL_POLICY_LANES, override it.
+    // CPU devices: the observations take the noise kernels' lane width (16,
+    // or 8 where the device prefers 8-float vectors), the MLP 16 lanes
+    // whatever the device (with AVX2 its 8-lane build was 12 % slower, the
+    // observations' 16-lane build 10 %: docs/benchmarks.md, "Eight lanes
+    // with AVX2"); a forced noise width sets both.  set_kernel_width_override,
+    // then $SWARMCL_POLICY_LANES, override both.
     const char* env = std::getenv("SWARMCL_POLICY_LANES");
-    lanes_ = ctx.device().cpu_profile ? preferred_noise_width(ctx.device()) : 1;
+    const bool cpu = ctx.device().cpu_profile;
+    lanes_ = cpu ? preferred_noise_width(ctx.device()) : 1;
+    mlp_lanes_ = cpu && !kernel_width_forced() ? kPolicyMlpCpuLanes : lanes_;
     bool forced = false;
     if (env && (std::string(env) == "1" || std::string(env) == "8" || std::string(env) == "16")) {
-        lanes_ = uint32_t(std::stoul(env));
+        lanes_ = mlp_lanes_ = uint32_t(std::stoul(env));
         forced = true;
     }
     if (const uint32_t w = kernel_width_override()) {
-        lanes_ = w;
+        lanes_ = mlp_lanes_ = w;
         forced = true;
     }
     // Every build of policy.cl names the parameter block's slots (POLICY_*).
     const std::string slots = policy_param_table().device_defines("POLICY") + world_defines(worlds);
     const std::string lanes_define = "-DPM_W=" + std::to_string(lanes_) + slots;
+    const std::string mlp_define = "-DPM_W=" + std::to_string(mlp_lanes_) + slots;
     // With lanes, the observations too come PM_W agents per work-item.
     observe_k_ = lanes_ > 1 ? ctx.kernel("policy.cl", "policy_observe_w", lanes_define)
                             : ctx.kernel("policy.cl", "policy_observe", slots);
-    mlp_k_ = ctx.kernel("policy.cl", "policy_mlp", lanes_define);
+    mlp_k_ = ctx.kernel("policy.cl", "policy_mlp", mlp_define);
     // Other devices (the GPU profile), lanes not forced: the tiled MLP
     // (kernels/policy.cl says why), if the device runs its 256-item groups
     // and has the local memory; policy_mlp otherwise.
     if (!ctx.device().cpu_profile && !forced) {
-        cl::Kernel k = ctx.kernel("policy.cl", "policy_mlp_tiled", lanes_define);
+        cl::Kernel k = ctx.kernel("policy.cl", "policy_mlp_tiled", mlp_define);
         const cl::Device& dev = ctx.device().device;
         const size_t group = k.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(dev);
         const cl_ulong local = k.getWorkGroupInfo<CL_KERNEL_LOCAL_MEM_SIZE>(dev);
@@ -295,9 +304,9 @@ void PolicyModel::enqueue_mlp(DeviceBuffer<float>& obs, uint32_t n, DeviceBuffer
         enqueue_mlp_tiled(obs, n, actions);
         return;
     }
-    const uint32_t tiles = (n + lanes_ - 1) / lanes_;
+    const uint32_t tiles = (n + mlp_lanes_ - 1) / mlp_lanes_;
     const uint32_t chunk = std::min(tiles, kMlpChunkTiles);
-    scratch_.reserve(ctx_, size_t(chunk) * 2 * max_width_ * lanes_, "policy MLP scratch");
+    scratch_.reserve(ctx_, size_t(chunk) * 2 * max_width_ * mlp_lanes_, "policy MLP scratch");
     const auto& s = weights_.action_scale;
     for (uint32_t first = 0; first < tiles; first += chunk) {
         set_args(mlp_k_, obs.get(), n, cl_uint(weights_.obs_dim), first, params_.get(), layers_.get(),

@@ -115,7 +115,8 @@ public:
     // observations refused, nothing written).
     void infer(const float* obs, uint32_t count, float* actions);
     // Agents per work-item of the MLP kernel.
-    uint32_t lanes() const { return lanes_; }
+    uint32_t lanes() const { return lanes_; }          // the observations' (policy_observe_w)
+    uint32_t mlp_lanes() const { return mlp_lanes_; }  // the MLP's (policy_mlp)
     // True when the MLP runs as tiled matrix products, one launch a layer
     // (policy_mlp_tiled: the GPU profile, lanes not forced); false for
     // policy_mlp.
@@ -137,7 +138,7 @@ private:
     bool blocks_current_ = false;
     std::shared_ptr<const std::string> bytes_;
     PolicyWeights weights_;
-    uint32_t lanes_ = 1, max_width_ = 0, mean_off_ = 0, std_off_ = 0;
+    uint32_t lanes_ = 1, mlp_lanes_ = 1, max_width_ = 0, mean_off_ = 0, std_off_ = 0;
     bool tiled_ = false;
     uint32_t tiled_chunk_ = 0, hidden_width_ = 0;  // the tiled MLP's agents a chunk, widest hidden layer
     std::vector<uint32_t> layer_table_;            // layers_ on the host (the tiled MLP's arguments)
