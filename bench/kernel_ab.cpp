@@ -9,8 +9,11 @@
 //   kernel_ab --stage mde|noise|neighbors --old DIR --new DIR [--old-width W] [--new-width W]
 //             [--agents N] [--reps R] [--json PATH]
 //
-// --old-width / --new-width: the explicit-width kernels' lanes (1, 8 or 16,
-// $SWARMCL_NOISE_WIDTH) for that side, to compare widths with one source.
+// --old-width / --new-width: the explicit-width kernels' lanes (1, 8 or 16;
+// set_kernel_width_override) for that side, to compare widths with one
+// source.  The kernel folder goes through the environment
+// ($SWARMCL_KERNEL_DIR), set from this thread between builds, while the
+// earlier contexts' PoCL threads wait idle; it stays set to the last folder.
 //
 // mde: one minimum distance pass (min_distance.cl) over N agents spread
 // uniformly in noise_bench's field-model domain (20 x 20 x 10 m, grid cells
@@ -45,7 +48,7 @@ namespace {
 
 struct Options {
     std::string stage, old_dir, new_dir, json;
-    std::string widths[2];  // $SWARMCL_NOISE_WIDTH for each side's builds ("": the device's)
+    uint32_t widths[2] = {0, 0};  // each side's explicit-width kernels' lanes (0: the device's)
     uint32_t agents = 1000000;
     int reps = 20;
 };
@@ -184,8 +187,8 @@ int main(int argc, char** argv) {
         else if (a == "--old") o.old_dir = v;
         else if (a == "--new") o.new_dir = v;
         else if (a == "--json") o.json = v;
-        else if (a == "--old-width") o.widths[0] = v;
-        else if (a == "--new-width") o.widths[1] = v;
+        else if (a == "--old-width") o.widths[0] = uint32_t(std::strtoul(v.c_str(), nullptr, 10));
+        else if (a == "--new-width") o.widths[1] = uint32_t(std::strtoul(v.c_str(), nullptr, 10));
         else if (a == "--agents") o.agents = uint32_t(std::strtoul(v.c_str(), nullptr, 10));
         else if (a == "--reps") o.reps = std::atoi(v.c_str());
         else usage("unknown option " + a);
@@ -193,6 +196,8 @@ int main(int argc, char** argv) {
     if (o.stage != "mde" && o.stage != "noise" && o.stage != "neighbors") usage("--stage must be mde, noise or neighbors");
     if (o.old_dir.empty() || o.new_dir.empty()) usage("--old and --new name kernel directories");
     if (o.agents == 0 || o.reps < 2) usage("--agents must be > 0 and --reps >= 2");
+    for (const uint32_t w : o.widths)
+        if (w != 0 && w != 1 && w != 8 && w != 16) usage("--old-width and --new-width must be 1, 8 or 16");
     try {
         return run(o);
     } catch (const std::exception& e) {  // a kernel directory without the files, no device, ...
@@ -213,16 +218,14 @@ int run(const Options& o) {
     const int source[4] = {0, 1, 1, 0};
     for (int k = 0; k < 4; ++k) {
         setenv("SWARMCL_KERNEL_DIR", dirs[source[k]].c_str(), 1);  // read when each program is built
-        if (o.widths[source[k]].empty()) unsetenv("SWARMCL_NOISE_WIDTH");
-        else setenv("SWARMCL_NOISE_WIDTH", o.widths[source[k]].c_str(), 1);  // read when each stage is made
+        set_kernel_width_override(o.widths[source[k]]);  // read when each stage is made
         side[k].ctx = std::make_shared<Context>("", "");
         if (o.stage == "mde") make_mde(side[k], pts);
         else if (o.stage == "neighbors") make_neighbors(side[k], o.agents);
         else make_noise(side[k], pts);
         side[k].run();  // built and warm
     }
-    unsetenv("SWARMCL_KERNEL_DIR");
-    unsetenv("SWARMCL_NOISE_WIDTH");
+    set_kernel_width_override(0);
     std::vector<double> ratio, ms[2];
     for (int r = 0; r < o.reps; ++r) {
         double t[2] = {0.0, 0.0};
