@@ -1,10 +1,11 @@
-// Two kernel sources in one process: a stage is built twice, once from each
-// directory ($SWARMCL_KERNEL_DIR for each build, two contexts), and its
-// launches alternate (two builds of each, old, new, new, old, then
-// backwards), so both see the same machine at the same moment.  On a shared 2-core machine whose speed swings by 2x
-// over minutes, runs alternated between processes could not show a 5%
-// change; the ratio of each round here can (docs/benchmarks.md, "Masks from
-// one compare").  Also checks the two results are bitwise the same.
+// Two kernel sources in one process: a stage is built four times, twice
+// from each directory (old, new, new, old; $SWARMCL_KERNEL_DIR for each
+// build, a context each), and its launches alternate forwards then
+// backwards, so both sources see the same machine at the same moment.  On a
+// shared 2-core machine whose speed swings by 2x over minutes, runs
+// alternated between processes could not show a 5% change; the ratio of
+// each round here can (docs/benchmarks.md, "Masks from one compare").  Also
+// checks the four results are bitwise the same.
 //
 //   kernel_ab --stage mde|noise|neighbors --old DIR --new DIR [--old-width W] [--new-width W]
 //             [--agents N] [--reps R] [--json PATH]
