@@ -23,8 +23,8 @@
 #include <vector>
 
 #include "bench_util.hpp"
+#include "energy_scene.hpp"
 #include "roofline.hpp"
-#include "core/philox.hpp"
 #include "data/dataset.hpp"
 #include "device/context.hpp"
 #include "models/energy_model.hpp"
@@ -46,6 +46,7 @@ struct Options {
     uint32_t steps = 20, warmup = 5;
     std::string device, json = std::string(SWARMCL_BENCH_RESULTS_DIR) + "/energy.json";
     bool exact = false;
+    float cell = 0.2f;  // the grid's cell (m): d_att2 / 2, a 5x5x5-cell search box
 };
 
 struct Row {
@@ -62,30 +63,6 @@ double paper_ms(uint32_t n) {  // Table 2
     if (n == 300) return 2.5;
     if (n == 500) return 3.7;
     return -1;
-}
-
-float ball_radius(uint32_t n) { return 0.5f * std::cbrt(float(n) / 300.0f); }
-
-std::shared_ptr<Swarm> make_swarm(const std::shared_ptr<Context>& ctx, uint32_t n) {
-    const float r = ball_radius(n);
-    SwarmConfig c;
-    c.capacity = n;
-    c.seed = 4;
-    c.dt = 0.01f;
-    c.interaction_radius = 0.2f;  // d_att2 / 2: a 5x5x5-cell search box hugs the sphere better than 3x3x3
-    for (int a = 0; a < 3; ++a) c.domain_min[a] = -r - 0.5f, c.domain_max[a] = r + 0.5f;
-    auto s = std::make_shared<Swarm>(ctx, c);
-    std::vector<float> p(3 * size_t(n));
-    for (uint32_t id = 0; id < n; ++id) {
-        const auto u = philox_for(7, id, 0, 0);
-        const float cz = 2 * uniform01(u[0]) - 1, phi = 6.2831853f * uniform01(u[1]);
-        const float sz = std::sqrt(std::max(0.0f, 1 - cz * cz)), rad = r * std::cbrt(uniform01(u[2]));
-        p[3 * id] = rad * sz * std::cos(phi);
-        p[3 * id + 1] = rad * sz * std::sin(phi);
-        p[3 * id + 2] = rad * cz;
-    }
-    s->write(Attribute::Position, p.data(), n);
-    return s;
 }
 
 double cpu_ms_now() {
@@ -139,10 +116,11 @@ int main(int argc, char** argv) {
         else if (a == "--device") o.device = next();
         else if (a == "--json") o.json = next();
         else if (a == "--exact") o.exact = true;
+        else if (a == "--cell") o.cell = std::stof(next());
         else {
             std::fprintf(stderr,
                          "usage: energy_bench [--sizes 37,300,...] [--steps N] [--warmup N] [--device D] "
-                         "[--json PATH] [--exact]\n");
+                         "[--json PATH] [--exact] [--cell M]\n");
             return 2;
         }
     }
@@ -151,9 +129,7 @@ int main(int argc, char** argv) {
     const auto& dev = ctx->device();
     DatasetOptions dopt;
     auto data = std::make_shared<const Dataset>(synthetic_dataset(dopt));
-    EnergyModelConfig cfg;  // Table 1 aggregation weights, rho = 2.5
-    cfg.has_fixed_centre = true;
-    cfg.exact_attraction = o.exact;
+    const EnergyModelConfig cfg = energy_aggregation_config(o.exact);
     std::printf("FASTSWARM energy model, aggregation (Table 1), k = %u, %u speed groups, span %u, dt 0.01 s\n",
                 data->size(), data->groups(), cfg.span);
     std::printf("device: %s / %s; %u warm-up + %u timed steps; load average %.2f\n", dev.platform_name.c_str(),
@@ -166,14 +142,14 @@ int main(int argc, char** argv) {
         r.n = n;
         r.paper_ms = paper_ms(n);
         {
-            auto s = make_swarm(ctx, n);
+            auto s = energy_ball_swarm(ctx, n, o.cell);
             auto m = std::make_shared<EnergyModel>(*s, cfg, data);
             r.taylor = m->taylor_attraction();
             s->set_behavior(m);
             r.energy_ms = time_steps(*s, *ctx, o, &r.energy_cpu_ms);
         }
         {
-            auto s = make_swarm(ctx, n);
+            auto s = energy_ball_swarm(ctx, n, o.cell);
             FieldModelConfig f;
             f.noise.time_scale = 2.0f;
             s->set_behavior(std::make_shared<FieldModel>(*s, f));

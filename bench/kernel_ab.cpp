@@ -7,12 +7,13 @@
 // each round here can (docs/benchmarks.md, "Masks from one compare").  Also
 // checks the four results are bitwise the same.
 //
-//   kernel_ab --stage mde|noise|neighbors --old DIR --new DIR [--old-width W] [--new-width W]
-//             [--agents N] [--reps R] [--json PATH]
+//   kernel_ab --stage mde|noise|neighbors|energy --old DIR --new DIR [--old-width W] [--new-width W]
+//             [--old-cell M] [--new-cell M] [--agents N] [--reps R] [--json PATH]
 //
 // --old-width / --new-width: the explicit-width kernels' lanes (1, 8 or 16;
 // set_kernel_width_override) for that side, to compare widths with one
-// source.  The kernel folder goes through the environment
+// source; --old-cell / --new-cell: the energy stage's grid cell (m, 0.2 by
+// default) for that side, to compare cells with one source.  The kernel folder goes through the environment
 // ($SWARMCL_KERNEL_DIR), set from this thread between builds, while the
 // earlier contexts' PoCL threads wait idle; it stays set to the last folder.
 //
@@ -22,7 +23,9 @@
 // the same on both sides.  noise: the curl noise with domain walls sampled at
 // N random points (noise_sample_w on CPU devices).  neighbors: every agent
 // counts its neighbours within r as in neighbor_grid_bench (see
-// make_neighbors).
+// make_neighbors).  energy: one step of the FASTSWARM energy model in
+// energy_bench's scene (bench/energy_scene.hpp; --agents 100000 for its
+// issue 29 row), each side its own swarm stepped as often as the others.
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -37,6 +40,7 @@
 #include <vector>
 
 #include "bench_util.hpp"
+#include "energy_scene.hpp"
 #include "device/context.hpp"
 #include "fields/noise_field.hpp"
 #include "swarm/min_distance.hpp"
@@ -50,6 +54,7 @@ namespace {
 struct Options {
     std::string stage, old_dir, new_dir, json;
     uint32_t widths[2] = {0, 0};  // each side's explicit-width kernels' lanes (0: the device's)
+    float cells[2] = {0.2f, 0.2f};  // each side's grid cell in the energy stage (m)
     uint32_t agents = 1000000;
     int reps = 20;
 };
@@ -57,7 +62,7 @@ struct Options {
 [[noreturn]] void usage(const std::string& why) {
     std::fprintf(stderr,
                  "kernel_ab: %s\nusage: kernel_ab --stage mde|noise|neighbors --old DIR --new DIR [--old-width W] [--new-width W] "
-                 "[--agents N] [--reps R] [--json PATH]\n",
+                 "[--old-cell M] [--new-cell M] [--agents N] [--reps R] [--json PATH]\n",
                  why.c_str());
     std::exit(2);
 }
@@ -166,6 +171,21 @@ void make_noise(Side& s, const std::vector<cl_float4>& pts) {
     };
 }
 
+void make_energy(Side& s, uint32_t n, float cell, const std::shared_ptr<const Dataset>& data) {
+    auto swarm = energy_ball_swarm(s.ctx, n, cell);
+    swarm->set_behavior(std::make_shared<EnergyModel>(*swarm, energy_aggregation_config(false), data));
+    auto ctx = s.ctx;
+    s.run = [=] {
+        swarm->step(1);
+        ctx->queue().finish();
+    };
+    s.result = [=] {
+        std::vector<float> p(3 * size_t(n));
+        swarm->read(Attribute::Position, p.data(), n);
+        return as_bytes(p);
+    };
+}
+
 std::string cpu_model() {
     std::ifstream f("/proc/cpuinfo");
     std::string line;
@@ -190,13 +210,18 @@ int main(int argc, char** argv) {
         else if (a == "--json") o.json = v;
         else if (a == "--old-width") o.widths[0] = uint32_t(std::strtoul(v.c_str(), nullptr, 10));
         else if (a == "--new-width") o.widths[1] = uint32_t(std::strtoul(v.c_str(), nullptr, 10));
+        else if (a == "--old-cell") o.cells[0] = std::strtof(v.c_str(), nullptr);
+        else if (a == "--new-cell") o.cells[1] = std::strtof(v.c_str(), nullptr);
         else if (a == "--agents") o.agents = uint32_t(std::strtoul(v.c_str(), nullptr, 10));
         else if (a == "--reps") o.reps = std::atoi(v.c_str());
         else usage("unknown option " + a);
     }
-    if (o.stage != "mde" && o.stage != "noise" && o.stage != "neighbors") usage("--stage must be mde, noise or neighbors");
+    if (o.stage != "mde" && o.stage != "noise" && o.stage != "neighbors" && o.stage != "energy")
+        usage("--stage must be mde, noise, neighbors or energy");
     if (o.old_dir.empty() || o.new_dir.empty()) usage("--old and --new name kernel directories");
     if (o.agents == 0 || o.reps < 2) usage("--agents must be > 0 and --reps >= 2");
+    for (const float c : o.cells)
+        if (!(c > 0.0f && c < 10.0f)) usage("--old-cell and --new-cell must be in (0, 10) m");
     for (const uint32_t w : o.widths)
         if (w != 0 && w != 1 && w != 8 && w != 16) usage("--old-width and --new-width must be 1, 8 or 16");
     try {
@@ -209,7 +234,8 @@ int main(int argc, char** argv) {
 
 int run(const Options& o) {
     const double load_before = load_average();
-    const auto pts = uniform_points(o.agents);
+    const auto pts = o.stage == "mde" || o.stage == "noise" ? uniform_points(o.agents) : std::vector<cl_float4>();
+    const auto data = std::make_shared<const Dataset>(synthetic_dataset(DatasetOptions()));
     // Four builds: old, new, new, old.  Which build a context is (its place
     // in memory, the order of creation) moved a null test (old against a
     // copy of old) by up to 4%; with each source in the first and last
@@ -223,6 +249,7 @@ int run(const Options& o) {
         side[k].ctx = std::make_shared<Context>("", "");
         if (o.stage == "mde") make_mde(side[k], pts);
         else if (o.stage == "neighbors") make_neighbors(side[k], o.agents);
+        else if (o.stage == "energy") make_energy(side[k], o.agents, o.cells[source[k]], data);
         else make_noise(side[k], pts);
         side[k].run();  // built and warm
     }

@@ -190,6 +190,30 @@ static inline emv em_closestv(float3 r0, float3 vs, emv vx, emv vy, emv vz, floa
 
 #define EM_LANES ((int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15))
 
+// The neighbour windows' width EM_NW: the device's vector width where the
+// host passes one (-DNOISE_WIDTH=8 with AVX2: a float16 there is two
+// registers, and the expansion's eleven sums of 16 lanes did not fit in
+// sixteen), else 16.  The candidates stay EM_W = 16 lanes.
+#if defined(NOISE_WIDTH) && NOISE_WIDTH == 8
+#define EM_NW 8
+typedef float8 emnv;
+typedef int8 emni;
+#define EM_NLOAD vload8
+#define EM_NSTORE vstore8
+#define EM_NLANES ((int8)(0, 1, 2, 3, 4, 5, 6, 7))
+#define em_any_n swcl_any8
+#define em_sum_n swcl_sum8f
+#else
+#define EM_NW 16
+typedef float16 emnv;
+typedef int16 emni;
+#define EM_NLOAD vload16
+#define EM_NSTORE vstore16
+#define EM_NLANES EM_LANES
+#define em_any_n swcl_any16
+#define em_sum_n swcl_sum16f
+#endif
+
 // Agent i as the terms see it.
 typedef struct {
     float3 p, vt;  // position, velocity v_t
@@ -278,18 +302,63 @@ typedef struct {
     uint nrep, natt;  // |RN|, |AN|
 } EmNeighborSums;
 
+// The lanes `one` of a window visited one by one (their slots `slot`): RN
+// (Eq. 4; each candidate's sum needs each of them), and AN without the
+// expansion (Eq. 6).  Out of line: with the expansion only RN comes here,
+// within d_rep, so few windows call it, and inlined, its candidate loops'
+// registers left the window loop its sums on the stack.
+__attribute__((noinline)) static void em_visit_lanes(emni one, emni slot, const EmAgent* a, float4 p4, float4 radii,
+                                                     const EmCandidates* cs, __global const float4* pos,
+                                                     __global const float4* vel, EmNeighborSums* sums) {
+    const float3 p = a->p;
+    const float dt = a->dt, rho2 = a->rho2;
+    const float d_rep = radii.x, d_att1 = radii.y, d_att2 = radii.z;
+    __global const float* const ds = cs->ds;  // for EM_LOAD
+    const uint ds_stride = cs->ds_stride, c0 = cs->c0, nchunks = cs->nchunks;
+    int nl[EM_NW], sl[EM_NW];
+    EM_NSTORE(one, 0, nl);
+    EM_NSTORE(slot, 0, sl);
+    for (uint l = 0; l < (uint)EM_NW; ++l) {
+        if (!nl[l]) continue;
+        const uint jj = (uint)sl[l];
+        const float4 pj = pos[jj];
+        const float d = sqrt(dist2(p4, pj));
+        if (d < d_rep) {
+            const float3 q = p - (pj.xyz + vel[jj].xyz * dt);  // predicted positions (j keeps v_j,t)
+            for (uint k = 0; k < nchunks; ++k) {
+                const uint c = c0 + k * EM_W;
+                const emv x = q.x + EM_LOAD(EM_P_VX, c) * dt, y = q.y + EM_LOAD(EM_P_VY, c) * dt,
+                          z = q.z + EM_LOAD(EM_P_VZ, c) * dt;
+                sums->rep[k] += exp2(rho2 * (1.0f - em_lenv(x, y, z) / d_rep));
+            }
+            ++sums->nrep;
+        } else if (d >= d_att1 && d <= d_att2) {
+#ifndef EM_TAYLOR_OA  // (with it the windows sum AN)
+            const float3 q = p - pj.xyz;
+            for (uint k = 0; k < nchunks; ++k) {
+                const uint c = c0 + k * EM_W;
+                const emv x = q.x + EM_LOAD(EM_P_VX, c) * dt, y = q.y + EM_LOAD(EM_P_VY, c) * dt,
+                          z = q.z + EM_LOAD(EM_P_VZ, c) * dt;
+                sums->oa[k] += exp2(rho2 * (em_lenv(x, y, z) / d_att1 - 1.0f));
+            }
+#endif
+            ++sums->natt;
+        }
+    }
+}
+
 // The interaction sums, neighbours outer so the grid is walked once: the
 // rows of the search box of radius max(d_rep, d_att2), 16 slots at a time.
 EM_INLINE void em_gather_neighbors(const EmAgent* a, uint i, float4 p4, float4 radii, const EmCandidates* cs,
                                    __global const float4* pos, __global const float4* vel, Grid grid,
                                    __global const float* pxyz, uint pstride, EmNeighborSums* sums) {
     const float3 p = a->p;
-    const float dt = a->dt, rho2 = a->rho2;
+    const float rho2 = a->rho2;
     const float d_rep = radii.x, d_att1 = radii.y, d_att2 = radii.z, rho = radii.w;
-    __global const float* const ds = cs->ds;  // for EM_LOAD
-    const uint ds_stride = cs->ds_stride, c0 = cs->c0, nchunks = cs->nchunks;
-    emv* const rep = sums->rep;
-    for (uint k = 0; k < nchunks; ++k) rep[k] = (emv)(0.0f);
+    const uint nchunks = cs->nchunks;
+    for (uint k = 0; k < nchunks; ++k) sums->rep[k] = (emv)(0.0f);
+    sums->nrep = 0u;
+    sums->natt = 0u;
 #ifdef EM_TAYLOR_OA
     // Eq. 6 summed over AN as a quadratic in the displacement d = v dt:
     // with q = p_i - p_j, r = |q|, u = q / r, a = rho / d_att1,
@@ -302,47 +371,17 @@ EM_INLINE void em_gather_neighbors(const EmAgent* a, uint i, float4 p4, float4 r
     float sxx = 0.0f, syy = 0.0f, szz = 0.0f, sxy = 0.0f, sxz = 0.0f, syz = 0.0f;
     const float a_oa = rho / d_att1, a2_oa = rho2 / d_att1;  // a, and a log2(e)
 #else
-    emv* const oa = sums->oa;
-    for (uint k = 0; k < nchunks; ++k) oa[k] = (emv)(0.0f);
+    for (uint k = 0; k < nchunks; ++k) sums->oa[k] = (emv)(0.0f);
 #endif
-    uint nrep = 0u, natt = 0u;
-    // One neighbour j at distance d (Eq. 4 for RN, Eq. 6 for AN).
-#ifdef EM_TAYLOR_OA
-#define EM_ATTRACT_SCALAR(q, d)  // not reached: the windows sum AN (EM_WINDOW_ATTRACT)
-#else
-#define EM_ATTRACT_SCALAR(q, d)                                                                      \
-    for (uint k = 0; k < nchunks; ++k) {                                                             \
-        const uint c = c0 + k * EM_W;                                                                \
-        const emv x = (q).x + EM_LOAD(EM_P_VX, c) * dt, y = (q).y + EM_LOAD(EM_P_VY, c) * dt,        \
-                  z = (q).z + EM_LOAD(EM_P_VZ, c) * dt;                                              \
-        oa[k] += exp2(rho2 * (em_lenv(x, y, z) / d_att1 - 1.0f));                                      \
-    }
-#endif
-#define EM_NEIGHBOR(jj, pj, d)                                                                       \
-    if ((d) < d_rep) {                                                                               \
-        /* Predicted positions of both agents (j keeps v_j,t). */                                   \
-        const float3 q = p - ((pj).xyz + vel[jj].xyz * dt);                                          \
-        for (uint k = 0; k < nchunks; ++k) {                                                         \
-            const uint c = c0 + k * EM_W;                                                            \
-            const emv x = q.x + EM_LOAD(EM_P_VX, c) * dt, y = q.y + EM_LOAD(EM_P_VY, c) * dt,        \
-                      z = q.z + EM_LOAD(EM_P_VZ, c) * dt;                                            \
-            rep[k] += exp2(rho2 * (1.0f - em_lenv(x, y, z) / d_rep));                                  \
-        }                                                                                            \
-        ++nrep;                                                                                      \
-    } else if ((d) >= d_att1 && (d) <= d_att2) {                                                     \
-        const float3 q = p - (pj).xyz;                                                               \
-        EM_ATTRACT_SCALAR(q, d)                                                                      \
-        ++natt;                                                                                      \
-    }
 #ifdef EM_TAYLOR_OA
     // The expansion's sums over 16 neighbours at a time (lanes), added up
     // in a fixed order at the end.
-    emv v0 = (emv)(0.0f), v3 = (emv)(0.0f), v1x = (emv)(0.0f), v1y = (emv)(0.0f), v1z = (emv)(0.0f);
-    emv vxx = (emv)(0.0f), vyy = (emv)(0.0f), vzz = (emv)(0.0f), vxy = (emv)(0.0f), vxz = (emv)(0.0f),
-        vyz = (emv)(0.0f);
-    int16 vatt = (int16)(0);
+    emnv v0 = (emnv)(0.0f), v3 = (emnv)(0.0f), v1x = (emnv)(0.0f), v1y = (emnv)(0.0f), v1z = (emnv)(0.0f);
+    emnv vxx = (emnv)(0.0f), vyy = (emnv)(0.0f), vzz = (emnv)(0.0f), vxy = (emnv)(0.0f), vxz = (emnv)(0.0f),
+        vyz = (emnv)(0.0f);
+    emni vatt = (emni)(0);
 #endif
-    const int16 lane = EM_LANES;
+    const emni lane = EM_NLANES;
     const float r_search = fmax(d_rep, d_att2);
     int4 blo, bhi;
     grid_search_box(&grid, p4, r_search, &blo, &bhi);
@@ -361,52 +400,41 @@ EM_INLINE void em_gather_neighbors(const EmAgent* a, uint i, float4 p4, float4 r
     __global const float* const plane_z = plane_y + pstride;
 #define EM_WINDOW(SA, SB, K, NV)                                                                     \
     {                                                                                                \
-        const int16 first = lane < (int16)((int)(K));                                               \
-        const emv px = select(vload16(0, plane_x + (int)(SB)), vload16(0, plane_x + (int)(SA)), first);      \
-        const emv py = select(vload16(0, plane_y + (int)(SB)), vload16(0, plane_y + (int)(SA)), first);      \
-        const emv pz = select(vload16(0, plane_z + (int)(SB)), vload16(0, plane_z + (int)(SA)), first);      \
-        const int16 slot = select((int16)((int)(SB)), (int16)((int)(SA)), first) + lane;            \
-        const int16 valid = lane < (int16)((int)(NV)) && slot != (int16)((int)i);                   \
-        const emv qx = p.x - px, qy = p.y - py, qz = p.z - pz;                                      \
-        const emv d = sqrt(qx * qx + qy * qy + qz * qz);                                            \
-        const int16 near = valid && d < d_rep;                                                      \
-        const int16 att = valid && d >= d_att1 && d <= d_att2 && !(d < d_rep);                      \
+        const emni first = lane < (emni)((int)(K));                                               \
+        const emnv px = select(EM_NLOAD(0, plane_x + (int)(SB)), EM_NLOAD(0, plane_x + (int)(SA)), first);      \
+        const emnv py = select(EM_NLOAD(0, plane_y + (int)(SB)), EM_NLOAD(0, plane_y + (int)(SA)), first);      \
+        const emnv pz = select(EM_NLOAD(0, plane_z + (int)(SB)), EM_NLOAD(0, plane_z + (int)(SA)), first);      \
+        const emni slot = select((emni)((int)(SB)), (emni)((int)(SA)), first) + lane;            \
+        const emni valid = lane < (emni)((int)(NV)) && slot != (emni)((int)i);                   \
+        const emnv qx = p.x - px, qy = p.y - py, qz = p.z - pz;                                      \
+        const emnv d = sqrt(qx * qx + qy * qy + qz * qz);                                            \
+        const emni near = valid && d < d_rep;                                                      \
+        const emni att = valid && d >= d_att1 && d <= d_att2 && !(d < d_rep);                      \
         EM_WINDOW_ATTRACT                                                                            \
-        if (swcl_any16(one_by_one)) {                                                                    \
-            int nl[EM_W], sl[EM_W];                                                                  \
-            vstore16(one_by_one, 0, nl);                                                             \
-            vstore16(slot, 0, sl);                                                                   \
-            for (uint l = 0; l < (uint)EM_W; ++l)                                                    \
-                if (nl[l]) {                                                                         \
-                    const uint jj = (uint)sl[l];                                                     \
-                    const float4 pj = pos[jj];                                                       \
-                    const float dj = sqrt(dist2(p4, pj));                                            \
-                    EM_NEIGHBOR(jj, pj, dj)                                                          \
-                }                                                                                    \
-        }                                                                                            \
+        if (em_any_n(one_by_one)) em_visit_lanes(one_by_one, slot, a, p4, radii, cs, pos, vel, sums);          \
     }
 #ifdef EM_TAYLOR_OA
     // exp(rho (d / d_att1 - 1)) as exp2(a log2(e) d - rho2): no division.  RN
     // neighbours one by one: the candidates' sums need each of them.
 #define EM_WINDOW_ATTRACT                                                                            \
-        const emv f0 = select((emv)(0.0f), exp2(a2_oa * d - rho2), att);                               \
-        const emv inv_d = select((emv)(0.0f), 1.0f / d, att);                                       \
-        const emv ux = qx * inv_d, uy = qy * inv_d, uz = qz * inv_d;                                \
-        const emv f0a = f0 * a_oa;                                                                   \
-        const emv h = f0a * inv_d;                                                                   \
-        const emv k2 = f0 * (0.5f * a_oa * a_oa - 0.5f * a_oa * inv_d);                             \
-        const emv kx = k2 * ux, ky = k2 * uy, kz = k2 * uz;                                          \
+        const emnv f0 = select((emnv)(0.0f), exp2(a2_oa * d - rho2), att);                               \
+        const emnv inv_d = select((emnv)(0.0f), 1.0f / d, att);                                       \
+        const emnv ux = qx * inv_d, uy = qy * inv_d, uz = qz * inv_d;                                \
+        const emnv f0a = f0 * a_oa;                                                                   \
+        const emnv h = f0a * inv_d;                                                                   \
+        const emnv k2 = f0 * (0.5f * a_oa * a_oa - 0.5f * a_oa * inv_d);                             \
+        const emnv kx = k2 * ux, ky = k2 * uy, kz = k2 * uz;                                          \
         v0 += f0;                                                                                   \
         v1x += f0a * ux; v1y += f0a * uy; v1z += f0a * uz;                                          \
         v3 += h; /* times 1/2 at the end */                                                         \
         vxx += kx * ux; vyy += ky * uy; vzz += kz * uz;                                             \
         vxy += kx * uy; vxz += kx * uz; vyz += ky * uz;                                             \
         vatt -= att;                                                                                \
-        const int16 one_by_one = near;
+        const emni one_by_one = near;
 #else
-#define EM_WINDOW_ATTRACT const int16 one_by_one = near | att;
+#define EM_WINDOW_ATTRACT const emni one_by_one = near | att;
 #endif
-    uint pa = 0u, pk = 0u;  // pending: slots [pa, pa + pk), pk < EM_W, of rows already walked
+    uint pa = 0u, pk = 0u;  // pending: slots [pa, pa + pk), pk < EM_NW, of rows already walked
     for (int gz = blo.z; gz <= bhi.z; ++gz) {
         const float ez = grid_slab_distance(p.z, grid.origin.z, cell, gz, grid.dims.z), ez2 = ez * ez;
         for (int gy0 = blo.y; gy0 <= bhi.y; gy0 += 8) {
@@ -425,21 +453,21 @@ EM_INLINE void em_gather_neighbors(const EmAgent* a, uint i, float4 p4, float4 r
                 const uint2 rng = grid_row_range(&grid, x0v[l], x1v[l], gy0 + l, gz);
                 uint j = rng.x;
                 while (j < rng.y) {
-                    uint sa = j, sb = j, k = EM_W, nv = EM_W;
+                    uint sa = j, sb = j, k = EM_NW, nv = EM_NW;
                     if (pk > 0u) {  // the pending slots, then this row's first ones
-                        const uint m = min((uint)EM_W - pk, rng.y - j);
+                        const uint m = min((uint)EM_NW - pk, rng.y - j);
                         sa = pa;
                         k = pk;
                         sb = j - pk;  // may be below 0 by up to 15: the padding
                         nv = pk + m;
                         j += m;
                         pk = 0u;
-                    } else if (rng.y - j < (uint)EM_W) {  // the row's tail waits for the next row
+                    } else if (rng.y - j < (uint)EM_NW) {  // the row's tail waits for the next row
                         pa = j;
                         pk = rng.y - j;
                         break;
                     } else {
-                        j += EM_W;
+                        j += EM_NW;
                     }
                     EM_WINDOW(sa, sb, k, nv)
                 }
@@ -448,26 +476,22 @@ EM_INLINE void em_gather_neighbors(const EmAgent* a, uint i, float4 p4, float4 r
     }
     if (pk > 0u) EM_WINDOW(pa, pa, pk, pk)
 #ifdef EM_TAYLOR_OA
-    s0 += swcl_sum16f(v0);
-    s1 += (float3)(swcl_sum16f(v1x), swcl_sum16f(v1y), swcl_sum16f(v1z));
-    s3 += 0.5f * swcl_sum16f(v3);
-    sxx += swcl_sum16f(vxx); syy += swcl_sum16f(vyy); szz += swcl_sum16f(vzz);
-    sxy += swcl_sum16f(vxy); sxz += swcl_sum16f(vxz); syz += swcl_sum16f(vyz);
+    s0 += em_sum_n(v0);
+    s1 += (float3)(em_sum_n(v1x), em_sum_n(v1y), em_sum_n(v1z));
+    s3 += 0.5f * em_sum_n(v3);
+    sxx += em_sum_n(vxx); syy += em_sum_n(vyy); szz += em_sum_n(vzz);
+    sxy += em_sum_n(vxy); sxz += em_sum_n(vxz); syz += em_sum_n(vyz);
     {
-        int cnt[EM_W];
-        vstore16(vatt, 0, cnt);
-        for (uint l = 0; l < (uint)EM_W; ++l) natt += (uint)cnt[l];
+        int cnt[EM_NW];
+        EM_NSTORE(vatt, 0, cnt);
+        for (uint l = 0; l < (uint)EM_NW; ++l) sums->natt += (uint)cnt[l];
     }
     sums->s0 = s0; sums->s1 = s1; sums->s3 = s3;
     sums->sxx = sxx; sums->syy = syy; sums->szz = szz;
     sums->sxy = sxy; sums->sxz = sxz; sums->syz = syz;
 #endif
-    sums->nrep = nrep;
-    sums->natt = natt;
 #undef EM_WINDOW
 #undef EM_WINDOW_ATTRACT
-#undef EM_NEIGHBOR
-#undef EM_ATTRACT_SCALAR
 }
 
 // Eq. 6's sum over AN for the candidates of chunk k (velocities vx, vy, vz):

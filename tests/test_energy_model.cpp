@@ -13,6 +13,7 @@
 
 #include "core/error.hpp"
 #include "energy_reference.hpp"
+#include "fields/noise_field.hpp"
 #include "models/energy_model.hpp"
 #include "test_support.hpp"
 
@@ -147,6 +148,41 @@ TEST(EnergyModel, EveryTermMatchesTheHostReference) {
     }
 }
 
+namespace {
+
+// The expanded Eq. 6 (kernels/energy_model.cl) against the exact host sum:
+// E_oa within 1.6%, every other term as exact as the reference test's;
+// returns the terms.  The largest relative error of E_oa in *worst.
+EnergyTerms expect_expansion_within_bound(Swarm& s, EnergyModel& m, const Dataset& data, double* worst) {
+    const uint32_t n = s.agent_count();
+    const EnergyTerms t = m.evaluate(s, 2);
+    const ReferenceState r = reference_state(s, m, 2);
+    *worst = 0;
+    uint32_t with_oa = 0;
+    for (uint32_t a = 0; a < n; ++a)
+        for (uint32_t cand = t.first[a]; cand < t.last[a]; ++cand) {
+            const auto e = reference_terms(m.config(), data, r, a, cand);
+            for (int k = 0; k < 8; ++k) {
+                const float got = t.terms[(size_t(a) * m.max_candidates() + (cand - t.first[a])) * 8 + k];
+                const double tol = k == 1 ? 0.016 * e[k] + 1e-4 : 1e-4 + 2e-4 * std::fabs(e[k]);
+                EXPECT_NEAR(got, e[k], tol) << "agent " << a << " candidate " << cand << " term " << k;
+                if (k == 1 && e[k] > 0) *worst = std::max(*worst, std::fabs(got - e[k]) / e[k]);
+            }
+            with_oa += e[1] > 0;
+        }
+    EXPECT_GT(with_oa, 100u);
+    return t;
+}
+
+EnergyModelConfig expansion_config() {
+    EnergyModelConfig c = all_terms_config();
+    c.exact_attraction = false;
+    c.d_att1 = 0.1f;
+    return c;
+}
+
+}  // namespace
+
 TEST(EnergyModel, AttractionExpansionIsWithinItsBound) {
     // The default second-order expansion of Eq. 6 (kernels/energy_model.cl):
     // E_oa within 1.6% of the exact sum, every other term as exact as before.
@@ -155,32 +191,46 @@ TEST(EnergyModel, AttractionExpansionIsWithinItsBound) {
     const uint32_t n = 150;
     Swarm s(ctx, small_config(n, 31));
     random_state(s, *data, n, 32, 0.2f);
-    EnergyModelConfig c = all_terms_config();
-    c.exact_attraction = false;
-    c.d_att1 = 0.1f;
+    EnergyModelConfig c = expansion_config();
     EnergyModel m(s, c, data);
     ASSERT_TRUE(m.taylor_attraction());
-    const EnergyTerms t = m.evaluate(s, 2);
-    const ReferenceState r = reference_state(s, m, 2);
     double worst = 0;
-    uint32_t with_oa = 0;
-    for (uint32_t a = 0; a < n; ++a)
-        for (uint32_t cand = t.first[a]; cand < t.last[a]; ++cand) {
-            const auto e = reference_terms(m.config(), *data, r, a, cand);
-            for (int k = 0; k < 8; ++k) {
-                const float got = t.terms[(size_t(a) * m.max_candidates() + (cand - t.first[a])) * 8 + k];
-                const double tol = k == 1 ? 0.016 * e[k] + 1e-4 : 1e-4 + 2e-4 * std::fabs(e[k]);
-                ASSERT_NEAR(got, e[k], tol) << "agent " << a << " candidate " << cand << " term " << k;
-                if (k == 1 && e[k] > 0) worst = std::max(worst, std::fabs(got - e[k]) / e[k]);
-            }
-            with_oa += e[1] > 0;
-        }
-    EXPECT_GT(with_oa, 100u);
+    expect_expansion_within_bound(s, m, *data, &worst);
     std::printf("largest relative error of the expanded E_oa: %.2e\n", worst);
     // Too coarse a step for the expansion: the exact sum is used.
     c.d_att1 = 0.02f;
     c.d_rep = 0.01f;
     EXPECT_FALSE(EnergyModel(s, c, data).taylor_attraction());
+}
+
+TEST(EnergyModel, EveryWindowWidthKeepsTheExpansionWithinItsBound) {
+    // The neighbour windows are 8 lanes where the device's kernels are 8
+    // wide (AVX2), else 16 (kernels/energy_model.cl, EM_NW): the expansion's
+    // sums are added in another order, so the terms may differ in their last
+    // bits, never by more than rounding.
+    auto ctx = shared_context();
+    auto data = test_dataset();
+    const uint32_t n = 150;
+    Swarm s(ctx, small_config(n, 31));
+    random_state(s, *data, n, 32, 0.2f);
+    struct Restore {
+        ~Restore() { set_kernel_width_override(0); }
+    } restore;
+    std::vector<EnergyTerms> terms;
+    for (uint32_t w : {1u, 8u, 16u}) {
+        SCOPED_TRACE("width " + std::to_string(w));
+        set_kernel_width_override(w);
+        EnergyModel m(s, expansion_config(), data);
+        ASSERT_TRUE(m.taylor_attraction());
+        double worst = 0;
+        terms.push_back(expect_expansion_within_bound(s, m, *data, &worst));
+    }
+    for (size_t k = 1; k < terms.size(); ++k) {
+        ASSERT_EQ(terms[k].terms.size(), terms[0].terms.size());
+        for (size_t q = 0; q < terms[0].terms.size(); ++q)
+            ASSERT_NEAR(terms[k].terms[q], terms[0].terms[q], 1e-5 * std::fabs(terms[0].terms[q]) + 1e-6)
+                << "term " << q << " width " << (k == 1 ? 8 : 16);
+    }
 }
 
 TEST(EnergyModel, ArgminMatchesBruteForceHostSearch) {

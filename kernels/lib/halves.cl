@@ -47,4 +47,11 @@ static inline float swcl_sum16f(float16 v) {
     const float2 c = b.lo + b.hi;
     return c.x + c.y;
 }
+
+// The same for 8 lanes.
+static inline float swcl_sum8f(float8 v) {
+    const float4 b = v.lo + v.hi;
+    const float2 c = b.lo + b.hi;
+    return c.x + c.y;
+}
 #endif
