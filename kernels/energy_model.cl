@@ -82,8 +82,10 @@ typedef float16 emv;
 #define EM_P_AHZ 8
 #define EM_P_AL 9
 #define EM_LOAD(plane, c) vload16(0, ds + (size_t)(plane) * ds_stride + (c))
+#define em_exp2 swcl_exp2_f16  // lib/exp2.cl
 
 #include "lib/halves.cl"
+#include "lib/exp2.cl"
 
 static inline emv em_lenv(emv x, emv y, emv z) { return sqrt(x * x + y * y + z * z); }
 
@@ -203,6 +205,7 @@ typedef int8 emni;
 #define EM_NLANES ((int8)(0, 1, 2, 3, 4, 5, 6, 7))
 #define em_any_n swcl_any8
 #define em_sum_n swcl_sum8f
+#define em_exp2_n swcl_exp2_f8
 #else
 #define EM_NW 16
 typedef float16 emnv;
@@ -212,6 +215,7 @@ typedef int16 emni;
 #define EM_NLANES EM_LANES
 #define em_any_n swcl_any16
 #define em_sum_n swcl_sum16f
+#define em_exp2_n swcl_exp2_f16
 #endif
 
 // Agent i as the terms see it.
@@ -219,10 +223,11 @@ typedef struct {
     float3 p, vt;  // position, velocity v_t
     float dt, t;   // time step, time
     float h;       // danger horizon: max(dt, danger_horizon)
-    // Every exp(rho x) as exp2(rho2 x), rho2 = rho log2(e) (one rounding
+    // Every exp(rho x) as 2^(rho2 x), rho2 = rho log2(e) (one rounding
     // more: relative error 1e-6 at most here): PoCL's exp2 on float16 is
     // cheaper than its exp (6-7% of the step on the 2-core AVX2 PoCL CPU,
-    // bench/energy_bench.cpp, docs/energy-model.md section 6).
+    // bench/energy_bench.cpp, docs/energy-model.md section 6), and
+    // lib/exp2.cl's cheaper again (section 6).
     float rho2;
 } EmAgent;
 
@@ -329,7 +334,7 @@ __attribute__((noinline)) static void em_visit_lanes(emni one, emni slot, const 
                 const uint c = c0 + k * EM_W;
                 const emv x = q.x + EM_LOAD(EM_P_VX, c) * dt, y = q.y + EM_LOAD(EM_P_VY, c) * dt,
                           z = q.z + EM_LOAD(EM_P_VZ, c) * dt;
-                sums->rep[k] += exp2(rho2 * (1.0f - em_lenv(x, y, z) / d_rep));
+                sums->rep[k] += em_exp2(rho2 * (1.0f - em_lenv(x, y, z) / d_rep));
             }
             ++sums->nrep;
         } else if (d >= d_att1 && d <= d_att2) {
@@ -339,7 +344,7 @@ __attribute__((noinline)) static void em_visit_lanes(emni one, emni slot, const 
                 const uint c = c0 + k * EM_W;
                 const emv x = q.x + EM_LOAD(EM_P_VX, c) * dt, y = q.y + EM_LOAD(EM_P_VY, c) * dt,
                           z = q.z + EM_LOAD(EM_P_VZ, c) * dt;
-                sums->oa[k] += exp2(rho2 * (em_lenv(x, y, z) / d_att1 - 1.0f));
+                sums->oa[k] += em_exp2(rho2 * (em_lenv(x, y, z) / d_att1 - 1.0f));
             }
 #endif
             ++sums->natt;
@@ -417,18 +422,20 @@ EM_INLINE void em_gather_neighbors(const EmAgent* a, uint i, float4 p4, float4 r
     // exp(rho (d / d_att1 - 1)) as exp2(a log2(e) d - rho2): no division.  RN
     // neighbours one by one: the candidates' sums need each of them.
 #define EM_WINDOW_ATTRACT                                                                            \
-        const emnv f0 = select((emnv)(0.0f), exp2(a2_oa * d - rho2), att);                               \
+        const emnv f0 = select((emnv)(0.0f), em_exp2_n(swcl_fma_fast(a2_oa, d, -rho2)), att);                  \
         const emnv inv_d = select((emnv)(0.0f), 1.0f / d, att);                                       \
         const emnv ux = qx * inv_d, uy = qy * inv_d, uz = qz * inv_d;                                \
         const emnv f0a = f0 * a_oa;                                                                   \
         const emnv h = f0a * inv_d;                                                                   \
-        const emnv k2 = f0 * (0.5f * a_oa * a_oa - 0.5f * a_oa * inv_d);                             \
+        const emnv k2 = f0 * swcl_fma_fast(-0.5f * a_oa, inv_d, 0.5f * a_oa * a_oa);                 \
         const emnv kx = k2 * ux, ky = k2 * uy, kz = k2 * uz;                                          \
         v0 += f0;                                                                                   \
-        v1x += f0a * ux; v1y += f0a * uy; v1z += f0a * uz;                                          \
+        v1x = swcl_fma_fast(f0a, ux, v1x); v1y = swcl_fma_fast(f0a, uy, v1y);                         \
+        v1z = swcl_fma_fast(f0a, uz, v1z);                                                           \
         v3 += h; /* times 1/2 at the end */                                                         \
-        vxx += kx * ux; vyy += ky * uy; vzz += kz * uz;                                             \
-        vxy += kx * uy; vxz += kx * uz; vyz += ky * uz;                                             \
+        vxx = swcl_fma_fast(kx, ux, vxx); vyy = swcl_fma_fast(ky, uy, vyy);                           \
+        vzz = swcl_fma_fast(kz, uz, vzz); vxy = swcl_fma_fast(kx, uy, vxy);                           \
+        vxz = swcl_fma_fast(kx, uz, vxz); vyz = swcl_fma_fast(ky, uz, vyz);                           \
         vatt -= att;                                                                                \
         const emni one_by_one = near;
 #else
@@ -522,7 +529,7 @@ EM_INLINE emv em_mean_term(float w, emv sum, uint count, float inv_count) {
 // E_n (Eq. 13, f_N), E_user (Eq. 14, f_CD).  Terms whose weight is 0 are 0
 // (w * a finite exp): not evaluated.
 EM_INLINE emv em_direction_term(float w, float rho2, emv hx, emv hy, emv hz, float3 u) {
-    return w != 0.0f ? w * exp2(rho2 * em_dirv(hx, hy, hz, u)) : (emv)(0.0f);
+    return w != 0.0f ? w * em_exp2(rho2 * em_dirv(hx, hy, hz, u)) : (emv)(0.0f);
 }
 
 // E_acc (Eq. 10) with a' = (v - v_t) / dt in m/s^2 like the dataset's a; the
@@ -540,7 +547,7 @@ EM_INLINE emv em_acceleration_term(float w, const EmAgent* a, float inv_dt, floa
     const emv ainv = select((emv)(0.0f), 1.0f / alen, alen > 0.0f);  // em_unit: 0 for a zero vector
     const emv da = em_lenv(ax * ainv - EM_LOAD(EM_P_AHX, c), ay * ainv - EM_LOAD(EM_P_AHY, c),
                            az * ainv - EM_LOAD(EM_P_AHZ, c));
-    return w * (exp2(rho2 * da) + accel_time * fabs(alen - EM_LOAD(EM_P_AL, c)));
+    return w * (em_exp2(rho2 * da) + accel_time * fabs(alen - EM_LOAD(EM_P_AL, c)));
 }
 
 // E_env (Eq. 11-12), summed over the stimuli.  A startling stimulus: Psi
@@ -557,14 +564,14 @@ EM_INLINE emv em_environment_term(float w, const EmAgent* a, __global const floa
     for (uint s = 0; s < (env_on || EM_KEEP_OUT ? nstim : 0u); ++s) {
         const float4 sp = em_stimulus(stim, s, a->t);
         if (sp.w == STIM_ATTRACT) {
-            if (env_on) env += exp2(rho2 * em_dirv(hx, hy, hz, em_unit(sp.xyz - p)));
+            if (env_on) env += em_exp2(rho2 * em_dirv(hx, hy, hz, em_unit(sp.xyz - p)));
         } else {
             const float dd = stim[2 * s + 1].x;
             const float3 r0 = p - sp.xyz, vs = stim[2 * s + 1].yzw;
             const bool startled = env_on && em_closest(r0, vt - vs, h) < dd;
             if (startled || EM_KEEP_OUT) {
                 const emv dmin = em_closestv(r0, vs, vx, vy, vz, h);
-                if (startled) env += exp2(rho2 * (1.0f - dmin / dd));
+                if (startled) env += em_exp2(rho2 * (1.0f - dmin / dd));
                 if (EM_KEEP_OUT) viol = fmax(viol, 1.0f - dmin / dd);
             }
         }

@@ -12,6 +12,7 @@
 #include <random>
 
 #include "core/error.hpp"
+#include "device/kernel_sources.hpp"
 #include "energy_reference.hpp"
 #include "fields/noise_field.hpp"
 #include "models/energy_model.hpp"
@@ -231,6 +232,58 @@ TEST(EnergyModel, EveryWindowWidthKeepsTheExpansionWithinItsBound) {
             ASSERT_NEAR(terms[k].terms[q], terms[0].terms[q], 1e-5 * std::fabs(terms[0].terms[q]) + 1e-6)
                 << "term " << q << " width " << (k == 1 ? 8 : 16);
     }
+}
+
+TEST(EnergyModel, Exp2LanesAreWithinTwoRoundingsOfTheHost) {
+    // kernels/lib/exp2.cl, the energy kernel's 2^x (8 and 16 lanes): within
+    // 3e-7 relative of the host's where 2^x is a normal float, clamped to
+    // 2^127 above and 2^-126 below, the two widths the same bits.
+    auto ctx = shared_context();
+    const std::string src = load_kernel_source("lib/exp2.cl") + R"CL(
+        __kernel void t_exp2(__global const float* x, __global float* y8, __global float* y16) {
+            const size_t i = get_global_id(0);
+            vstore8(swcl_exp2_f8(vload8(2 * i, x)), 2 * i, y8);
+            vstore8(swcl_exp2_f8(vload8(2 * i + 1, x)), 2 * i + 1, y8);
+            vstore16(swcl_exp2_f16(vload16(i, x)), i, y16);
+        })CL";
+    cl::Program prog(ctx->cl_context(), src);
+    try {
+        prog.build({ctx->device().device}, "-cl-std=CL1.2");
+    } catch (const cl::Error&) {
+        FAIL() << prog.getBuildInfo<CL_PROGRAM_BUILD_LOG>(ctx->device().device);
+    }
+    std::vector<float> x;
+    for (int k = 0; k <= 200000; ++k) x.push_back(-125.0f + 252.0f * float(k) / 200000.0f);  // 2^x normal
+    for (float v : {-126.0f, 127.0f, 127.5f, 128.0f, 1e6f, -126.5f, -200.0f, -1e6f, 0.0f, -0.0f, 0.5f, -0.5f})
+        x.push_back(v);
+    while (x.size() % 16) x.push_back(1.0f);
+    const size_t n = x.size();
+    cl::Buffer bx(ctx->cl_context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * sizeof(float), x.data());
+    cl::Buffer b8(ctx->cl_context(), CL_MEM_WRITE_ONLY, n * sizeof(float));
+    cl::Buffer b16(ctx->cl_context(), CL_MEM_WRITE_ONLY, n * sizeof(float));
+    cl::Kernel k(prog, "t_exp2");
+    k.setArg(0, bx);
+    k.setArg(1, b8);
+    k.setArg(2, b16);
+    ctx->queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(n / 16));
+    std::vector<float> y8(n), y16(n);
+    ctx->queue().enqueueReadBuffer(b8, CL_TRUE, 0, n * sizeof(float), y8.data());
+    ctx->queue().enqueueReadBuffer(b16, CL_TRUE, 0, n * sizeof(float), y16.data());
+    double worst = 0;
+    for (size_t i = 0; i < n; ++i) {
+        ASSERT_EQ(std::memcmp(&y8[i], &y16[i], sizeof(float)), 0) << "x = " << x[i];
+        const double v = x[i];
+        if (v >= 127.0) {
+            EXPECT_EQ(y8[i], std::ldexp(1.0f, 127)) << "x = " << v;
+        } else if (v <= -126.0) {
+            EXPECT_EQ(y8[i], std::ldexp(1.0f, -126)) << "x = " << v;
+        } else {
+            const double rel = std::fabs(double(y8[i]) / std::exp2(v) - 1.0);
+            worst = std::max(worst, rel);
+            EXPECT_LE(rel, 3e-7) << "x = " << v;
+        }
+    }
+    std::printf("largest relative error of swcl_exp2: %.2e\n", worst);
 }
 
 TEST(EnergyModel, ArgminMatchesBruteForceHostSearch) {
