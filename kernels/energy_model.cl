@@ -195,7 +195,8 @@ static inline emv em_closestv(float3 r0, float3 vs, emv vx, emv vy, emv vz, floa
 // The neighbour windows' width EM_NW: the device's vector width where the
 // host passes one (-DNOISE_WIDTH=8 with AVX2: a float16 there is two
 // registers, and the expansion's eleven sums of 16 lanes did not fit in
-// sixteen), else 16.  The candidates stay EM_W = 16 lanes.
+// sixteen), else 16.  The candidates stay EM_W = 16 lanes (8 was slower:
+// docs/energy-model.md, section 6).
 #if defined(NOISE_WIDTH) && NOISE_WIDTH == 8
 #define EM_NW 8
 typedef float8 emnv;
@@ -353,7 +354,7 @@ __attribute__((noinline)) static void em_visit_lanes(emni one, emni slot, const 
 }
 
 // The interaction sums, neighbours outer so the grid is walked once: the
-// rows of the search box of radius max(d_rep, d_att2), 16 slots at a time.
+// rows of the search box of radius max(d_rep, d_att2), EM_NW slots at a time.
 EM_INLINE void em_gather_neighbors(const EmAgent* a, uint i, float4 p4, float4 radii, const EmCandidates* cs,
                                    __global const float4* pos, __global const float4* vel, Grid grid,
                                    __global const float* pxyz, uint pstride, EmNeighborSums* sums) {
@@ -379,7 +380,7 @@ EM_INLINE void em_gather_neighbors(const EmAgent* a, uint i, float4 p4, float4 r
     for (uint k = 0; k < nchunks; ++k) sums->oa[k] = (emv)(0.0f);
 #endif
 #ifdef EM_TAYLOR_OA
-    // The expansion's sums over 16 neighbours at a time (lanes), added up
+    // The expansion's sums over EM_NW neighbours at a time (lanes), added up
     // in a fixed order at the end.
     emnv v0 = (emnv)(0.0f), v3 = (emnv)(0.0f), v1x = (emnv)(0.0f), v1y = (emnv)(0.0f), v1z = (emnv)(0.0f);
     emnv vxx = (emnv)(0.0f), vyy = (emnv)(0.0f), vzz = (emnv)(0.0f), vxy = (emnv)(0.0f), vxz = (emnv)(0.0f),
@@ -395,10 +396,10 @@ EM_INLINE void em_gather_neighbors(const EmAgent* a, uint i, float4 p4, float4 r
     // the cell edge computed once and 8 rows (y) at a time in vector lanes.
     const float cell = 1.0f / grid.inv_cell;
     const float rr = r_search * 1.00001f, rr2 = rr * rr;
-    // Windows of 16 slots, filled across rows: lanes [0, k) are slots
+    // Windows of EM_NW slots, filled across rows: lanes [0, k) are slots
     // sa + lane, lanes [k, nv) slots sb + lane (a row's tail, then the next
     // row's head), so a row of 20 slots does not cost two whole windows.  The
-    // planes are padded by EM_W slots at both ends, so the loads of a window
+    // planes are padded by EM_W (16) slots at both ends, so the loads of a window
     // stay inside the buffer; lanes past nv and agent i itself are masked.
     __global const float* const plane_x = pxyz + EM_W;
     __global const float* const plane_y = plane_x + pstride;
@@ -465,7 +466,7 @@ EM_INLINE void em_gather_neighbors(const EmAgent* a, uint i, float4 p4, float4 r
                         const uint m = min((uint)EM_NW - pk, rng.y - j);
                         sa = pa;
                         k = pk;
-                        sb = j - pk;  // may be below 0 by up to 15: the padding
+                        sb = j - pk;  // may be below 0 by up to EM_NW - 1: the padding
                         nv = pk + m;
                         j += m;
                         pk = 0u;
