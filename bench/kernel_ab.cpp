@@ -276,7 +276,9 @@ int run(const Options& o) {
     const std::string device = side[0].ctx->device().device_name;
     std::printf("kernel_ab %s, %u agents, %d alternated rounds on %s (%s), load %.2f\n", o.stage.c_str(), o.agents,
                 o.reps, device.c_str(), cpu_model().c_str(), load_before);
-    std::printf("  old %s: median %.3f ms (min %.3f)\n  new %s: median %.3f ms (min %.3f)\n", o.old_dir.c_str(),
+    std::printf("  widths (0: the device's) old %u, new %u", o.widths[0], o.widths[1]);
+    if (o.stage == "energy") std::printf("; grid cells old %.4g m, new %.4g m", o.cells[0], o.cells[1]);
+    std::printf("\n  old %s: median %.3f ms (min %.3f)\n  new %s: median %.3f ms (min %.3f)\n", o.old_dir.c_str(),
                 median(ms[0]), minimum(ms[0]), o.new_dir.c_str(), median(ms[1]), minimum(ms[1]));
     std::printf("  new / old, median of the rounds' ratios: %.3f; results %s\n", median(ratio),
                 same ? "bitwise the same" : "DIFFER");
@@ -286,7 +288,10 @@ int run(const Options& o) {
           << "\",\n  \"agents\": " << o.agents << ",\n  \"device\": \"" << json_escape(device)
           << "\",\n  \"cpu\": \"" << json_escape(cpu_model()) << "\",\n  \"load_before\": " << load_before
           << ",\n  \"load_after\": " << load_average() << ",\n  \"old\": \"" << json_escape(o.old_dir)
-          << "\",\n  \"new\": \"" << json_escape(o.new_dir) << "\",\n  \"old_ms\": " << json_array(ms[0], 1.0)
+          << "\",\n  \"new\": \"" << json_escape(o.new_dir) << "\",\n  \"old_width\": " << o.widths[0]
+          << ",\n  \"new_width\": " << o.widths[1];
+        if (o.stage == "energy") j << ",\n  \"old_cell\": " << o.cells[0] << ",\n  \"new_cell\": " << o.cells[1];
+        j << ",\n  \"old_ms\": " << json_array(ms[0], 1.0)
           << ",\n  \"new_ms\": " << json_array(ms[1], 1.0) << ",\n  \"round_ratios\": " << json_array(ratio, 1.0)
           << ",\n  \"median_ratio\": " << median(ratio) << ",\n  \"bitwise_same\": " << (same ? "true" : "false")
           << "\n}\n";
