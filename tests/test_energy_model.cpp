@@ -248,7 +248,7 @@ TEST(EnergyModel, Exp2LanesAreWithinTwoRoundingsOfTheHost) {
         })CL";
     cl::Program prog(ctx->cl_context(), src);
     try {
-        prog.build({ctx->device().device}, "-cl-std=CL1.2");
+        prog.build({ctx->device().device}, "-cl-std=CL1.2 -w");
     } catch (const cl::Error&) {
         FAIL() << prog.getBuildInfo<CL_PROGRAM_BUILD_LOG>(ctx->device().device);
     }
