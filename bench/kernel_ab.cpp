@@ -235,7 +235,8 @@ int main(int argc, char** argv) {
 int run(const Options& o) {
     const double load_before = load_average();
     const auto pts = o.stage == "mde" || o.stage == "noise" ? uniform_points(o.agents) : std::vector<cl_float4>();
-    const auto data = std::make_shared<const Dataset>(synthetic_dataset(DatasetOptions()));
+    const auto data = o.stage == "energy" ? std::make_shared<const Dataset>(synthetic_dataset(DatasetOptions()))
+                                          : std::shared_ptr<const Dataset>();
     // Four builds: old, new, new, old.  Which build a context is (its place
     // in memory, the order of creation) moved a null test (old against a
     // copy of old) by up to 4%; with each source in the first and last
