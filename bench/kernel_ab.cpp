@@ -7,7 +7,7 @@
 // each round here can (docs/benchmarks.md, "Masks from one compare").  Also
 // checks the four results are bitwise the same.
 //
-//   kernel_ab --stage mde|noise|neighbors|energy --old DIR --new DIR [--old-width W] [--new-width W]
+//   kernel_ab --stage mde|noise|neighbors|energy|policy --old DIR --new DIR [--old-width W] [--new-width W]
 //             [--old-cell M] [--new-cell M] [--agents N] [--reps R] [--json PATH]
 //
 // --old-width / --new-width: the explicit-width kernels' lanes (1, 8 or 16;
@@ -26,6 +26,8 @@
 // make_neighbors).  energy: one step of the FASTSWARM energy model in
 // energy_bench's scene (bench/energy_scene.hpp; --agents 100000 for its
 // issue 29 row), each side its own swarm stepped as often as the others.
+// policy: the policy model's observations in policy_bench's scene (see
+// make_policy).
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -41,6 +43,8 @@
 
 #include "bench_util.hpp"
 #include "energy_scene.hpp"
+#include "policy_scene.hpp"
+#include "rl/policy_weights.hpp"
 #include "device/context.hpp"
 #include "fields/noise_field.hpp"
 #include "swarm/min_distance.hpp"
@@ -61,7 +65,7 @@ struct Options {
 
 [[noreturn]] void usage(const std::string& why) {
     std::fprintf(stderr,
-                 "kernel_ab: %s\nusage: kernel_ab --stage mde|noise|neighbors --old DIR --new DIR [--old-width W] [--new-width W] "
+                 "kernel_ab: %s\nusage: kernel_ab --stage mde|noise|neighbors|energy|policy --old DIR --new DIR [--old-width W] [--new-width W] "
                  "[--old-cell M] [--new-cell M] [--agents N] [--reps R] [--json PATH]\n",
                  why.c_str());
     std::exit(2);
@@ -171,6 +175,21 @@ void make_noise(Side& s, const std::vector<cl_float4>& pts) {
     };
 }
 
+// The policy model's observations (policy_observe_w on CPU devices) in
+// policy_bench's scene (bench/policy_scene.hpp; --agents 100000 for its
+// issue 29 row), each side its own swarm in the same state; the result is
+// the observations read back.
+void make_policy(Side& s, uint32_t n, const std::shared_ptr<const std::string>& weights) {
+    auto swarm = policy_random_swarm(s.ctx, n, kPolicyCell);
+    auto model = policy_model_on(*swarm, weights);
+    s.run = [=] { model->observe_on_device(*swarm); };  // waits for the device
+    s.result = [=] {
+        std::vector<float> obs, actions;
+        model->observe(*swarm, &obs, &actions);
+        return as_bytes(obs);
+    };
+}
+
 void make_energy(Side& s, uint32_t n, float cell, const std::shared_ptr<const Dataset>& data) {
     auto swarm = energy_ball_swarm(s.ctx, n, cell);
     swarm->set_behavior(std::make_shared<EnergyModel>(*swarm, energy_aggregation_config(false), data));
@@ -216,8 +235,9 @@ int main(int argc, char** argv) {
         else if (a == "--reps") o.reps = std::atoi(v.c_str());
         else usage("unknown option " + a);
     }
-    if (o.stage != "mde" && o.stage != "noise" && o.stage != "neighbors" && o.stage != "energy")
-        usage("--stage must be mde, noise, neighbors or energy");
+    if (o.stage != "mde" && o.stage != "noise" && o.stage != "neighbors" && o.stage != "energy" &&
+        o.stage != "policy")
+        usage("--stage must be mde, noise, neighbors, energy or policy");
     if (o.old_dir.empty() || o.new_dir.empty()) usage("--old and --new name kernel directories");
     if (o.agents == 0 || o.reps < 2) usage("--agents must be > 0 and --reps >= 2");
     for (const float c : o.cells)
@@ -237,6 +257,9 @@ int run(const Options& o) {
     const auto pts = o.stage == "mde" || o.stage == "noise" ? uniform_points(o.agents) : std::vector<cl_float4>();
     const auto data = o.stage == "energy" ? std::make_shared<const Dataset>(synthetic_dataset(DatasetOptions()))
                                           : std::shared_ptr<const Dataset>();
+    const auto weights = o.stage == "policy" ? std::make_shared<const std::string>(read_policy_file(
+                                                   std::string(SWARMCL_SOURCE_DIR) + "/models/policy_roaming.safetensors"))
+                                             : std::shared_ptr<const std::string>();
     // Four builds: old, new, new, old.  Which build a context is (its place
     // in memory, the order of creation) moved a null test (old against a
     // copy of old) by up to 4%; with each source in the first and last
@@ -251,6 +274,7 @@ int run(const Options& o) {
         if (o.stage == "mde") make_mde(side[k], pts);
         else if (o.stage == "neighbors") make_neighbors(side[k], o.agents);
         else if (o.stage == "energy") make_energy(side[k], o.agents, o.cells[source[k]], data);
+        else if (o.stage == "policy") make_policy(side[k], o.agents, weights);
         else make_noise(side[k], pts);
         side[k].run();  // built and warm
     }

@@ -14,7 +14,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -22,6 +21,7 @@
 #include "device/context.hpp"
 #include "roofline.hpp"
 #include "models/policy_model.hpp"
+#include "policy_scene.hpp"
 #include "rl/leader_env.hpp"
 #include "rl/rl_scenarios.hpp"
 #include "swarm/swarm.hpp"
@@ -30,8 +30,6 @@ using namespace swarmcl;
 using Clock = std::chrono::steady_clock;
 
 namespace {
-
-constexpr double kDensity = 200.0 / (4.0 / 3.0 * 3.14159265 * 15.0 * 15.0 * 15.0);
 
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
@@ -45,42 +43,18 @@ struct Row {
     std::vector<bench::RooflineRow> roofline;
 };
 
-float g_cell = 6.17f;  // the swarm's interaction_radius: the grid's cell edge ((r_coh + body) / 3)
+float g_cell = bench::kPolicyCell;  // the swarm's interaction_radius: the grid's cell edge
 
 Row run(std::shared_ptr<Context> ctx, const std::shared_ptr<const std::string>& bytes, uint32_t n, int steps) {
     Row r;
     r.n = n;
     r.steps = steps;
-    const float half = float(0.5 * std::cbrt(double(n) / kDensity));
-    SwarmConfig sc;
-    sc.capacity = n;
-    sc.agent_count = 0;
-    sc.domain_min = {-half, -half, -half};
-    sc.domain_max = {half, half, half};
-    sc.interaction_radius = g_cell;
-    sc.dt = 0.1f;
-    Swarm swarm(ctx, sc);
-    std::mt19937 rng(1);
-    std::uniform_real_distribution<float> u(-half, half);
-    std::normal_distribution<float> g(0.0f, 1.0f);
-    std::vector<float> p(3 * size_t(n)), v(3 * size_t(n));
-    for (uint32_t a = 0; a < n; ++a) {
-        float d[3] = {g(rng), g(rng), g(rng)};
-        const float l = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        for (int k = 0; k < 3; ++k) {
-            p[3 * size_t(a) + k] = u(rng);
-            v[3 * size_t(a) + k] = d[k] / l;
-        }
-    }
-    swarm.write(Attribute::Position, p.data(), n);
-    swarm.write(Attribute::Velocity, v.data(), n);
-    PolicyModelConfig pc;
-    pc.leader_speed = 1.0f;
-    auto model = std::make_shared<PolicyModel>(swarm, pc, bytes);
+    auto swarm_ptr = bench::policy_random_swarm(ctx, n, g_cell);
+    Swarm& swarm = *swarm_ptr;
+    auto model = bench::policy_model_on(swarm, bytes);
     r.mlp_kernel = model->tiled_mlp() ? "policy_mlp_tiled"
                                       : "policy_mlp, " + std::to_string(model->mlp_lanes()) + " lanes";
     r.observe_lanes = model->lanes();
-    swarm.set_behavior(model);
     // Mean neighbours within 18.5 m, from the grid's count query (a sample).
     {
         std::vector<uint32_t> counts(n);
@@ -237,7 +211,7 @@ int run(const std::string& weights, const std::string& out, const std::vector<st
     f << "{\n  \"benchmark\": \"policy_bench\",\n  \"date\": \"" << bench::utc_now() << "\",\n  \"device\": \""
       << bench::json_escape(ctx->device().device_name) << "\",\n  \"compute_units\": " << ctx->device().compute_units
       << ",\n  \"load_average\": " << bench::load_average() << ",\n  \"grid_cell_m\": " << g_cell << ",\n  \"policy\": \"" << shape
-      << "\",\n  \"macs_per_agent\": " << macs << ",\n  \"density_per_m3\": " << kDensity << ",\n  \"rows\": [\n";
+      << "\",\n  \"macs_per_agent\": " << macs << ",\n  \"density_per_m3\": " << bench::kPolicyDensity << ",\n  \"rows\": [\n";
     for (size_t i = 0; i < rows.size(); ++i) {
         const Row& r = rows[i];
         f << "    {\"agents\": " << r.n << ", \"steps_timed\": " << r.steps << ", \"policy_step_ms\": " << 1e3 * r.step_s
