@@ -107,6 +107,11 @@ ReferenceState reference_state(Swarm& s, EnergyModel& m, uint64_t step) {
     return r;
 }
 
+// Term k of agent a's candidate c (a dataset index in [first[a], last[a])).
+float term_of(const EnergyTerms& t, const EnergyModel& m, uint32_t a, uint32_t c, int k) {
+    return t.terms[(size_t(a) * m.max_candidates() + (c - t.first[a])) * 8 + k];
+}
+
 double total(const std::array<double, 8>& e) {
     double t = 0;
     for (double x : e) t += x;
@@ -133,7 +138,7 @@ TEST(EnergyModel, EveryTermMatchesTheHostReference) {
             for (uint32_t c = range[0]; c < range[1]; ++c) {
                 const auto e = reference_terms(m.config(), *data, r, a, c);
                 for (int k = 0; k < 8; ++k) {
-                    const float got = t.terms[(size_t(a) * m.max_candidates() + (c - range[0])) * 8 + k];
+                    const float got = term_of(t, m, a, c, k);
                     ASSERT_NEAR(got, e[k], 1e-4 + 2e-4 * std::fabs(e[k]))
                         << "agent " << a << " candidate " << c << " term " << k << " step " << step;
                 }
@@ -164,7 +169,7 @@ EnergyTerms expect_expansion_within_bound(Swarm& s, EnergyModel& m, const Datase
         for (uint32_t cand = t.first[a]; cand < t.last[a]; ++cand) {
             const auto e = reference_terms(m.config(), data, r, a, cand);
             for (int k = 0; k < 8; ++k) {
-                const float got = t.terms[(size_t(a) * m.max_candidates() + (cand - t.first[a])) * 8 + k];
+                const float got = term_of(t, m, a, cand, k);
                 const double tol = k == 1 ? 0.016 * e[k] + 1e-4 : 1e-4 + 2e-4 * std::fabs(e[k]);
                 EXPECT_NEAR(got, e[k], tol) << "agent " << a << " candidate " << cand << " term " << k;
                 if (k == 1 && e[k] > 0) *worst = std::max(*worst, std::fabs(got - e[k]) / e[k]);
