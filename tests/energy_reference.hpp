@@ -69,6 +69,17 @@ inline double reference_violation(const EnergyModelConfig& cfg, const Dataset& d
     return viol;
 }
 
+// Agent a is in danger (Table 1, escaping): a startling stimulus comes
+// within its d_danger within the horizon at the agent's velocity.
+inline bool reference_in_danger(const EnergyModelConfig& cfg, const ReferenceState& s, uint32_t a) {
+    const V3 p = v3(&s.pos[3 * a]), vt = v3(&s.vel[3 * a]);
+    for (size_t k = 0; k < cfg.stimuli.size(); ++k)
+        if (cfg.stimuli[k].kind == Stimulus::Kind::Startle &&
+            reference_closest(cfg, s, k, p, vt) < cfg.stimuli[k].d_danger)
+            return true;
+    return false;
+}
+
 // The eight terms of candidate c for agent a.
 inline std::array<double, 8> reference_terms(const EnergyModelConfig& cfg, const Dataset& d,
                                              const ReferenceState& s, uint32_t a, uint32_t c) {
@@ -76,12 +87,7 @@ inline std::array<double, 8> reference_terms(const EnergyModelConfig& cfg, const
     const V3 p = v3(&s.pos[3 * a]), vt = v3(&s.vel[3 * a]);
     const V3 v = v3(d.v[c]), acc = v3(d.a[c]);
     const double dt = s.dt, rho = cfg.rho;
-    bool danger = false;
-    for (size_t k = 0; k < cfg.stimuli.size(); ++k)
-        if (cfg.stimuli[k].kind == Stimulus::Kind::Startle &&
-            reference_closest(cfg, s, k, p, vt) < cfg.stimuli[k].d_danger)
-            danger = true;
-    const EnergyWeights& w = danger ? cfg.danger_weights : cfg.weights;
+    const EnergyWeights& w = reference_in_danger(cfg, s, a) ? cfg.danger_weights : cfg.weights;
     const V3 vh = unit(v);
     std::array<double, 8> e{};
     // Eq. 4 and 6 over brute-force neighbour sets (distances in float, as the
