@@ -308,6 +308,14 @@ typedef struct {
     uint nrep, natt;  // |RN|, |AN|
 } EmNeighborSums;
 
+// |q + v dt| for the candidates of the chunk at sample c (velocities v):
+// a neighbour at offset q as seen from each candidate's next position.
+static inline emv em_moved_len(float3 q, __global const float* ds, uint ds_stride, uint c, float dt) {
+    const emv x = q.x + EM_LOAD(EM_P_VX, c) * dt, y = q.y + EM_LOAD(EM_P_VY, c) * dt,
+              z = q.z + EM_LOAD(EM_P_VZ, c) * dt;
+    return em_lenv(x, y, z);
+}
+
 // The lanes `one` of a window visited one by one (their slots `slot`): RN
 // (Eq. 4; each candidate's sum needs each of them), and AN without the
 // expansion (Eq. 6).  Out of line: with the expansion only RN comes here,
@@ -331,22 +339,14 @@ __attribute__((noinline)) static void em_visit_lanes(emni one, emni slot, const 
         const float d = sqrt(dist2(p4, pj));
         if (d < d_rep) {
             const float3 q = p - (pj.xyz + vel[jj].xyz * dt);  // predicted positions (j keeps v_j,t)
-            for (uint k = 0; k < nchunks; ++k) {
-                const uint c = c0 + k * EM_W;
-                const emv x = q.x + EM_LOAD(EM_P_VX, c) * dt, y = q.y + EM_LOAD(EM_P_VY, c) * dt,
-                          z = q.z + EM_LOAD(EM_P_VZ, c) * dt;
-                sums->rep[k] += em_exp2(rho2 * (1.0f - em_lenv(x, y, z) / d_rep));
-            }
+            for (uint k = 0; k < nchunks; ++k)
+                sums->rep[k] += em_exp2(rho2 * (1.0f - em_moved_len(q, ds, ds_stride, c0 + k * EM_W, dt) / d_rep));
             ++sums->nrep;
         } else if (d >= d_att1 && d <= d_att2) {
 #ifndef EM_TAYLOR_OA  // (with it the windows sum AN)
             const float3 q = p - pj.xyz;
-            for (uint k = 0; k < nchunks; ++k) {
-                const uint c = c0 + k * EM_W;
-                const emv x = q.x + EM_LOAD(EM_P_VX, c) * dt, y = q.y + EM_LOAD(EM_P_VY, c) * dt,
-                          z = q.z + EM_LOAD(EM_P_VZ, c) * dt;
-                sums->oa[k] += em_exp2(rho2 * (em_lenv(x, y, z) / d_att1 - 1.0f));
-            }
+            for (uint k = 0; k < nchunks; ++k)
+                sums->oa[k] += em_exp2(rho2 * (em_moved_len(q, ds, ds_stride, c0 + k * EM_W, dt) / d_att1 - 1.0f));
 #endif
             ++sums->natt;
         }
